@@ -1,0 +1,51 @@
+# fsiopt build. PETSc comes from pkg-config (Debian's petsc-dev).
+export OMPI_ALLOW_RUN_AS_ROOT := 1
+export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM := 1
+export OMPI_MCA_rmaps_base_oversubscribe := 1
+
+DEB_PACKAGES := petsc-dev gmsh pkg-config make python3-numpy python3-matplotlib
+PYTHON := /usr/bin/python3
+
+CC      := mpicc
+CFLAGS  ?= -O2 -g
+CFLAGS  += -Wall -Wextra -Wno-unused-parameter -std=c11 -D_POSIX_C_SOURCE=200809L -Iinclude -Isrc/scenes $(shell pkg-config --cflags PETSc 2>/dev/null)
+LDLIBS  += $(shell pkg-config --libs PETSc 2>/dev/null) -lm
+
+SRC  := $(wildcard src/*.c src/*/*.c)
+OBJ  := $(SRC:%.c=build/%.o)
+GEO  := $(wildcard meshes/*.geo)
+MSH  := $(GEO:.geo=.msh)
+
+.PHONY: all deps run test clean
+
+all: bin/fsiopt $(MSH)
+
+deps:
+	@missing=""; for p in $(DEB_PACKAGES); do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
+	if [ -n "$$missing" ]; then \
+	  echo "make deps: installing$$missing"; \
+	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing >/dev/null; \
+	else echo "make deps: all packages present"; fi
+
+bin/fsiopt: $(OBJ)
+	@mkdir -p bin
+	$(CC) -o $@ $(OBJ) $(LDLIBS)
+
+build/%.o: %.c $(wildcard include/*.h src/scenes/*.h)
+	@mkdir -p $(dir $@)
+	$(CC) $(CFLAGS) -c -o $@ $<
+
+meshes/%.msh: meshes/%.geo
+	gmsh -2 -format msh22 -v 2 -o $@ $< >/dev/null
+
+run: deps
+	$(MAKE) all
+	bin/fsiopt -options_file options/mms-fluid.yaml
+	@echo "outputs: out/mms-fluid/summary.json"
+
+test: deps
+	$(MAKE) all
+	$(PYTHON) tests/run_tests.py
+
+clean:
+	rm -rf build bin out meshes/*.msh

@@ -1,0 +1,33 @@
+#ifndef FSIOPT_FLUID_H
+#define FSIOPT_FLUID_H
+#include "fsiopt.h"
+
+/* Constants handed to the fluid's pointwise kernels; scene kernels read them too.
+   MASS is the coefficient of (u, v) (rho/dt in a step), OPERATOR and LOAD switch the
+   spatial operator and the data on and off, so one weak form also yields the
+   old-domain mass term M(Omega^{n-1}) u^{n-1}. */
+enum { FLUID_RHO, FLUID_MU, FLUID_MASS, FLUID_OPERATOR, FLUID_LOAD, FLUID_TIME, FLUID_DT, FLUID_CONVECTION, FLUID_NUM_CONSTANTS };
+
+typedef struct _p_Fluid *Fluid;
+
+PetscErrorCode FluidCreate(MPI_Comm, Fluid *);
+PetscErrorCode FluidSetFromOptions(Fluid);
+PetscErrorCode FluidSetUp(Fluid, DM mesh, const PhysicsData *, PetscReal t0, PetscReal dt);
+PetscErrorCode FluidStep(Fluid, PetscInt step);
+PetscErrorCode FluidErrors(Fluid, ErrorTable *);
+PetscErrorCode FluidGetCounts(Fluid, SolverCounts *);
+PetscErrorCode FluidGetInfo(Fluid, PetscInt *dim, PetscInt *ndofs);
+PetscErrorCode FluidDestroy(Fluid *);
+
+/* Pointwise kernels (fluid_kernels.c). */
+void FluidF0MassStokes(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void FluidF0MassConvection(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void FluidF1Stress(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void FluidF0Continuity(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void FluidG0MassStokes(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void FluidG0MassConvection(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void FluidG1Convection(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void FluidG3Viscous(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void FluidG2Pressure(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void FluidG1Continuity(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+#endif

@@ -1,0 +1,70 @@
+#ifndef FSIOPT_H
+#define FSIOPT_H
+
+#include <petscdmplex.h>
+#include <petscsnes.h>
+#include <petscds.h>
+
+/* Face-set values of the box meshes and of the gmsh geometries in meshes/: one convention for every scene. */
+enum { FACE_BOTTOM = 1, FACE_RIGHT = 2, FACE_TOP = 3, FACE_LEFT = 4 };
+
+/* A closed-form field, as PETSc projects and integrates it. */
+typedef PetscErrorCode (*FieldFn)(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *u, void *ctx);
+/* The gradient of a closed-form field: g[c*dim + d] = d u_c / d x_d. */
+typedef PetscErrorCode (*GradientFn)(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *g, void *ctx);
+
+typedef void (*ResidualKernel)(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+typedef void (*BdResidualKernel)(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+
+#define FSIOPT_MAX_BOUNDARIES 8
+#define FSIOPT_MAX_EXTRA 8
+
+/* Dirichlet datum of one face set. The time comes from the owning solver, not from PETSc's
+   argument: PETSc's SNES and integral helpers insert boundary values at time 0 or PETSC_MIN_REAL. */
+typedef struct {
+  FieldFn          fn;
+  void            *ctx;
+  const PetscReal *time;
+} DirichletDatum;
+
+/* What a single-physics solver needs from a scene: boundary data, loads, exact solution. */
+typedef struct {
+  PetscInt       n_dirichlet, dirichlet_faces[FSIOPT_MAX_BOUNDARIES];
+  FieldFn        dirichlet_fn[FSIOPT_MAX_BOUNDARIES];
+  PetscInt       n_traction, traction_faces[FSIOPT_MAX_BOUNDARIES];
+  BdResidualKernel traction_kernel[FSIOPT_MAX_BOUNDARIES]; /* adds -load*h(x,t); NULL: traction-free or given in volume form */
+  ResidualKernel load_value_kernel;                       /* f0 part of the data: adds -load*f(x,t), may be NULL */
+  ResidualKernel load_stress_kernel;                      /* f1 part of the data, may be NULL */
+  FieldFn        exact[2];                                /* by field; NULL when unknown */
+  GradientFn     exact_gradient[2];
+  FieldFn        exact_rate;                              /* structure: exact velocity d(eta)/dt */
+  PetscInt       n_extra;                                 /* scene constants appended after the solver's */
+  PetscScalar    extra[FSIOPT_MAX_EXTRA];
+} PhysicsData;
+
+/* Counters every solver keeps for summary.json. */
+typedef struct {
+  PetscInt nonlinear_solves, linear_solves, factorizations;
+} SolverCounts;
+
+/* Named error norms a scene with an exact solution reports. */
+#define FSIOPT_MAX_ERRORS 8
+typedef struct {
+  PetscInt  n;
+  char      name[FSIOPT_MAX_ERRORS][16];
+  PetscReal value[FSIOPT_MAX_ERRORS];
+} ErrorTable;
+
+PetscErrorCode ErrorTableAdd(ErrorTable *, const char[], PetscReal);
+
+/* Common run parameters (DESIGN §6). */
+typedef struct {
+  char      scene[64];
+  char      coupling[16];
+  char      output_dir[PETSC_MAX_PATH_LEN];
+  PetscInt  refine;
+  PetscReal dt, t_start, t_final;
+  PetscInt  steps;
+} RunParams;
+
+#endif

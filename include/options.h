@@ -1,0 +1,18 @@
+#ifndef FSIOPT_OPTIONS_H
+#define FSIOPT_OPTIONS_H
+#include <petscsys.h>
+
+/* Range-checked options: a bad value stops the run with one line naming the option. */
+PetscErrorCode OptionsPositiveReal(PetscOptionItems *, const char opt[], const char text[], PetscReal *value);
+PetscErrorCode OptionsNonNegativeReal(PetscOptionItems *, const char opt[], const char text[], PetscReal *value);
+PetscErrorCode OptionsRealInRange(PetscOptionItems *, const char opt[], const char text[], PetscReal lo, PetscReal hi, PetscReal *value);
+PetscErrorCode OptionsIntInRange(PetscOptionItems *, const char opt[], const char text[], PetscInt lo, PetscInt hi, PetscInt *value);
+/* Sets an option only when the user has not: how scenes give their defaults. */
+PetscErrorCode OptionsSetDefault(const char opt[], const char value[]);
+/* Fails with a one-line message when a file cannot be read. */
+PetscErrorCode CheckReadableFile(MPI_Comm, const char opt[], const char path[]);
+
+/* One-line error reporting instead of PETSc's traceback banner. */
+PetscErrorCode ErrorReportingPush(void);
+const char    *ErrorReportingFirstMessage(void);
+#endif

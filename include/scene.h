@@ -1,0 +1,26 @@
+#ifndef FSIOPT_SCENE_H
+#define FSIOPT_SCENE_H
+#include "fsiopt.h"
+
+/* A scene is a named problem: which physics it needs, their data, its exact solution.
+   A scene's create function reads the scene's own options and sets its defaults
+   (meshes, parameters) with OptionsSetDefault, so an options file or the command line
+   always wins. */
+typedef struct {
+  char        name[64];
+  PetscBool   has_fluid, has_structure;
+  PhysicsData fluid, structure;
+} Scene;
+
+typedef PetscErrorCode (*SceneCreateFn)(Scene *);
+
+PetscErrorCode SceneRegisterAll(void);
+PetscErrorCode SceneCreate(const char name[], Scene *);
+PetscErrorCode SceneListNames(char names[], size_t len);
+PetscErrorCode SceneRequiredFaces(const PhysicsData *, PetscInt *n, PetscInt faces[]);
+PetscErrorCode SceneFinalize(void);
+
+/* The scenes (src/scenes/), one file each. */
+PetscErrorCode SceneCreate_MMSFluid(Scene *);
+PetscErrorCode SceneCreate_MMSStructure(Scene *);
+#endif

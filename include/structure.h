@@ -1,0 +1,25 @@
+#ifndef FSIOPT_STRUCTURE_H
+#define FSIOPT_STRUCTURE_H
+#include "fsiopt.h"
+
+/* Constants handed to the structure's pointwise kernels; scene kernels read them too.
+   MASS is the coefficient of (eta, xi) (c rho_s with c = 1/dt^2 or 4/dt^2). */
+enum { STRUCTURE_RHO, STRUCTURE_MU, STRUCTURE_LAMBDA, STRUCTURE_MASS, STRUCTURE_OPERATOR, STRUCTURE_LOAD, STRUCTURE_TIME, STRUCTURE_DT, STRUCTURE_NUM_CONSTANTS };
+
+typedef struct _p_Structure *Structure;
+
+PetscErrorCode StructureCreate(MPI_Comm, Structure *);
+PetscErrorCode StructureSetFromOptions(Structure);
+PetscErrorCode StructureSetUp(Structure, DM mesh, const PhysicsData *, PetscReal t0, PetscReal dt);
+PetscErrorCode StructureStep(Structure, PetscInt step);
+PetscErrorCode StructureErrors(Structure, ErrorTable *);
+PetscErrorCode StructureGetCounts(Structure, SolverCounts *);
+PetscErrorCode StructureGetInfo(Structure, PetscInt *dim, PetscInt *ndofs);
+PetscErrorCode StructureDestroy(Structure *);
+
+/* Pointwise kernels (structure_kernels.c). */
+void StructureF0Mass(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void StructureF1LinearStress(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void StructureG0Mass(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void StructureG3LinearElasticity(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+#endif

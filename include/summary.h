@@ -1,0 +1,22 @@
+#ifndef FSIOPT_SUMMARY_H
+#define FSIOPT_SUMMARY_H
+#include "fsiopt.h"
+
+/* Everything summary.json reports (DESIGN §6). Negative values mean "does not apply"
+   and are written as null. */
+typedef struct {
+  const RunParams *params;
+  const char      *optimizer; /* NULL: none */
+  PetscInt         dim, fluid_dofs, structure_dofs;
+  PetscReal        wall_time_s;
+  SolverCounts     fluid, structure;
+  PetscInt         coupling_iterations;
+  PetscReal        work_factor, max_interface_jump;
+  PetscBool        converged, has_fluid, has_structure;
+  ErrorTable       errors;
+  PetscMPIInt      fluid_ranks, structure_ranks;
+} RunSummary;
+
+/* Writes <dir>/summary.json atomically (a temporary file renamed into place). */
+PetscErrorCode SummaryWrite(MPI_Comm, const char dir[], const RunSummary *);
+#endif

@@ -1,0 +1,86 @@
+#include "options.h"
+#include <stdio.h>
+
+PetscErrorCode OptionsPositiveReal(PetscOptionItems *PetscOptionsObject, const char opt[], const char text[], PetscReal *value)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsReal(opt, text, NULL, *value, value, NULL));
+  PetscCheck(*value > 0 && !PetscIsInfOrNanReal(*value), PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "option %s: expected a positive number (%s), got %g", opt, text, (double)*value);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode OptionsNonNegativeReal(PetscOptionItems *PetscOptionsObject, const char opt[], const char text[], PetscReal *value)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsReal(opt, text, NULL, *value, value, NULL));
+  PetscCheck(*value >= 0 && !PetscIsInfOrNanReal(*value), PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "option %s: expected a number >= 0 (%s), got %g", opt, text, (double)*value);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode OptionsRealInRange(PetscOptionItems *PetscOptionsObject, const char opt[], const char text[], PetscReal lo, PetscReal hi, PetscReal *value)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsReal(opt, text, NULL, *value, value, NULL));
+  PetscCheck(*value > lo && *value < hi, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "option %s: expected a number in (%g, %g) (%s), got %g", opt, (double)lo, (double)hi, text, (double)*value);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode OptionsIntInRange(PetscOptionItems *PetscOptionsObject, const char opt[], const char text[], PetscInt lo, PetscInt hi, PetscInt *value)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsInt(opt, text, NULL, *value, value, NULL));
+  PetscCheck(*value >= lo && *value <= hi, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "option %s: expected an integer in [%" PetscInt_FMT ", %" PetscInt_FMT "] (%s), got %" PetscInt_FMT, opt, lo, hi, text, *value);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode OptionsSetDefault(const char opt[], const char value[])
+{
+  PetscBool set;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsHasName(NULL, NULL, opt, &set));
+  if (!set) PetscCall(PetscOptionsSetValue(NULL, opt, value));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CheckReadableFile(MPI_Comm comm, const char opt[], const char path[])
+{
+  FILE *fp = fopen(path, "r");
+  long  size = 0;
+
+  PetscFunctionBeginUser;
+  if (fp) {
+    fseek(fp, 0, SEEK_END);
+    size = ftell(fp);
+    fclose(fp);
+  }
+  PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "%s %s: cannot open the file for reading", opt, path);
+  PetscCheck(size > 0, comm, PETSC_ERR_FILE_UNEXPECTED, "%s %s: the file is empty", opt, path);
+  PetscFunctionReturn(0);
+}
+
+/* The first message of an error is the one that names the cause; PetscCall repeats it up the stack. */
+static char first_message[1024];
+
+static PetscErrorCode RecordFirstMessage(MPI_Comm comm, int line, const char *func, const char *file, PetscErrorCode n, PetscErrorType p, const char *mess, void *ctx)
+{
+  (void)comm;
+  (void)ctx;
+  if (p == PETSC_ERROR_INITIAL && !first_message[0]) {
+    if (mess && mess[0]) PetscSNPrintf(first_message, sizeof(first_message), "%s", mess);
+    else PetscSNPrintf(first_message, sizeof(first_message), "PETSc error %d in %s() at %s:%d", (int)n, func, file, line);
+  }
+  return n;
+}
+
+PetscErrorCode ErrorReportingPush(void)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscPushErrorHandler(RecordFirstMessage, NULL));
+  PetscFunctionReturn(0);
+}
+
+const char *ErrorReportingFirstMessage(void)
+{
+  return first_message[0] ? first_message : "unknown error";
+}

@@ -1,0 +1,217 @@
+/* The fluid subproblem: (Q2,Q1) or (P2,P1) Taylor-Hood on DMPlex, backward Euler,
+   Newton (Navier-Stokes) or one linear solve with a single factorization (Stokes). */
+#include "fluid.h"
+#include "fem.h"
+#include "options.h"
+#include "logging.h"
+
+typedef enum { FLUID_STOKES, FLUID_NAVIER_STOKES } FluidModel;
+static const char *const FluidModels[] = {"stokes", "navier-stokes", "FluidModel", "FLUID_", NULL};
+
+struct _p_Fluid {
+  MPI_Comm       comm;
+  DM             dm;
+  SNES           snes;
+  FluidModel     model;
+  PetscReal      rho, mu;
+  PetscInt       velocity_degree, pressure_degree;
+  PetscReal      time, dt;
+  Vec            x;          /* (u, p) at `time` */
+  Vec            xlocal_old; /* previous state with its boundary values */
+  Vec            history;    /* rho/dt M(Omega^{n-1}) u^{n-1} */
+  PhysicsData    data;
+  DirichletDatum datums[FSIOPT_MAX_BOUNDARIES];
+  SolverCounts   counts;
+};
+
+PetscErrorCode FluidCreate(MPI_Comm comm, Fluid *fluid)
+{
+  Fluid f;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&f));
+  f->comm            = comm;
+  f->model           = FLUID_NAVIER_STOKES;
+  f->rho             = 1.0;
+  f->mu              = 1.0;
+  f->velocity_degree = 2;
+  f->pressure_degree = 1;
+  *fluid             = f;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidSetFromOptions(Fluid f)
+{
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(f->comm, NULL, "Fluid options", "fluid");
+  PetscCall(PetscOptionsEnum("-fluid_model", "Fluid equations", NULL, FluidModels, (PetscEnum)f->model, (PetscEnum *)&f->model, NULL));
+  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-fluid_density", "fluid density rho", &f->rho));
+  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-fluid_viscosity", "fluid dynamic viscosity mu", &f->mu));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-fluid_velocity_degree", "polynomial degree of the velocity", 1, 4, &f->velocity_degree));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-fluid_pressure_degree", "polynomial degree of the pressure", 1, 3, &f->pressure_degree));
+  PetscOptionsEnd();
+  PetscCheck(f->pressure_degree < f->velocity_degree, f->comm, PETSC_ERR_ARG_INCOMP, "option -fluid_pressure_degree: expected a degree below -fluid_velocity_degree (%" PetscInt_FMT ") for an inf-sup stable Taylor-Hood pair, got %" PetscInt_FMT, f->velocity_degree, f->pressure_degree);
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode FluidSetConstants(Fluid f, PetscReal mass, PetscReal op, PetscReal load)
+{
+  PetscDS     ds;
+  PetscScalar c[FLUID_NUM_CONSTANTS + FSIOPT_MAX_EXTRA];
+
+  PetscFunctionBeginUser;
+  c[FLUID_RHO]      = f->rho;
+  c[FLUID_MU]       = f->mu;
+  c[FLUID_MASS]     = mass;
+  c[FLUID_OPERATOR] = op;
+  c[FLUID_LOAD]     = load;
+  c[FLUID_TIME]     = f->time;
+  c[FLUID_DT]       = f->dt;
+  c[FLUID_CONVECTION] = f->model == FLUID_NAVIER_STOKES ? 1.0 : 0.0;
+  for (PetscInt i = 0; i < f->data.n_extra; ++i) c[FLUID_NUM_CONSTANTS + i] = f->data.extra[i];
+  PetscCall(DMGetDS(f->dm, &ds));
+  PetscCall(PetscDSSetConstants(ds, FLUID_NUM_CONSTANTS + f->data.n_extra, c));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode FluidSetUpWeakForm(Fluid f)
+{
+  PetscDS       ds;
+  PetscWeakForm wf;
+  PetscFE       velocity;
+
+  PetscFunctionBeginUser;
+  PetscCall(FEMCreateField(f->dm, 0, "velocity", -1, f->velocity_degree, NULL));
+  PetscCall(DMGetField(f->dm, 0, NULL, (PetscObject *)&velocity));
+  PetscCall(FEMCreateField(f->dm, 1, "pressure", 1, f->pressure_degree, velocity));
+  PetscCall(DMCreateDS(f->dm));
+  PetscCall(DMGetDS(f->dm, &ds));
+  if (f->model == FLUID_NAVIER_STOKES) {
+    PetscCall(PetscDSSetResidual(ds, 0, FluidF0MassConvection, FluidF1Stress));
+    PetscCall(PetscDSSetJacobian(ds, 0, 0, FluidG0MassConvection, FluidG1Convection, NULL, FluidG3Viscous));
+  } else {
+    PetscCall(PetscDSSetResidual(ds, 0, FluidF0MassStokes, FluidF1Stress));
+    PetscCall(PetscDSSetJacobian(ds, 0, 0, FluidG0MassStokes, NULL, NULL, FluidG3Viscous));
+  }
+  PetscCall(PetscDSSetResidual(ds, 1, FluidF0Continuity, NULL));
+  PetscCall(PetscDSSetJacobian(ds, 0, 1, NULL, NULL, FluidG2Pressure, NULL));
+  PetscCall(PetscDSSetJacobian(ds, 1, 0, NULL, FluidG1Continuity, NULL, NULL));
+  PetscCall(PetscDSGetWeakForm(ds, &wf));
+  if (f->data.load_value_kernel || f->data.load_stress_kernel) PetscCall(PetscWeakFormAddResidual(wf, NULL, 0, 0, 0, f->data.load_value_kernel, f->data.load_stress_kernel));
+  PetscCall(FEMAddBoundaries(f->dm, 0, &f->data, f->datums, &f->time));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode FluidSetUpSolver(Fluid f)
+{
+  KSP ksp;
+  PC  pc;
+
+  PetscFunctionBeginUser;
+  PetscCall(SNESCreate(f->comm, &f->snes));
+  PetscCall(SNESSetOptionsPrefix(f->snes, "fluid_"));
+  PetscCall(SNESSetDM(f->snes, f->dm));
+  PetscCall(FEMSetSNESCallbacks(f->dm, &f->counts.factorizations));
+  PetscCall(SNESGetKSP(f->snes, &ksp));
+  PetscCall(KSPSetType(ksp, KSPPREONLY));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PCSetType(pc, PCLU));
+  PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+  PetscCall(SNESSetTolerances(f->snes, 1e-12, 1e-10, 1e-12, 50, PETSC_DEFAULT));
+  if (f->model == FLUID_STOKES) {
+    /* The Stokes matrix does not change with the state: factor it once per run. */
+    PetscCall(SNESSetType(f->snes, SNESKSPONLY));
+    PetscCall(SNESSetLagJacobian(f->snes, -2));
+    PetscCall(SNESSetLagJacobianPersists(f->snes, PETSC_TRUE));
+  }
+  PetscCall(SNESSetFromOptions(f->snes));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t0, PetscReal dt)
+{
+  PetscFunctionBeginUser;
+  f->dm   = mesh;
+  f->data = *data;
+  f->time = t0;
+  f->dt   = dt;
+  PetscCall(PetscObjectReference((PetscObject)mesh));
+  PetscCall(FluidSetUpWeakForm(f));
+  PetscCall(FluidSetUpSolver(f));
+  PetscCall(DMCreateGlobalVector(f->dm, &f->x));
+  PetscCall(PetscObjectSetName((PetscObject)f->x, "fluid"));
+  PetscCall(VecDuplicate(f->x, &f->history));
+  PetscCall(DMCreateLocalVector(f->dm, &f->xlocal_old));
+  if (data->exact[0] && data->exact[1]) {
+    FieldFn exact[2] = {data->exact[0], data->exact[1]};
+    PetscCall(DMProjectFunction(f->dm, t0, exact, NULL, INSERT_ALL_VALUES, f->x));
+  } else PetscCall(VecZeroEntries(f->x));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidStep(Fluid f, PetscInt step)
+{
+  SNESConvergedReason reason;
+  PetscInt            its;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_FLUID_SOLVE, 0, 0, 0, 0));
+  /* Old-domain mass term, evaluated before the time (and later the mesh) moves on. */
+  PetscCall(FEMGlobalToLocal(f->dm, f->x, f->xlocal_old));
+  PetscCall(FluidSetConstants(f, f->rho / f->dt, 0.0, 0.0));
+  PetscCall(FEMResidual(f->dm, f->xlocal_old, f->history));
+
+  f->time += f->dt;
+  PetscCall(FluidSetConstants(f, f->rho / f->dt, 1.0, 1.0));
+  PetscCall(SNESSolve(f->snes, f->history, f->x));
+  PetscCall(SNESGetConvergedReason(f->snes, &reason));
+  PetscCall(SNESGetIterationNumber(f->snes, &its));
+  PetscCheck(reason > 0, f->comm, PETSC_ERR_NOT_CONVERGED, "fluid solve failed at step %" PetscInt_FMT " (t = %g) after %" PetscInt_FMT " Newton iterations: SNES reason %s", step, (double)f->time, its, SNESConvergedReasons[reason]);
+  f->counts.nonlinear_solves += 1;
+  f->counts.linear_solves += PetscMax(its, 1);
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_FLUID_SOLVE, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidErrors(Fluid f, ErrorTable *errors)
+{
+  PetscReal l2[2], h1[2];
+
+  PetscFunctionBeginUser;
+  if (!f->data.exact[0] || !f->data.exact[1]) PetscFunctionReturn(0);
+  PetscCall(FEMErrors(f->dm, f->x, f->time, f->data.exact, f->data.exact_gradient, l2, h1));
+  PetscCall(ErrorTableAdd(errors, "u_L2", l2[0]));
+  if (f->data.exact_gradient[0]) PetscCall(ErrorTableAdd(errors, "u_H1", h1[0]));
+  PetscCall(ErrorTableAdd(errors, "p_L2", l2[1]));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidGetCounts(Fluid f, SolverCounts *counts)
+{
+  PetscFunctionBeginUser;
+  *counts = f->counts;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidGetInfo(Fluid f, PetscInt *dim, PetscInt *ndofs)
+{
+  PetscFunctionBeginUser;
+  if (dim) PetscCall(DMGetDimension(f->dm, dim));
+  if (ndofs) PetscCall(VecGetSize(f->x, ndofs));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidDestroy(Fluid *fluid)
+{
+  Fluid f = *fluid;
+
+  PetscFunctionBeginUser;
+  if (!f) PetscFunctionReturn(0);
+  PetscCall(VecDestroy(&f->x));
+  PetscCall(VecDestroy(&f->history));
+  PetscCall(VecDestroy(&f->xlocal_old));
+  PetscCall(SNESDestroy(&f->snes));
+  PetscCall(DMDestroy(&f->dm));
+  PetscCall(PetscFree(*fluid));
+  PetscFunctionReturn(0);
+}

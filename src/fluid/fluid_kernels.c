@@ -1,0 +1,99 @@
+/* Weak form of one backward-Euler step of incompressible Navier-Stokes (or Stokes):
+
+     m (u, v) + op [ rho ((u . grad) u, v) + 2 mu (D(u), D(v)) - (p, div v) - (q, div u) ]
+       - load [ (f, v) + (h, v)_{Gamma_N} ]  =  m (u^{n-1}, v)_{Omega^{n-1}}
+
+   with m = rho/dt. The right-hand side is the same form evaluated with op = load = 0
+   on the previous state; the body force f and the traction h are the scene's kernels.
+   The continuity row carries the minus sign so that the Stokes matrix is symmetric. */
+#include "fluid.h"
+
+#define UNUSED_KERNEL_ARGS (void)Nf, (void)NfAux, (void)uOff_x, (void)u_t, (void)aOff, (void)aOff_x, (void)a, (void)a_t, (void)a_x, (void)t, (void)x, (void)numConstants
+
+void FluidF0MassStokes(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
+{
+  UNUSED_KERNEL_ARGS, (void)u_x;
+  for (PetscInt c = 0; c < dim; ++c) f0[c] = constants[FLUID_MASS] * u[uOff[0] + c];
+}
+
+void FluidF0MassConvection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
+{
+  const PetscScalar rho_op = constants[FLUID_RHO] * constants[FLUID_OPERATOR];
+
+  UNUSED_KERNEL_ARGS;
+  for (PetscInt c = 0; c < dim; ++c) {
+    PetscScalar convection = 0;
+    for (PetscInt d = 0; d < dim; ++d) convection += u[uOff[0] + d] * u_x[uOff_x[0] + c * dim + d];
+    f0[c] = constants[FLUID_MASS] * u[uOff[0] + c] + rho_op * convection;
+  }
+}
+
+void FluidF1Stress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f1[])
+{
+  const PetscScalar mu = constants[FLUID_MU], op = constants[FLUID_OPERATOR], p = u[uOff[1]];
+
+  UNUSED_KERNEL_ARGS;
+  for (PetscInt c = 0; c < dim; ++c)
+    for (PetscInt d = 0; d < dim; ++d) f1[c * dim + d] = op * (mu * (u_x[uOff_x[0] + c * dim + d] + u_x[uOff_x[0] + d * dim + c]) - (c == d ? p : 0.0));
+}
+
+void FluidF0Continuity(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
+{
+  PetscScalar divergence = 0;
+
+  UNUSED_KERNEL_ARGS, (void)uOff, (void)u;
+  for (PetscInt d = 0; d < dim; ++d) divergence += u_x[uOff_x[0] + d * dim + d];
+  f0[0] = -constants[FLUID_OPERATOR] * divergence;
+}
+
+#define UNUSED_JACOBIAN_ARGS (void)Nf, (void)NfAux, (void)uOff, (void)uOff_x, (void)u, (void)u_t, (void)u_x, (void)aOff, (void)aOff_x, (void)a, (void)a_t, (void)a_x, (void)t, (void)u_tShift, (void)x, (void)numConstants
+
+void FluidG0MassStokes(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g0[])
+{
+  UNUSED_JACOBIAN_ARGS;
+  for (PetscInt c = 0; c < dim; ++c) g0[c * dim + c] = constants[FLUID_MASS];
+}
+
+void FluidG0MassConvection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g0[])
+{
+  const PetscScalar rho_op = constants[FLUID_RHO] * constants[FLUID_OPERATOR];
+
+  UNUSED_JACOBIAN_ARGS;
+  for (PetscInt c = 0; c < dim; ++c) {
+    for (PetscInt d = 0; d < dim; ++d) g0[c * dim + d] = rho_op * u_x[uOff_x[0] + c * dim + d];
+    g0[c * dim + c] += constants[FLUID_MASS];
+  }
+}
+
+void FluidG1Convection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g1[])
+{
+  const PetscScalar rho_op = constants[FLUID_RHO] * constants[FLUID_OPERATOR];
+
+  UNUSED_JACOBIAN_ARGS;
+  for (PetscInt c = 0; c < dim; ++c)
+    for (PetscInt d = 0; d < dim; ++d) g1[(c * dim + c) * dim + d] = rho_op * u[uOff[0] + d];
+}
+
+void FluidG3Viscous(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g3[])
+{
+  const PetscScalar mu_op = constants[FLUID_MU] * constants[FLUID_OPERATOR];
+
+  UNUSED_JACOBIAN_ARGS;
+  for (PetscInt c = 0; c < dim; ++c)
+    for (PetscInt d = 0; d < dim; ++d) {
+      g3[((c * dim + c) * dim + d) * dim + d] += mu_op;
+      g3[((c * dim + d) * dim + d) * dim + c] += mu_op;
+    }
+}
+
+void FluidG2Pressure(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g2[])
+{
+  UNUSED_JACOBIAN_ARGS;
+  for (PetscInt d = 0; d < dim; ++d) g2[d * dim + d] = -constants[FLUID_OPERATOR];
+}
+
+void FluidG1Continuity(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g1[])
+{
+  UNUSED_JACOBIAN_ARGS;
+  for (PetscInt d = 0; d < dim; ++d) g1[d * dim + d] = -constants[FLUID_OPERATOR];
+}

@@ -1,0 +1,87 @@
+#include "summary.h"
+#include <stdio.h>
+
+PetscErrorCode ErrorTableAdd(ErrorTable *table, const char name[], PetscReal value)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(table->n < FSIOPT_MAX_ERRORS, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "too many error norms");
+  PetscCall(PetscStrncpy(table->name[table->n], name, sizeof(table->name[0])));
+  table->value[table->n++] = value;
+  PetscFunctionReturn(0);
+}
+
+static void WriteNumberOrNull(FILE *fp, const char key[], PetscReal value, const char *sep)
+{
+  if (value < 0 || PetscIsInfOrNanReal(value)) fprintf(fp, "  \"%s\": null%s\n", key, sep);
+  else fprintf(fp, "  \"%s\": %.10g%s\n", key, (double)value, sep);
+}
+
+static PetscErrorCode MakeDirectories(const char dir[])
+{
+  char      path[PETSC_MAX_PATH_LEN];
+  PetscBool exists;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscStrncpy(path, dir, sizeof(path)));
+  for (char *c = path + 1; *c; ++c) {
+    if (*c != '/') continue;
+    *c = 0;
+    PetscCall(PetscTestDirectory(path, 'w', &exists));
+    if (!exists) PetscCall(PetscMkdir(path));
+    *c = '/';
+  }
+  PetscCall(PetscTestDirectory(path, 'w', &exists));
+  if (!exists) PetscCall(PetscMkdir(path));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SummaryWrite(MPI_Comm comm, const char dir[], const RunSummary *s)
+{
+  PetscMPIInt      rank;
+  char             path[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN];
+  FILE            *fp;
+  const RunParams *p = s->params;
+  PetscReal        avg;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (rank) PetscFunctionReturn(0);
+  PetscCall(MakeDirectories(dir));
+  PetscCall(PetscSNPrintf(path, sizeof(path), "%s/summary.json", dir));
+  PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s/.summary.json.tmp", dir));
+  fp = fopen(tmp, "w");
+  PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "option -output_dir %s: cannot write %s", dir, tmp);
+  avg = p->steps > 0 ? (PetscReal)s->coupling_iterations / p->steps : 0;
+  fprintf(fp, "{\n");
+  fprintf(fp, "  \"scene\": \"%s\",\n", p->scene);
+  fprintf(fp, "  \"coupling\": \"%s\",\n", (s->has_fluid && s->has_structure) ? p->coupling : "none");
+  if (s->optimizer) fprintf(fp, "  \"optimizer\": \"%s\",\n", s->optimizer);
+  else fprintf(fp, "  \"optimizer\": null,\n");
+  fprintf(fp, "  \"dim\": %d,\n", (int)s->dim);
+  fprintf(fp, "  \"refine\": %d,\n", (int)p->refine);
+  fprintf(fp, "  \"steps\": %d,\n", (int)p->steps);
+  fprintf(fp, "  \"dt\": %.17g,\n", (double)p->dt);
+  fprintf(fp, "  \"t_start\": %.17g,\n", (double)p->t_start);
+  fprintf(fp, "  \"t_final\": %.17g,\n", (double)p->t_final);
+  fprintf(fp, "  \"wall_time_s\": %.6f,\n", (double)s->wall_time_s);
+  fprintf(fp, "  \"fluid_dofs\": %d,\n", (int)s->fluid_dofs);
+  fprintf(fp, "  \"structure_dofs\": %d,\n", (int)s->structure_dofs);
+  fprintf(fp, "  \"fluid_solves\": %d,\n", (int)s->fluid.nonlinear_solves);
+  fprintf(fp, "  \"fluid_linear_solves\": %d,\n", (int)s->fluid.linear_solves);
+  fprintf(fp, "  \"structure_solves\": %d,\n", (int)s->structure.nonlinear_solves);
+  fprintf(fp, "  \"coupling_iterations\": %d,\n", (int)s->coupling_iterations);
+  fprintf(fp, "  \"avg_coupling_iterations\": %.6g,\n", (double)avg);
+  WriteNumberOrNull(fp, "work_factor", s->work_factor, ",");
+  WriteNumberOrNull(fp, "max_interface_jump", s->max_interface_jump, ",");
+  fprintf(fp, "  \"factorizations\": {\"fluid\": %d, \"structure\": %d},\n", (int)s->fluid.factorizations, (int)s->structure.factorizations);
+  fprintf(fp, "  \"converged\": %s,\n", s->converged ? "true" : "false");
+  fprintf(fp, "  \"errors\": {");
+  for (PetscInt i = 0; i < s->errors.n; ++i) fprintf(fp, "%s\"%s\": %.10e", i ? ", " : "", s->errors.name[i], (double)s->errors.value[i]);
+  fprintf(fp, "},\n");
+  fprintf(fp, "  \"quantities\": {},\n");
+  fprintf(fp, "  \"ranks\": {\"fluid\": %d, \"structure\": %d}\n", (int)s->fluid_ranks, (int)s->structure_ranks);
+  fprintf(fp, "}\n");
+  PetscCheck(fclose(fp) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "option -output_dir %s: writing %s failed", dir, tmp);
+  PetscCheck(rename(tmp, path) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "option -output_dir %s: cannot rename %s to %s", dir, tmp, path);
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,61 @@
+#include "scene.h"
+
+static PetscFunctionList scene_list = NULL;
+
+PetscErrorCode SceneRegisterAll(void)
+{
+  PetscFunctionBeginUser;
+  if (scene_list) PetscFunctionReturn(0);
+  PetscCall(PetscFunctionListAdd(&scene_list, "mms-fluid", SceneCreate_MMSFluid));
+  PetscCall(PetscFunctionListAdd(&scene_list, "mms-structure", SceneCreate_MMSStructure));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SceneListNames(char names[], size_t len)
+{
+  const char **list;
+  int                n;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscFunctionListGet(scene_list, &list, &n));
+  names[0] = 0;
+  for (int i = 0; i < n; ++i) {
+    if (i) PetscCall(PetscStrlcat(names, ", ", len));
+    PetscCall(PetscStrlcat(names, list[i], len));
+  }
+  PetscCall(PetscFree(list));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SceneCreate(const char name[], Scene *scene)
+{
+  SceneCreateFn create;
+  char          names[256];
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscFunctionListFind(scene_list, name, &create));
+  if (!create) {
+    PetscCall(SceneListNames(names, sizeof(names)));
+    SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_ARG_UNKNOWN_TYPE, "option -scene: unknown scene '%s'; expected one of: %s", name, names);
+  }
+  PetscCall(PetscMemzero(scene, sizeof(*scene)));
+  PetscCall(PetscStrncpy(scene->name, name, sizeof(scene->name)));
+  PetscCall((*create)(scene));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SceneRequiredFaces(const PhysicsData *data, PetscInt *n, PetscInt faces[])
+{
+  PetscFunctionBeginUser;
+  *n = 0;
+  for (PetscInt b = 0; b < data->n_dirichlet; ++b) faces[(*n)++] = data->dirichlet_faces[b];
+  for (PetscInt b = 0; b < data->n_traction; ++b) faces[(*n)++] = data->traction_faces[b];
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SceneFinalize(void)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFunctionListDestroy(&scene_list));
+  PetscFunctionReturn(0);
+}

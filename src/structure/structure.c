@@ -1,0 +1,254 @@
+/* The structure subproblem: linear elasticity with the seed's first-order (eq. 2.42) or
+   second-order midpoint (eqs. 2.40-2.41) time stepping. With the velocity eliminated,
+   both schemes read
+     m M eta^n + K eta^n = m M (eta^{n-1} + dt etadot^{n-1}) + L^n            (order 1, m = rho_s/dt^2)
+     m M eta^n + K eta^n = m M (eta^{n-1} + dt etadot^{n-1}) + L^n + L^{n-1} - K eta^{n-1}
+                                                                               (order 2, m = 4 rho_s/dt^2)
+   and the velocity follows as etadot^n = (eta^n - eta^{n-1})/dt, resp.
+   2 (eta^n - eta^{n-1})/dt - etadot^{n-1}. The matrix m M + K never changes:
+   it is assembled and factored once per run. */
+#include "structure.h"
+#include "fem.h"
+#include "options.h"
+#include "logging.h"
+
+struct _p_Structure {
+  MPI_Comm       comm;
+  DM             dm;      /* with the Dirichlet constraints */
+  DM             dm_free; /* the same space without constraints: for fields that are not displacements */
+  SNES           snes;
+  PetscReal      rho, youngs_modulus, poisson_ratio, mu, lambda;
+  PetscInt       degree, time_order;
+  PetscReal      time, dt;
+  Vec            eta;             /* global displacement at `time` */
+  Vec            eta_local;       /* the same with its boundary values */
+  Vec            etadot_local;    /* velocity, all dofs */
+  Vec            work_local, history, work;
+  PhysicsData    data;
+  DirichletDatum datums[FSIOPT_MAX_BOUNDARIES];
+  SolverCounts   counts;
+};
+
+PetscErrorCode StructureCreate(MPI_Comm comm, Structure *structure)
+{
+  Structure s;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&s));
+  s->comm           = comm;
+  s->rho            = 1.0;
+  s->youngs_modulus = 1.0;
+  s->poisson_ratio  = 0.3;
+  s->degree         = 2;
+  s->time_order     = 2;
+  *structure        = s;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StructureSetFromOptions(Structure s)
+{
+  const char *models[] = {"linear"};
+  PetscInt    model    = 0;
+
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(s->comm, NULL, "Structure options", "structure");
+  PetscCall(PetscOptionsEList("-structure_model", "Constitutive law (svk arrives with the nonlinear-wall issue)", NULL, models, 1, models[model], &model, NULL));
+  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-structure_density", "structure density rho_s", &s->rho));
+  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-structure_youngs_modulus", "Young's modulus E", &s->youngs_modulus));
+  PetscCall(OptionsRealInRange(PetscOptionsObject, "-structure_poisson_ratio", "Poisson ratio nu_s", -1.0, 0.5, &s->poisson_ratio));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-structure_degree", "polynomial degree of the displacement", 1, 4, &s->degree));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-structure_time_order", "1: first order (seed eq. 2.42), 2: midpoint (seed eqs. 2.40-2.41)", 1, 2, &s->time_order));
+  PetscOptionsEnd();
+  s->mu     = s->youngs_modulus / (2.0 * (1.0 + s->poisson_ratio));
+  s->lambda = s->youngs_modulus * s->poisson_ratio / ((1.0 + s->poisson_ratio) * (1.0 - 2.0 * s->poisson_ratio));
+  PetscFunctionReturn(0);
+}
+
+static PetscReal StructureMassCoefficient(Structure s)
+{
+  return (s->time_order == 1 ? 1.0 : 4.0) * s->rho / (s->dt * s->dt);
+}
+
+static PetscErrorCode StructureSetConstants(Structure s, PetscReal mass, PetscReal op, PetscReal load, PetscReal time)
+{
+  PetscDS     ds;
+  PetscScalar c[STRUCTURE_NUM_CONSTANTS + FSIOPT_MAX_EXTRA];
+
+  PetscFunctionBeginUser;
+  c[STRUCTURE_RHO]      = s->rho;
+  c[STRUCTURE_MU]       = s->mu;
+  c[STRUCTURE_LAMBDA]   = s->lambda;
+  c[STRUCTURE_MASS]     = mass;
+  c[STRUCTURE_OPERATOR] = op;
+  c[STRUCTURE_LOAD]     = load;
+  c[STRUCTURE_TIME]     = time;
+  c[STRUCTURE_DT]       = s->dt;
+  for (PetscInt i = 0; i < s->data.n_extra; ++i) c[STRUCTURE_NUM_CONSTANTS + i] = s->data.extra[i];
+  PetscCall(DMGetDS(s->dm, &ds));
+  PetscCall(PetscDSSetConstants(ds, STRUCTURE_NUM_CONSTANTS + s->data.n_extra, c));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode StructureSetUpWeakForm(Structure s)
+{
+  PetscDS       ds;
+  PetscWeakForm wf;
+
+  PetscFunctionBeginUser;
+  /* Cloned before any field exists, so that it shares the mesh but not the constraints. */
+  PetscCall(DMClone(s->dm, &s->dm_free));
+  PetscCall(FEMCreateField(s->dm_free, 0, "velocity", -1, s->degree, NULL));
+  PetscCall(DMCreateDS(s->dm_free));
+  PetscCall(FEMCreateField(s->dm, 0, "displacement", -1, s->degree, NULL));
+  PetscCall(DMCreateDS(s->dm));
+  PetscCall(DMGetDS(s->dm, &ds));
+  PetscCall(PetscDSSetResidual(ds, 0, StructureF0Mass, StructureF1LinearStress));
+  PetscCall(PetscDSSetJacobian(ds, 0, 0, StructureG0Mass, NULL, NULL, StructureG3LinearElasticity));
+  PetscCall(PetscDSGetWeakForm(ds, &wf));
+  if (s->data.load_value_kernel || s->data.load_stress_kernel) PetscCall(PetscWeakFormAddResidual(wf, NULL, 0, 0, 0, s->data.load_value_kernel, s->data.load_stress_kernel));
+  PetscCall(FEMAddBoundaries(s->dm, 0, &s->data, s->datums, &s->time));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode StructureSetUpSolver(Structure s)
+{
+  KSP ksp;
+  PC  pc;
+
+  PetscFunctionBeginUser;
+  PetscCall(SNESCreate(s->comm, &s->snes));
+  PetscCall(SNESSetOptionsPrefix(s->snes, "structure_"));
+  PetscCall(SNESSetDM(s->snes, s->dm));
+  PetscCall(FEMSetSNESCallbacks(s->dm, &s->counts.factorizations));
+  PetscCall(SNESSetType(s->snes, SNESKSPONLY));
+  PetscCall(SNESSetLagJacobian(s->snes, -2));
+  PetscCall(SNESSetLagJacobianPersists(s->snes, PETSC_TRUE));
+  PetscCall(SNESGetKSP(s->snes, &ksp));
+  PetscCall(KSPSetType(ksp, KSPPREONLY));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PCSetType(pc, PCLU));
+  PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+  PetscCall(SNESSetFromOptions(s->snes));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StructureSetUp(Structure s, DM mesh, const PhysicsData *data, PetscReal t0, PetscReal dt)
+{
+  PetscFunctionBeginUser;
+  s->dm   = mesh;
+  s->data = *data;
+  s->time = t0;
+  s->dt   = dt;
+  PetscCall(PetscObjectReference((PetscObject)mesh));
+  PetscCall(StructureSetUpWeakForm(s));
+  PetscCall(StructureSetUpSolver(s));
+  PetscCall(DMCreateGlobalVector(s->dm, &s->eta));
+  PetscCall(PetscObjectSetName((PetscObject)s->eta, "displacement"));
+  PetscCall(VecDuplicate(s->eta, &s->history));
+  PetscCall(VecDuplicate(s->eta, &s->work));
+  PetscCall(DMCreateLocalVector(s->dm, &s->eta_local));
+  PetscCall(VecDuplicate(s->eta_local, &s->etadot_local));
+  PetscCall(VecDuplicate(s->eta_local, &s->work_local));
+  if (data->exact[0]) {
+    PetscCall(DMProjectFunctionLocal(s->dm, t0, &s->data.exact[0], NULL, INSERT_ALL_VALUES, s->eta_local));
+    PetscCall(DMLocalToGlobal(s->dm, s->eta_local, INSERT_VALUES, s->eta));
+  }
+  if (data->exact_rate) PetscCall(DMProjectFunctionLocal(s->dm, t0, &s->data.exact_rate, NULL, INSERT_ALL_VALUES, s->etadot_local));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StructureStep(Structure s, PetscInt step)
+{
+  const PetscReal     mass = StructureMassCoefficient(s), t_old = s->time;
+  SNESConvergedReason reason;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_STRUCTURE_SOLVE, 0, 0, 0, 0));
+  /* history = m M (eta^{n-1} + dt etadot^{n-1}) [- K eta^{n-1} + L^{n-1}] */
+  PetscCall(VecWAXPY(s->work_local, s->dt, s->etadot_local, s->eta_local));
+  PetscCall(StructureSetConstants(s, mass, 0.0, 0.0, t_old));
+  PetscCall(FEMResidual(s->dm, s->work_local, s->history));
+  if (s->time_order == 2) {
+    PetscCall(StructureSetConstants(s, 0.0, 1.0, 1.0, t_old));
+    PetscCall(FEMResidual(s->dm, s->eta_local, s->work));
+    PetscCall(VecAXPY(s->history, -1.0, s->work));
+  }
+
+  s->time += s->dt;
+  PetscCall(StructureSetConstants(s, mass, 1.0, 1.0, s->time));
+  PetscCall(SNESSolve(s->snes, s->history, s->eta));
+  PetscCall(SNESGetConvergedReason(s->snes, &reason));
+  PetscCheck(reason > 0, s->comm, PETSC_ERR_NOT_CONVERGED, "structure solve failed at step %" PetscInt_FMT " (t = %g): SNES reason %s", step, (double)s->time, SNESConvergedReasons[reason]);
+
+  /* etadot^n from the scheme, on all dofs (boundary values included) */
+  PetscCall(VecCopy(s->eta_local, s->work_local));
+  PetscCall(FEMGlobalToLocal(s->dm, s->eta, s->eta_local));
+  if (s->time_order == 1) {
+    PetscCall(VecWAXPY(s->etadot_local, -1.0, s->work_local, s->eta_local));
+    PetscCall(VecScale(s->etadot_local, 1.0 / s->dt));
+  } else {
+    PetscCall(VecAXPBY(s->work_local, 2.0 / s->dt, -2.0 / s->dt, s->eta_local)); /* 2 (eta^n - eta^{n-1})/dt */
+    PetscCall(VecAXPY(s->work_local, -1.0, s->etadot_local));
+    PetscCall(VecCopy(s->work_local, s->etadot_local));
+  }
+  s->counts.nonlinear_solves += 1;
+  s->counts.linear_solves += 1;
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_STRUCTURE_SOLVE, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StructureErrors(Structure s, ErrorTable *errors)
+{
+  PetscReal eta_l2, eta_h1, etadot_l2;
+
+  PetscFunctionBeginUser;
+  if (s->data.exact[0]) {
+    PetscCall(FEMErrors(s->dm, s->eta, s->time, s->data.exact, s->data.exact_gradient, &eta_l2, &eta_h1));
+    PetscCall(ErrorTableAdd(errors, "eta_L2", eta_l2));
+    if (s->data.exact_gradient[0]) PetscCall(ErrorTableAdd(errors, "eta_H1", eta_h1));
+  }
+  if (s->data.exact_rate) {
+    Vec etadot;
+
+    PetscCall(DMGetGlobalVector(s->dm_free, &etadot));
+    PetscCall(DMLocalToGlobal(s->dm_free, s->etadot_local, INSERT_VALUES, etadot));
+    PetscCall(FEMErrors(s->dm_free, etadot, s->time, &s->data.exact_rate, NULL, &etadot_l2, NULL));
+    PetscCall(DMRestoreGlobalVector(s->dm_free, &etadot));
+    PetscCall(ErrorTableAdd(errors, "etadot_L2", etadot_l2));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StructureGetCounts(Structure s, SolverCounts *counts)
+{
+  PetscFunctionBeginUser;
+  *counts = s->counts;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StructureGetInfo(Structure s, PetscInt *dim, PetscInt *ndofs)
+{
+  PetscFunctionBeginUser;
+  if (dim) PetscCall(DMGetDimension(s->dm, dim));
+  if (ndofs) PetscCall(VecGetSize(s->eta, ndofs));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StructureDestroy(Structure *structure)
+{
+  Structure s = *structure;
+
+  PetscFunctionBeginUser;
+  if (!s) PetscFunctionReturn(0);
+  PetscCall(VecDestroy(&s->eta));
+  PetscCall(VecDestroy(&s->eta_local));
+  PetscCall(VecDestroy(&s->etadot_local));
+  PetscCall(VecDestroy(&s->work_local));
+  PetscCall(VecDestroy(&s->history));
+  PetscCall(VecDestroy(&s->work));
+  PetscCall(SNESDestroy(&s->snes));
+  PetscCall(DMDestroy(&s->dm_free));
+  PetscCall(DMDestroy(&s->dm));
+  PetscCall(PetscFree(*structure));
+  PetscFunctionReturn(0);
+}
