@@ -9,10 +9,15 @@ PetscErrorCode OptionsRealInRange(PetscOptionItems *, const char opt[], const ch
 PetscErrorCode OptionsIntInRange(PetscOptionItems *, const char opt[], const char text[], PetscInt lo, PetscInt hi, PetscInt *value);
 /* Sets an option only when the user has not: how scenes give their defaults. */
 PetscErrorCode OptionsSetDefault(const char opt[], const char value[]);
-/* Fails with a one-line message when a file cannot be read. */
+/* Fails with a one-line message when a file cannot be read. FileProblem (usable before
+   PetscInitialize) returns 0 when the file is a readable, non-empty regular file. */
+int            FileProblem(const char path[]);
+const char    *FileProblemText(int problem);
 PetscErrorCode CheckReadableFile(MPI_Comm, const char opt[], const char path[]);
 
 /* One-line error reporting instead of PETSc's traceback banner. */
 PetscErrorCode ErrorReportingPush(void);
 const char    *ErrorReportingFirstMessage(void);
+/* Drops the recorded message, so that a caller can replace a library's message by its own. */
+PetscErrorCode ErrorReportingForget(void);
 #endif

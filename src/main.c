@@ -157,12 +157,11 @@ static int CheckOptionsFiles(int argc, char **argv)
       fprintf(stderr, "fsiopt: error: option %s: expected a file name\n", argv[i]);
       return 1;
     }
-    FILE *fp = fopen(argv[i + 1], "r");
-    if (!fp) {
-      fprintf(stderr, "fsiopt: error: option %s %s: cannot open the file for reading\n", argv[i], argv[i + 1]);
+    const int problem = FileProblem(argv[i + 1]);
+    if (problem) {
+      fprintf(stderr, "fsiopt: error: option %s %s: %s\n", argv[i], argv[i + 1], FileProblemText(problem));
       return 1;
     }
-    fclose(fp);
   }
   return 0;
 }

@@ -1,5 +1,6 @@
 #include "options.h"
 #include <stdio.h>
+#include <sys/stat.h>
 
 PetscErrorCode OptionsPositiveReal(PetscOptionItems *PetscOptionsObject, const char opt[], const char text[], PetscReal *value)
 {
@@ -43,19 +44,38 @@ PetscErrorCode OptionsSetDefault(const char opt[], const char value[])
   PetscFunctionReturn(0);
 }
 
+int FileProblem(const char path[])
+{
+  struct stat st;
+  FILE       *fp;
+
+  if (stat(path, &st)) return 1;
+  if (!S_ISREG(st.st_mode)) return 2;
+  if (!(fp = fopen(path, "r"))) return 1;
+  fclose(fp);
+  return st.st_size > 0 ? 0 : 3;
+}
+
+const char *FileProblemText(int problem)
+{
+  switch (problem) {
+  case 1:
+    return "cannot open the file for reading";
+  case 2:
+    return "expected a regular file";
+  case 3:
+    return "the file is empty";
+  default:
+    return "no problem";
+  }
+}
+
 PetscErrorCode CheckReadableFile(MPI_Comm comm, const char opt[], const char path[])
 {
-  FILE *fp = fopen(path, "r");
-  long  size = 0;
+  const int problem = FileProblem(path);
 
   PetscFunctionBeginUser;
-  if (fp) {
-    fseek(fp, 0, SEEK_END);
-    size = ftell(fp);
-    fclose(fp);
-  }
-  PetscCheck(fp, comm, PETSC_ERR_FILE_OPEN, "%s %s: cannot open the file for reading", opt, path);
-  PetscCheck(size > 0, comm, PETSC_ERR_FILE_UNEXPECTED, "%s %s: the file is empty", opt, path);
+  PetscCheck(!problem, comm, PETSC_ERR_FILE_OPEN, "option %s %s: %s", opt, path, FileProblemText(problem));
   PetscFunctionReturn(0);
 }
 
@@ -71,6 +91,12 @@ static PetscErrorCode RecordFirstMessage(MPI_Comm comm, int line, const char *fu
     else PetscSNPrintf(first_message, sizeof(first_message), "PETSc error %d in %s() at %s:%d", (int)n, func, file, line);
   }
   return n;
+}
+
+PetscErrorCode ErrorReportingForget(void)
+{
+  first_message[0] = 0;
+  return 0;
 }
 
 PetscErrorCode ErrorReportingPush(void)

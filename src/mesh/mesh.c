@@ -34,7 +34,13 @@ PetscErrorCode MeshCreate(MPI_Comm comm, const char prefix[], PetscInt refine, P
   PetscCall(DMCreate(comm, &dm));
   PetscCall(DMSetType(dm, DMPLEX));
   PetscCall(PetscObjectSetOptionsPrefix((PetscObject)dm, prefix));
-  PetscCall(DMSetFromOptions(dm));
+  {
+    PetscErrorCode ierr = DMSetFromOptions(dm);
+    if (ierr) {
+      PetscCall(ErrorReportingForget());
+      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "%s mesh %s: cannot build the mesh (expected a gmsh 2.2/4.1 .msh file or -%sdm_plex_box_* options)", prefix, from_file ? filename : "(box)", prefix);
+    }
+  }
   PetscCall(MeshCheckFaceSets(dm, prefix, from_file ? filename : "(box)", nrequired, required));
 
   PetscCallMPI(MPI_Comm_size(comm, &size));

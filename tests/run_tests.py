@@ -1,0 +1,227 @@
+#!/usr/bin/python3
+"""fsiopt test suite: every test asserts a property (a convergence rate, agreement
+between runs, a solver count, a clean refusal of bad input). Run by `make test`.
+Last line: 'N passed, M failed'; exit status non-zero on any failure."""
+import json, math, os, shutil, subprocess, sys, tempfile, time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+FSIOPT = os.path.join(ROOT, "bin", "fsiopt")
+ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+           OMPI_MCA_rmaps_base_oversubscribe="1")
+WORK = tempfile.mkdtemp(prefix="fsiopt-tests-")
+results = []
+
+
+def run(args, nproc=1, tag="run"):
+    """Runs fsiopt, returns (returncode, stdout, stderr, summary or None)."""
+    out = os.path.join(WORK, "%s-%d" % (tag, len(os.listdir(WORK))))
+    cmd = ([FSIOPT] if nproc == 1 else ["mpiexec", "-n", str(nproc), FSIOPT]) + args + ["-output_dir", out]
+    p = subprocess.run(cmd, cwd=ROOT, env=ENV, capture_output=True, text=True, timeout=600)
+    path = os.path.join(out, "summary.json")
+    summary = json.load(open(path)) if os.path.exists(path) else None
+    return p.returncode, p.stdout, p.stderr, summary
+
+
+def solve(args, nproc=1):
+    rc, out, err, summary = run(args, nproc)
+    if rc != 0 or summary is None:
+        raise AssertionError("run failed (%s): %s" % (" ".join(args), (err or out).strip()[-300:]))
+    return summary
+
+
+def rates(errors, key):
+    return [math.log2(errors[i][key] / errors[i + 1][key]) for i in range(len(errors) - 1)]
+
+
+def test(name):
+    def wrap(fn):
+        def runner():
+            t0 = time.time()
+            try:
+                detail = fn()
+                results.append(True)
+                print("PASS %-42s %6.1fs  %s" % (name, time.time() - t0, detail or ""), flush=True)
+            except AssertionError as e:
+                results.append(False)
+                print("FAIL %-42s %6.1fs  %s" % (name, time.time() - t0, e), flush=True)
+        runner.__name__ = name
+        TESTS.append(runner)
+        return runner
+    return wrap
+
+
+TESTS = []
+
+
+def check_rates(errs, floors):
+    got = {k: rates(errs, k) for k in floors}
+    for k, floor in floors.items():
+        assert min(got[k]) >= floor, "%s rates %s below %.2f (errors %s)" % (
+            k, ["%.2f" % r for r in got[k]], floor, ["%.2e" % e[k] for e in errs])
+    return "; ".join("%s %s" % (k, " ".join("%.2f" % r for r in v)) for k, v in got.items())
+
+
+FLUID_SPACE = ["-scene", "mms-fluid", "-dt", "0.1", "-t_start", "0.5", "-t_final", "0.6", "-mms_discrete_time"]
+
+
+@test("fluid (Q2,Q1) spatial rates")
+def _():
+    errs = [solve(FLUID_SPACE + ["-refine", str(r)])["errors"] for r in range(3)]
+    return check_rates(errs, {"u_L2": 2.8, "u_H1": 1.8, "p_L2": 1.8})
+
+
+@test("fluid (P2,P1) gmsh spatial rates")
+def _():
+    errs = [solve(FLUID_SPACE + ["-refine", str(r), "-fluid_dm_plex_filename", "meshes/square.msh"])["errors"] for r in range(3)]
+    return check_rates(errs, {"u_L2": 2.8, "u_H1": 1.8, "p_L2": 1.8})
+
+
+@test("stokes (Q2,Q1) spatial rates, one factorization")
+def _():
+    runs = [solve(FLUID_SPACE + ["-refine", str(r), "-fluid_model", "stokes"]) for r in range(3)]
+    for s in runs:
+        assert s["factorizations"]["fluid"] == 1, "Stokes factored %d times" % s["factorizations"]["fluid"]
+    return check_rates([s["errors"] for s in runs], {"u_L2": 2.8, "u_H1": 1.8, "p_L2": 1.8})
+
+
+@test("structure Q2 spatial rates")
+def _():
+    errs = [solve(["-scene", "mms-structure", "-dt", "1e-4", "-t_start", "0.5", "-t_final", "0.5001",
+                   "-refine", str(r)])["errors"] for r in range(3)]
+    return check_rates(errs, {"eta_L2": 2.8, "eta_H1": 1.8})
+
+
+@test("fluid backward Euler temporal rate")
+def _():
+    errs = [solve(["-scene", "mms-fluid", "-t_start", "0.5", "-t_final", "1", "-dt", str(dt), "-refine", "1"])["errors"]
+            for dt in (0.1, 0.05, 0.025)]
+    return check_rates(errs, {"u_L2": 0.9})
+
+
+@test("structure first-order temporal rate")
+def _():
+    runs = [solve(["-scene", "mms-structure", "-structure_time_order", "1", "-t_start", "0.5", "-t_final", "1",
+                   "-dt", str(dt), "-refine", "1"]) for dt in (0.02, 0.01, 0.005)]
+    assert all(s["factorizations"]["structure"] == 1 for s in runs), "structure factored more than once per run"
+    return check_rates([s["errors"] for s in runs], {"eta_L2": 0.9})
+
+
+@test("structure midpoint temporal rate, one factorization")
+def _():
+    runs = [solve(["-scene", "mms-structure", "-structure_time_order", "2", "-t_start", "0.5", "-t_final", "1",
+                   "-dt", str(dt), "-refine", "2"]) for dt in (0.1, 0.05, 0.025)]
+    for s in runs:
+        assert s["factorizations"]["structure"] == 1, "structure factored %d times" % s["factorizations"]["structure"]
+        assert s["structure_solves"] == s["steps"], "one linear solve per step expected"
+    return check_rates([s["errors"] for s in runs], {"eta_L2": 1.8, "eta_H1": 1.8})
+
+
+def same_errors(args):
+    one, two = solve(args), solve(args, nproc=2)
+    assert two["ranks"]["fluid"] + two["ranks"]["structure"] >= 2, "the 2-rank run reports ranks %s" % two["ranks"]
+    worst = 0.0
+    for k, v in one["errors"].items():
+        rel = abs(two["errors"][k] - v) / abs(v)
+        worst = max(worst, rel)
+        assert rel <= 1e-10, "%s: 1 rank %.15e, 2 ranks %.15e (rel %.1e)" % (k, v, two["errors"][k], rel)
+    return "max relative difference %.1e" % worst
+
+
+@test("2 ranks reproduce 1 rank: fluid")
+def _():
+    return same_errors(FLUID_SPACE + ["-refine", "1"])
+
+
+@test("2 ranks reproduce 1 rank: structure")
+def _():
+    return same_errors(["-scene", "mms-structure", "-t_start", "0.5", "-t_final", "0.6", "-dt", "0.05", "-refine", "1"])
+
+
+@test("summary.json has every DESIGN key")
+def _():
+    s = solve(FLUID_SPACE)
+    keys = ["scene", "coupling", "optimizer", "dim", "steps", "dt", "t_final", "wall_time_s", "fluid_solves",
+            "fluid_linear_solves", "structure_solves", "coupling_iterations", "avg_coupling_iterations",
+            "work_factor", "max_interface_jump", "factorizations", "converged", "errors", "quantities", "ranks"]
+    missing = [k for k in keys if k not in s]
+    assert not missing, "missing keys %s" % missing
+    assert s["scene"] == "mms-fluid" and s["dim"] == 2 and s["steps"] == 1 and s["converged"] is True
+    assert s["fluid_solves"] == 1 and s["structure_solves"] == 0 and s["coupling"] == "none"
+    return "%d keys" % len(keys)
+
+
+def bad_input_cases():
+    d = os.path.join(WORK, "inputs")
+    os.makedirs(d, exist_ok=True)
+    empty = os.path.join(d, "empty.yaml"); open(empty, "w").close()
+    junk = os.path.join(d, "junk.msh"); open(junk, "w").write("this is not a mesh\n")
+    nolabel_geo = os.path.join(d, "nolabels.geo")
+    open(nolabel_geo, "w").write("Point(1)={0,0,0,0.5};Point(2)={1,0,0,0.5};Point(3)={1,1,0,0.5};Point(4)={0,1,0,0.5};"
+                                 "Line(1)={1,2};Line(2)={2,3};Line(3)={3,4};Line(4)={4,1};Curve Loop(1)={1,2,3,4};"
+                                 "Plane Surface(1)={1};Physical Curve(1)={1};Physical Surface(1)={1};\n")
+    nolabel = os.path.join(d, "nolabels.msh")
+    subprocess.run(["gmsh", "-2", "-format", "msh22", "-v", "0", "-o", nolabel, nolabel_geo], check=True, capture_output=True)
+    F, S = ["-scene", "mms-fluid"], ["-scene", "mms-structure"]
+    return [
+        ("unknown scene", ["-scene", "nosuchscene"], "-scene"),
+        ("no scene", ["-dt", "0.1"], "-scene"),
+        ("unknown coupling", F + ["-coupling", "magic"], "-coupling"),
+        ("missing options file", ["-options_file", "options/nosuch.yaml"], "nosuch.yaml"),
+        ("options file is a directory", ["-options_file", "options"], "-options_file"),
+        ("empty options file", ["-options_file", empty], "empty.yaml"),
+        ("missing mesh file", F + ["-fluid_dm_plex_filename", "meshes/nosuch.msh"], "nosuch.msh"),
+        ("unreadable mesh file", F + ["-fluid_dm_plex_filename", junk], "junk.msh"),
+        ("mesh lacking labels", F + ["-fluid_dm_plex_filename", nolabel], "Face Sets"),
+        ("zero fluid density", F + ["-fluid_density", "0"], "-fluid_density"),
+        ("negative fluid viscosity", F + ["-fluid_viscosity", "-1"], "-fluid_viscosity"),
+        ("zero viscosity", F + ["-fluid_viscosity", "0"], "-fluid_viscosity"),
+        ("zero structure density", S + ["-structure_density", "0"], "-structure_density"),
+        ("negative Young's modulus", S + ["-structure_youngs_modulus", "-5"], "-structure_youngs_modulus"),
+        ("Poisson ratio 0.5", S + ["-structure_poisson_ratio", "0.5"], "-structure_poisson_ratio"),
+        ("Poisson ratio above 0.5", S + ["-structure_poisson_ratio", "0.7"], "-structure_poisson_ratio"),
+        ("zero dt", F + ["-dt", "0"], "-dt"),
+        ("negative dt", F + ["-dt", "-0.01"], "-dt"),
+        ("dt not dividing the interval", F + ["-dt", "0.03", "-t_start", "0", "-t_final", "0.1"], "-dt"),
+        ("t_final before t_start", F + ["-t_start", "1", "-t_final", "0.5"], "-t_final"),
+        ("unstable element pair", F + ["-fluid_pressure_degree", "2"], "-fluid_pressure_degree"),
+        ("negative refine", F + ["-refine", "-1"], "-refine"),
+    ]
+
+
+@test("bad input: one line, non-zero exit, no summary")
+def _():
+    problems = []
+    cases = bad_input_cases()
+    for name, args, token in cases:
+        rc, out, err, summary = run(args, tag="bad")
+        lines = [l for l in (out + err).splitlines() if l.strip()]
+        why = []
+        if rc == 0: why.append("exit 0")
+        if summary is not None: why.append("summary.json written")
+        if "PETSC ERROR" in out + err: why.append("PETSc traceback")
+        if len(lines) != 1: why.append("%d lines" % len(lines))
+        elif token not in lines[0] or not lines[0].startswith("fsiopt: error:"): why.append("message '%s' lacks '%s'" % (lines[0], token))
+        if why: problems.append("%s: %s" % (name, ", ".join(why)))
+    assert not problems, "; ".join(problems)
+    return "%d cases" % len(cases)
+
+
+@test("-help lists scenes and options")
+def _():
+    p = subprocess.run([FSIOPT, "-help", "-scene", "mms-fluid"], cwd=ROOT, env=ENV, capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0, "exit %d" % p.returncode
+    for opt in ["-scene", "-coupling", "-refine", "-dt", "-t_start", "-t_final", "-output_dir", "-fluid_density",
+                "-fluid_viscosity", "-fluid_model", "-mms_discrete_time"]:
+        assert opt in p.stdout, "%s not in -help" % opt
+    return ""
+
+
+if __name__ == "__main__":
+    t0 = time.time()
+    for t in TESTS:
+        t()
+    shutil.rmtree(WORK, ignore_errors=True)
+    passed, failed = results.count(True), results.count(False)
+    print("total time %.0fs" % (time.time() - t0))
+    print("%d passed, %d failed" % (passed, failed))
+    sys.exit(1 if failed else 0)
