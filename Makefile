@@ -8,7 +8,7 @@ PYTHON := /usr/bin/python3
 
 CC      := mpicc
 CFLAGS  ?= -O2 -g
-CFLAGS  += -Wall -Wextra -Wno-unused-parameter -std=c11 -D_POSIX_C_SOURCE=200809L -Iinclude -Isrc/scenes $(shell pkg-config --cflags PETSc 2>/dev/null)
+CFLAGS  += -Wall -Wextra -std=c11 -D_POSIX_C_SOURCE=200809L -Iinclude -Isrc/scenes $(shell pkg-config --cflags PETSc 2>/dev/null)
 LDLIBS  += $(shell pkg-config --libs PETSc 2>/dev/null) -lm
 
 SRC  := $(wildcard src/*.c src/*/*.c)

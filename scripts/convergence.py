@@ -13,6 +13,7 @@ STUDIES = [
     ("fluid (Q2,Q1) space", ["-scene", "mms-fluid", "-dt", "0.1", "-t_start", "0.5", "-t_final", "0.6", "-mms_discrete_time"], "refine", ["u_L2", "u_H1", "p_L2"]),
     ("fluid (P2,P1) space", ["-scene", "mms-fluid", "-dt", "0.1", "-t_start", "0.5", "-t_final", "0.6", "-mms_discrete_time", "-fluid_dm_plex_filename", "meshes/square.msh"], "refine", ["u_L2", "u_H1", "p_L2"]),
     ("structure Q2 space", ["-scene", "mms-structure", "-dt", "1e-4", "-t_start", "0.5", "-t_final", "0.5001"], "refine", ["eta_L2", "eta_H1", "etadot_L2"]),
+    ("structure P2 space", ["-scene", "mms-structure", "-dt", "1e-4", "-t_start", "0.5", "-t_final", "0.5001", "-structure_dm_plex_filename", "meshes/wall.msh"], "refine", ["eta_L2", "eta_H1", "etadot_L2"]),
     ("fluid backward Euler time", ["-scene", "mms-fluid", "-t_start", "0.5", "-t_final", "1", "-refine", "2"], "dt", ["u_L2", "u_H1", "p_L2"]),
     ("structure first order time", ["-scene", "mms-structure", "-structure_time_order", "1", "-t_start", "0.5", "-t_final", "1", "-refine", "1"], "dt", ["eta_L2", "eta_H1", "etadot_L2"]),
     ("structure midpoint time", ["-scene", "mms-structure", "-structure_time_order", "2", "-t_start", "0.5", "-t_final", "1", "-refine", "2"], "dt", ["eta_L2", "eta_H1", "etadot_L2"]),

@@ -91,6 +91,13 @@ def _():
     return check_rates(errs, {"eta_L2": 2.8, "eta_H1": 1.8})
 
 
+@test("structure P2 gmsh spatial rates")
+def _():
+    errs = [solve(["-scene", "mms-structure", "-dt", "1e-4", "-t_start", "0.5", "-t_final", "0.5001",
+                   "-refine", str(r), "-structure_dm_plex_filename", "meshes/wall.msh"])["errors"] for r in range(3)]
+    return check_rates(errs, {"eta_L2": 2.8, "eta_H1": 1.8})
+
+
 @test("fluid backward Euler temporal rate")
 def _():
     errs = [solve(["-scene", "mms-fluid", "-t_start", "0.5", "-t_final", "1", "-dt", str(dt), "-refine", "1"])["errors"]

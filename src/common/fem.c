@@ -1,5 +1,8 @@
 #include "fem.h"
 
+/* PETSc fixes the signatures of pointwise kernels and callbacks; most use a few of their arguments. */
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+
 PetscErrorCode FEMCreateField(DM dm, PetscInt field, const char name[], PetscInt Nc, PetscInt degree, PetscFE quadrature_from)
 {
   PetscFE   fe;

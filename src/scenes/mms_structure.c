@@ -6,6 +6,9 @@
 #include "options.h"
 #include "mms_fields.h"
 
+/* PETSc fixes the signatures of pointwise kernels and callbacks; most use a few of their arguments. */
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+
 static PetscErrorCode Displacement(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *eta, void *ctx)
 {
   MMSStructureDisplacement(t, x, eta);
