@@ -13,8 +13,11 @@ PetscErrorCode FEMAddBoundaries(DM dm, PetscInt field, const PhysicsData *data, 
 PetscErrorCode FEMResidual(DM dm, Vec xlocal, Vec fglobal);
 /* Global state to local state with the boundary values of the current time. */
 PetscErrorCode FEMGlobalToLocal(DM dm, Vec xglobal, Vec xlocal);
-/* SNES callbacks: boundary insertion at the solver's time, and a Jacobian that counts its assemblies. */
-PetscErrorCode FEMSetSNESCallbacks(DM dm, PetscInt *jacobian_assemblies);
+/* The SNES of one subproblem: boundary insertion at the solver's time, a Jacobian that
+   counts its assemblies (= LU factorizations), MUMPS LU by default, and with
+   `constant_jacobian` one linear solve per step on a matrix factored once per run.
+   Options under `prefix` override all of it. */
+PetscErrorCode FEMCreateSNES(DM dm, const char prefix[], PetscBool constant_jacobian, PetscInt *jacobian_assemblies, SNES *snes);
 /* Per field: L2 error and L2 error of the gradient against closed forms at time t
    (a NULL closed form gives 0; h1 may be NULL). At most two fields. */
 PetscErrorCode FEMErrors(DM dm, Vec xglobal, PetscReal t, const FieldFn exact[], const GradientFn gradient[], PetscReal l2[], PetscReal h1[]);

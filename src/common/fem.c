@@ -101,12 +101,32 @@ static PetscErrorCode CountedJacobian(DM dm, Vec xlocal, Mat J, Mat P, void *ctx
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FEMSetSNESCallbacks(DM dm, PetscInt *jacobian_assemblies)
+PetscErrorCode FEMCreateSNES(DM dm, const char prefix[], PetscBool constant_jacobian, PetscInt *jacobian_assemblies, SNES *snes)
 {
+  KSP ksp;
+  PC  pc;
+
   PetscFunctionBeginUser;
+  PetscCall(SNESCreate(PetscObjectComm((PetscObject)dm), snes));
+  PetscCall(SNESSetOptionsPrefix(*snes, prefix));
+  PetscCall(SNESSetDM(*snes, dm));
   PetscCall(DMPlexSetSNESLocalFEM(dm, NULL, NULL, NULL));
   PetscCall(DMSNESSetBoundaryLocal(dm, InsertBoundaryValues, NULL));
   PetscCall(DMSNESSetJacobianLocal(dm, CountedJacobian, jacobian_assemblies));
+  /* MUMPS LU by default: it also solves with the transpose of the same factors. */
+  PetscCall(SNESGetKSP(*snes, &ksp));
+  PetscCall(KSPSetType(ksp, KSPPREONLY));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PCSetType(pc, PCLU));
+  PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+  PetscCall(SNESSetTolerances(*snes, 1e-12, 1e-10, 1e-12, 50, PETSC_DEFAULT));
+  if (constant_jacobian) {
+    /* A matrix that does not change with the state is assembled and factored once per run. */
+    PetscCall(SNESSetType(*snes, SNESKSPONLY));
+    PetscCall(SNESSetLagJacobian(*snes, -2));
+    PetscCall(SNESSetLagJacobianPersists(*snes, PETSC_TRUE));
+  }
+  PetscCall(SNESSetFromOptions(*snes));
   PetscFunctionReturn(0);
 }
 

@@ -102,32 +102,6 @@ static PetscErrorCode FluidSetUpWeakForm(Fluid f)
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode FluidSetUpSolver(Fluid f)
-{
-  KSP ksp;
-  PC  pc;
-
-  PetscFunctionBeginUser;
-  PetscCall(SNESCreate(f->comm, &f->snes));
-  PetscCall(SNESSetOptionsPrefix(f->snes, "fluid_"));
-  PetscCall(SNESSetDM(f->snes, f->dm));
-  PetscCall(FEMSetSNESCallbacks(f->dm, &f->counts.factorizations));
-  PetscCall(SNESGetKSP(f->snes, &ksp));
-  PetscCall(KSPSetType(ksp, KSPPREONLY));
-  PetscCall(KSPGetPC(ksp, &pc));
-  PetscCall(PCSetType(pc, PCLU));
-  PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
-  PetscCall(SNESSetTolerances(f->snes, 1e-12, 1e-10, 1e-12, 50, PETSC_DEFAULT));
-  if (f->model == FLUID_STOKES) {
-    /* The Stokes matrix does not change with the state: factor it once per run. */
-    PetscCall(SNESSetType(f->snes, SNESKSPONLY));
-    PetscCall(SNESSetLagJacobian(f->snes, -2));
-    PetscCall(SNESSetLagJacobianPersists(f->snes, PETSC_TRUE));
-  }
-  PetscCall(SNESSetFromOptions(f->snes));
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t0, PetscReal dt)
 {
   PetscFunctionBeginUser;
@@ -137,7 +111,7 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
   f->dt   = dt;
   PetscCall(PetscObjectReference((PetscObject)mesh));
   PetscCall(FluidSetUpWeakForm(f));
-  PetscCall(FluidSetUpSolver(f));
+  PetscCall(FEMCreateSNES(f->dm, "fluid_", f->model == FLUID_STOKES, &f->counts.factorizations, &f->snes));
   PetscCall(DMCreateGlobalVector(f->dm, &f->x));
   PetscCall(PetscObjectSetName((PetscObject)f->x, "fluid"));
   PetscCall(VecDuplicate(f->x, &f->history));

@@ -110,28 +110,6 @@ static PetscErrorCode StructureSetUpWeakForm(Structure s)
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode StructureSetUpSolver(Structure s)
-{
-  KSP ksp;
-  PC  pc;
-
-  PetscFunctionBeginUser;
-  PetscCall(SNESCreate(s->comm, &s->snes));
-  PetscCall(SNESSetOptionsPrefix(s->snes, "structure_"));
-  PetscCall(SNESSetDM(s->snes, s->dm));
-  PetscCall(FEMSetSNESCallbacks(s->dm, &s->counts.factorizations));
-  PetscCall(SNESSetType(s->snes, SNESKSPONLY));
-  PetscCall(SNESSetLagJacobian(s->snes, -2));
-  PetscCall(SNESSetLagJacobianPersists(s->snes, PETSC_TRUE));
-  PetscCall(SNESGetKSP(s->snes, &ksp));
-  PetscCall(KSPSetType(ksp, KSPPREONLY));
-  PetscCall(KSPGetPC(ksp, &pc));
-  PetscCall(PCSetType(pc, PCLU));
-  PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
-  PetscCall(SNESSetFromOptions(s->snes));
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode StructureSetUp(Structure s, DM mesh, const PhysicsData *data, PetscReal t0, PetscReal dt)
 {
   PetscFunctionBeginUser;
@@ -141,7 +119,7 @@ PetscErrorCode StructureSetUp(Structure s, DM mesh, const PhysicsData *data, Pet
   s->dt   = dt;
   PetscCall(PetscObjectReference((PetscObject)mesh));
   PetscCall(StructureSetUpWeakForm(s));
-  PetscCall(StructureSetUpSolver(s));
+  PetscCall(FEMCreateSNES(s->dm, "structure_", PETSC_TRUE, &s->counts.factorizations, &s->snes));
   PetscCall(DMCreateGlobalVector(s->dm, &s->eta));
   PetscCall(PetscObjectSetName((PetscObject)s->eta, "displacement"));
   PetscCall(VecDuplicate(s->eta, &s->history));
