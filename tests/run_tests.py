@@ -41,7 +41,7 @@ def test(name):
                 detail = fn()
                 results.append(True)
                 print("PASS %-42s %6.1fs  %s" % (name, time.time() - t0, detail or ""), flush=True)
-            except AssertionError as e:
+            except Exception as e:  # a crash or a timeout is a failure, not an abort of the suite
                 results.append(False)
                 print("FAIL %-42s %6.1fs  %s" % (name, time.time() - t0, e), flush=True)
         runner.__name__ = name
