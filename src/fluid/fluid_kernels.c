@@ -8,11 +8,12 @@
    The continuity row carries the minus sign so that the Stokes matrix is symmetric. */
 #include "fluid.h"
 
-#define UNUSED_KERNEL_ARGS (void)Nf, (void)NfAux, (void)uOff_x, (void)u_t, (void)aOff, (void)aOff_x, (void)a, (void)a_t, (void)a_x, (void)t, (void)x, (void)numConstants
+/* PETSc fixes the signatures of pointwise kernels; each uses a few of their arguments. */
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+
 
 void FluidF0MassStokes(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
 {
-  UNUSED_KERNEL_ARGS, (void)u_x;
   for (PetscInt c = 0; c < dim; ++c) f0[c] = constants[FLUID_MASS] * u[uOff[0] + c];
 }
 
@@ -20,7 +21,6 @@ void FluidF0MassConvection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const Pets
 {
   const PetscScalar rho_op = constants[FLUID_RHO] * constants[FLUID_OPERATOR];
 
-  UNUSED_KERNEL_ARGS;
   for (PetscInt c = 0; c < dim; ++c) {
     PetscScalar convection = 0;
     for (PetscInt d = 0; d < dim; ++d) convection += u[uOff[0] + d] * u_x[uOff_x[0] + c * dim + d];
@@ -32,7 +32,6 @@ void FluidF1Stress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOf
 {
   const PetscScalar mu = constants[FLUID_MU], op = constants[FLUID_OPERATOR], p = u[uOff[1]];
 
-  UNUSED_KERNEL_ARGS;
   for (PetscInt c = 0; c < dim; ++c)
     for (PetscInt d = 0; d < dim; ++d) f1[c * dim + d] = op * (mu * (u_x[uOff_x[0] + c * dim + d] + u_x[uOff_x[0] + d * dim + c]) - (c == d ? p : 0.0));
 }
@@ -41,16 +40,13 @@ void FluidF0Continuity(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt
 {
   PetscScalar divergence = 0;
 
-  UNUSED_KERNEL_ARGS, (void)uOff, (void)u;
   for (PetscInt d = 0; d < dim; ++d) divergence += u_x[uOff_x[0] + d * dim + d];
   f0[0] = -constants[FLUID_OPERATOR] * divergence;
 }
 
-#define UNUSED_JACOBIAN_ARGS (void)Nf, (void)NfAux, (void)uOff, (void)uOff_x, (void)u, (void)u_t, (void)u_x, (void)aOff, (void)aOff_x, (void)a, (void)a_t, (void)a_x, (void)t, (void)u_tShift, (void)x, (void)numConstants
 
 void FluidG0MassStokes(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g0[])
 {
-  UNUSED_JACOBIAN_ARGS;
   for (PetscInt c = 0; c < dim; ++c) g0[c * dim + c] = constants[FLUID_MASS];
 }
 
@@ -58,7 +54,6 @@ void FluidG0MassConvection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const Pets
 {
   const PetscScalar rho_op = constants[FLUID_RHO] * constants[FLUID_OPERATOR];
 
-  UNUSED_JACOBIAN_ARGS;
   for (PetscInt c = 0; c < dim; ++c) {
     for (PetscInt d = 0; d < dim; ++d) g0[c * dim + d] = rho_op * u_x[uOff_x[0] + c * dim + d];
     g0[c * dim + c] += constants[FLUID_MASS];
@@ -69,7 +64,6 @@ void FluidG1Convection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt
 {
   const PetscScalar rho_op = constants[FLUID_RHO] * constants[FLUID_OPERATOR];
 
-  UNUSED_JACOBIAN_ARGS;
   for (PetscInt c = 0; c < dim; ++c)
     for (PetscInt d = 0; d < dim; ++d) g1[(c * dim + c) * dim + d] = rho_op * u[uOff[0] + d];
 }
@@ -78,7 +72,6 @@ void FluidG3Viscous(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uO
 {
   const PetscScalar mu_op = constants[FLUID_MU] * constants[FLUID_OPERATOR];
 
-  UNUSED_JACOBIAN_ARGS;
   for (PetscInt c = 0; c < dim; ++c)
     for (PetscInt d = 0; d < dim; ++d) {
       g3[((c * dim + c) * dim + d) * dim + d] += mu_op;
@@ -88,12 +81,10 @@ void FluidG3Viscous(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uO
 
 void FluidG2Pressure(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g2[])
 {
-  UNUSED_JACOBIAN_ARGS;
   for (PetscInt d = 0; d < dim; ++d) g2[d * dim + d] = -constants[FLUID_OPERATOR];
 }
 
 void FluidG1Continuity(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g1[])
 {
-  UNUSED_JACOBIAN_ARGS;
   for (PetscInt d = 0; d < dim; ++d) g1[d * dim + d] = -constants[FLUID_OPERATOR];
 }
