@@ -15,9 +15,16 @@ PetscErrorCode FEMResidual(DM dm, Vec xlocal, Vec fglobal);
 PetscErrorCode FEMGlobalToLocal(DM dm, Vec xglobal, Vec xlocal);
 /* The SNES of one subproblem: boundary insertion at the solver's time, a Jacobian that
    counts its assemblies (= LU factorizations), MUMPS LU by default, and with
-   `constant_jacobian` one linear solve per step on a matrix factored once per run.
+   the policy's Jacobian updates (see FEMJacobianPolicy).
    Options under `prefix` override all of it. */
-PetscErrorCode FEMCreateSNES(DM dm, const char prefix[], PetscBool constant_jacobian, PetscInt *jacobian_assemblies, SNES *snes);
+typedef enum {
+  FEM_JACOBIAN_NEWTON,     /* assembled and factored at every Newton iteration */
+  FEM_JACOBIAN_CONSTANT,   /* assembled and factored once per run: one linear solve per step */
+  FEM_JACOBIAN_ON_REQUEST  /* assembled and factored by FEMUpdateJacobian only; solves reuse the factors */
+} FEMJacobianPolicy;
+PetscErrorCode FEMCreateSNES(DM dm, const char prefix[], FEMJacobianPolicy, PetscInt *jacobian_assemblies, SNES *snes);
+/* Assembles the Jacobian at x and factors it now (FEM_JACOBIAN_ON_REQUEST). */
+PetscErrorCode FEMUpdateJacobian(SNES snes, Vec x);
 /* Per field: L2 error and L2 error of the gradient against closed forms at time t
    (a NULL closed form gives 0; h1 may be NULL). At most two fields. */
 PetscErrorCode FEMErrors(DM dm, Vec xglobal, PetscReal t, const FieldFn exact[], const GradientFn gradient[], PetscReal l2[], PetscReal h1[]);

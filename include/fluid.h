@@ -6,7 +6,7 @@
    MASS is the coefficient of (u, v) (rho/dt in a step), OPERATOR and LOAD switch the
    spatial operator and the data on and off, so one weak form also yields the
    old-domain mass term M(Omega^{n-1}) u^{n-1}. */
-enum { FLUID_RHO, FLUID_MU, FLUID_MASS, FLUID_OPERATOR, FLUID_LOAD, FLUID_TIME, FLUID_DT, FLUID_CONVECTION, FLUID_NUM_CONSTANTS };
+enum { FLUID_RHO, FLUID_MU, FLUID_MASS, FLUID_OPERATOR, FLUID_LOAD, FLUID_TIME, FLUID_DT, FLUID_CONVECTION, FLUID_PROJECTION, FLUID_NUM_CONSTANTS };
 
 typedef struct _p_Fluid *Fluid;
 
@@ -14,12 +14,29 @@ PetscErrorCode FluidCreate(MPI_Comm, Fluid *);
 PetscErrorCode FluidSetFromOptions(Fluid);
 PetscErrorCode FluidSetUp(Fluid, DM mesh, const PhysicsData *, PetscReal t0, PetscReal dt);
 PetscErrorCode FluidStep(Fluid, PetscInt step);
+
+/* Coupled use. FluidSetInterface (before FluidSetUp) names the interface face set and
+   whether the residual carries the convective boundary term the control absorbs
+   (-1/2 rho ((u.n) u, v) there). A coupled Navier-Stokes fluid recomputes and factors
+   its Jacobian only when asked (FluidUpdateJacobian); its nonlinear solves reuse the
+   factorization in hand. */
+PetscErrorCode FluidSetInterface(Fluid, PetscInt face, PetscBool convective_term);
+PetscErrorCode FluidBeginStep(Fluid);                         /* old-domain term, t += dt */
+PetscErrorCode FluidSolve(Fluid, Vec load, PetscInt step);    /* R(x) = history + load */
+PetscErrorCode FluidUpdateJacobian(Fluid);                    /* A = dR/dx at the current state, factored */
+PetscErrorCode FluidLinearSolve(Fluid, Vec rhs, Vec x, PetscBool transpose); /* with the factors in hand */
+PetscErrorCode FluidGetDM(Fluid, DM *);
+PetscErrorCode FluidGetSolution(Fluid, Vec *);
+PetscErrorCode FluidGetTime(Fluid, PetscReal *);
+PetscBool      FluidIsLinear(Fluid);
 PetscErrorCode FluidErrors(Fluid, ErrorTable *);
 PetscErrorCode FluidGetCounts(Fluid, SolverCounts *);
 PetscErrorCode FluidGetInfo(Fluid, PetscInt *dim, PetscInt *ndofs);
 PetscErrorCode FluidDestroy(Fluid *);
 
 /* Pointwise kernels (fluid_kernels.c). */
+void FluidF0InterfaceConvection(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void FluidG0InterfaceConvection(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
 void FluidF0MassStokes(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
 void FluidF0MassConvection(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
 void FluidF1Stress(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);

@@ -23,4 +23,6 @@ PetscErrorCode SceneFinalize(void);
 /* The scenes (src/scenes/), one file each. */
 PetscErrorCode SceneCreate_MMSFluid(Scene *);
 PetscErrorCode SceneCreate_MMSStructure(Scene *);
+PetscErrorCode SceneCreate_MMSStokes(Scene *);
+PetscErrorCode SceneCreate_MMSNS(Scene *);
 #endif

@@ -12,6 +12,21 @@ PetscErrorCode StructureCreate(MPI_Comm, Structure *);
 PetscErrorCode StructureSetFromOptions(Structure);
 PetscErrorCode StructureSetUp(Structure, DM mesh, const PhysicsData *, PetscReal t0, PetscReal dt);
 PetscErrorCode StructureStep(Structure, PetscInt step);
+
+/* Coupled use: R(eta) + load = history, with load = B_s g from the coupling.
+   The interface velocity is measured either by the scheme's own velocity
+   (etadot^n: seed ch. 3, 6) or by the difference quotient (eta^n - eta^{n-1})/dt
+   (seed ch. 4, 5); both are affine in eta^n with slope StructureVelocityCoefficient. */
+typedef enum { STRUCTURE_VELOCITY_SCHEME, STRUCTURE_VELOCITY_DIFFERENCE } StructureVelocityMeasure;
+PetscErrorCode StructureBeginStep(Structure);
+PetscErrorCode StructureSolve(Structure, Vec load, PetscInt step);
+PetscErrorCode StructureEndStep(Structure);
+PetscErrorCode StructureSetInitialLoad(Structure, Vec load); /* B_s g^0, for the midpoint scheme's first step */
+PetscErrorCode StructureVelocityLocal(Structure, StructureVelocityMeasure, Vec velocity_local);
+PetscReal      StructureVelocityCoefficient(Structure, StructureVelocityMeasure);
+PetscErrorCode StructureLinearSolve(Structure, Vec rhs, Vec x, PetscBool transpose);
+PetscErrorCode StructureGetDM(Structure, DM *);
+PetscErrorCode StructureGetSolution(Structure, Vec *);
 PetscErrorCode StructureErrors(Structure, ErrorTable *);
 PetscErrorCode StructureGetCounts(Structure, SolverCounts *);
 PetscErrorCode StructureGetInfo(Structure, PetscInt *dim, PetscInt *ndofs);

@@ -10,6 +10,8 @@
 #include "fluid.h"
 #include "structure.h"
 #include "summary.h"
+#include "interface.h"
+#include "coupling.h"
 
 static const char help[] = "fsiopt: fluid-structure interaction by optimization-based decoupling.\n"
                            "  fsiopt -options_file options/<scene>.yaml [options]   or   fsiopt -scene <name> [options]\n"
@@ -49,16 +51,61 @@ static PetscErrorCode RunParamsSetFromOptions(RunParams *p, PetscBool *scene_giv
   PetscFunctionReturn(0);
 }
 
+/* Fluid ranks first, then structure ranks (-structure_ranks K); K = 0, or one rank,
+   puts both on every rank, one after the other. */
+static PetscErrorCode SplitRanks(PetscBool coupled, MPI_Comm *fluid_comm, MPI_Comm *structure_comm, PetscMPIInt *fluid_ranks, PetscMPIInt *structure_ranks)
+{
+  PetscMPIInt size, rank;
+  PetscInt    K = 0;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
+  PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Parallel layout", "fsiopt");
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-structure_ranks", "ranks of the structure, the rest go to the fluid (0: both on all ranks)", 0, size - 1, &K));
+  PetscOptionsEnd();
+  *fluid_comm      = PETSC_COMM_WORLD;
+  *structure_comm  = PETSC_COMM_WORLD;
+  *fluid_ranks     = size;
+  *structure_ranks = size;
+  if (!coupled || K == 0) PetscFunctionReturn(0);
+  {
+    const PetscMPIInt is_structure = rank >= size - K;
+    MPI_Comm          sub;
+
+    PetscCallMPI(MPI_Comm_split(PETSC_COMM_WORLD, is_structure, rank, &sub));
+    *fluid_comm      = is_structure ? MPI_COMM_NULL : sub;
+    *structure_comm  = is_structure ? sub : MPI_COMM_NULL;
+    *fluid_ranks     = size - (PetscMPIInt)K;
+    *structure_ranks = (PetscMPIInt)K;
+  }
+  PetscFunctionReturn(0);
+}
+
+/* Rank 0 writes the summary; the structure's numbers live on the structure's ranks. */
+static PetscErrorCode ShareWithAll(void *buffer, size_t bytes, PetscMPIInt root)
+{
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Bcast(buffer, (int)bytes, MPI_BYTE, root, PETSC_COMM_WORLD));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode Run(void)
 {
-  RunParams   params;
-  Scene       scene;
-  RunSummary  summary;
-  Fluid       fluid     = NULL;
-  Structure   structure = NULL;
-  PetscBool   scene_given, help;
-  PetscLogDouble start, end;
-  PetscMPIInt size;
+  RunParams       params;
+  Scene           scene;
+  RunSummary      summary;
+  Fluid           fluid     = NULL;
+  Structure       structure = NULL;
+  Interface       itf       = NULL;
+  CouplingProblem problem   = NULL;
+  Coupling        coupling  = NULL;
+  PetscBool       scene_given, help, coupled;
+  PetscLogDouble  start, end;
+  PetscMPIInt     size;
+  MPI_Comm        fluid_comm, structure_comm;
+  DM              fluid_mesh = NULL, structure_mesh = NULL;
+  ErrorTable      fluid_errors, structure_errors;
 
   PetscFunctionBeginUser;
   PetscCall(PetscTime(&start));
@@ -66,6 +113,8 @@ static PetscErrorCode Run(void)
   PetscCall(SceneRegisterAll());
   PetscCall(PetscMemzero(&params, sizeof(params)));
   PetscCall(PetscMemzero(&summary, sizeof(summary)));
+  PetscCall(PetscMemzero(&fluid_errors, sizeof(fluid_errors)));
+  PetscCall(PetscMemzero(&structure_errors, sizeof(structure_errors)));
   PetscCall(PetscOptionsHasHelp(NULL, &help));
   PetscCall(RunParamsSetFromOptions(&params, &scene_given));
   if (!scene_given) {
@@ -78,33 +127,49 @@ static PetscErrorCode Run(void)
 
   PetscCall(PetscLogStagePush(FSIOPT_STAGE_SETUP));
   PetscCall(SceneCreate(params.scene, &scene));
-  if (scene.has_fluid) {
+  coupled = scene.has_fluid && scene.has_structure;
+  PetscCall(SplitRanks(coupled, &fluid_comm, &structure_comm, &summary.fluid_ranks, &summary.structure_ranks));
+  if (scene.has_fluid && fluid_comm != MPI_COMM_NULL) {
     PetscInt nfaces, faces[2 * FSIOPT_MAX_BOUNDARIES];
-    DM       mesh;
 
-    PetscCall(FluidCreate(PETSC_COMM_WORLD, &fluid));
+    PetscCall(FluidCreate(fluid_comm, &fluid));
     PetscCall(FluidSetFromOptions(fluid));
+    if (coupled) {
+      ControlVariant variant;
+      PetscCall(CouplingProblemGetControlVariant(&variant));
+      PetscCall(FluidSetInterface(fluid, scene.fluid.interface_face, variant == CONTROL_CONVECTIVE ? PETSC_TRUE : PETSC_FALSE));
+    }
     PetscCall(SceneRequiredFaces(&scene.fluid, &nfaces, faces));
-    PetscCall(MeshCreate(PETSC_COMM_WORLD, "fluid_", params.refine, nfaces, faces, &mesh));
-    PetscCall(FluidSetUp(fluid, mesh, &scene.fluid, params.t_start, params.dt));
-    PetscCall(DMDestroy(&mesh));
+    PetscCall(MeshCreate(fluid_comm, "fluid_", params.refine, nfaces, faces, &fluid_mesh));
+    PetscCall(FluidSetUp(fluid, fluid_mesh, &scene.fluid, params.t_start, params.dt));
     PetscCall(FluidGetInfo(fluid, &summary.dim, &summary.fluid_dofs));
   }
-  if (scene.has_structure) {
+  if (scene.has_structure && structure_comm != MPI_COMM_NULL) {
     PetscInt nfaces, faces[2 * FSIOPT_MAX_BOUNDARIES];
-    DM       mesh;
 
-    PetscCall(StructureCreate(PETSC_COMM_WORLD, &structure));
+    PetscCall(StructureCreate(structure_comm, &structure));
     PetscCall(StructureSetFromOptions(structure));
     PetscCall(SceneRequiredFaces(&scene.structure, &nfaces, faces));
-    PetscCall(MeshCreate(PETSC_COMM_WORLD, "structure_", params.refine, nfaces, faces, &mesh));
-    PetscCall(StructureSetUp(structure, mesh, &scene.structure, params.t_start, params.dt));
-    PetscCall(DMDestroy(&mesh));
+    PetscCall(MeshCreate(structure_comm, "structure_", params.refine, nfaces, faces, &structure_mesh));
+    PetscCall(StructureSetUp(structure, structure_mesh, &scene.structure, params.t_start, params.dt));
     PetscCall(StructureGetInfo(structure, &summary.dim, &summary.structure_dofs));
   }
+  if (coupled) {
+    PetscCall(PetscLogEventBegin(FSIOPT_EVENT_INTERFACE, 0, 0, 0, 0));
+    PetscCall(InterfaceCreate(PETSC_COMM_WORLD, fluid_mesh, scene.fluid.interface_face, structure_mesh, scene.structure.interface_face, &itf));
+    PetscCall(CouplingProblemCreate(PETSC_COMM_WORLD, fluid, structure, itf, &scene.fluid, &problem));
+    PetscCall(CouplingCreate(params.coupling, problem, params.output_dir, params.t_start, &coupling));
+    PetscCall(PetscLogEventEnd(FSIOPT_EVENT_INTERFACE, 0, 0, 0, 0));
+  }
+  PetscCall(DMDestroy(&fluid_mesh));
+  PetscCall(DMDestroy(&structure_mesh));
   PetscCall(PetscLogStagePop());
 
   for (PetscInt step = 1; step <= params.steps; ++step) {
+    if (coupling) {
+      PetscCall(CouplingStep(coupling, step));
+      continue;
+    }
     if (fluid) {
       PetscCall(PetscLogStagePush(FSIOPT_STAGE_FLUID));
       PetscCall(FluidStep(fluid, step));
@@ -119,30 +184,60 @@ static PetscErrorCode Run(void)
 
   PetscCall(PetscLogStagePush(FSIOPT_STAGE_OUTPUT));
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_ERRORS, 0, 0, 0, 0));
-  if (fluid) PetscCall(FluidErrors(fluid, &summary.errors));
-  if (structure) PetscCall(StructureErrors(structure, &summary.errors));
+  if (fluid) PetscCall(FluidErrors(fluid, &fluid_errors));
+  if (structure) PetscCall(StructureErrors(structure, &structure_errors));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_ERRORS, 0, 0, 0, 0));
   if (fluid) PetscCall(FluidGetCounts(fluid, &summary.fluid));
   if (structure) PetscCall(StructureGetCounts(structure, &summary.structure));
   PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
-  PetscCall(PetscTime(&end));
-  summary.params             = &params;
-  summary.wall_time_s        = end - start;
+  {
+    /* rank 0 always holds the fluid (when there is one); the last rank always holds the structure */
+    const PetscMPIInt structure_root = scene.has_structure ? size - 1 : 0;
+    PetscCall(ShareWithAll(&structure_errors, sizeof(structure_errors), structure_root));
+    PetscCall(ShareWithAll(&summary.structure, sizeof(summary.structure), structure_root));
+    PetscCall(ShareWithAll(&summary.structure_dofs, sizeof(summary.structure_dofs), structure_root));
+    PetscCall(ShareWithAll(&summary.dim, sizeof(summary.dim), structure_root));
+  }
+  summary.errors = fluid_errors;
+  for (PetscInt i = 0; i < structure_errors.n; ++i) PetscCall(ErrorTableAdd(&summary.errors, structure_errors.name[i], structure_errors.value[i]));
   summary.work_factor        = -1;
   summary.max_interface_jump = -1;
-  summary.converged          = PETSC_TRUE;
-  summary.has_fluid          = scene.has_fluid;
-  summary.has_structure      = scene.has_structure;
-  summary.fluid_ranks        = scene.has_fluid ? size : 0;
-  summary.structure_ranks    = scene.has_structure ? size : 0;
+  if (coupling) {
+    CouplingStats stats;
+    PetscInt      fluid_solves = summary.fluid.nonlinear_solves;
+
+    PetscCall(CouplingFinish(coupling));
+    PetscCall(CouplingGetStats(coupling, &stats));
+    PetscCall(CouplingGetOptimizer(coupling, &summary.optimizer));
+    PetscCall(ShareWithAll(&fluid_solves, sizeof(fluid_solves), 0));
+    summary.coupling_iterations = stats.iterations;
+    summary.inner_iterations    = stats.inner_iterations;
+    summary.max_interface_jump  = stats.max_jump;
+    /* seed eq. 6.5: a forward run with the traction known needs one fluid solve per step */
+    summary.work_factor = (PetscReal)(fluid_solves + 2 * stats.iterations) / params.steps;
+  }
+  PetscCall(PetscTime(&end));
+  summary.params        = &params;
+  summary.wall_time_s   = end - start;
+  summary.converged     = PETSC_TRUE;
+  summary.has_fluid     = scene.has_fluid;
+  summary.has_structure = scene.has_structure;
+  if (!scene.has_fluid) summary.fluid_ranks = 0;
+  if (!scene.has_structure) summary.structure_ranks = 0;
   PetscCall(SummaryWrite(PETSC_COMM_WORLD, params.output_dir, &summary));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fsiopt: scene %s, %" PetscInt_FMT " steps to t = %g:", params.scene, params.steps, (double)params.t_final));
   for (PetscInt i = 0; i < summary.errors.n; ++i) PetscCall(PetscPrintf(PETSC_COMM_WORLD, " %s %.3e", summary.errors.name[i], (double)summary.errors.value[i]));
+  if (coupling) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\nfsiopt: %" PetscInt_FMT " coupling iterations (%.2f per step), %" PetscInt_FMT " inner, max interface jump %.3e, work factor %.2f", summary.coupling_iterations, (double)summary.coupling_iterations / params.steps, summary.inner_iterations, (double)summary.max_interface_jump, (double)summary.work_factor));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\nfsiopt: outputs in %s/\n", params.output_dir));
   PetscCall(PetscLogStagePop());
 
+  PetscCall(CouplingDestroy(&coupling));
+  PetscCall(CouplingProblemDestroy(&problem));
+  PetscCall(InterfaceDestroy(&itf));
   PetscCall(FluidDestroy(&fluid));
   PetscCall(StructureDestroy(&structure));
+  if (fluid_comm != PETSC_COMM_WORLD && fluid_comm != MPI_COMM_NULL) PetscCallMPI(MPI_Comm_free(&fluid_comm));
+  if (structure_comm != PETSC_COMM_WORLD && structure_comm != MPI_COMM_NULL) PetscCallMPI(MPI_Comm_free(&structure_comm));
   PetscCall(SceneFinalize());
   PetscFunctionReturn(0);
 }

@@ -101,7 +101,7 @@ static PetscErrorCode CountedJacobian(DM dm, Vec xlocal, Mat J, Mat P, void *ctx
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FEMCreateSNES(DM dm, const char prefix[], PetscBool constant_jacobian, PetscInt *jacobian_assemblies, SNES *snes)
+PetscErrorCode FEMCreateSNES(DM dm, const char prefix[], FEMJacobianPolicy policy, PetscInt *jacobian_assemblies, SNES *snes)
 {
   KSP ksp;
   PC  pc;
@@ -120,13 +120,29 @@ PetscErrorCode FEMCreateSNES(DM dm, const char prefix[], PetscBool constant_jaco
   PetscCall(PCSetType(pc, PCLU));
   PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
   PetscCall(SNESSetTolerances(*snes, 1e-12, 1e-10, 1e-12, 50, PETSC_DEFAULT));
-  if (constant_jacobian) {
-    /* A matrix that does not change with the state is assembled and factored once per run. */
-    PetscCall(SNESSetType(*snes, SNESKSPONLY));
+  if (policy == FEM_JACOBIAN_CONSTANT) PetscCall(SNESSetType(*snes, SNESKSPONLY));
+  if (policy != FEM_JACOBIAN_NEWTON) {
+    /* -2: assemble at the next chance, then never again (until FEMUpdateJacobian asks). */
     PetscCall(SNESSetLagJacobian(*snes, -2));
     PetscCall(SNESSetLagJacobianPersists(*snes, PETSC_TRUE));
   }
   PetscCall(SNESSetFromOptions(*snes));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMUpdateJacobian(SNES snes, Vec x)
+{
+  Mat J, P;
+  KSP ksp;
+
+  PetscFunctionBeginUser;
+  PetscCall(SNESSetLagJacobian(snes, -2));
+  PetscCall(SNESSetUp(snes));
+  PetscCall(SNESGetJacobian(snes, &J, &P, NULL, NULL));
+  PetscCall(SNESComputeJacobian(snes, x, J, P));
+  PetscCall(SNESGetKSP(snes, &ksp));
+  PetscCall(KSPSetOperators(ksp, J, P));
+  PetscCall(KSPSetUp(ksp));
   PetscFunctionReturn(0);
 }
 

@@ -1,7 +1,7 @@
 #include "logging.h"
 
-PetscLogStage FSIOPT_STAGE_SETUP, FSIOPT_STAGE_FLUID, FSIOPT_STAGE_STRUCTURE, FSIOPT_STAGE_OUTPUT;
-PetscLogEvent FSIOPT_EVENT_MESH, FSIOPT_EVENT_FLUID_SOLVE, FSIOPT_EVENT_STRUCTURE_SOLVE, FSIOPT_EVENT_ERRORS;
+PetscLogStage FSIOPT_STAGE_SETUP, FSIOPT_STAGE_FLUID, FSIOPT_STAGE_STRUCTURE, FSIOPT_STAGE_OUTPUT, FSIOPT_STAGE_OPTIMIZER, FSIOPT_STAGE_SENSITIVITY, FSIOPT_STAGE_ADJOINT;
+PetscLogEvent FSIOPT_EVENT_MESH, FSIOPT_EVENT_FLUID_SOLVE, FSIOPT_EVENT_STRUCTURE_SOLVE, FSIOPT_EVENT_ERRORS, FSIOPT_EVENT_SENSITIVITY, FSIOPT_EVENT_ADJOINT, FSIOPT_EVENT_INTERFACE;
 
 PetscErrorCode FsioptLogRegister(void)
 {
@@ -13,9 +13,15 @@ PetscErrorCode FsioptLogRegister(void)
   PetscCall(PetscLogStageRegister("Fluid", &FSIOPT_STAGE_FLUID));
   PetscCall(PetscLogStageRegister("Structure", &FSIOPT_STAGE_STRUCTURE));
   PetscCall(PetscLogStageRegister("Output", &FSIOPT_STAGE_OUTPUT));
+  PetscCall(PetscLogStageRegister("Optimizer", &FSIOPT_STAGE_OPTIMIZER));
+  PetscCall(PetscLogStageRegister("Sensitivity", &FSIOPT_STAGE_SENSITIVITY));
+  PetscCall(PetscLogStageRegister("Adjoint", &FSIOPT_STAGE_ADJOINT));
   PetscCall(PetscLogEventRegister("MeshCreate", classid, &FSIOPT_EVENT_MESH));
   PetscCall(PetscLogEventRegister("FluidStep", classid, &FSIOPT_EVENT_FLUID_SOLVE));
   PetscCall(PetscLogEventRegister("StructureStep", classid, &FSIOPT_EVENT_STRUCTURE_SOLVE));
   PetscCall(PetscLogEventRegister("ErrorNorms", classid, &FSIOPT_EVENT_ERRORS));
+  PetscCall(PetscLogEventRegister("SensitivityProd", classid, &FSIOPT_EVENT_SENSITIVITY));
+  PetscCall(PetscLogEventRegister("AdjointProd", classid, &FSIOPT_EVENT_ADJOINT));
+  PetscCall(PetscLogEventRegister("InterfaceSetUp", classid, &FSIOPT_EVENT_INTERFACE));
   PetscFunctionReturn(0);
 }

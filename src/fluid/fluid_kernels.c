@@ -19,7 +19,7 @@ void FluidF0MassStokes(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt
 
 void FluidF0MassConvection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
 {
-  const PetscScalar rho_op = constants[FLUID_RHO] * constants[FLUID_OPERATOR];
+  const PetscScalar rho_op = constants[FLUID_RHO] * constants[FLUID_OPERATOR] * constants[FLUID_CONVECTION];
 
   for (PetscInt c = 0; c < dim; ++c) {
     PetscScalar convection = 0;
@@ -52,7 +52,7 @@ void FluidG0MassStokes(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt
 
 void FluidG0MassConvection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g0[])
 {
-  const PetscScalar rho_op = constants[FLUID_RHO] * constants[FLUID_OPERATOR];
+  const PetscScalar rho_op = constants[FLUID_RHO] * constants[FLUID_OPERATOR] * constants[FLUID_CONVECTION];
 
   for (PetscInt c = 0; c < dim; ++c) {
     for (PetscInt d = 0; d < dim; ++d) g0[c * dim + d] = rho_op * u_x[uOff_x[0] + c * dim + d];
@@ -62,7 +62,7 @@ void FluidG0MassConvection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const Pets
 
 void FluidG1Convection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g1[])
 {
-  const PetscScalar rho_op = constants[FLUID_RHO] * constants[FLUID_OPERATOR];
+  const PetscScalar rho_op = constants[FLUID_RHO] * constants[FLUID_OPERATOR] * constants[FLUID_CONVECTION];
 
   for (PetscInt c = 0; c < dim; ++c)
     for (PetscInt d = 0; d < dim; ++d) g1[(c * dim + c) * dim + d] = rho_op * u[uOff[0] + d];
@@ -87,4 +87,26 @@ void FluidG2Pressure(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt u
 void FluidG1Continuity(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g1[])
 {
   for (PetscInt d = 0; d < dim; ++d) g1[d * dim + d] = -constants[FLUID_OPERATOR];
+}
+
+/* The convective boundary term the control absorbs in the seed's chapters 4-5:
+   -1/2 rho ((u . n) u, v) on the interface, and its linearization. Only u and n enter,
+   so PETSc's tabulation of reversed faces integrates it exactly. */
+void FluidF0InterfaceConvection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], const PetscReal n[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
+{
+  const PetscScalar half_rho = 0.5 * constants[FLUID_RHO] * constants[FLUID_OPERATOR] * constants[FLUID_CONVECTION];
+  PetscScalar       un       = 0;
+
+  for (PetscInt d = 0; d < dim; ++d) un += u[uOff[0] + d] * n[d];
+  for (PetscInt c = 0; c < dim; ++c) f0[c] = -half_rho * un * u[uOff[0] + c];
+}
+
+void FluidG0InterfaceConvection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], const PetscReal n[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g0[])
+{
+  const PetscScalar half_rho = 0.5 * constants[FLUID_RHO] * constants[FLUID_OPERATOR] * constants[FLUID_CONVECTION];
+  PetscScalar       un       = 0;
+
+  for (PetscInt d = 0; d < dim; ++d) un += u[uOff[0] + d] * n[d];
+  for (PetscInt c = 0; c < dim; ++c)
+    for (PetscInt d = 0; d < dim; ++d) g0[c * dim + d] = -half_rho * (u[uOff[0] + c] * n[d] + (c == d ? un : 0.0));
 }

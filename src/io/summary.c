@@ -1,4 +1,5 @@
 #include "summary.h"
+#include "history.h"
 #include <stdio.h>
 
 PetscErrorCode ErrorTableAdd(ErrorTable *table, const char name[], PetscReal value)
@@ -16,7 +17,7 @@ static void WriteNumberOrNull(FILE *fp, const char key[], PetscReal value, const
   else fprintf(fp, "  \"%s\": %.10g%s\n", key, (double)value, sep);
 }
 
-static PetscErrorCode MakeDirectories(const char dir[])
+PetscErrorCode OutputMakeDirectories(const char dir[])
 {
   char      path[PETSC_MAX_PATH_LEN];
   PetscBool exists;
@@ -46,7 +47,7 @@ PetscErrorCode SummaryWrite(MPI_Comm comm, const char dir[], const RunSummary *s
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   if (rank) PetscFunctionReturn(0);
-  PetscCall(MakeDirectories(dir));
+  PetscCall(OutputMakeDirectories(dir));
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/summary.json", dir));
   PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s/.summary.json.tmp", dir));
   fp = fopen(tmp, "w");
@@ -71,6 +72,7 @@ PetscErrorCode SummaryWrite(MPI_Comm comm, const char dir[], const RunSummary *s
   fprintf(fp, "  \"structure_solves\": %d,\n", (int)s->structure.nonlinear_solves);
   fprintf(fp, "  \"coupling_iterations\": %d,\n", (int)s->coupling_iterations);
   fprintf(fp, "  \"avg_coupling_iterations\": %.6g,\n", (double)avg);
+  fprintf(fp, "  \"inner_iterations\": %d,\n", (int)s->inner_iterations);
   WriteNumberOrNull(fp, "work_factor", s->work_factor, ",");
   WriteNumberOrNull(fp, "max_interface_jump", s->max_interface_jump, ",");
   fprintf(fp, "  \"factorizations\": {\"fluid\": %d, \"structure\": %d},\n", (int)s->fluid.factorizations, (int)s->structure.factorizations);

@@ -8,6 +8,8 @@ PetscErrorCode SceneRegisterAll(void)
   if (scene_list) PetscFunctionReturn(0);
   PetscCall(PetscFunctionListAdd(&scene_list, "mms-fluid", SceneCreate_MMSFluid));
   PetscCall(PetscFunctionListAdd(&scene_list, "mms-structure", SceneCreate_MMSStructure));
+  PetscCall(PetscFunctionListAdd(&scene_list, "mms-stokes", SceneCreate_MMSStokes));
+  PetscCall(PetscFunctionListAdd(&scene_list, "mms-ns", SceneCreate_MMSNS));
   PetscFunctionReturn(0);
 }
 
@@ -50,6 +52,7 @@ PetscErrorCode SceneRequiredFaces(const PhysicsData *data, PetscInt *n, PetscInt
   *n = 0;
   for (PetscInt b = 0; b < data->n_dirichlet; ++b) faces[(*n)++] = data->dirichlet_faces[b];
   for (PetscInt b = 0; b < data->n_traction; ++b) faces[(*n)++] = data->traction_faces[b];
+  if (data->interface_face) faces[(*n)++] = data->interface_face;
   PetscFunctionReturn(0);
 }
 

@@ -23,7 +23,9 @@ struct _p_Structure {
   Vec            eta;             /* global displacement at `time` */
   Vec            eta_local;       /* the same with its boundary values */
   Vec            etadot_local;    /* velocity, all dofs */
-  Vec            work_local, history, work;
+  Vec            eta_old_local, etadot_old_local; /* the previous step's, during a step */
+  Vec            work_local, history, work, rhs;
+  Vec            load, load_old; /* interface load B_s g of this and of the previous step */
   PhysicsData    data;
   DirichletDatum datums[FSIOPT_MAX_BOUNDARIES];
   SolverCounts   counts;
@@ -119,12 +121,17 @@ PetscErrorCode StructureSetUp(Structure s, DM mesh, const PhysicsData *data, Pet
   s->dt   = dt;
   PetscCall(PetscObjectReference((PetscObject)mesh));
   PetscCall(StructureSetUpWeakForm(s));
-  PetscCall(FEMCreateSNES(s->dm, "structure_", PETSC_TRUE, &s->counts.factorizations, &s->snes));
+  PetscCall(FEMCreateSNES(s->dm, "structure_", FEM_JACOBIAN_CONSTANT, &s->counts.factorizations, &s->snes));
   PetscCall(DMCreateGlobalVector(s->dm, &s->eta));
   PetscCall(PetscObjectSetName((PetscObject)s->eta, "displacement"));
   PetscCall(VecDuplicate(s->eta, &s->history));
   PetscCall(VecDuplicate(s->eta, &s->work));
+  PetscCall(VecDuplicate(s->eta, &s->rhs));
+  PetscCall(VecDuplicate(s->eta, &s->load));
+  PetscCall(VecDuplicate(s->eta, &s->load_old));
   PetscCall(DMCreateLocalVector(s->dm, &s->eta_local));
+  PetscCall(VecDuplicate(s->eta_local, &s->eta_old_local));
+  PetscCall(VecDuplicate(s->eta_local, &s->etadot_old_local));
   PetscCall(VecDuplicate(s->eta_local, &s->etadot_local));
   PetscCall(VecDuplicate(s->eta_local, &s->work_local));
   if (data->exact[0]) {
@@ -135,14 +142,14 @@ PetscErrorCode StructureSetUp(Structure s, DM mesh, const PhysicsData *data, Pet
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode StructureStep(Structure s, PetscInt step)
+PetscErrorCode StructureBeginStep(Structure s)
 {
-  const PetscReal     mass = StructureMassCoefficient(s), t_old = s->time;
-  SNESConvergedReason reason;
+  const PetscReal mass = StructureMassCoefficient(s), t_old = s->time;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_STRUCTURE_SOLVE, 0, 0, 0, 0));
-  /* history = m M (eta^{n-1} + dt etadot^{n-1}) [- K eta^{n-1} + L^{n-1}] */
+  PetscCall(VecCopy(s->eta_local, s->eta_old_local));
+  PetscCall(VecCopy(s->etadot_local, s->etadot_old_local));
+  /* history = m M (eta^{n-1} + dt etadot^{n-1}) [- K eta^{n-1} + L^{n-1} - B_s g^{n-1}] */
   PetscCall(VecWAXPY(s->work_local, s->dt, s->etadot_local, s->eta_local));
   PetscCall(StructureSetConstants(s, mass, 0.0, 0.0, t_old));
   PetscCall(FEMResidual(s->dm, s->work_local, s->history));
@@ -150,28 +157,95 @@ PetscErrorCode StructureStep(Structure s, PetscInt step)
     PetscCall(StructureSetConstants(s, 0.0, 1.0, 1.0, t_old));
     PetscCall(FEMResidual(s->dm, s->eta_local, s->work));
     PetscCall(VecAXPY(s->history, -1.0, s->work));
+    PetscCall(VecAXPY(s->history, -1.0, s->load_old));
   }
-
   s->time += s->dt;
   PetscCall(StructureSetConstants(s, mass, 1.0, 1.0, s->time));
-  PetscCall(SNESSolve(s->snes, s->history, s->eta));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StructureSolve(Structure s, Vec load, PetscInt step)
+{
+  SNESConvergedReason reason;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_STRUCTURE_SOLVE, 0, 0, 0, 0));
+  if (load) PetscCall(VecCopy(load, s->load));
+  else PetscCall(VecZeroEntries(s->load));
+  PetscCall(VecWAXPY(s->rhs, -1.0, s->load, s->history));
+  PetscCall(SNESSolve(s->snes, s->rhs, s->eta));
   PetscCall(SNESGetConvergedReason(s->snes, &reason));
   PetscCheck(reason > 0, s->comm, PETSC_ERR_NOT_CONVERGED, "structure solve failed at step %" PetscInt_FMT " (t = %g): SNES reason %s", step, (double)s->time, SNESConvergedReasons[reason]);
-
-  /* etadot^n from the scheme, on all dofs (boundary values included) */
-  PetscCall(VecCopy(s->eta_local, s->work_local));
   PetscCall(FEMGlobalToLocal(s->dm, s->eta, s->eta_local));
-  if (s->time_order == 1) {
-    PetscCall(VecWAXPY(s->etadot_local, -1.0, s->work_local, s->eta_local));
-    PetscCall(VecScale(s->etadot_local, 1.0 / s->dt));
-  } else {
-    PetscCall(VecAXPBY(s->work_local, 2.0 / s->dt, -2.0 / s->dt, s->eta_local)); /* 2 (eta^n - eta^{n-1})/dt */
-    PetscCall(VecAXPY(s->work_local, -1.0, s->etadot_local));
-    PetscCall(VecCopy(s->work_local, s->etadot_local));
-  }
   s->counts.nonlinear_solves += 1;
   s->counts.linear_solves += 1;
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_STRUCTURE_SOLVE, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+/* d(velocity)/d(eta^n) of the chosen velocity measure */
+PetscReal StructureVelocityCoefficient(Structure s, StructureVelocityMeasure measure)
+{
+  return (measure == STRUCTURE_VELOCITY_SCHEME && s->time_order == 2 ? 2.0 : 1.0) / s->dt;
+}
+
+PetscErrorCode StructureVelocityLocal(Structure s, StructureVelocityMeasure measure, Vec velocity_local)
+{
+  PetscFunctionBeginUser;
+  /* c (eta^n - eta^{n-1}) [- etadot^{n-1} for the midpoint scheme's own velocity] */
+  PetscCall(VecWAXPY(velocity_local, -1.0, s->eta_old_local, s->eta_local));
+  PetscCall(VecScale(velocity_local, StructureVelocityCoefficient(s, measure)));
+  if (measure == STRUCTURE_VELOCITY_SCHEME && s->time_order == 2) PetscCall(VecAXPY(velocity_local, -1.0, s->etadot_old_local));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StructureEndStep(Structure s)
+{
+  PetscFunctionBeginUser;
+  PetscCall(StructureVelocityLocal(s, STRUCTURE_VELOCITY_SCHEME, s->etadot_local));
+  PetscCall(VecCopy(s->load, s->load_old));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StructureStep(Structure s, PetscInt step)
+{
+  PetscFunctionBeginUser;
+  PetscCall(StructureBeginStep(s));
+  PetscCall(StructureSolve(s, NULL, step));
+  PetscCall(StructureEndStep(s));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StructureSetInitialLoad(Structure s, Vec load)
+{
+  PetscFunctionBeginUser;
+  PetscCall(VecCopy(load, s->load_old));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StructureLinearSolve(Structure s, Vec rhs, Vec x, PetscBool transpose)
+{
+  KSP ksp;
+
+  PetscFunctionBeginUser;
+  PetscCall(SNESGetKSP(s->snes, &ksp));
+  if (transpose) PetscCall(KSPSolveTranspose(ksp, rhs, x));
+  else PetscCall(KSPSolve(ksp, rhs, x));
+  s->counts.linear_solves += 1;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StructureGetDM(Structure s, DM *dm)
+{
+  PetscFunctionBeginUser;
+  *dm = s->dm;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StructureGetSolution(Structure s, Vec *eta)
+{
+  PetscFunctionBeginUser;
+  *eta = s->eta;
   PetscFunctionReturn(0);
 }
 
@@ -224,6 +298,11 @@ PetscErrorCode StructureDestroy(Structure *structure)
   PetscCall(VecDestroy(&s->work_local));
   PetscCall(VecDestroy(&s->history));
   PetscCall(VecDestroy(&s->work));
+  PetscCall(VecDestroy(&s->rhs));
+  PetscCall(VecDestroy(&s->load));
+  PetscCall(VecDestroy(&s->load_old));
+  PetscCall(VecDestroy(&s->eta_old_local));
+  PetscCall(VecDestroy(&s->etadot_old_local));
   PetscCall(SNESDestroy(&s->snes));
   PetscCall(DMDestroy(&s->dm_free));
   PetscCall(DMDestroy(&s->dm));

@@ -1,0 +1,69 @@
+#ifndef FSIOPT_COUPLING_H
+#define FSIOPT_COUPLING_H
+#include "fsiopt.h"
+#include "fluid.h"
+#include "structure.h"
+#include "interface.h"
+
+/* The control problem of one time step (DESIGN §3), on the parent communicator.
+
+   The optimizer's variable is the scaled control x = W^{1/2} g, with W the lumped
+   interface mass on the control nodes: the Euclidean norm of x is then the L2(Gamma_I)
+   norm of g, so TAO's inner products, Tikhonov terms and stopping tests are mesh
+   independent. With r = u - v_s the interface velocity jump,
+
+     F(x)    = W^{1/2} r(g),                       ||F|| ~ ||u - v_s||_{L2(Gamma_I)}
+     J h     = W^{1/2} P [T_f A_f^{-1} S_f + c T_s A_s^{-1} S_s] M P^T W^{-1/2} h
+     J^T rho = W^{-1/2} P M [T_f A_f^{-T} S_f + c T_s A_s^{-T} S_s] P^T W^{1/2} rho
+
+   where M is the interface mass matrix, P restricts to the control nodes, T and S = T^T
+   are the velocity traces and their spreading into the free rows, A the factored
+   Jacobians and c = d v_s / d eta^n. The fluid satisfies R_f(x_f) = B_f g and the
+   structure R_s(x_s) = -B_s g (B = S M P^T), hence the two plus signs above. */
+typedef enum { CONTROL_TRACTION, CONTROL_CONVECTIVE } ControlVariant;
+
+typedef struct _p_CouplingProblem *CouplingProblem;
+
+typedef struct {
+  PetscInt residuals, jacobians, sensitivities, adjoints;
+} CouplingProblemCounts;
+
+PetscErrorCode CouplingProblemCreate(MPI_Comm, Fluid, Structure, Interface, const PhysicsData *fluid_data, CouplingProblem *);
+PetscErrorCode CouplingProblemDestroy(CouplingProblem *);
+PetscErrorCode CouplingProblemGetControlVariant(ControlVariant *); /* -coupling_control, readable before the solvers exist */
+PetscErrorCode CouplingProblemCreateControl(CouplingProblem, Vec *);
+PetscErrorCode CouplingProblemCreateJacobian(CouplingProblem, Mat *);
+PetscErrorCode CouplingProblemGetTikhonov(CouplingProblem, PetscReal *);
+/* The control the first step starts from: the scene's exact traction at t0, or 0. */
+PetscErrorCode CouplingProblemInitialControl(CouplingProblem, PetscReal t0, Vec x);
+
+PetscErrorCode CouplingProblemBeginStep(CouplingProblem, PetscInt step);
+PetscErrorCode CouplingProblemResidual(CouplingProblem, Vec x, Vec F);
+PetscErrorCode CouplingProblemUpdateJacobian(CouplingProblem, Vec x);
+PetscErrorCode CouplingProblemJacobianMult(CouplingProblem, Vec h, Vec y);
+PetscErrorCode CouplingProblemJacobianMultTranspose(CouplingProblem, Vec rho, Vec y);
+/* ||u - v_s||_{L2(Gamma_I)} at x (with the consistent interface mass) */
+PetscErrorCode CouplingProblemJump(CouplingProblem, Vec x, PetscReal *jump);
+PetscErrorCode CouplingProblemEndStep(CouplingProblem, Vec x);
+PetscErrorCode CouplingProblemGetCounts(CouplingProblem, CouplingProblemCounts *);
+
+/* Checks a user can run on any scene (-coupling_test_adjoint, -coupling_test_taylor). */
+PetscErrorCode CouplingProblemTestAdjoint(CouplingProblem, Vec x);
+PetscErrorCode CouplingProblemTestTaylor(CouplingProblem, Vec x);
+
+/* A coupling method advances the coupled system by one step (one file per method). */
+typedef struct _p_Coupling *Coupling;
+typedef struct {
+  PetscInt  iterations;      /* coupling iterations, summed over steps */
+  PetscInt  inner_iterations;
+  PetscInt  stalled_steps;
+  PetscReal max_jump;        /* largest final interface jump of a step */
+} CouplingStats;
+
+PetscErrorCode CouplingCreate(const char method[], CouplingProblem, const char output_dir[], PetscReal t0, Coupling *);
+PetscErrorCode CouplingStep(Coupling, PetscInt step);
+PetscErrorCode CouplingGetStats(Coupling, CouplingStats *);
+PetscErrorCode CouplingGetOptimizer(Coupling, const char **);
+PetscErrorCode CouplingFinish(Coupling); /* closes the history */
+PetscErrorCode CouplingDestroy(Coupling *);
+#endif

@@ -1,0 +1,46 @@
+#ifndef FSIOPT_INTERFACE_H
+#define FSIOPT_INTERFACE_H
+#include "fsiopt.h"
+
+/* The conforming fluid-structure interface (DESIGN §3, "a matrix view").
+
+   An interface vector holds one value per interface node and component, laid out on
+   the parent communicator in the fluid's ownership and order (the fluid numbers the
+   interface). The structure's own interface nodes are matched to the fluid's by their
+   coordinates, and a VecScatter on the parent communicator moves values between the
+   two orderings, so the fluid and the structure may live on different ranks.
+
+   The control space is the trace of the fluid's velocity test space: the interface
+   nodes where the fluid velocity is free. Controls and interface velocity jumps are
+   vectors over those nodes only ("control vectors").
+
+   Every function is collective on the parent communicator; a rank that holds no fluid
+   (or no structure) passes NULL for that side's vectors. */
+typedef struct _p_Interface *Interface;
+
+PetscErrorCode InterfaceCreate(MPI_Comm comm, DM fluid, PetscInt fluid_face, DM structure, PetscInt structure_face, Interface *);
+PetscErrorCode InterfaceDestroy(Interface *);
+
+PetscErrorCode InterfaceCreateVector(Interface, Vec *);        /* all interface nodes */
+PetscErrorCode InterfaceCreateControlVector(Interface, Vec *); /* fluid-free nodes */
+/* The interface mass matrix (vector-valued, all interface nodes): (M g)_i = (g, phi_i)_Gamma. */
+PetscErrorCode InterfaceGetMass(Interface, Mat *);
+/* Row sums of the interface mass matrix on the control nodes (a lumped L2 weight). */
+PetscErrorCode InterfaceGetLumpedControlMass(Interface, Vec *);
+
+/* control <-> interface: restriction to the control nodes and zero extension */
+PetscErrorCode InterfaceRestrict(Interface, Vec all, Vec control);
+PetscErrorCode InterfaceExtend(Interface, Vec control, Vec all);
+
+/* Velocity traces from local vectors (field 0, boundary values included as they are
+   in the local vector) and their adjoints: spreading interface values into the free
+   rows of a global vector (insert; constrained nodes are dropped). */
+PetscErrorCode InterfaceFluidTrace(Interface, Vec fluid_local, Vec all);
+PetscErrorCode InterfaceFluidSpread(Interface, Vec all, Vec fluid_global);
+PetscErrorCode InterfaceStructureTrace(Interface, Vec structure_local, Vec all);
+PetscErrorCode InterfaceStructureSpread(Interface, Vec all, Vec structure_global);
+
+/* Interpolates a closed form at the interface nodes at time t. */
+PetscErrorCode InterfaceInterpolate(Interface, FieldFn, PetscReal t, Vec all);
+PetscErrorCode InterfaceGetSizes(Interface, PetscInt *nodes, PetscInt *control_nodes);
+#endif

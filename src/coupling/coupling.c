@@ -1,0 +1,70 @@
+/* The coupling-method interface: create by name, advance one step, report. */
+#include "coupling_impl.h"
+#include "options.h"
+
+PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, const char output_dir[], PetscReal t0, Coupling *coupling)
+{
+  Coupling  C;
+  PetscBool opt;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscStrcmp(method, "opt", &opt));
+  PetscCheck(opt, PETSC_COMM_WORLD, PETSC_ERR_SUP, "option -coupling %s: not implemented yet (the baselines dn, aitken, iqnils arrive with issue 5); use -coupling opt", method);
+  PetscCall(PetscNew(&C));
+  PetscCall(PetscStrncpy(C->method, method, sizeof(C->method)));
+  C->problem = problem;
+  C->tol     = 1e-10;
+  C->max_it  = 50;
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Coupling options", "coupling");
+  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_tol", "stop when ||u - v_s||_{L2(Gamma_I)} falls below this", &C->tol));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_max_it", "coupling iterations per step before the run stops with an error", 1, 100000, &C->max_it));
+  PetscOptionsEnd();
+  C->stats.max_jump = 0;
+  PetscCall(CouplingProblemCreateControl(problem, &C->x));
+  PetscCall(CouplingProblemInitialControl(problem, t0, C->x));
+  PetscCall(HistoryOpen(PETSC_COMM_WORLD, output_dir, &C->history));
+  PetscCall(CouplingCreate_Opt(C));
+  *coupling = C;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingStep(Coupling C, PetscInt step)
+{
+  PetscFunctionBeginUser;
+  PetscCall((*C->ops.step)(C, step));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingGetStats(Coupling C, CouplingStats *stats)
+{
+  PetscFunctionBeginUser;
+  *stats = C->stats;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingGetOptimizer(Coupling C, const char **name)
+{
+  PetscFunctionBeginUser;
+  *name = C->ops.optimizer ? C->ops.optimizer(C) : NULL;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingFinish(Coupling C)
+{
+  PetscFunctionBeginUser;
+  PetscCall(HistoryClose(&C->history, PETSC_TRUE));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingDestroy(Coupling *coupling)
+{
+  Coupling C = *coupling;
+
+  PetscFunctionBeginUser;
+  if (!C) PetscFunctionReturn(0);
+  if (C->ops.destroy) PetscCall((*C->ops.destroy)(C));
+  PetscCall(HistoryClose(&C->history, PETSC_FALSE));
+  PetscCall(VecDestroy(&C->x));
+  PetscCall(PetscFree(*coupling));
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,480 @@
+/* The control problem of one time step: F(x), J h and J^T rho with the factorizations
+   of the last nonlinear solves (see coupling.h for the algebra and the signs). */
+#include "coupling.h"
+#include "fem.h"
+#include "options.h"
+#include "logging.h"
+
+static const char *const ControlVariants[]  = {"traction", "convective", "ControlVariant", "CONTROL_", NULL};
+static const char *const VelocityMeasures[] = {"scheme", "difference", "StructureVelocityMeasure", "STRUCTURE_VELOCITY_", NULL};
+
+struct _p_CouplingProblem {
+  MPI_Comm                 comm;
+  Fluid                    fluid;     /* NULL on ranks without the fluid */
+  Structure                structure; /* NULL on ranks without the structure */
+  Interface                itf;
+  PhysicsData              fluid_data;
+  ControlVariant           variant;
+  StructureVelocityMeasure measure;
+  PetscReal                tikhonov, velocity_coefficient;
+  PetscInt                 step;
+  Mat                      mass;
+  Vec                      weight_sqrt;                    /* W^{1/2} on the control nodes */
+  Vec                      g, r;                           /* control layout */
+  Vec                      all_a, all_b, all_q, datum_load; /* all interface nodes */
+  Vec                      fluid_vec, fluid_sol, fluid_local, structure_vec, structure_sol, structure_local;
+  Vec                      state_x, state_F, jacobian_x;
+  PetscBool                state_valid, jacobian_valid;
+  PetscReal                state_jump;
+  CouplingProblemCounts    counts;
+};
+
+PetscErrorCode CouplingProblemGetControlVariant(ControlVariant *variant)
+{
+  PetscFunctionBeginUser;
+  *variant = CONTROL_TRACTION;
+  PetscCall(PetscOptionsGetEnum(NULL, NULL, "-coupling_control", ControlVariants, (PetscEnum *)variant, NULL));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure structure, Interface itf, const PhysicsData *fluid_data, CouplingProblem *problem)
+{
+  CouplingProblem P;
+  PetscReal       wmin;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&P));
+  P->comm       = comm;
+  P->fluid      = fluid;
+  P->structure  = structure;
+  P->itf        = itf;
+  P->fluid_data = *fluid_data;
+  P->variant    = CONTROL_TRACTION;
+  P->measure    = STRUCTURE_VELOCITY_SCHEME;
+  PetscOptionsBegin(comm, NULL, "Coupling problem options", "coupling");
+  PetscCall(PetscOptionsEnum("-coupling_control", "What the control replaces: the fluid traction (seed ch. 3, 6) or the traction minus the convective boundary flux 1/2 rho ((u-z).n) u (seed ch. 4, 5)", NULL, ControlVariants, (PetscEnum)P->variant, (PetscEnum *)&P->variant, NULL));
+  PetscCall(PetscOptionsEnum("-coupling_velocity", "Structure velocity matched on the interface: the scheme's own (seed ch. 3, 6) or (eta^n - eta^{n-1})/dt (seed ch. 4, 5)", NULL, VelocityMeasures, (PetscEnum)P->measure, (PetscEnum *)&P->measure, NULL));
+  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-coupling_tikhonov", "Tikhonov weight epsilon (delta) of eps/2 ||g||^2_{L2(Gamma_I)}", &P->tikhonov));
+  PetscOptionsEnd();
+  if (structure) P->velocity_coefficient = StructureVelocityCoefficient(structure, P->measure);
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &P->velocity_coefficient, 1, MPIU_REAL, MPI_MAX, comm));
+
+  PetscCall(InterfaceGetMass(itf, &P->mass));
+  PetscCall(InterfaceCreateControlVector(itf, &P->weight_sqrt));
+  {
+    Vec lumped;
+    PetscCall(InterfaceGetLumpedControlMass(itf, &lumped));
+    PetscCall(VecMin(lumped, NULL, &wmin));
+    PetscCheck(wmin > 0, comm, PETSC_ERR_SUP, "interface: the lumped interface mass has a non-positive entry (%g); this element's trace needs a consistent weight, which is not implemented", (double)wmin);
+    PetscCall(VecCopy(lumped, P->weight_sqrt));
+    PetscCall(VecSqrtAbs(P->weight_sqrt));
+  }
+  PetscCall(VecDuplicate(P->weight_sqrt, &P->g));
+  PetscCall(VecDuplicate(P->weight_sqrt, &P->r));
+  PetscCall(VecDuplicate(P->weight_sqrt, &P->state_x));
+  PetscCall(VecDuplicate(P->weight_sqrt, &P->state_F));
+  PetscCall(VecDuplicate(P->weight_sqrt, &P->jacobian_x));
+  PetscCall(InterfaceCreateVector(itf, &P->all_a));
+  PetscCall(VecDuplicate(P->all_a, &P->all_b));
+  PetscCall(VecDuplicate(P->all_a, &P->all_q));
+  PetscCall(VecDuplicate(P->all_a, &P->datum_load));
+  if (fluid) {
+    DM dm;
+    PetscCall(FluidGetDM(fluid, &dm));
+    PetscCall(DMCreateGlobalVector(dm, &P->fluid_vec));
+    PetscCall(VecDuplicate(P->fluid_vec, &P->fluid_sol));
+    PetscCall(DMCreateLocalVector(dm, &P->fluid_local));
+  }
+  if (structure) {
+    DM dm;
+    PetscCall(StructureGetDM(structure, &dm));
+    PetscCall(DMCreateGlobalVector(dm, &P->structure_vec));
+    PetscCall(VecDuplicate(P->structure_vec, &P->structure_sol));
+    PetscCall(DMCreateLocalVector(dm, &P->structure_local));
+  }
+  *problem = P;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemDestroy(CouplingProblem *problem)
+{
+  CouplingProblem P = *problem;
+
+  PetscFunctionBeginUser;
+  if (!P) PetscFunctionReturn(0);
+  PetscCall(VecDestroy(&P->weight_sqrt));
+  PetscCall(VecDestroy(&P->g));
+  PetscCall(VecDestroy(&P->r));
+  PetscCall(VecDestroy(&P->state_x));
+  PetscCall(VecDestroy(&P->state_F));
+  PetscCall(VecDestroy(&P->jacobian_x));
+  PetscCall(VecDestroy(&P->all_a));
+  PetscCall(VecDestroy(&P->all_b));
+  PetscCall(VecDestroy(&P->all_q));
+  PetscCall(VecDestroy(&P->datum_load));
+  PetscCall(VecDestroy(&P->fluid_vec));
+  PetscCall(VecDestroy(&P->fluid_sol));
+  PetscCall(VecDestroy(&P->fluid_local));
+  PetscCall(VecDestroy(&P->structure_vec));
+  PetscCall(VecDestroy(&P->structure_sol));
+  PetscCall(VecDestroy(&P->structure_local));
+  PetscCall(PetscFree(*problem));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemCreateControl(CouplingProblem P, Vec *x)
+{
+  PetscFunctionBeginUser;
+  PetscCall(VecDuplicate(P->weight_sqrt, x));
+  PetscCall(VecZeroEntries(*x));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemGetTikhonov(CouplingProblem P, PetscReal *eps)
+{
+  PetscFunctionBeginUser;
+  *eps = P->tikhonov;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemGetCounts(CouplingProblem P, CouplingProblemCounts *counts)
+{
+  PetscFunctionBeginUser;
+  *counts = P->counts;
+  PetscFunctionReturn(0);
+}
+
+/* q = M P^T W^{-1/2} x: the interface load of a scaled control, on all interface nodes. */
+static PetscErrorCode ControlToLoad(CouplingProblem P, Vec x, Vec q)
+{
+  PetscFunctionBeginUser;
+  PetscCall(VecPointwiseDivide(P->g, x, P->weight_sqrt));
+  PetscCall(InterfaceExtend(P->itf, P->g, P->all_a));
+  PetscCall(MatMult(P->mass, P->all_a, q));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemInitialControl(CouplingProblem P, PetscReal t0, Vec x)
+{
+  PetscFunctionBeginUser;
+  PetscCall(VecZeroEntries(x));
+  if (P->fluid_data.interface_traction) {
+    PetscCall(InterfaceInterpolate(P->itf, P->fluid_data.interface_traction, t0, P->all_a));
+    PetscCall(InterfaceRestrict(P->itf, P->all_a, x));
+    PetscCall(VecPointwiseMult(x, x, P->weight_sqrt));
+  }
+  /* the midpoint structure averages the traction of this and the previous step */
+  PetscCall(ControlToLoad(P, x, P->all_q));
+  if (P->structure) PetscCall(VecZeroEntries(P->structure_vec));
+  PetscCall(InterfaceStructureSpread(P->itf, P->all_q, P->structure ? P->structure_vec : NULL));
+  if (P->structure) PetscCall(StructureSetInitialLoad(P->structure, P->structure_vec));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemBeginStep(CouplingProblem P, PetscInt step)
+{
+  PetscFunctionBeginUser;
+  P->step           = step;
+  P->state_valid    = PETSC_FALSE;
+  P->jacobian_valid = PETSC_FALSE;
+  if (P->fluid) PetscCall(FluidBeginStep(P->fluid));
+  if (P->structure) PetscCall(StructureBeginStep(P->structure));
+  PetscCall(VecZeroEntries(P->datum_load));
+  if (P->variant == CONTROL_CONVECTIVE && P->fluid_data.convective_interface_datum) {
+    PetscReal t = 0;
+    if (P->fluid) PetscCall(FluidGetTime(P->fluid, &t));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &t, 1, MPIU_REAL, MPI_MAX, P->comm));
+    PetscCall(InterfaceInterpolate(P->itf, P->fluid_data.convective_interface_datum, t, P->all_b));
+    PetscCall(MatMult(P->mass, P->all_b, P->datum_load));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* r = P (T_f fluid_local - T_s structure_local), the jump at the control nodes; and its L2 norm */
+static PetscErrorCode Jump(CouplingProblem P, PetscReal structure_scale, Vec r, PetscReal *l2)
+{
+  PetscFunctionBeginUser;
+  PetscCall(InterfaceFluidTrace(P->itf, P->fluid_local, P->all_a));
+  PetscCall(InterfaceStructureTrace(P->itf, P->structure_local, P->all_b));
+  PetscCall(VecAXPY(P->all_a, -structure_scale, P->all_b));
+  PetscCall(InterfaceRestrict(P->itf, P->all_a, r));
+  if (l2) {
+    PetscScalar dot;
+    PetscCall(InterfaceExtend(P->itf, r, P->all_a));
+    PetscCall(MatMult(P->mass, P->all_a, P->all_b));
+    PetscCall(VecDot(P->all_a, P->all_b, &dot));
+    *l2 = PetscSqrtReal(PetscMax(PetscRealPart(dot), 0.0));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemResidual(CouplingProblem P, Vec x, Vec F)
+{
+  PetscBool same = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  if (P->state_valid) PetscCall(VecEqual(x, P->state_x, &same));
+  if (same) {
+    PetscCall(VecCopy(P->state_F, F));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(ControlToLoad(P, x, P->all_q));
+  if (P->structure) PetscCall(VecZeroEntries(P->structure_vec));
+  PetscCall(InterfaceStructureSpread(P->itf, P->all_q, P->structure ? P->structure_vec : NULL));
+  PetscCall(VecAXPY(P->all_q, 1.0, P->datum_load));
+  if (P->fluid) {
+    PetscCall(VecZeroEntries(P->fluid_vec));
+    PetscCall(InterfaceFluidSpread(P->itf, P->all_q, P->fluid_vec));
+  }
+  /* On separate ranks these two run at the same time. */
+  if (P->fluid) {
+    DM  dm;
+    Vec state;
+    PetscCall(PetscLogStagePush(FSIOPT_STAGE_FLUID));
+    PetscCall(FluidSolve(P->fluid, P->fluid_vec, P->step));
+    PetscCall(FluidGetDM(P->fluid, &dm));
+    PetscCall(FluidGetSolution(P->fluid, &state));
+    PetscCall(FEMGlobalToLocal(dm, state, P->fluid_local));
+    PetscCall(PetscLogStagePop());
+  }
+  if (P->structure) {
+    PetscCall(PetscLogStagePush(FSIOPT_STAGE_STRUCTURE));
+    PetscCall(StructureSolve(P->structure, P->structure_vec, P->step));
+    PetscCall(StructureVelocityLocal(P->structure, P->measure, P->structure_local));
+    PetscCall(PetscLogStagePop());
+  }
+  PetscCall(Jump(P, 1.0, P->r, &P->state_jump));
+  PetscCall(VecPointwiseMult(F, P->r, P->weight_sqrt));
+  PetscCall(VecCopy(x, P->state_x));
+  PetscCall(VecCopy(F, P->state_F));
+  P->state_valid = PETSC_TRUE;
+  P->counts.residuals++;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode EnsureState(CouplingProblem P, Vec x)
+{
+  PetscFunctionBeginUser;
+  PetscCall(CouplingProblemResidual(P, x, P->r));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemJump(CouplingProblem P, Vec x, PetscReal *jump)
+{
+  PetscFunctionBeginUser;
+  PetscCall(EnsureState(P, x));
+  *jump = P->state_jump;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemUpdateJacobian(CouplingProblem P, Vec x)
+{
+  PetscBool same = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  PetscCall(EnsureState(P, x));
+  if (P->jacobian_valid) PetscCall(VecEqual(x, P->jacobian_x, &same));
+  if (same) PetscFunctionReturn(0);
+  if (P->fluid) {
+    PetscCall(PetscLogStagePush(FSIOPT_STAGE_FLUID));
+    PetscCall(FluidUpdateJacobian(P->fluid));
+    PetscCall(PetscLogStagePop());
+  }
+  PetscCall(VecCopy(x, P->jacobian_x));
+  P->jacobian_valid = PETSC_TRUE;
+  P->counts.jacobians++;
+  PetscFunctionReturn(0);
+}
+
+/* The common body of J h and J^T rho: solve both subproblems (forward or transposed)
+   with the interface load all_q, and leave their velocity traces' sum in `out`. */
+static PetscErrorCode SolveAndTrace(CouplingProblem P, PetscBool transpose, Vec out)
+{
+  PetscFunctionBeginUser;
+  if (P->structure) PetscCall(VecZeroEntries(P->structure_vec));
+  PetscCall(InterfaceStructureSpread(P->itf, P->all_q, P->structure ? P->structure_vec : NULL));
+  if (P->fluid) {
+    DM dm;
+    PetscCall(VecZeroEntries(P->fluid_vec));
+    PetscCall(InterfaceFluidSpread(P->itf, P->all_q, P->fluid_vec));
+    PetscCall(FluidLinearSolve(P->fluid, P->fluid_vec, P->fluid_sol, transpose));
+    PetscCall(FluidGetDM(P->fluid, &dm));
+    PetscCall(VecZeroEntries(P->fluid_local));
+    PetscCall(DMGlobalToLocal(dm, P->fluid_sol, INSERT_VALUES, P->fluid_local));
+  }
+  if (P->structure) {
+    DM dm;
+    PetscCall(StructureLinearSolve(P->structure, P->structure_vec, P->structure_sol, transpose));
+    PetscCall(StructureGetDM(P->structure, &dm));
+    PetscCall(VecZeroEntries(P->structure_local));
+    PetscCall(DMGlobalToLocal(dm, P->structure_sol, INSERT_VALUES, P->structure_local));
+  }
+  /* the structure responds to -B_s h with -delta eta; the jump carries -c delta eta */
+  PetscCall(Jump(P, -P->velocity_coefficient, out, NULL));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemJacobianMult(CouplingProblem P, Vec h, Vec y)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogStagePush(FSIOPT_STAGE_SENSITIVITY));
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_SENSITIVITY, 0, 0, 0, 0));
+  PetscCall(ControlToLoad(P, h, P->all_q));
+  PetscCall(SolveAndTrace(P, PETSC_FALSE, y));
+  PetscCall(VecPointwiseMult(y, y, P->weight_sqrt));
+  P->counts.sensitivities++;
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_SENSITIVITY, 0, 0, 0, 0));
+  PetscCall(PetscLogStagePop());
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemJacobianMultTranspose(CouplingProblem P, Vec rho, Vec y)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogStagePush(FSIOPT_STAGE_ADJOINT));
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_ADJOINT, 0, 0, 0, 0));
+  PetscCall(VecPointwiseMult(P->g, rho, P->weight_sqrt));
+  PetscCall(InterfaceExtend(P->itf, P->g, P->all_q));
+  PetscCall(SolveAndTrace(P, PETSC_TRUE, P->r));
+  PetscCall(InterfaceExtend(P->itf, P->r, P->all_a));
+  PetscCall(MatMult(P->mass, P->all_a, P->all_b));
+  PetscCall(InterfaceRestrict(P->itf, P->all_b, y));
+  PetscCall(VecPointwiseDivide(y, y, P->weight_sqrt));
+  P->counts.adjoints++;
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_ADJOINT, 0, 0, 0, 0));
+  PetscCall(PetscLogStagePop());
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode ShellMult(Mat J, Vec h, Vec y)
+{
+  CouplingProblem P;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatShellGetContext(J, &P));
+  PetscCall(CouplingProblemJacobianMult(P, h, y));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode ShellMultTranspose(Mat J, Vec rho, Vec y)
+{
+  CouplingProblem P;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatShellGetContext(J, &P));
+  PetscCall(CouplingProblemJacobianMultTranspose(P, rho, y));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemCreateJacobian(CouplingProblem P, Mat *J)
+{
+  PetscInt n, N;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetLocalSize(P->weight_sqrt, &n));
+  PetscCall(VecGetSize(P->weight_sqrt, &N));
+  PetscCall(MatCreateShell(P->comm, n, n, N, N, P, J));
+  PetscCall(MatShellSetOperation(*J, MATOP_MULT, (void (*)(void))ShellMult));
+  PetscCall(MatShellSetOperation(*J, MATOP_MULT_TRANSPOSE, (void (*)(void))ShellMultTranspose));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemEndStep(CouplingProblem P, Vec x)
+{
+  PetscFunctionBeginUser;
+  PetscCall(EnsureState(P, x));
+  if (P->structure) PetscCall(StructureEndStep(P->structure));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode RandomVector(Vec v, unsigned long seed)
+{
+  PetscRandom rnd;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscRandomCreate(PetscObjectComm((PetscObject)v), &rnd));
+  PetscCall(PetscRandomSetInterval(rnd, -1.0, 1.0));
+  PetscCall(PetscRandomSetSeed(rnd, seed));
+  PetscCall(PetscRandomSeed(rnd));
+  PetscCall(VecSetRandom(v, rnd));
+  PetscCall(PetscRandomDestroy(&rnd));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemTestAdjoint(CouplingProblem P, Vec x)
+{
+  Vec         h, rho, Jh, Jtr, a, b;
+  PetscScalar lhs, rhs, scale;
+
+  PetscFunctionBeginUser;
+  PetscCall(CouplingProblemUpdateJacobian(P, x));
+  PetscCall(VecDuplicate(x, &h));
+  PetscCall(VecDuplicate(x, &rho));
+  PetscCall(VecDuplicate(x, &Jh));
+  PetscCall(VecDuplicate(x, &Jtr));
+  PetscCall(RandomVector(h, 11));
+  PetscCall(RandomVector(rho, 23));
+  PetscCall(CouplingProblemJacobianMult(P, h, Jh));
+  PetscCall(CouplingProblemJacobianMultTranspose(P, rho, Jtr));
+  PetscCall(VecDot(Jh, rho, &lhs));
+  PetscCall(VecDot(h, Jtr, &rhs));
+  PetscCall(VecDuplicate(x, &a));
+  PetscCall(VecDuplicate(x, &b));
+  PetscCall(VecCopy(Jh, a));
+  PetscCall(VecAbs(a));
+  PetscCall(VecCopy(rho, b));
+  PetscCall(VecAbs(b));
+  PetscCall(VecDot(a, b, &scale));
+  PetscCall(PetscPrintf(P->comm, "adjoint test: <J h, r> = %.16e  <h, J^T r> = %.16e  relative difference %.3e\n", (double)PetscRealPart(lhs), (double)PetscRealPart(rhs), (double)(PetscAbsScalar(lhs - rhs) / PetscRealPart(scale))));
+  PetscCall(VecDestroy(&h));
+  PetscCall(VecDestroy(&rho));
+  PetscCall(VecDestroy(&Jh));
+  PetscCall(VecDestroy(&Jtr));
+  PetscCall(VecDestroy(&a));
+  PetscCall(VecDestroy(&b));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemTestTaylor(CouplingProblem P, Vec x)
+{
+  Vec       h, F0, Jh, Ft, xt;
+  PetscReal t = 1.0, previous = 0, hnorm, xnorm;
+  PetscInt  n = 6;
+
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(P->comm, NULL, "Taylor test", "coupling");
+  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_test_taylor_t0", "largest step t of the Taylor test, relative to max(||x||, 1)", &t));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_test_taylor_steps", "halvings of t in the Taylor test", 2, 30, &n));
+  PetscOptionsEnd();
+  PetscCall(VecDuplicate(x, &h));
+  PetscCall(VecDuplicate(x, &F0));
+  PetscCall(VecDuplicate(x, &Jh));
+  PetscCall(VecDuplicate(x, &Ft));
+  PetscCall(VecDuplicate(x, &xt));
+  PetscCall(RandomVector(h, 37));
+  PetscCall(VecNorm(h, NORM_2, &hnorm));
+  PetscCall(VecNorm(x, NORM_2, &xnorm));
+  PetscCall(VecScale(h, PetscMax(xnorm, 1.0) / hnorm));
+  PetscCall(CouplingProblemUpdateJacobian(P, x));
+  PetscCall(CouplingProblemResidual(P, x, F0));
+  PetscCall(CouplingProblemJacobianMult(P, h, Jh));
+  for (PetscInt k = 0; k < n; ++k, t *= 0.5) {
+    PetscReal remainder;
+
+    PetscCall(VecWAXPY(xt, t, h, x));
+    PetscCall(CouplingProblemResidual(P, xt, Ft));
+    PetscCall(VecAXPY(Ft, -1.0, F0));
+    PetscCall(VecAXPY(Ft, -t, Jh));
+    PetscCall(VecNorm(Ft, NORM_2, &remainder));
+    if (k) PetscCall(PetscPrintf(P->comm, "Taylor test: t = %.4e  ||F(x+th) - F(x) - t J h|| = %.6e  ratio %.4f\n", (double)t, (double)remainder, (double)(previous / remainder)));
+    else PetscCall(PetscPrintf(P->comm, "Taylor test: t = %.4e  ||F(x+th) - F(x) - t J h|| = %.6e\n", (double)t, (double)remainder));
+    previous = remainder;
+  }
+  PetscCall(EnsureState(P, x));
+  PetscCall(VecDestroy(&h));
+  PetscCall(VecDestroy(&F0));
+  PetscCall(VecDestroy(&Jh));
+  PetscCall(VecDestroy(&Ft));
+  PetscCall(VecDestroy(&xt));
+  PetscFunctionReturn(0);
+}

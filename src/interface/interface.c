@@ -1,0 +1,526 @@
+/* Conforming interface maps: nodes by coordinates, the interface mass matrix, traces
+   and their adjoints, and the transfer between the fluid's and the structure's
+   orderings on the parent communicator. */
+#include "interface.h"
+#include "options.h"
+
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+
+/* The interface nodes one rank owns on one side, in increasing point number. */
+typedef struct {
+  PetscInt   n;
+  PetscInt  *point;  /* DMPlex point carrying the node */
+  PetscReal *coords; /* n * dim */
+  PetscInt  *local;  /* offset of component 0 of field 0 in the local vector */
+  PetscInt  *global; /* index of component 0 in the global vector; -1 when constrained */
+} Side;
+
+struct _p_Interface {
+  MPI_Comm   comm;
+  PetscInt   dim;
+  Side       fluid, structure;
+  PetscInt   ncontrol, *control; /* fluid nodes (indices into `fluid`) with a free velocity */
+  Vec        all, structure_all, control_template;
+  VecScatter structure_to_fluid;
+  Mat        mass;
+  Vec        lumped_control;
+};
+
+static PetscErrorCode SideDestroy(Side *s)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree4(s->point, s->coords, s->local, s->global));
+  PetscFunctionReturn(0);
+}
+
+/* The node of a Lagrange element of degree <= 2 sits at the centre of its point's vertices. */
+static PetscErrorCode PointCentre(DM dm, PetscInt p, PetscInt dim, PetscReal x[])
+{
+  PetscInt     ncl, *cl = NULL, vStart, vEnd, nv = 0;
+  PetscSection cs;
+  Vec          coordinates;
+  const PetscScalar *c;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMPlexGetDepthStratum(dm, 0, &vStart, &vEnd));
+  PetscCall(DMGetCoordinateSection(dm, &cs));
+  PetscCall(DMGetCoordinatesLocal(dm, &coordinates));
+  PetscCall(VecGetArrayRead(coordinates, &c));
+  for (PetscInt d = 0; d < dim; ++d) x[d] = 0;
+  PetscCall(DMPlexGetTransitiveClosure(dm, p, PETSC_TRUE, &ncl, &cl));
+  for (PetscInt i = 0; i < ncl; ++i) {
+    const PetscInt q = cl[2 * i];
+    PetscInt       off;
+
+    if (q < vStart || q >= vEnd) continue;
+    PetscCall(PetscSectionGetOffset(cs, q, &off));
+    for (PetscInt d = 0; d < dim; ++d) x[d] += PetscRealPart(c[off + d]);
+    ++nv;
+  }
+  PetscCall(DMPlexRestoreTransitiveClosure(dm, p, PETSC_TRUE, &ncl, &cl));
+  PetscCall(VecRestoreArrayRead(coordinates, &c));
+  for (PetscInt d = 0; d < dim; ++d) x[d] /= nv;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode SideCollect(DM dm, PetscInt face, const char name[], Side *side)
+{
+  DMLabel         label;
+  IS              faces = NULL;
+  PetscSection    ls, gs;
+  PetscInt        pStart, pEnd, nfaces = 0, dim;
+  const PetscInt *fidx = NULL;
+  PetscBool      *mark;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetDimension(dm, &dim));
+  PetscCall(DMGetCoordinatesLocalSetUp(dm));
+  PetscCall(DMGetLabel(dm, "Face Sets", &label));
+  PetscCall(DMGetLocalSection(dm, &ls));
+  PetscCall(DMGetGlobalSection(dm, &gs));
+  PetscCall(DMPlexGetChart(dm, &pStart, &pEnd));
+  PetscCall(PetscCalloc1(pEnd - pStart, &mark));
+  if (label) PetscCall(DMLabelGetStratumIS(label, face, &faces));
+  if (faces) {
+    PetscCall(ISGetLocalSize(faces, &nfaces));
+    PetscCall(ISGetIndices(faces, &fidx));
+  }
+  for (PetscInt f = 0; f < nfaces; ++f) {
+    PetscInt ncl, *cl = NULL;
+
+    PetscCall(DMPlexGetTransitiveClosure(dm, fidx[f], PETSC_TRUE, &ncl, &cl));
+    for (PetscInt i = 0; i < ncl; ++i) mark[cl[2 * i] - pStart] = PETSC_TRUE;
+    PetscCall(DMPlexRestoreTransitiveClosure(dm, fidx[f], PETSC_TRUE, &ncl, &cl));
+  }
+  if (faces) {
+    PetscCall(ISRestoreIndices(faces, &fidx));
+    PetscCall(ISDestroy(&faces));
+  }
+  side->n = 0;
+  for (PetscInt pass = 0; pass < 2; ++pass) {
+    PetscInt n = 0;
+
+    for (PetscInt p = pStart; p < pEnd; ++p) {
+      PetscInt ndof, cdof, gdof, off, goff;
+
+      if (!mark[p - pStart]) continue;
+      PetscCall(PetscSectionGetFieldDof(ls, p, 0, &ndof));
+      if (!ndof) continue;
+      PetscCall(PetscSectionGetDof(gs, p, &gdof));
+      if (gdof < 0) continue; /* a ghost: its owner lists it */
+      PetscCheck(ndof == dim, PETSC_COMM_SELF, PETSC_ERR_SUP, "%s interface: expected one velocity node per mesh point (polynomial degree at most 2), got %" PetscInt_FMT " dofs", name, ndof);
+      PetscCall(PetscSectionGetFieldConstraintDof(ls, p, 0, &cdof));
+      PetscCheck(cdof == 0 || cdof == ndof, PETSC_COMM_SELF, PETSC_ERR_SUP, "%s interface: a node with some components constrained and others free is not supported", name);
+      if (pass == 1) {
+        PetscCall(PetscSectionGetFieldOffset(ls, p, 0, &off));
+        PetscCall(PetscSectionGetOffset(gs, p, &goff));
+        side->point[n]  = p;
+        side->local[n]  = off;
+        side->global[n] = cdof ? -1 : goff;
+        PetscCall(PointCentre(dm, p, dim, &side->coords[n * dim]));
+      }
+      ++n;
+    }
+    if (pass == 0) {
+      side->n = n;
+      PetscCall(PetscMalloc4(n, &side->point, n * dim, &side->coords, n, &side->local, n, &side->global));
+    }
+  }
+  PetscCall(PetscFree(mark));
+  PetscFunctionReturn(0);
+}
+
+/* One line naming the first fluid node without a structure partner, on every rank. */
+static PetscErrorCode ReportUnmatched(MPI_Comm comm, PetscInt dim, const PetscReal *x_or_null, PetscInt fluid_face, PetscInt structure_face)
+{
+  PetscMPIInt rank, size, bad, first;
+  PetscReal   x[3] = {0, 0, 0};
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  bad = x_or_null ? rank : size;
+  PetscCallMPI(MPI_Allreduce(&bad, &first, 1, MPI_INT, MPI_MIN, comm));
+  if (first == size) PetscFunctionReturn(0);
+  if (rank == first)
+    for (PetscInt d = 0; d < dim; ++d) x[d] = x_or_null[d];
+  PetscCallMPI(MPI_Bcast(x, 3, MPIU_REAL, first, comm));
+  SETERRQ(comm, PETSC_ERR_ARG_INCOMP, "interface: the meshes do not conform: fluid node (%g, %g, %g) on face set %" PetscInt_FMT " has no structure node on face set %" PetscInt_FMT " within the tolerance (-coupling_interface_tol)", (double)x[0], (double)x[1], (double)x[2], fluid_face, structure_face);
+}
+
+static PetscErrorCode InterfaceMatch(Interface itf, PetscReal rtol, PetscInt fluid_face, PetscInt structure_face)
+{
+  const PetscInt dim = itf->dim;
+  PetscMPIInt    size, nmine, *counts, *displs;
+  PetscInt       nstruct = 0, nfluid_total, *perm, *from, *to;
+  PetscReal     *coords, *xs, lo[3] = {PETSC_MAX_REAL, PETSC_MAX_REAL, PETSC_MAX_REAL}, hi[3] = {PETSC_MIN_REAL, PETSC_MIN_REAL, PETSC_MIN_REAL}, diam = 0, tol;
+  const PetscReal *unmatched = NULL;
+  IS             isfrom, isto;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(itf->comm, &size));
+  PetscCall(PetscMalloc2(size, &counts, size + 1, &displs));
+  nmine = (PetscMPIInt)(itf->structure.n * dim);
+  PetscCallMPI(MPI_Allgather(&nmine, 1, MPI_INT, counts, 1, MPI_INT, itf->comm));
+  displs[0] = 0;
+  for (PetscMPIInt r = 0; r < size; ++r) displs[r + 1] = displs[r] + counts[r];
+  nstruct = displs[size] / dim;
+  PetscCall(PetscMalloc3(nstruct * dim, &coords, nstruct, &xs, nstruct, &perm));
+  PetscCallMPI(MPI_Allgatherv(itf->structure.coords, nmine, MPIU_REAL, coords, counts, displs, MPIU_REAL, itf->comm));
+  PetscCallMPI(MPI_Allreduce(&itf->fluid.n, &nfluid_total, 1, MPIU_INT, MPI_SUM, itf->comm));
+  PetscCheck(nfluid_total > 0, itf->comm, PETSC_ERR_ARG_WRONG, "interface: the fluid mesh has no node on face set %" PetscInt_FMT, fluid_face);
+  PetscCheck(nfluid_total == nstruct, itf->comm, PETSC_ERR_ARG_INCOMP, "interface: the meshes do not conform: the fluid has %" PetscInt_FMT " nodes on face set %" PetscInt_FMT ", the structure %" PetscInt_FMT " on face set %" PetscInt_FMT, nfluid_total, fluid_face, nstruct, structure_face);
+  for (PetscInt i = 0; i < nstruct; ++i) {
+    for (PetscInt d = 0; d < dim; ++d) {
+      lo[d] = PetscMin(lo[d], coords[i * dim + d]);
+      hi[d] = PetscMax(hi[d], coords[i * dim + d]);
+    }
+    xs[i]   = coords[i * dim];
+    perm[i] = i;
+  }
+  for (PetscInt d = 0; d < dim; ++d) diam = PetscMax(diam, hi[d] - lo[d]);
+  tol = rtol * PetscMax(diam, 1e-300);
+  PetscCall(PetscSortRealWithPermutation(nstruct, xs, perm));
+  PetscCall(PetscMalloc1(itf->fluid.n * dim, &from));
+  PetscCall(PetscMalloc1(itf->fluid.n * dim, &to));
+  {
+    PetscInt fstart;
+    PetscCall(VecGetOwnershipRange(itf->all, &fstart, NULL));
+    for (PetscInt i = 0; i < itf->fluid.n && !unmatched; ++i) {
+      const PetscReal *x = &itf->fluid.coords[i * dim];
+      PetscInt         a = 0, b = nstruct, found = -1;
+
+      /* first structure node with x >= x_fluid - tol */
+      while (a < b) {
+        const PetscInt m = (a + b) / 2;
+        if (coords[perm[m] * dim] < x[0] - tol) a = m + 1;
+        else b = m;
+      }
+      for (PetscInt k = a; k < nstruct && coords[perm[k] * dim] <= x[0] + tol; ++k) {
+        PetscReal dist = 0;
+        for (PetscInt d = 0; d < dim; ++d) dist = PetscMax(dist, PetscAbsReal(coords[perm[k] * dim + d] - x[d]));
+        if (dist <= tol) {
+          found = perm[k];
+          break;
+        }
+      }
+      if (found < 0) unmatched = x;
+      for (PetscInt c = 0; c < dim; ++c) {
+        from[i * dim + c] = found * dim + c; /* structure nodes are gathered in rank order: the gathered index is the global one */
+        to[i * dim + c]   = fstart + i * dim + c;
+      }
+    }
+  }
+  PetscCall(ReportUnmatched(itf->comm, dim, unmatched, fluid_face, structure_face));
+  PetscCall(ISCreateGeneral(itf->comm, itf->fluid.n * dim, from, PETSC_OWN_POINTER, &isfrom));
+  PetscCall(ISCreateGeneral(itf->comm, itf->fluid.n * dim, to, PETSC_OWN_POINTER, &isto));
+  PetscCall(VecScatterCreate(itf->structure_all, isfrom, itf->all, isto, &itf->structure_to_fluid));
+  PetscCall(ISDestroy(&isfrom));
+  PetscCall(ISDestroy(&isto));
+  PetscCall(PetscFree3(coords, xs, perm));
+  PetscCall(PetscFree2(counts, displs));
+  PetscFunctionReturn(0);
+}
+
+static void MassG0(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], const PetscReal n[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g0[])
+{
+  for (PetscInt c = 0; c < dim; ++c) g0[c * dim + c] = 1.0;
+}
+
+/* The interface mass matrix, assembled as a boundary bilinear form on the fluid's velocity
+   space without constraints (test and trial functions share PETSc's face tabulation, so
+   reversed faces are integrated exactly), then restricted to the interface rows. */
+static PetscErrorCode InterfaceAssembleMass(Interface itf, DM fluid, PetscInt face)
+{
+  Mat mass_fluid = NULL;
+
+  PetscFunctionBeginUser;
+  if (fluid) {
+    DM            dm;
+    PetscObject   fe;
+    PetscDS       ds;
+    PetscWeakForm wf;
+    DMLabel       label;
+    PetscInt      bd, *rows;
+    PetscSection  gs;
+    Mat           full;
+    Vec           zero;
+    IS            is;
+
+    PetscCall(DMClone(fluid, &dm));
+    PetscCall(DMGetField(fluid, 0, NULL, &fe));
+    PetscCall(DMSetField(dm, 0, NULL, fe));
+    PetscCall(DMCreateDS(dm));
+    PetscCall(DMGetLabel(dm, "Face Sets", &label));
+    PetscCall(DMAddBoundary(dm, DM_BC_NATURAL, "interface", label, 1, &face, 0, 0, NULL, NULL, NULL, NULL, &bd));
+    PetscCall(DMGetDS(dm, &ds));
+    PetscCall(PetscDSGetBoundary(ds, bd, &wf, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
+    PetscCall(PetscWeakFormAddBdJacobian(wf, label, face, 0, 0, 0, MassG0, NULL, NULL, NULL));
+    PetscCall(DMCreateMatrix(dm, &full));
+    PetscCall(DMCreateLocalVector(dm, &zero));
+    PetscCall(DMPlexSNESComputeJacobianFEM(dm, zero, full, full, NULL));
+    PetscCall(DMGetGlobalSection(dm, &gs));
+    PetscCall(PetscMalloc1(itf->fluid.n * itf->dim, &rows));
+    for (PetscInt i = 0; i < itf->fluid.n; ++i) {
+      PetscInt goff;
+      PetscCall(PetscSectionGetOffset(gs, itf->fluid.point[i], &goff));
+      for (PetscInt c = 0; c < itf->dim; ++c) rows[i * itf->dim + c] = goff + c;
+    }
+    PetscCall(ISCreateGeneral(PetscObjectComm((PetscObject)dm), itf->fluid.n * itf->dim, rows, PETSC_OWN_POINTER, &is));
+    PetscCall(MatCreateSubMatrix(full, is, is, MAT_INITIAL_MATRIX, &mass_fluid));
+    PetscCall(ISDestroy(&is));
+    PetscCall(MatDestroy(&full));
+    PetscCall(VecDestroy(&zero));
+    PetscCall(DMDestroy(&dm));
+  }
+  {
+    PetscMPIInt cmp = MPI_UNEQUAL;
+    if (fluid) PetscCallMPI(MPI_Comm_compare(PetscObjectComm((PetscObject)fluid), itf->comm, &cmp));
+    if (fluid && (cmp == MPI_IDENT || cmp == MPI_CONGRUENT)) {
+      itf->mass = mass_fluid;
+      PetscFunctionReturn(0);
+    }
+  }
+  /* The fluid has its own ranks, the first of the parent communicator: the same global
+     numbering holds there, so the rows move over as they are. */
+  {
+    PetscInt n, N, rstart, rend;
+
+    PetscCall(VecGetLocalSize(itf->all, &n));
+    PetscCall(VecGetSize(itf->all, &N));
+    PetscCall(MatCreateAIJ(itf->comm, n, n, N, N, 27, NULL, 27, NULL, &itf->mass));
+    PetscCall(MatSetOption(itf->mass, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
+    PetscCall(VecGetOwnershipRange(itf->all, &rstart, &rend));
+    if (mass_fluid) {
+      PetscInt fstart, fend;
+      PetscCall(MatGetOwnershipRange(mass_fluid, &fstart, &fend));
+      PetscCheck(fstart == rstart && fend == rend, PETSC_COMM_SELF, PETSC_ERR_PLIB, "interface: fluid ranks must come first in the parent communicator");
+      for (PetscInt r = fstart; r < fend; ++r) {
+        PetscInt           ncols;
+        const PetscInt    *cols;
+        const PetscScalar *vals;
+        PetscCall(MatGetRow(mass_fluid, r, &ncols, &cols, &vals));
+        PetscCall(MatSetValues(itf->mass, 1, &r, ncols, cols, vals, INSERT_VALUES));
+        PetscCall(MatRestoreRow(mass_fluid, r, &ncols, &cols, &vals));
+      }
+    }
+    PetscCall(MatAssemblyBegin(itf->mass, MAT_FINAL_ASSEMBLY));
+    PetscCall(MatAssemblyEnd(itf->mass, MAT_FINAL_ASSEMBLY));
+    PetscCall(MatDestroy(&mass_fluid));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode InterfaceCreate(MPI_Comm comm, DM fluid, PetscInt fluid_face, DM structure, PetscInt structure_face, Interface *interface)
+{
+  Interface itf;
+  PetscInt  dim_local = 0, dim;
+  PetscReal rtol = 1e-8;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&itf));
+  itf->comm = comm;
+  if (fluid) PetscCall(DMGetDimension(fluid, &dim_local));
+  else if (structure) PetscCall(DMGetDimension(structure, &dim_local));
+  PetscCallMPI(MPI_Allreduce(&dim_local, &dim, 1, MPIU_INT, MPI_MAX, comm));
+  itf->dim = dim;
+  PetscOptionsBegin(comm, NULL, "Interface options", "coupling");
+  PetscCall(OptionsRealInRange(PetscOptionsObject, "-coupling_interface_tol", "tolerance of the interface node matching, relative to the interface's extent", 0.0, 1.0, &rtol));
+  PetscOptionsEnd();
+  if (fluid) PetscCall(SideCollect(fluid, fluid_face, "fluid", &itf->fluid));
+  if (structure) PetscCall(SideCollect(structure, structure_face, "structure", &itf->structure));
+
+  PetscCall(VecCreateMPI(comm, itf->fluid.n * dim, PETSC_DETERMINE, &itf->all));
+  PetscCall(VecSetBlockSize(itf->all, dim));
+  PetscCall(VecCreateMPI(comm, itf->structure.n * dim, PETSC_DETERMINE, &itf->structure_all));
+  PetscCall(VecSetBlockSize(itf->structure_all, dim));
+  PetscCall(PetscMalloc1(itf->fluid.n, &itf->control));
+  for (PetscInt i = 0; i < itf->fluid.n; ++i)
+    if (itf->fluid.global[i] >= 0) itf->control[itf->ncontrol++] = i;
+  PetscCall(VecCreateMPI(comm, itf->ncontrol * dim, PETSC_DETERMINE, &itf->control_template));
+  PetscCall(VecSetBlockSize(itf->control_template, dim));
+  {
+    PetscInt N;
+    PetscCall(VecGetSize(itf->control_template, &N));
+    PetscCheck(N > 0, comm, PETSC_ERR_ARG_WRONG, "interface: every fluid velocity node on face set %" PetscInt_FMT " is constrained by a Dirichlet condition: there is nothing to control", fluid_face);
+  }
+  PetscCall(InterfaceMatch(itf, rtol, fluid_face, structure_face));
+  PetscCall(InterfaceAssembleMass(itf, fluid, fluid_face));
+  {
+    Vec ones, rowsum;
+    PetscCall(VecDuplicate(itf->all, &ones));
+    PetscCall(VecDuplicate(itf->all, &rowsum));
+    PetscCall(VecSet(ones, 1.0));
+    PetscCall(MatMult(itf->mass, ones, rowsum));
+    PetscCall(VecDuplicate(itf->control_template, &itf->lumped_control));
+    PetscCall(InterfaceRestrict(itf, rowsum, itf->lumped_control));
+    PetscCall(VecDestroy(&ones));
+    PetscCall(VecDestroy(&rowsum));
+  }
+  *interface = itf;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode InterfaceDestroy(Interface *interface)
+{
+  Interface itf = *interface;
+
+  PetscFunctionBeginUser;
+  if (!itf) PetscFunctionReturn(0);
+  PetscCall(SideDestroy(&itf->fluid));
+  PetscCall(SideDestroy(&itf->structure));
+  PetscCall(PetscFree(itf->control));
+  PetscCall(VecDestroy(&itf->all));
+  PetscCall(VecDestroy(&itf->structure_all));
+  PetscCall(VecDestroy(&itf->control_template));
+  PetscCall(VecDestroy(&itf->lumped_control));
+  PetscCall(VecScatterDestroy(&itf->structure_to_fluid));
+  PetscCall(MatDestroy(&itf->mass));
+  PetscCall(PetscFree(*interface));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode InterfaceCreateVector(Interface itf, Vec *v)
+{
+  PetscFunctionBeginUser;
+  PetscCall(VecDuplicate(itf->all, v));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode InterfaceCreateControlVector(Interface itf, Vec *v)
+{
+  PetscFunctionBeginUser;
+  PetscCall(VecDuplicate(itf->control_template, v));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode InterfaceGetMass(Interface itf, Mat *mass)
+{
+  PetscFunctionBeginUser;
+  *mass = itf->mass;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode InterfaceGetLumpedControlMass(Interface itf, Vec *lumped)
+{
+  PetscFunctionBeginUser;
+  *lumped = itf->lumped_control;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode InterfaceGetSizes(Interface itf, PetscInt *nodes, PetscInt *control_nodes)
+{
+  PetscFunctionBeginUser;
+  if (nodes) PetscCallMPI(MPI_Allreduce(&itf->fluid.n, nodes, 1, MPIU_INT, MPI_SUM, itf->comm));
+  if (control_nodes) PetscCallMPI(MPI_Allreduce(&itf->ncontrol, control_nodes, 1, MPIU_INT, MPI_SUM, itf->comm));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode InterfaceRestrict(Interface itf, Vec all, Vec control)
+{
+  const PetscScalar *a;
+  PetscScalar       *c;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(all, &a));
+  PetscCall(VecGetArrayWrite(control, &c));
+  for (PetscInt i = 0; i < itf->ncontrol; ++i)
+    for (PetscInt d = 0; d < itf->dim; ++d) c[i * itf->dim + d] = a[itf->control[i] * itf->dim + d];
+  PetscCall(VecRestoreArrayWrite(control, &c));
+  PetscCall(VecRestoreArrayRead(all, &a));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode InterfaceExtend(Interface itf, Vec control, Vec all)
+{
+  const PetscScalar *c;
+  PetscScalar       *a;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecZeroEntries(all));
+  PetscCall(VecGetArrayRead(control, &c));
+  PetscCall(VecGetArray(all, &a));
+  for (PetscInt i = 0; i < itf->ncontrol; ++i)
+    for (PetscInt d = 0; d < itf->dim; ++d) a[itf->control[i] * itf->dim + d] = c[i * itf->dim + d];
+  PetscCall(VecRestoreArray(all, &a));
+  PetscCall(VecRestoreArrayRead(control, &c));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode SideTrace(const Side *side, PetscInt dim, Vec local, Vec out)
+{
+  const PetscScalar *l;
+  PetscScalar       *o;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayWrite(out, &o));
+  if (side->n) PetscCall(VecGetArrayRead(local, &l));
+  for (PetscInt i = 0; i < side->n; ++i)
+    for (PetscInt d = 0; d < dim; ++d) o[i * dim + d] = l[side->local[i] + d];
+  if (side->n) PetscCall(VecRestoreArrayRead(local, &l));
+  PetscCall(VecRestoreArrayWrite(out, &o));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode SideSpread(const Side *side, PetscInt dim, Vec in, Vec global)
+{
+  const PetscScalar *a;
+  PetscScalar       *g;
+  PetscInt           rstart;
+
+  PetscFunctionBeginUser;
+  if (!global) PetscFunctionReturn(0);
+  PetscCall(VecGetOwnershipRange(global, &rstart, NULL));
+  PetscCall(VecGetArrayRead(in, &a));
+  PetscCall(VecGetArray(global, &g));
+  for (PetscInt i = 0; i < side->n; ++i) {
+    if (side->global[i] < 0) continue;
+    for (PetscInt d = 0; d < dim; ++d) g[side->global[i] - rstart + d] = a[i * dim + d];
+  }
+  PetscCall(VecRestoreArray(global, &g));
+  PetscCall(VecRestoreArrayRead(in, &a));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode InterfaceFluidTrace(Interface itf, Vec fluid_local, Vec all)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SideTrace(&itf->fluid, itf->dim, fluid_local, all));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode InterfaceFluidSpread(Interface itf, Vec all, Vec fluid_global)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SideSpread(&itf->fluid, itf->dim, all, fluid_global));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode InterfaceStructureTrace(Interface itf, Vec structure_local, Vec all)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SideTrace(&itf->structure, itf->dim, structure_local, itf->structure_all));
+  PetscCall(VecScatterBegin(itf->structure_to_fluid, itf->structure_all, all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(itf->structure_to_fluid, itf->structure_all, all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode InterfaceStructureSpread(Interface itf, Vec all, Vec structure_global)
+{
+  PetscFunctionBeginUser;
+  PetscCall(VecScatterBegin(itf->structure_to_fluid, all, itf->structure_all, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(itf->structure_to_fluid, all, itf->structure_all, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(SideSpread(&itf->structure, itf->dim, itf->structure_all, structure_global));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode InterfaceInterpolate(Interface itf, FieldFn fn, PetscReal t, Vec all)
+{
+  PetscScalar *a;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayWrite(all, &a));
+  for (PetscInt i = 0; i < itf->fluid.n; ++i) PetscCall(fn(itf->dim, t, &itf->fluid.coords[i * itf->dim], itf->dim, &a[i * itf->dim], NULL));
+  PetscCall(VecRestoreArrayWrite(all, &a));
+  PetscFunctionReturn(0);
+}
