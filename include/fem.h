@@ -23,6 +23,9 @@ typedef enum {
   FEM_JACOBIAN_ON_REQUEST  /* assembled and factored by FEMUpdateJacobian only; solves reuse the factors */
 } FEMJacobianPolicy;
 PetscErrorCode FEMCreateSNES(DM dm, const char prefix[], FEMJacobianPolicy, PetscInt *jacobian_assemblies, SNES *snes);
+/* Solves R(x) = 0 once with a SNES of its own (options under `prefix`), e.g. an initial
+   projection; its factorizations are not added to the run's counter. */
+PetscErrorCode FEMSolveSteady(DM dm, const char prefix[], PetscInt *jacobian_assemblies, Vec x);
 /* Assembles the Jacobian at x and factors it now (FEM_JACOBIAN_ON_REQUEST). */
 PetscErrorCode FEMUpdateJacobian(SNES snes, Vec x);
 /* Per field: L2 error and L2 error of the gradient against closed forms at time t

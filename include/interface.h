@@ -39,6 +39,8 @@ PetscErrorCode InterfaceFluidTrace(Interface, Vec fluid_local, Vec all);
 PetscErrorCode InterfaceFluidSpread(Interface, Vec all, Vec fluid_global);
 PetscErrorCode InterfaceStructureTrace(Interface, Vec structure_local, Vec all);
 PetscErrorCode InterfaceStructureSpread(Interface, Vec all, Vec structure_global);
+/* Overwrites the structure's owned interface values (all components) in a local vector. */
+PetscErrorCode InterfaceStructureInsertLocal(Interface, Vec all, Vec structure_local);
 
 /* Interpolates a closed form at the interface nodes at time t. */
 PetscErrorCode InterfaceInterpolate(Interface, FieldFn, PetscReal t, Vec all);

@@ -4,7 +4,7 @@
 
 /* Constants handed to the structure's pointwise kernels; scene kernels read them too.
    MASS is the coefficient of (eta, xi) (c rho_s with c = 1/dt^2 or 4/dt^2). */
-enum { STRUCTURE_RHO, STRUCTURE_MU, STRUCTURE_LAMBDA, STRUCTURE_MASS, STRUCTURE_OPERATOR, STRUCTURE_LOAD, STRUCTURE_TIME, STRUCTURE_DT, STRUCTURE_NUM_CONSTANTS };
+enum { STRUCTURE_RHO, STRUCTURE_MU, STRUCTURE_LAMBDA, STRUCTURE_MASS, STRUCTURE_OPERATOR, STRUCTURE_LOAD, STRUCTURE_TIME, STRUCTURE_DT, STRUCTURE_PROJECTION, STRUCTURE_NUM_CONSTANTS };
 
 typedef struct _p_Structure *Structure;
 
@@ -26,6 +26,9 @@ PetscErrorCode StructureVelocityLocal(Structure, StructureVelocityMeasure, Vec v
 PetscReal      StructureVelocityCoefficient(Structure, StructureVelocityMeasure);
 PetscErrorCode StructureLinearSolve(Structure, Vec rhs, Vec x, PetscBool transpose);
 PetscErrorCode StructureGetDM(Structure, DM *);
+/* Access to the velocity (all dofs, local) for changing it; Restore updates the ghosts. */
+PetscErrorCode StructureGetVelocityLocal(Structure, Vec *);
+PetscErrorCode StructureRestoreVelocityLocal(Structure, Vec *);
 PetscErrorCode StructureGetSolution(Structure, Vec *);
 PetscErrorCode StructureErrors(Structure, ErrorTable *);
 PetscErrorCode StructureGetCounts(Structure, SolverCounts *);

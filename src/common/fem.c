@@ -121,12 +121,46 @@ PetscErrorCode FEMCreateSNES(DM dm, const char prefix[], FEMJacobianPolicy polic
   PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
   PetscCall(SNESSetTolerances(*snes, 1e-12, 1e-10, 1e-12, 50, PETSC_DEFAULT));
   if (policy == FEM_JACOBIAN_CONSTANT) PetscCall(SNESSetType(*snes, SNESKSPONLY));
+  if (policy == FEM_JACOBIAN_ON_REQUEST) {
+    /* Chord steps with factors from a nearby state: a backtracking search would stop at
+       round-off (residuals of size rho/dt eps); the step tolerance ends them instead. */
+    SNESLineSearch ls;
+    PetscCall(SNESGetLineSearch(*snes, &ls));
+    PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
+  }
   if (policy != FEM_JACOBIAN_NEWTON) {
     /* -2: assemble at the next chance, then never again (until FEMUpdateJacobian asks). */
     PetscCall(SNESSetLagJacobian(*snes, -2));
     PetscCall(SNESSetLagJacobianPersists(*snes, PETSC_TRUE));
   }
   PetscCall(SNESSetFromOptions(*snes));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMSolveSteady(DM dm, const char prefix[], PetscInt *jacobian_assemblies, Vec x)
+{
+  SNES                snes;
+  KSP                 ksp;
+  PC                  pc;
+  SNESConvergedReason reason;
+  const PetscInt      assemblies = *jacobian_assemblies;
+
+  PetscFunctionBeginUser;
+  PetscCall(SNESCreate(PetscObjectComm((PetscObject)dm), &snes));
+  PetscCall(SNESSetOptionsPrefix(snes, prefix));
+  PetscCall(SNESSetDM(snes, dm));
+  PetscCall(SNESGetKSP(snes, &ksp));
+  PetscCall(KSPSetType(ksp, KSPPREONLY));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PCSetType(pc, PCLU));
+  PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+  PetscCall(SNESSetTolerances(snes, 1e-12, 1e-10, 1e-12, 50, PETSC_DEFAULT));
+  PetscCall(SNESSetFromOptions(snes));
+  PetscCall(SNESSolve(snes, NULL, x));
+  PetscCall(SNESGetConvergedReason(snes, &reason));
+  PetscCheck(reason > 0, PetscObjectComm((PetscObject)dm), PETSC_ERR_NOT_CONVERGED, "%s solve failed: SNES reason %s", prefix, SNESConvergedReasons[reason]);
+  PetscCall(SNESDestroy(&snes));
+  *jacobian_assemblies = assemblies; /* the run's counters are for the time steps */
   PetscFunctionReturn(0);
 }
 

@@ -37,6 +37,30 @@ PetscErrorCode CouplingProblemGetControlVariant(ControlVariant *variant)
   PetscFunctionReturn(0);
 }
 
+/* The discrete initial state must satisfy the coupling condition: a fluid started from
+   its Stokes projection has an interface trace O(h^3) away from the structure's
+   interpolated velocity, and with a small dt the first step would turn that into an
+   O(h^3/dt) acceleration. The structure, without a constraint to keep, takes the fluid's
+   trace instead (a no-op for scenes that start at rest). */
+static PetscErrorCode MatchInitialVelocity(CouplingProblem P)
+{
+  Vec etadot = NULL;
+
+  PetscFunctionBeginUser;
+  if (P->fluid) {
+    DM  dm;
+    Vec state;
+    PetscCall(FluidGetDM(P->fluid, &dm));
+    PetscCall(FluidGetSolution(P->fluid, &state));
+    PetscCall(FEMGlobalToLocal(dm, state, P->fluid_local));
+  }
+  PetscCall(InterfaceFluidTrace(P->itf, P->fluid_local, P->all_a));
+  if (P->structure) PetscCall(StructureGetVelocityLocal(P->structure, &etadot));
+  PetscCall(InterfaceStructureInsertLocal(P->itf, P->all_a, etadot));
+  if (P->structure) PetscCall(StructureRestoreVelocityLocal(P->structure, &etadot));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure structure, Interface itf, const PhysicsData *fluid_data, CouplingProblem *problem)
 {
   CouplingProblem P;
@@ -92,6 +116,7 @@ PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure struc
     PetscCall(VecDuplicate(P->structure_vec, &P->structure_sol));
     PetscCall(DMCreateLocalVector(dm, &P->structure_local));
   }
+  PetscCall(MatchInitialVelocity(P));
   *problem = P;
   PetscFunctionReturn(0);
 }
@@ -154,13 +179,59 @@ static PetscErrorCode ControlToLoad(CouplingProblem P, Vec x, Vec q)
   PetscFunctionReturn(0);
 }
 
+static PetscErrorCode ControlMassMult(Mat A, Vec x, Vec y)
+{
+  CouplingProblem P;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatShellGetContext(A, &P));
+  PetscCall(InterfaceExtend(P->itf, x, P->all_a));
+  PetscCall(MatMult(P->mass, P->all_a, P->all_b));
+  PetscCall(InterfaceRestrict(P->itf, P->all_b, y));
+  PetscFunctionReturn(0);
+}
+
+/* The control that acts on the free rows as the traction t does: the solution of
+   P M P^T g = P M t. Restricting t's nodal values instead would drop its part on the
+   constrained nodes, an O(1) error in the elements next to them. */
+static PetscErrorCode TractionToControl(CouplingProblem P, Vec traction_all, Vec g)
+{
+  Mat      A;
+  KSP      ksp;
+  Vec      b;
+  PetscInt n, N;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetLocalSize(g, &n));
+  PetscCall(VecGetSize(g, &N));
+  PetscCall(MatCreateShell(P->comm, n, n, N, N, P, &A));
+  PetscCall(MatShellSetOperation(A, MATOP_MULT, (void (*)(void))ControlMassMult));
+  PetscCall(VecDuplicate(g, &b));
+  PetscCall(MatMult(P->mass, traction_all, P->all_b));
+  PetscCall(InterfaceRestrict(P->itf, P->all_b, b));
+  PetscCall(KSPCreate(P->comm, &ksp));
+  PetscCall(KSPSetType(ksp, KSPCG));
+  PetscCall(KSPSetOperators(ksp, A, A));
+  {
+    PC pc;
+    PetscCall(KSPGetPC(ksp, &pc));
+    PetscCall(PCSetType(pc, PCNONE));
+  }
+  PetscCall(KSPSetTolerances(ksp, 1e-14, 1e-300, PETSC_DEFAULT, 1000));
+  PetscCall(KSPSolve(ksp, b, g));
+  PetscCall(KSPDestroy(&ksp));
+  PetscCall(VecDestroy(&b));
+  PetscCall(MatDestroy(&A));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode CouplingProblemInitialControl(CouplingProblem P, PetscReal t0, Vec x)
 {
   PetscFunctionBeginUser;
   PetscCall(VecZeroEntries(x));
   if (P->fluid_data.interface_traction) {
-    PetscCall(InterfaceInterpolate(P->itf, P->fluid_data.interface_traction, t0, P->all_a));
-    PetscCall(InterfaceRestrict(P->itf, P->all_a, x));
+    PetscCall(InterfaceInterpolate(P->itf, P->fluid_data.interface_traction, t0, P->all_q));
+    PetscCall(TractionToControl(P, P->all_q, x));
     PetscCall(VecPointwiseMult(x, x, P->weight_sqrt));
   }
   /* the midpoint structure averages the traction of this and the previous step */

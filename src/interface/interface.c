@@ -524,3 +524,21 @@ PetscErrorCode InterfaceInterpolate(Interface itf, FieldFn fn, PetscReal t, Vec 
   PetscCall(VecRestoreArrayWrite(all, &a));
   PetscFunctionReturn(0);
 }
+
+PetscErrorCode InterfaceStructureInsertLocal(Interface itf, Vec all, Vec structure_local)
+{
+  PetscScalar       *l;
+  const PetscScalar *a;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecScatterBegin(itf->structure_to_fluid, all, itf->structure_all, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(itf->structure_to_fluid, all, itf->structure_all, INSERT_VALUES, SCATTER_REVERSE));
+  if (!itf->structure.n) PetscFunctionReturn(0);
+  PetscCall(VecGetArrayRead(itf->structure_all, &a));
+  PetscCall(VecGetArray(structure_local, &l));
+  for (PetscInt i = 0; i < itf->structure.n; ++i)
+    for (PetscInt d = 0; d < itf->dim; ++d) l[itf->structure.local[i] + d] = a[i * itf->dim + d];
+  PetscCall(VecRestoreArray(structure_local, &l));
+  PetscCall(VecRestoreArrayRead(itf->structure_all, &a));
+  PetscFunctionReturn(0);
+}
