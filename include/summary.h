@@ -10,7 +10,7 @@ typedef struct {
   PetscInt         dim, fluid_dofs, structure_dofs;
   PetscReal        wall_time_s;
   SolverCounts     fluid, structure;
-  PetscInt         coupling_iterations, inner_iterations;
+  PetscInt         coupling_iterations, inner_iterations, stalled_steps;
   PetscReal        work_factor, max_interface_jump;
   PetscBool        converged, has_fluid, has_structure;
   ErrorTable       errors;

@@ -213,13 +213,14 @@ static PetscErrorCode Run(void)
     summary.coupling_iterations = stats.iterations;
     summary.inner_iterations    = stats.inner_iterations;
     summary.max_interface_jump  = stats.max_jump;
+    summary.stalled_steps       = stats.stalled_steps;
     /* seed eq. 6.5: a forward run with the traction known needs one fluid solve per step */
     summary.work_factor = (PetscReal)(fluid_solves + 2 * stats.iterations) / params.steps;
   }
   PetscCall(PetscTime(&end));
   summary.params        = &params;
   summary.wall_time_s   = end - start;
-  summary.converged     = PETSC_TRUE;
+  summary.converged     = summary.stalled_steps == 0 ? PETSC_TRUE : PETSC_FALSE;
   summary.has_fluid     = scene.has_fluid;
   summary.has_structure = scene.has_structure;
   if (!scene.has_fluid) summary.fluid_ranks = 0;

@@ -125,7 +125,10 @@ static PetscErrorCode OptStep(Coupling C, PetscInt step)
   PetscCheck(reason > 0, PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "coupling opt (%s) failed at step %" PetscInt_FMT ", iteration %" PetscInt_FMT ": TAO reason %s, interface jump %.3e > -coupling_tol %.3e", C->ops.optimizer(C), step, opt->last_iteration, TaoConvergedReasons[reason], (double)opt->last_jump, (double)C->tol);
   PetscCall(CouplingProblemEndStep(C->problem, C->x));
   C->stats.iterations += opt->last_iteration;
-  if (opt->stalled) C->stats.stalled_steps++;
+  if (opt->stalled && opt->last_jump > C->tol) {
+    C->stats.stalled_steps++;
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fsiopt: warning: step %" PetscInt_FMT " stalled after %" PetscInt_FMT " iterations (%s) at interface jump %.3e > -coupling_tol %.3e\n", step, opt->last_iteration, C->ops.optimizer(C), (double)opt->last_jump, (double)C->tol));
+  }
   C->stats.max_jump = PetscMax(C->stats.max_jump, opt->last_jump);
   PetscFunctionReturn(0);
 }

@@ -73,6 +73,7 @@ PetscErrorCode SummaryWrite(MPI_Comm comm, const char dir[], const RunSummary *s
   fprintf(fp, "  \"coupling_iterations\": %d,\n", (int)s->coupling_iterations);
   fprintf(fp, "  \"avg_coupling_iterations\": %.6g,\n", (double)avg);
   fprintf(fp, "  \"inner_iterations\": %d,\n", (int)s->inner_iterations);
+  fprintf(fp, "  \"stalled_steps\": %d,\n", (int)s->stalled_steps);
   WriteNumberOrNull(fp, "work_factor", s->work_factor, ",");
   WriteNumberOrNull(fp, "max_interface_jump", s->max_interface_jump, ",");
   fprintf(fp, "  \"factorizations\": {\"fluid\": %d, \"structure\": %d},\n", (int)s->fluid.factorizations, (int)s->structure.factorizations);
