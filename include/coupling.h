@@ -40,6 +40,8 @@ PetscErrorCode CouplingProblemInitialControl(CouplingProblem, PetscReal t0, Vec 
 PetscErrorCode CouplingProblemBeginStep(CouplingProblem, PetscInt step);
 PetscErrorCode CouplingProblemResidual(CouplingProblem, Vec x, Vec F);
 PetscErrorCode CouplingProblemUpdateJacobian(CouplingProblem, Vec x);
+/* Jumps at or below this need no new Jacobian: the optimizer accepts the point. */
+PetscErrorCode CouplingProblemSetConvergedJump(CouplingProblem, PetscReal);
 PetscErrorCode CouplingProblemJacobianMult(CouplingProblem, Vec h, Vec y);
 PetscErrorCode CouplingProblemJacobianMultTranspose(CouplingProblem, Vec rho, Vec y);
 /* ||u - v_s||_{L2(Gamma_I)} at x (with the consistent interface mass) */

@@ -2,7 +2,7 @@
 """fsiopt test suite: every test asserts a property (a convergence rate, agreement
 between runs, a solver count, a clean refusal of bad input). Run by `make test`.
 Last line: 'N passed, M failed'; exit status non-zero on any failure."""
-import json, math, os, shutil, subprocess, sys, tempfile, time
+import csv, json, math, os, shutil, subprocess, sys, tempfile, time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 FSIOPT = os.path.join(ROOT, "bin", "fsiopt")
@@ -12,9 +12,9 @@ WORK = tempfile.mkdtemp(prefix="fsiopt-tests-")
 results = []
 
 
-def run(args, nproc=1, tag="run"):
+def run(args, nproc=1, tag="run", out=None):
     """Runs fsiopt, returns (returncode, stdout, stderr, summary or None)."""
-    out = os.path.join(WORK, "%s-%d" % (tag, len(os.listdir(WORK))))
+    out = out or os.path.join(WORK, "%s-%d" % (tag, len(os.listdir(WORK))))
     cmd = ([FSIOPT] if nproc == 1 else ["mpiexec", "-n", str(nproc), FSIOPT]) + args + ["-output_dir", out]
     p = subprocess.run(cmd, cwd=ROOT, env=ENV, capture_output=True, text=True, errors="replace", timeout=600)
     path = os.path.join(out, "summary.json")
@@ -22,8 +22,8 @@ def run(args, nproc=1, tag="run"):
     return p.returncode, p.stdout, p.stderr, summary
 
 
-def solve(args, nproc=1):
-    rc, out, err, summary = run(args, nproc)
+def solve(args, nproc=1, out=None):
+    rc, out, err, summary = run(args, nproc, out=out)
     if rc != 0 or summary is None:
         raise AssertionError("run failed (%s): %s" % (" ".join(args), (err or out).strip()[-300:]))
     return summary
@@ -144,6 +144,100 @@ def _():
     return same_errors(["-scene", "mms-structure", "-t_start", "0.5", "-t_final", "0.6", "-dt", "0.05", "-refine", "1"])
 
 
+# ---- coupled problems (issue 3): derivatives, optimizer, rates, parallel layout ----
+NS_STEP = ["-options_file", "options/mms-ns.yaml"]        # one step of 1e-6 from t0 = 0.5
+SHORT = ["-scene", "mms-ns", "-t_start", "0.5", "-t_final", "0.52", "-dt", "0.01", "-refine", "1"]
+
+
+def printed(out, prefix):
+    return [l for l in out.splitlines() if l.startswith(prefix)]
+
+
+def adjoint_cases(nproc):
+    worst, done = 0.0, []
+    for control in ("traction", "convective"):
+        for order in ("1", "2"):
+            for velocity in ("scheme", "difference"):
+                args = SHORT + ["-coupling_control", control, "-structure_time_order", order, "-coupling_velocity", velocity,
+                                "-coupling_test_adjoint", "-t_final", "0.51"]
+                if nproc == 2:
+                    args += ["-structure_ranks", "1"]
+                rc, out, err, summary = run(args, nproc=nproc, tag="adjoint")
+                assert rc == 0, "run failed: %s" % (err or out).strip()[-300:]
+                line = printed(out, "adjoint test:")
+                assert len(line) == 1, "no adjoint test line in %s" % out[-300:]
+                rel = float(line[0].split()[-1])
+                assert rel <= 1e-10, "%s, order %s, %s: relative difference %.2e" % (control, order, velocity, rel)
+                worst = max(worst, rel)
+                done.append(1)
+    return "%d cases, worst %.1e" % (len(done), worst)
+
+
+@test("adjoint: <Jh,r> = <h,J^T r>, 1 rank")
+def _():
+    return adjoint_cases(1)
+
+
+@test("adjoint: <Jh,r> = <h,J^T r>, fluid | structure")
+def _():
+    return adjoint_cases(2)
+
+
+@test("Taylor remainder is second order (mms-ns)")
+def _():
+    rc, out, err, _ = run(SHORT + ["-coupling_test_taylor", "-t_final", "0.51"], tag="taylor")
+    assert rc == 0, "run failed: %s" % (err or out).strip()[-300:]
+    ratios = [float(l.split()[-1]) for l in printed(out, "Taylor test:") if "ratio" in l]
+    assert len(ratios) >= 4, "too few Taylor lines: %s" % out[-300:]
+    assert all(3.8 <= r <= 4.2 for r in ratios), "ratios %s" % ratios
+    return "ratios " + " ".join("%.3f" % r for r in ratios)
+
+
+@test("Gauss-Newton: ||F|| <= 1e-10 in <= 4 its/step (mms-stokes)")
+def _():
+    out = os.path.join(WORK, "gn")
+    s = solve(["-options_file", "options/mms-stokes.yaml"], out=out)
+    rows = list(csv.DictReader(open(os.path.join(out, "history.csv"))))
+    last = {}
+    for r in rows:
+        last[int(r["step"])] = r
+    assert len(last) == s["steps"], "history has %d steps of %d" % (len(last), s["steps"])
+    for step, r in last.items():
+        F = math.sqrt(2 * float(r["objective"]))
+        assert int(r["iteration"]) <= 4 and F <= 1e-10 and float(r["jump"]) <= 1e-10, "step %d: %s" % (step, r)
+    assert s["factorizations"] == {"fluid": 1, "structure": 1}, "factorizations %s" % s["factorizations"]
+    assert s["converged"] is True and s["max_interface_jump"] <= 1e-10
+    return "%.2f its/step, %.1f CG its per GN it" % (s["avg_coupling_iterations"], s["inner_iterations"] / s["coupling_iterations"])
+
+
+@test("mms-ns one-step spatial rates, <= 1 fluid factorization per GN it")
+def _():
+    runs = [solve(NS_STEP + ["-refine", str(r)]) for r in range(1, 4)]
+    for s in runs:
+        assert s["factorizations"]["structure"] == 1, "structure factored %d times" % s["factorizations"]["structure"]
+        assert s["factorizations"]["fluid"] <= s["coupling_iterations"] + 1, "fluid factored %d times for %d GN its" % (
+            s["factorizations"]["fluid"], s["coupling_iterations"])
+    return check_rates([s["errors"] for s in runs], {"u_L2": 2.8, "eta_L2": 2.8, "u_H1": 1.8, "p_L2": 1.8, "eta_H1": 1.8})
+
+
+@test("mms-stokes temporal rate")
+def _():
+    errs = [solve(["-options_file", "options/mms-stokes.yaml", "-dt", str(dt)])["errors"] for dt in (0.1, 0.05, 0.025)]
+    return check_rates(errs, {"u_L2": 0.9, "p_L2": 0.9, "eta_H1": 0.9})
+
+
+@test("2 ranks (fluid | structure) reproduce 1 rank: mms-ns")
+def _():
+    one, two = solve(SHORT + ["-coupling_tol", "1e-12"]), solve(SHORT + ["-coupling_tol", "1e-12", "-structure_ranks", "1"], nproc=2)
+    assert two["ranks"] == {"fluid": 1, "structure": 1}, "ranks %s" % two["ranks"]
+    worst = 0.0
+    for k, v in one["errors"].items():
+        rel = abs(two["errors"][k] - v) / abs(v)
+        worst = max(worst, rel)
+        assert rel <= 1e-9, "%s: 1 rank %.15e, 2 ranks %.15e (rel %.1e)" % (k, v, two["errors"][k], rel)
+    return "max relative difference %.1e" % worst
+
+
 @test("summary.json has every DESIGN key")
 def _():
     s = solve(FLUID_SPACE)
@@ -192,6 +286,13 @@ def bad_input_cases():
         ("t_final before t_start", F + ["-t_start", "1", "-t_final", "0.5"], "-t_final"),
         ("unstable element pair", F + ["-fluid_pressure_degree", "2"], "-fluid_pressure_degree"),
         ("negative refine", F + ["-refine", "-1"], "-refine"),
+        ("non-conforming interface (counts)", ["-scene", "mms-stokes", "-structure_dm_plex_box_faces", "5,2"], "do not conform"),
+        ("non-conforming interface (shifted)", ["-scene", "mms-stokes", "-structure_dm_plex_box_lower", "0.01,1", "-structure_dm_plex_box_upper", "1.01,1.5"], "fluid node (0"),
+        ("coupling not implemented", ["-scene", "mms-stokes", "-coupling", "iqnils"], "-coupling"),
+        ("too many structure ranks", ["-scene", "mms-stokes", "-structure_ranks", "3"], "-structure_ranks"),
+        ("negative Tikhonov weight", ["-scene", "mms-stokes", "-coupling_tikhonov", "-1"], "-coupling_tikhonov"),
+        ("zero coupling tolerance", ["-scene", "mms-stokes", "-coupling_tol", "0"], "-coupling_tol"),
+        ("relaxed descent without Tikhonov", ["-scene", "mms-stokes", "-tao_type", "sdrelaxed"], "-coupling_tikhonov"),
     ]
 
 

@@ -20,6 +20,7 @@ PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, cons
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_max_it", "coupling iterations per step before the run stops with an error", 1, 100000, &C->max_it));
   PetscOptionsEnd();
   C->stats.max_jump = 0;
+  PetscCall(CouplingProblemSetConvergedJump(problem, C->tol));
   PetscCall(CouplingProblemCreateControl(problem, &C->x));
   PetscCall(CouplingProblemInitialControl(problem, t0, C->x));
   PetscCall(HistoryOpen(PETSC_COMM_WORLD, output_dir, &C->history));
