@@ -293,6 +293,8 @@ def bad_input_cases():
         ("negative Tikhonov weight", ["-scene", "mms-stokes", "-coupling_tikhonov", "-1"], "-coupling_tikhonov"),
         ("zero coupling tolerance", ["-scene", "mms-stokes", "-coupling_tol", "0"], "-coupling_tol"),
         ("relaxed descent without Tikhonov", ["-scene", "mms-stokes", "-tao_type", "sdrelaxed"], "-coupling_tikhonov"),
+        ("diverging coupling says where", ["-options_file", "options/mms-stokes.yaml", "-t_final", "0.6", "-tao_type", "sdrelaxed",
+                                           "-coupling_tikhonov", "1e-4", "-tao_sdrelaxed_alpha", "0.5"], "step 1, iteration"),
     ]
 
 

@@ -22,7 +22,7 @@ typedef struct {
   PetscInt   step, stall_its, inner_seen;
   PetscReal *objectives; /* this step's, by iteration */
   PetscBool  stalled, test_adjoint, test_taylor;
-  PetscReal  last_jump;
+  PetscReal  last_jump, first_jump;
   PetscInt   last_iteration;
 } Opt;
 
@@ -94,7 +94,9 @@ static PetscErrorCode ConvergenceTest(Tao tao, void *ctx)
   opt->last_jump      = jump;
   opt->last_iteration = its;
   if (its <= C->max_it) opt->objectives[its] = f;
+  if (its == 0) opt->first_jump = jump;
   if (jump <= C->tol) reason = TAO_CONVERGED_USER;
+  else if (PetscIsInfOrNanReal(jump) || (its > 0 && jump > 1e3 * opt->first_jump)) reason = TAO_DIVERGED_USER; /* blowing up */
   else if (its >= opt->stall_its && f > 0.99 * opt->objectives[its - opt->stall_its]) {
     reason       = TAO_CONVERGED_USER;
     opt->stalled = PETSC_TRUE;
@@ -122,7 +124,7 @@ static PetscErrorCode OptStep(Coupling C, PetscInt step)
   PetscCall(TaoSolve(opt->tao));
   PetscCall(PetscLogStagePop());
   PetscCall(TaoGetConvergedReason(opt->tao, &reason));
-  PetscCheck(reason > 0, PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "coupling opt (%s) failed at step %" PetscInt_FMT ", iteration %" PetscInt_FMT ": TAO reason %s, interface jump %.3e > -coupling_tol %.3e", C->ops.optimizer(C), step, opt->last_iteration, TaoConvergedReasons[reason], (double)opt->last_jump, (double)C->tol);
+  PetscCheck(reason > 0, PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "coupling opt (%s) failed at step %" PetscInt_FMT ", iteration %" PetscInt_FMT ": TAO reason %s, interface jump %.3e > -coupling_tol %.3e%s", C->ops.optimizer(C), step, opt->last_iteration, TaoConvergedReasons[reason], (double)opt->last_jump, (double)C->tol, reason == TAO_DIVERGED_USER ? " (the jump grew 1000-fold: diverging)" : "");
   PetscCall(CouplingProblemEndStep(C->problem, C->x));
   C->stats.iterations += opt->last_iteration;
   if (opt->stalled && opt->last_jump > C->tol) {
