@@ -26,6 +26,9 @@ PetscErrorCode FEMCreateSNES(DM dm, const char prefix[], FEMJacobianPolicy, Pets
 /* Solves R(x) = 0 once with a SNES of its own (options under `prefix`), e.g. an initial
    projection; its factorizations are not added to the run's counter. */
 PetscErrorCode FEMSolveSteady(DM dm, const char prefix[], PetscInt *jacobian_assemblies, Vec x);
+/* After the coordinates moved: PETSc 3.18 keeps the cell geometry of residual and
+   Jacobian assembly composed on the cell IS, and the coordinate field cached on the DM. */
+PetscErrorCode FEMInvalidateGeometry(DM dm);
 /* Assembles the Jacobian at x and factors it now (FEM_JACOBIAN_ON_REQUEST). */
 PetscErrorCode FEMUpdateJacobian(SNES snes, Vec x);
 /* Per field: L2 error and L2 error of the gradient against closed forms at time t

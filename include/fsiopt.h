@@ -41,6 +41,7 @@ typedef struct {
   PetscInt       interface_face;                          /* face set of the fluid-structure interface, 0: none */
   FieldFn        interface_traction;                      /* fluid: the exact control g = sigma_f n_f at t, for g^0 (NULL: 0) */
   FieldFn        convective_interface_datum;              /* fluid: traction the exact solution adds when the control absorbs the convective term */
+  FieldFn        mesh_displacement;                       /* fluid: a prescribed mesh motion d(X, t), NULL: none */
   PetscInt       n_extra;                                 /* scene constants appended after the solver's */
   PetscScalar    extra[FSIOPT_MAX_EXTRA];
 } PhysicsData;

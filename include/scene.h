@@ -25,4 +25,5 @@ PetscErrorCode SceneCreate_MMSFluid(Scene *);
 PetscErrorCode SceneCreate_MMSStructure(Scene *);
 PetscErrorCode SceneCreate_MMSStokes(Scene *);
 PetscErrorCode SceneCreate_MMSNS(Scene *);
+PetscErrorCode SceneCreate_GCL(Scene *);
 #endif

@@ -238,6 +238,22 @@ def _():
     return "max relative difference %.1e" % worst
 
 
+# ---- moving meshes (issue 4) ----
+@test("geometric conservation: uniform flow on a moving mesh")
+def _():
+    s = solve(["-scene", "gcl", "-dt", "0.01", "-t_final", "0.1"])
+    e = s["errors"]
+    assert e["u_L2"] <= 1e-12 and e["p_L2"] <= 1e-12, "errors %s" % e
+    return "u_L2 %.1e, p_L2 %.1e after %d steps" % (e["u_L2"], e["p_L2"], s["steps"])
+
+
+@test("ALE fluid on a moving mesh: temporal rate")
+def _():
+    errs = [solve(["-scene", "mms-fluid", "-t_start", "0.5", "-t_final", "1", "-dt", str(dt), "-refine", "1",
+                   "-mms_mesh_motion", "0.1"])["errors"] for dt in (0.05, 0.025, 0.0125)]
+    return check_rates(errs, {"u_L2": 0.9, "p_L2": 0.9})
+
+
 @test("summary.json has every DESIGN key")
 def _():
     s = solve(FLUID_SPACE)

@@ -164,6 +164,39 @@ PetscErrorCode FEMSolveSteady(DM dm, const char prefix[], PetscInt *jacobian_ass
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode FEMInvalidateGeometry(DM dm)
+{
+  PetscDS  ds;
+  PetscInt Nf, depth;
+  IS       cells = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMSetCoordinateField(dm, NULL));
+  PetscCall(DMPlexGetDepth(dm, &depth));
+  PetscCall(DMGetStratumIS(dm, "dim", depth, &cells));
+  if (!cells) PetscCall(DMGetStratumIS(dm, "depth", depth, &cells));
+  if (!cells) PetscFunctionReturn(0);
+  PetscCall(DMGetDS(dm, &ds));
+  PetscCall(PetscDSGetNumFields(ds, &Nf));
+  for (PetscInt f = 0; f < Nf; ++f) {
+    PetscObject     obj;
+    PetscQuadrature quad;
+    PetscObjectId   id;
+    char            key[64];
+
+    PetscCall(PetscDSGetDiscretization(ds, f, &obj));
+    PetscCall(PetscFEGetQuadrature((PetscFE)obj, &quad));
+    PetscCall(PetscObjectGetId((PetscObject)quad, &id));
+    /* the key of PETSc 3.18's DMSNESGetFEGeom (dmplexsnes.c), in both of its spellings */
+    PetscCall(PetscSNPrintf(key, 33, "DMSNESGetFEGeom_%" PetscInt64_FMT "\n", id));
+    PetscCall(PetscObjectCompose((PetscObject)cells, key, NULL));
+    PetscCall(PetscSNPrintf(key, 33, "DMSNESGetFEGeom_%x\n", (unsigned)id));
+    PetscCall(PetscObjectCompose((PetscObject)cells, key, NULL));
+  }
+  PetscCall(ISDestroy(&cells));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FEMUpdateJacobian(SNES snes, Vec x)
 {
   Mat J, P;

@@ -8,29 +8,9 @@
 /* PETSc fixes the signatures of pointwise kernels; the projection kernel uses a few of their arguments. */
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 
-typedef enum { FLUID_STOKES, FLUID_NAVIER_STOKES } FluidModel;
-static const char *const FluidModels[] = {"stokes", "navier-stokes", "FluidModel", "FLUID_", NULL};
+#include "fluid_impl.h"
 
-struct _p_Fluid {
-  MPI_Comm       comm;
-  DM             dm;
-  SNES           snes;
-  FluidModel     model;
-  PetscReal      rho, mu;
-  PetscInt       velocity_degree, pressure_degree;
-  PetscReal      time, dt;
-  Vec            x;          /* (u, p) at `time` */
-  Vec            xlocal_old; /* previous state with its boundary values */
-  Vec            history;    /* rho/dt M(Omega^{n-1}) u^{n-1} */
-  Vec            rhs;
-  PetscInt       interface_face;            /* 0: no interface */
-  PetscBool      interface_convective_term; /* -1/2 rho ((u.n) u, v) on the interface: the control absorbs it */
-  PetscBool      initial_projection;
-  PetscReal      atol; /* the user's (or our default) absolute residual tolerance */
-  PhysicsData    data;
-  DirichletDatum datums[FSIOPT_MAX_BOUNDARIES];
-  SolverCounts   counts;
-};
+static const char *const FluidModels[] = {"stokes", "navier-stokes", "FluidModel", "FLUID_", NULL};
 
 PetscErrorCode FluidCreate(MPI_Comm comm, Fluid *fluid)
 {
@@ -65,7 +45,7 @@ PetscErrorCode FluidSetFromOptions(Fluid f)
 
 static PetscErrorCode FluidSetConstantsFull(Fluid, PetscReal, PetscReal, PetscReal, PetscReal, PetscReal);
 
-static PetscErrorCode FluidSetConstants(Fluid f, PetscReal mass, PetscReal op, PetscReal load)
+PetscErrorCode FluidSetConstants(Fluid f, PetscReal mass, PetscReal op, PetscReal load)
 {
   PetscFunctionBeginUser;
   PetscCall(FluidSetConstantsFull(f, mass, op, load, f->model == FLUID_NAVIER_STOKES ? 1.0 : 0.0, 0.0));
@@ -192,6 +172,8 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
   else if (f->interface_face) policy = FEM_JACOBIAN_ON_REQUEST;
   PetscCall(FEMCreateSNES(f->dm, "fluid_", policy, &f->counts.factorizations, &f->snes));
   PetscCall(SNESGetTolerances(f->snes, &f->atol, NULL, NULL, NULL, NULL));
+  if (data->mesh_displacement) f->moving = PETSC_TRUE;
+  if (f->moving) PetscCall(FluidALESetUp(f));
   PetscCall(DMCreateGlobalVector(f->dm, &f->x));
   PetscCall(PetscObjectSetName((PetscObject)f->x, "fluid"));
   PetscCall(VecDuplicate(f->x, &f->history));
@@ -221,12 +203,28 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
 PetscErrorCode FluidBeginStep(Fluid f)
 {
   PetscFunctionBeginUser;
-  /* Old-domain mass term, evaluated before the time (and later the mesh) moves on. */
+  /* Old-domain mass term, evaluated before the time and the mesh move on. */
   PetscCall(FEMGlobalToLocal(f->dm, f->x, f->xlocal_old));
   PetscCall(FluidSetConstants(f, f->rho / f->dt, 0.0, 0.0));
   PetscCall(FEMResidual(f->dm, f->xlocal_old, f->history));
+  if (f->moving) PetscCall(FluidALEBeginStep(f));
   f->time += f->dt;
-  PetscCall(FluidSetConstants(f, f->rho / f->dt, 1.0, 1.0));
+  if (f->moving && f->data.mesh_displacement) {
+    Vec d;
+    PetscCall(VecDuplicate(f->displacement, &d));
+    PetscCall(FluidPrescribedDisplacement(f, f->data.mesh_displacement, f->time, d));
+    PetscCall(FluidSetMeshDisplacement(f, d));
+    PetscCall(VecDestroy(&d));
+  }
+  /* on a moving mesh the mass acts through M(Omega^{n-1}) (fluid_ale.c) */
+  PetscCall(FluidSetConstants(f, f->moving ? 0.0 : f->rho / f->dt, 1.0, 1.0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidEnableMeshMotion(Fluid f)
+{
+  PetscFunctionBeginUser;
+  f->moving = PETSC_TRUE;
   PetscFunctionReturn(0);
 }
 
@@ -342,6 +340,7 @@ PetscErrorCode FluidDestroy(Fluid *fluid)
   PetscCall(VecDestroy(&f->x));
   PetscCall(VecDestroy(&f->history));
   PetscCall(VecDestroy(&f->rhs));
+  PetscCall(FluidALEDestroy(f));
   PetscCall(VecDestroy(&f->xlocal_old));
   PetscCall(SNESDestroy(&f->snes));
   PetscCall(DMDestroy(&f->dm));

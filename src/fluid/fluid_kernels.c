@@ -1,12 +1,15 @@
 /* Weak form of one backward-Euler step of incompressible Navier-Stokes (or Stokes):
 
-     m (u, v) + op [ rho ((u . grad) u, v) + 2 mu (D(u), D(v)) - (p, div v) - (q, div u) ]
+     m (u, v) + op [ rho (((u - z) . grad) u, v) + 2 mu (D(u), D(v)) - (p, div v) - (q, div u) ]
        - load [ (f, v) + (h, v)_{Gamma_N} ]  =  m (u^{n-1}, v)_{Omega^{n-1}}
 
    with m = rho/dt. The right-hand side is the same form evaluated with op = load = 0
    on the previous state; the body force f and the traction h are the scene's kernels.
    The continuity row carries the minus sign so that the Stokes matrix is symmetric. */
 #include "fluid.h"
+
+/* The mesh velocity z, an auxiliary field on moving meshes (absent on fixed ones). */
+#define MESH_VELOCITY(d) (NfAux > 0 ? a[aOff[0] + (d)] : 0.0)
 
 /* PETSc fixes the signatures of pointwise kernels; each uses a few of their arguments. */
 #pragma GCC diagnostic ignored "-Wunused-parameter"
@@ -23,7 +26,7 @@ void FluidF0MassConvection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const Pets
 
   for (PetscInt c = 0; c < dim; ++c) {
     PetscScalar convection = 0;
-    for (PetscInt d = 0; d < dim; ++d) convection += u[uOff[0] + d] * u_x[uOff_x[0] + c * dim + d];
+    for (PetscInt d = 0; d < dim; ++d) convection += (u[uOff[0] + d] - MESH_VELOCITY(d)) * u_x[uOff_x[0] + c * dim + d];
     f0[c] = constants[FLUID_MASS] * u[uOff[0] + c] + rho_op * convection;
   }
 }
@@ -65,7 +68,7 @@ void FluidG1Convection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt
   const PetscScalar rho_op = constants[FLUID_RHO] * constants[FLUID_OPERATOR] * constants[FLUID_CONVECTION];
 
   for (PetscInt c = 0; c < dim; ++c)
-    for (PetscInt d = 0; d < dim; ++d) g1[(c * dim + c) * dim + d] = rho_op * u[uOff[0] + d];
+    for (PetscInt d = 0; d < dim; ++d) g1[(c * dim + c) * dim + d] = rho_op * (u[uOff[0] + d] - MESH_VELOCITY(d));
 }
 
 void FluidG3Viscous(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g3[])
@@ -97,7 +100,7 @@ void FluidF0InterfaceConvection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const
   const PetscScalar half_rho = 0.5 * constants[FLUID_RHO] * constants[FLUID_OPERATOR] * constants[FLUID_CONVECTION];
   PetscScalar       un       = 0;
 
-  for (PetscInt d = 0; d < dim; ++d) un += u[uOff[0] + d] * n[d];
+  for (PetscInt d = 0; d < dim; ++d) un += (u[uOff[0] + d] - MESH_VELOCITY(d)) * n[d];
   for (PetscInt c = 0; c < dim; ++c) f0[c] = -half_rho * un * u[uOff[0] + c];
 }
 
@@ -106,7 +109,7 @@ void FluidG0InterfaceConvection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const
   const PetscScalar half_rho = 0.5 * constants[FLUID_RHO] * constants[FLUID_OPERATOR] * constants[FLUID_CONVECTION];
   PetscScalar       un       = 0;
 
-  for (PetscInt d = 0; d < dim; ++d) un += u[uOff[0] + d] * n[d];
+  for (PetscInt d = 0; d < dim; ++d) un += (u[uOff[0] + d] - MESH_VELOCITY(d)) * n[d];
   for (PetscInt c = 0; c < dim; ++c)
     for (PetscInt d = 0; d < dim; ++d) g0[c * dim + d] = -half_rho * (u[uOff[0] + c] * n[d] + (c == d ? un : 0.0));
 }

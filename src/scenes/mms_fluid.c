@@ -5,6 +5,7 @@
 #include "fluid.h"
 #include "options.h"
 #include "mms_fields.h"
+#include "prescribed_motion.h"
 
 /* PETSc fixes the signatures of pointwise kernels and callbacks; most use a few of their arguments. */
 #pragma GCC diagnostic ignored "-Wunused-parameter"
@@ -54,6 +55,14 @@ static void LoadStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt
     for (PetscInt d = 0; d < 2; ++d) f1[c * 2 + d] -= load * (mu * (g[c * 2 + d] + g[d * 2 + c]) - (c == d ? p : 0.0));
 }
 
+static PetscReal motion_amplitude = 0.0, motion_frequency = 10.0;
+
+static PetscErrorCode Motion(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *d, void *ctx)
+{
+  PrescribedMotion(motion_amplitude, motion_frequency, t, x, d);
+  return 0;
+}
+
 PetscErrorCode SceneCreate_MMSFluid(Scene *scene)
 {
   PhysicsData *fluid         = &scene->fluid;
@@ -61,6 +70,8 @@ PetscErrorCode SceneCreate_MMSFluid(Scene *scene)
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene mms-fluid: the fluid alone against a manufactured solution", "scene");
+  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-mms_mesh_motion", "amplitude of a prescribed interior mesh motion (ALE check; 0: fixed mesh)", &motion_amplitude));
+  PetscCheck(motion_amplitude <= 0.2, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "option -mms_mesh_motion: expected an amplitude of at most 0.2 (cells would invert), got %g", (double)motion_amplitude);
   PetscCall(PetscOptionsBool("-mms_discrete_time", "Force with the backward difference of the exact velocity, leaving only the spatial error", NULL, discrete_time, &discrete_time, NULL));
   PetscOptionsEnd();
   PetscCall(OptionsSetDefault("-fluid_dm_plex_simplex", "0"));
@@ -81,6 +92,7 @@ PetscErrorCode SceneCreate_MMSFluid(Scene *scene)
   fluid->exact[0]           = Velocity;
   fluid->exact[1]           = Pressure;
   fluid->exact_gradient[0]  = VelocityGradient;
+  fluid->mesh_displacement  = motion_amplitude > 0 ? Motion : NULL;
   fluid->n_extra            = 1;
   fluid->extra[0]           = discrete_time ? 1.0 : 0.0;
   PetscFunctionReturn(0);

@@ -10,6 +10,7 @@ PetscErrorCode SceneRegisterAll(void)
   PetscCall(PetscFunctionListAdd(&scene_list, "mms-structure", SceneCreate_MMSStructure));
   PetscCall(PetscFunctionListAdd(&scene_list, "mms-stokes", SceneCreate_MMSStokes));
   PetscCall(PetscFunctionListAdd(&scene_list, "mms-ns", SceneCreate_MMSNS));
+  PetscCall(PetscFunctionListAdd(&scene_list, "gcl", SceneCreate_GCL));
   PetscFunctionReturn(0);
 }
 

@@ -1,0 +1,220 @@
+/* The fluid on a moving mesh (ALE). Vertices move with the mesh displacement d; the mesh
+   velocity z = (d^n - d^{n-1})/dt enters the convection as an auxiliary field. The
+   seed's conservative step
+     rho/dt [(u^n, v)_{Omega^n} - (u^{n-1}, v)_{Omega^{n-1}}] - rho ((div z) u^n, v) + ...
+   is used with the div z term integrated exactly over the step, rho/dt [M(Omega^n) -
+   M(Omega^{n-1})] u^n (Reynolds transport for mesh-bound basis functions), which leaves
+     rho/dt M(Omega^{n-1}) (u^n - u^{n-1}) + rho (((u^n - z) . grad) u^n, v)_{Omega^n} + ...
+   and satisfies the discrete geometric conservation law: a uniform flow stays uniform on
+   any mesh motion. M(Omega^{n-1}) is assembled once per step, before the mesh moves. */
+#include "fluid_impl.h"
+#include "fem.h"
+
+/* Copies vertex values between the coordinate layout and a Q1 field's local layout. */
+static PetscErrorCode CopyVertexValues(DM dm, Vec from, PetscBool from_coordinate_layout, DM dm_field, Vec to, PetscReal scale)
+{
+  PetscSection       cs, fs;
+  PetscInt           vStart, vEnd, dim;
+  const PetscScalar *a;
+  PetscScalar       *b;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetDimension(dm, &dim));
+  PetscCall(DMPlexGetDepthStratum(dm, 0, &vStart, &vEnd));
+  PetscCall(DMGetCoordinateSection(dm, &cs));
+  PetscCall(DMGetLocalSection(dm_field, &fs));
+  PetscCall(VecGetArrayRead(from, &a));
+  PetscCall(VecGetArray(to, &b));
+  for (PetscInt v = vStart; v < vEnd; ++v) {
+    PetscInt coff, foff;
+    PetscCall(PetscSectionGetOffset(cs, v, &coff));
+    PetscCall(PetscSectionGetOffset(fs, v, &foff));
+    for (PetscInt d = 0; d < dim; ++d) {
+      if (from_coordinate_layout) b[foff + d] = scale * a[coff + d];
+      else b[coff + d] = scale * a[foff + d];
+    }
+  }
+  PetscCall(VecRestoreArray(to, &b));
+  PetscCall(VecRestoreArrayRead(from, &a));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode ResidualALE(SNES snes, Vec x, Vec F, void *ctx)
+{
+  Fluid f = (Fluid)ctx;
+
+  PetscFunctionBeginUser;
+  (void)snes;
+  PetscCall(FEMGlobalToLocal(f->dm, x, f->xlocal_work));
+  PetscCall(FEMResidual(f->dm, f->xlocal_work, F)); /* no mass term in the kernels */
+  /* + M(Omega^{n-1}) u, boundary values included, restricted to the free rows */
+  PetscCall(DMLocalToGlobal(f->dm_all, f->xlocal_work, INSERT_VALUES, f->all_x));
+  PetscCall(MatMult(f->mass_old_all, f->all_x, f->all_y));
+  PetscCall(DMGlobalToLocal(f->dm_all, f->all_y, INSERT_VALUES, f->all_local));
+  PetscCall(VecZeroEntries(f->work));
+  PetscCall(DMLocalToGlobal(f->dm, f->all_local, INSERT_VALUES, f->work));
+  PetscCall(VecAXPY(F, 1.0, f->work));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode JacobianALE(SNES snes, Vec x, Mat J, Mat P, void *ctx)
+{
+  Fluid f = (Fluid)ctx;
+
+  PetscFunctionBeginUser;
+  (void)snes;
+  PetscCall(FEMGlobalToLocal(f->dm, x, f->xlocal_work));
+  PetscCall(DMPlexSNESComputeJacobianFEM(f->dm, f->xlocal_work, J, P, NULL));
+  PetscCall(MatAXPY(P, 1.0, f->mass_old, SUBSET_NONZERO_PATTERN));
+  if (J != P) PetscCall(MatAXPY(J, 1.0, f->mass_old, SUBSET_NONZERO_PATTERN));
+  f->counts.factorizations++;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidALESetUp(Fluid f)
+{
+  PetscObject velocity, pressure;
+  PetscDS     ds;
+  Vec         coordinates;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetField(f->dm, 0, NULL, &velocity));
+  PetscCall(DMGetField(f->dm, 1, NULL, &pressure));
+  /* the mesh velocity: vertex values, as the (affine) coordinates */
+  PetscCall(DMClone(f->dm, &f->dm_aux));
+  PetscCall(FEMCreateField(f->dm_aux, 0, "mesh_velocity", -1, 1, (PetscFE)velocity));
+  PetscCall(DMCreateDS(f->dm_aux));
+  PetscCall(DMCreateLocalVector(f->dm_aux, &f->z_local));
+  PetscCall(VecZeroEntries(f->z_local));
+  PetscCall(DMSetAuxiliaryVec(f->dm, NULL, 0, 0, f->z_local));
+  PetscCall(DMGetCoordinatesLocalSetUp(f->dm));
+  PetscCall(DMGetCoordinatesLocal(f->dm, &coordinates));
+  PetscCall(VecDuplicate(coordinates, &f->coordinates_reference));
+  PetscCall(VecCopy(coordinates, f->coordinates_reference));
+  PetscCall(VecDuplicate(coordinates, &f->displacement));
+  PetscCall(VecDuplicate(coordinates, &f->displacement_old));
+  PetscCall(VecZeroEntries(f->displacement));
+  PetscCall(VecZeroEntries(f->displacement_old));
+  /* the old-domain mass on every dof, boundary values included */
+  PetscCall(DMClone(f->dm, &f->dm_all));
+  PetscCall(DMSetField(f->dm_all, 0, NULL, velocity));
+  PetscCall(DMSetField(f->dm_all, 1, NULL, pressure));
+  PetscCall(DMCreateDS(f->dm_all));
+  PetscCall(DMGetDS(f->dm_all, &ds));
+  PetscCall(PetscDSSetJacobian(ds, 0, 0, FluidG0MassStokes, NULL, NULL, NULL));
+  PetscCall(DMCreateMatrix(f->dm_all, &f->mass_old_all));
+  PetscCall(DMCreateMatrix(f->dm, &f->mass_old));
+  PetscCall(MatAssemblyBegin(f->mass_old_all, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(f->mass_old_all, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyBegin(f->mass_old, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(f->mass_old, MAT_FINAL_ASSEMBLY));
+  PetscCall(DMCreateGlobalVector(f->dm_all, &f->all_x));
+  PetscCall(VecDuplicate(f->all_x, &f->all_y));
+  PetscCall(DMCreateLocalVector(f->dm_all, &f->all_local));
+  PetscCall(DMCreateLocalVector(f->dm, &f->xlocal_work));
+  PetscCall(DMCreateGlobalVector(f->dm, &f->work));
+  PetscCall(SNESSetFunction(f->snes, NULL, ResidualALE, f));
+  PetscCall(SNESSetJacobian(f->snes, NULL, NULL, JacobianALE, f));
+  PetscFunctionReturn(0);
+}
+
+/* Before the time and the mesh move on: M(Omega^{n-1}), and d^{n-1}. */
+PetscErrorCode FluidALEBeginStep(Fluid f)
+{
+  Vec         coordinates, zero;
+  PetscDS     ds, ds_all;
+  PetscInt    n;
+  const PetscScalar *c;
+
+  PetscFunctionBeginUser;
+  PetscCall(FluidSetConstants(f, f->rho / f->dt, 0.0, 0.0));
+  PetscCall(DMPlexSNESComputeJacobianFEM(f->dm, f->xlocal_old, f->mass_old, f->mass_old, NULL));
+  PetscCall(DMGetCoordinatesLocal(f->dm, &coordinates));
+  PetscCall(DMSetCoordinatesLocal(f->dm_all, coordinates));
+  PetscCall(FEMInvalidateGeometry(f->dm_all));
+  PetscCall(DMGetDS(f->dm, &ds));
+  PetscCall(DMGetDS(f->dm_all, &ds_all));
+  PetscCall(PetscDSGetConstants(ds, &n, &c));
+  PetscCall(PetscDSSetConstants(ds_all, n, (PetscScalar *)c));
+  PetscCall(DMGetLocalVector(f->dm_all, &zero));
+  PetscCall(VecZeroEntries(zero));
+  PetscCall(DMPlexSNESComputeJacobianFEM(f->dm_all, zero, f->mass_old_all, f->mass_old_all, NULL));
+  PetscCall(DMRestoreLocalVector(f->dm_all, &zero));
+  PetscCall(VecCopy(f->displacement, f->displacement_old));
+  PetscCall(VecZeroEntries(f->z_local));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidSetMeshDisplacement(Fluid f, Vec displacement)
+{
+  Vec coordinates, z_coordinate_layout;
+
+  PetscFunctionBeginUser;
+  PetscCheck(f->moving, f->comm, PETSC_ERR_ORDER, "fluid: the mesh of this fluid does not move (FluidEnableMeshMotion before FluidSetUp)");
+  PetscCall(VecCopy(displacement, f->displacement));
+  PetscCall(VecDuplicate(f->coordinates_reference, &coordinates));
+  PetscCall(VecWAXPY(coordinates, 1.0, f->coordinates_reference, displacement));
+  PetscCall(DMSetCoordinatesLocal(f->dm, coordinates));
+  PetscCall(FEMInvalidateGeometry(f->dm));
+  PetscCall(VecDestroy(&coordinates));
+  PetscCall(VecDuplicate(displacement, &z_coordinate_layout));
+  PetscCall(VecWAXPY(z_coordinate_layout, -1.0, f->displacement_old, displacement));
+  PetscCall(CopyVertexValues(f->dm, z_coordinate_layout, PETSC_TRUE, f->dm_aux, f->z_local, 1.0 / f->dt));
+  PetscCall(VecDestroy(&z_coordinate_layout));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidGetMeshDisplacement(Fluid f, Vec *displacement)
+{
+  PetscFunctionBeginUser;
+  *displacement = f->displacement;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidGetReferenceCoordinates(Fluid f, Vec *coordinates)
+{
+  PetscFunctionBeginUser;
+  *coordinates = f->coordinates_reference;
+  PetscFunctionReturn(0);
+}
+
+/* The scene's closed-form motion d(X, t) at the reference vertices. */
+PetscErrorCode FluidPrescribedDisplacement(Fluid f, FieldFn motion, PetscReal t, Vec displacement)
+{
+  PetscInt           n, dim;
+  const PetscScalar *X;
+  PetscScalar       *d;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetDimension(f->dm, &dim));
+  PetscCall(VecGetLocalSize(f->coordinates_reference, &n));
+  PetscCall(VecGetArrayRead(f->coordinates_reference, &X));
+  PetscCall(VecGetArray(displacement, &d));
+  for (PetscInt i = 0; i < n; i += dim) {
+    PetscReal x[3];
+    for (PetscInt k = 0; k < dim; ++k) x[k] = PetscRealPart(X[i + k]);
+    PetscCall(motion(dim, t, x, dim, &d[i], NULL));
+  }
+  PetscCall(VecRestoreArray(displacement, &d));
+  PetscCall(VecRestoreArrayRead(f->coordinates_reference, &X));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidALEDestroy(Fluid f)
+{
+  PetscFunctionBeginUser;
+  PetscCall(VecDestroy(&f->z_local));
+  PetscCall(VecDestroy(&f->coordinates_reference));
+  PetscCall(VecDestroy(&f->displacement));
+  PetscCall(VecDestroy(&f->displacement_old));
+  PetscCall(MatDestroy(&f->mass_old));
+  PetscCall(MatDestroy(&f->mass_old_all));
+  PetscCall(VecDestroy(&f->all_x));
+  PetscCall(VecDestroy(&f->all_y));
+  PetscCall(VecDestroy(&f->all_local));
+  PetscCall(VecDestroy(&f->xlocal_work));
+  PetscCall(VecDestroy(&f->work));
+  PetscCall(DMDestroy(&f->dm_aux));
+  PetscCall(DMDestroy(&f->dm_all));
+  PetscFunctionReturn(0);
+}

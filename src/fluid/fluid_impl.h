@@ -1,0 +1,44 @@
+#ifndef FSIOPT_FLUID_IMPL_H
+#define FSIOPT_FLUID_IMPL_H
+#include "fluid.h"
+
+typedef enum { FLUID_STOKES, FLUID_NAVIER_STOKES } FluidModel;
+
+struct _p_Fluid {
+  MPI_Comm       comm;
+  DM             dm;
+  SNES           snes;
+  FluidModel     model;
+  PetscReal      rho, mu;
+  PetscInt       velocity_degree, pressure_degree;
+  PetscReal      time, dt;
+  Vec            x;          /* (u, p) at `time` */
+  Vec            xlocal_old; /* previous state with its boundary values */
+  Vec            history;    /* rho/dt M(Omega^{n-1}) u^{n-1} */
+  Vec            rhs;
+  PetscInt       interface_face;            /* 0: no interface */
+  PetscBool      interface_convective_term; /* -1/2 rho ((u.n) u, v) on the interface: the control absorbs it */
+  PetscBool      initial_projection;
+  PetscReal      atol; /* the user's (or our default) absolute residual tolerance */
+  /* moving meshes (fluid_ale.c) */
+  PetscBool      moving;
+  DM             dm_aux;                                   /* the mesh velocity z, Q1 */
+  Vec            z_local;
+  Vec            coordinates_reference, displacement, displacement_old; /* coordinate layout */
+  DM             dm_all;                                   /* the same fields without constraints */
+  Mat            mass_old, mass_old_all;                   /* rho/dt M(Omega^{n-1}): free rows, all rows */
+  Vec            all_x, all_y, all_local, xlocal_work, work;
+  PhysicsData    data;
+  DirichletDatum datums[FSIOPT_MAX_BOUNDARIES];
+  SolverCounts   counts;
+};
+
+
+PetscErrorCode FluidSetConstants(Fluid, PetscReal mass, PetscReal op, PetscReal load);
+
+/* fluid_ale.c */
+PetscErrorCode FluidPrescribedDisplacement(Fluid, FieldFn motion, PetscReal t, Vec displacement);
+PetscErrorCode FluidALESetUp(Fluid);
+PetscErrorCode FluidALEBeginStep(Fluid);
+PetscErrorCode FluidALEDestroy(Fluid);
+#endif
