@@ -31,9 +31,12 @@ bin/fsiopt: $(OBJ)
 	@mkdir -p bin
 	$(CC) -o $@ $(OBJ) $(LDLIBS)
 
-build/%.o: %.c $(wildcard include/*.h src/scenes/*.h)
+# -MMD: every object depends on the headers it includes, private ones too
+build/%.o: %.c
 	@mkdir -p $(dir $@)
-	$(CC) $(CFLAGS) -c -o $@ $<
+	$(CC) $(CFLAGS) -MMD -MP -c -o $@ $<
+
+-include $(OBJ:.o=.d)
 
 meshes/%.msh: meshes/%.geo
 	gmsh -2 -format msh22 -v 2 -o $@ $< >/dev/null

@@ -48,6 +48,8 @@ PetscErrorCode CouplingProblemJacobianMultTranspose(CouplingProblem, Vec rho, Ve
 PetscErrorCode CouplingProblemJump(CouplingProblem, Vec x, PetscReal *jump);
 PetscErrorCode CouplingProblemEndStep(CouplingProblem, Vec x);
 PetscErrorCode CouplingProblemGetCounts(CouplingProblem, CouplingProblemCounts *);
+/* The structure's displacement on the interface nodes (fluid node order). Collective. */
+PetscErrorCode CouplingProblemInterfaceDisplacement(CouplingProblem, Vec all);
 
 /* Checks a user can run on any scene (-coupling_test_adjoint, -coupling_test_taylor). */
 PetscErrorCode CouplingProblemTestAdjoint(CouplingProblem, Vec x);

@@ -42,6 +42,8 @@ typedef struct {
   FieldFn        interface_traction;                      /* fluid: the exact control g = sigma_f n_f at t, for g^0 (NULL: 0) */
   FieldFn        convective_interface_datum;              /* fluid: traction the exact solution adds when the control absorbs the convective term */
   FieldFn        mesh_displacement;                       /* fluid: a prescribed mesh motion d(X, t), NULL: none */
+  PetscInt       n_fixed_mesh_faces;                      /* fluid: > 0 makes the mesh follow the interface, */
+  PetscInt       fixed_mesh_faces[FSIOPT_MAX_BOUNDARIES];  /* these face sets staying put */
   PetscInt       n_extra;                                 /* scene constants appended after the solver's */
   PetscScalar    extra[FSIOPT_MAX_EXTRA];
 } PhysicsData;

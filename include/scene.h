@@ -10,6 +10,8 @@ typedef struct {
   char        name[64];
   PetscBool   has_fluid, has_structure;
   PhysicsData fluid, structure;
+  PetscInt    n_probes;      /* interface points whose structure displacement goes to probes.csv */
+  PetscReal   probes[8][3];
 } Scene;
 
 typedef PetscErrorCode (*SceneCreateFn)(Scene *);
@@ -26,4 +28,5 @@ PetscErrorCode SceneCreate_MMSStructure(Scene *);
 PetscErrorCode SceneCreate_MMSStokes(Scene *);
 PetscErrorCode SceneCreate_MMSNS(Scene *);
 PetscErrorCode SceneCreate_GCL(Scene *);
+PetscErrorCode SceneCreate_Channel2D(Scene *);
 #endif

@@ -28,6 +28,7 @@ PetscErrorCode StructureLinearSolve(Structure, Vec rhs, Vec x, PetscBool transpo
 PetscErrorCode StructureGetDM(Structure, DM *);
 /* Access to the velocity (all dofs, local) for changing it; Restore updates the ghosts. */
 PetscErrorCode StructureGetVelocityLocal(Structure, Vec *);
+PetscErrorCode StructureGetDisplacementLocal(Structure, Vec *); /* eta^n with its boundary values; do not modify */
 PetscErrorCode StructureRestoreVelocityLocal(Structure, Vec *);
 PetscErrorCode StructureGetSolution(Structure, Vec *);
 PetscErrorCode StructureErrors(Structure, ErrorTable *);

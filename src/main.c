@@ -12,6 +12,7 @@
 #include "summary.h"
 #include "interface.h"
 #include "coupling.h"
+#include "probes.h"
 
 static const char help[] = "fsiopt: fluid-structure interaction by optimization-based decoupling.\n"
                            "  fsiopt -options_file options/<scene>.yaml [options]   or   fsiopt -scene <name> [options]\n"
@@ -100,6 +101,8 @@ static PetscErrorCode Run(void)
   Interface       itf       = NULL;
   CouplingProblem problem   = NULL;
   Coupling        coupling  = NULL;
+  Probes          probes    = NULL;
+  Vec             interface_displacement = NULL;
   PetscBool       scene_given, help, coupled;
   PetscLogDouble  start, end;
   PetscMPIInt     size;
@@ -138,6 +141,7 @@ static PetscErrorCode Run(void)
       ControlVariant variant;
       PetscCall(CouplingProblemGetControlVariant(&variant));
       PetscCall(FluidSetInterface(fluid, scene.fluid.interface_face, variant == CONTROL_CONVECTIVE ? PETSC_TRUE : PETSC_FALSE));
+      if (scene.fluid.n_fixed_mesh_faces) PetscCall(FluidEnableMeshMotion(fluid));
     }
     PetscCall(SceneRequiredFaces(&scene.fluid, &nfaces, faces));
     PetscCall(MeshCreate(fluid_comm, "fluid_", params.refine, nfaces, faces, &fluid_mesh));
@@ -159,6 +163,12 @@ static PetscErrorCode Run(void)
     PetscCall(InterfaceCreate(PETSC_COMM_WORLD, fluid_mesh, scene.fluid.interface_face, structure_mesh, scene.structure.interface_face, &itf));
     PetscCall(CouplingProblemCreate(PETSC_COMM_WORLD, fluid, structure, itf, &scene.fluid, &problem));
     PetscCall(CouplingCreate(params.coupling, problem, params.output_dir, params.t_start, &coupling));
+    if (scene.n_probes) {
+      PetscCall(ProbesCreate(PETSC_COMM_WORLD, itf, scene.n_probes, scene.probes, params.output_dir, &probes));
+      PetscCall(InterfaceCreateVector(itf, &interface_displacement));
+      PetscCall(CouplingProblemInterfaceDisplacement(problem, interface_displacement));
+      PetscCall(ProbesRecord(probes, params.t_start, interface_displacement));
+    }
     PetscCall(PetscLogEventEnd(FSIOPT_EVENT_INTERFACE, 0, 0, 0, 0));
   }
   PetscCall(DMDestroy(&fluid_mesh));
@@ -168,6 +178,10 @@ static PetscErrorCode Run(void)
   for (PetscInt step = 1; step <= params.steps; ++step) {
     if (coupling) {
       PetscCall(CouplingStep(coupling, step));
+      if (probes) {
+        PetscCall(CouplingProblemInterfaceDisplacement(problem, interface_displacement));
+        PetscCall(ProbesRecord(probes, params.t_start + step * params.dt, interface_displacement));
+      }
       continue;
     }
     if (fluid) {
@@ -207,6 +221,7 @@ static PetscErrorCode Run(void)
     PetscInt      fluid_solves = summary.fluid.nonlinear_solves;
 
     PetscCall(CouplingFinish(coupling));
+    PetscCall(ProbesClose(&probes, PETSC_TRUE));
     PetscCall(CouplingGetStats(coupling, &stats));
     PetscCall(CouplingGetOptimizer(coupling, &summary.optimizer));
     PetscCall(ShareWithAll(&fluid_solves, sizeof(fluid_solves), 0));
@@ -233,6 +248,8 @@ static PetscErrorCode Run(void)
   PetscCall(PetscLogStagePop());
 
   PetscCall(CouplingDestroy(&coupling));
+  PetscCall(ProbesClose(&probes, PETSC_FALSE));
+  PetscCall(VecDestroy(&interface_displacement));
   PetscCall(CouplingProblemDestroy(&problem));
   PetscCall(InterfaceDestroy(&itf));
   PetscCall(FluidDestroy(&fluid));

@@ -4,6 +4,7 @@
 #include "fem.h"
 #include "options.h"
 #include "logging.h"
+#include "motion.h"
 
 static const char *const ControlVariants[]  = {"traction", "convective", "ControlVariant", "CONTROL_", NULL};
 static const char *const VelocityMeasures[] = {"scheme", "difference", "StructureVelocityMeasure", "STRUCTURE_VELOCITY_", NULL};
@@ -27,7 +28,10 @@ struct _p_CouplingProblem {
   PetscBool                state_valid, jacobian_valid;
   PetscReal                state_jump;
   PetscReal                converged_jump; /* at or below it, no new Jacobian: the optimizer stops there */
+  PetscInt                 jacobian_lag, jacobian_age; /* refactor the fluid every jacobian_lag requests */
   CouplingProblemCounts    counts;
+  MeshMotion               motion; /* fluid ranks of a moving interface; NULL otherwise */
+  Vec                      mesh_displacement;
 };
 
 PetscErrorCode CouplingProblemGetControlVariant(ControlVariant *variant)
@@ -77,9 +81,11 @@ PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure struc
   P->variant    = CONTROL_TRACTION;
   P->measure    = STRUCTURE_VELOCITY_SCHEME;
   P->converged_jump = -1;
+  P->jacobian_lag   = 1;
   PetscOptionsBegin(comm, NULL, "Coupling problem options", "coupling");
   PetscCall(PetscOptionsEnum("-coupling_control", "What the control replaces: the fluid traction (seed ch. 3, 6) or the traction minus the convective boundary flux 1/2 rho ((u-z).n) u (seed ch. 4, 5)", NULL, ControlVariants, (PetscEnum)P->variant, (PetscEnum *)&P->variant, NULL));
   PetscCall(PetscOptionsEnum("-coupling_velocity", "Structure velocity matched on the interface: the scheme's own (seed ch. 3, 6) or (eta^n - eta^{n-1})/dt (seed ch. 4, 5)", NULL, VelocityMeasures, (PetscEnum)P->measure, (PetscEnum *)&P->measure, NULL));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_jacobian_lag", "refactor the fluid Jacobian at every K-th Gauss-Newton iteration (1: exact Gauss-Newton; more: an older Jacobian in J h and J^T r)", 1, 1000000, &P->jacobian_lag));
   PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-coupling_tikhonov", "Tikhonov weight epsilon (delta) of eps/2 ||g||^2_{L2(Gamma_I)}", &P->tikhonov));
   PetscOptionsEnd();
   if (structure) P->velocity_coefficient = StructureVelocityCoefficient(structure, P->measure);
@@ -118,6 +124,16 @@ PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure struc
     PetscCall(VecDuplicate(P->structure_vec, &P->structure_sol));
     PetscCall(DMCreateLocalVector(dm, &P->structure_local));
   }
+  if (fluid_data->n_fixed_mesh_faces) {
+    if (fluid) {
+      DM  dm;
+      Vec d;
+      PetscCall(FluidGetDM(fluid, &dm));
+      PetscCall(MeshMotionCreate(dm, fluid_data->interface_face, fluid_data->n_fixed_mesh_faces, fluid_data->fixed_mesh_faces, &P->motion));
+      PetscCall(FluidGetMeshDisplacement(fluid, &d));
+      PetscCall(VecDuplicate(d, &P->mesh_displacement));
+    }
+  }
   PetscCall(MatchInitialVelocity(P));
   *problem = P;
   PetscFunctionReturn(0);
@@ -145,6 +161,8 @@ PetscErrorCode CouplingProblemDestroy(CouplingProblem *problem)
   PetscCall(VecDestroy(&P->structure_vec));
   PetscCall(VecDestroy(&P->structure_sol));
   PetscCall(VecDestroy(&P->structure_local));
+  PetscCall(VecDestroy(&P->mesh_displacement));
+  PetscCall(MeshMotionDestroy(&P->motion));
   PetscCall(PetscFree(*problem));
   PetscFunctionReturn(0);
 }
@@ -161,6 +179,16 @@ PetscErrorCode CouplingProblemGetTikhonov(CouplingProblem P, PetscReal *eps)
 {
   PetscFunctionBeginUser;
   *eps = P->tikhonov;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemInterfaceDisplacement(CouplingProblem P, Vec all)
+{
+  Vec eta = NULL;
+
+  PetscFunctionBeginUser;
+  if (P->structure) PetscCall(StructureGetDisplacementLocal(P->structure, &eta));
+  PetscCall(InterfaceStructureTrace(P->itf, eta, all));
   PetscFunctionReturn(0);
 }
 
@@ -340,6 +368,27 @@ PetscErrorCode CouplingProblemJump(CouplingProblem P, Vec x, PetscReal *jump)
   PetscFunctionReturn(0);
 }
 
+/* The fluid domain follows the structure's current interface displacement (seed
+   Algorithm 3.3: the domain lags one Gauss-Newton iteration). Collective. */
+static PetscErrorCode MoveMesh(CouplingProblem P)
+{
+  PetscBool moving = P->motion ? PETSC_TRUE : PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &moving, 1, MPIU_BOOL, MPI_LOR, P->comm));
+  if (!moving) PetscFunctionReturn(0);
+  {
+    Vec eta = NULL;
+    if (P->structure) PetscCall(StructureGetDisplacementLocal(P->structure, &eta));
+    PetscCall(InterfaceStructureTrace(P->itf, eta, P->all_a));
+  }
+  if (P->motion) {
+    PetscCall(MeshMotionSolve(P->motion, P->itf, P->all_a, P->mesh_displacement));
+    PetscCall(FluidSetMeshDisplacement(P->fluid, P->mesh_displacement));
+  }
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode CouplingProblemSetConvergedJump(CouplingProblem P, PetscReal jump)
 {
   PetscFunctionBeginUser;
@@ -357,12 +406,14 @@ static PetscErrorCode UpdateJacobian(CouplingProblem P, Vec x, PetscBool force)
      accept: there the factors in hand serve (the gradient is only reported), and the
      next step's chord iterations start from them. */
   if (!force && P->state_jump <= P->converged_jump) PetscFunctionReturn(0);
+  PetscCall(MoveMesh(P));
   if (P->jacobian_valid) PetscCall(VecEqual(x, P->jacobian_x, &same));
   if (same) PetscFunctionReturn(0);
-  if (P->fluid) {
+  if (P->fluid && (force || ++P->jacobian_age >= P->jacobian_lag)) {
     PetscCall(PetscLogStagePush(FSIOPT_STAGE_FLUID));
     PetscCall(FluidUpdateJacobian(P->fluid));
     PetscCall(PetscLogStagePop());
+    P->jacobian_age = 0;
   }
   PetscCall(VecCopy(x, P->jacobian_x));
   P->jacobian_valid = PETSC_TRUE;
@@ -474,6 +525,7 @@ PetscErrorCode CouplingProblemEndStep(CouplingProblem P, Vec x)
 {
   PetscFunctionBeginUser;
   PetscCall(EnsureState(P, x));
+  PetscCall(MoveMesh(P));
   if (P->structure) PetscCall(StructureEndStep(P->structure));
   PetscFunctionReturn(0);
 }

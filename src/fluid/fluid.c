@@ -173,12 +173,12 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
   PetscCall(FEMCreateSNES(f->dm, "fluid_", policy, &f->counts.factorizations, &f->snes));
   PetscCall(SNESGetTolerances(f->snes, &f->atol, NULL, NULL, NULL, NULL));
   if (data->mesh_displacement) f->moving = PETSC_TRUE;
-  if (f->moving) PetscCall(FluidALESetUp(f));
   PetscCall(DMCreateGlobalVector(f->dm, &f->x));
   PetscCall(PetscObjectSetName((PetscObject)f->x, "fluid"));
   PetscCall(VecDuplicate(f->x, &f->history));
   PetscCall(VecDuplicate(f->x, &f->rhs));
   PetscCall(DMCreateLocalVector(f->dm, &f->xlocal_old));
+  if (f->moving) PetscCall(FluidALESetUp(f));
   if (data->exact[0] && data->exact[1]) {
     FieldFn exact[2] = {data->exact[0], data->exact[1]};
     PetscCall(DMProjectFunction(f->dm, t0, exact, NULL, INSERT_ALL_VALUES, f->x));
@@ -209,6 +209,7 @@ PetscErrorCode FluidBeginStep(Fluid f)
   PetscCall(FEMResidual(f->dm, f->xlocal_old, f->history));
   if (f->moving) PetscCall(FluidALEBeginStep(f));
   f->time += f->dt;
+  f->step += 1;
   if (f->moving && f->data.mesh_displacement) {
     Vec d;
     PetscCall(VecDuplicate(f->displacement, &d));

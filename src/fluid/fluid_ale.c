@@ -6,7 +6,8 @@
    M(Omega^{n-1})] u^n (Reynolds transport for mesh-bound basis functions), which leaves
      rho/dt M(Omega^{n-1}) (u^n - u^{n-1}) + rho (((u^n - z) . grad) u^n, v)_{Omega^n} + ...
    and satisfies the discrete geometric conservation law: a uniform flow stays uniform on
-   any mesh motion. M(Omega^{n-1}) is assembled once per step, before the mesh moves. */
+   any mesh motion. M(Omega^{n-1}) u is a residual evaluation on a copy of the DM kept on
+   the previous domain; the matrix is assembled only when a Jacobian needs it. */
 #include "fluid_impl.h"
 #include "fem.h"
 
@@ -47,9 +48,9 @@ static PetscErrorCode ResidualALE(SNES snes, Vec x, Vec F, void *ctx)
   (void)snes;
   PetscCall(FEMGlobalToLocal(f->dm, x, f->xlocal_work));
   PetscCall(FEMResidual(f->dm, f->xlocal_work, F)); /* no mass term in the kernels */
-  /* + M(Omega^{n-1}) u, boundary values included, restricted to the free rows */
-  PetscCall(DMLocalToGlobal(f->dm_all, f->xlocal_work, INSERT_VALUES, f->all_x));
-  PetscCall(MatMult(f->mass_old_all, f->all_x, f->all_y));
+  /* + M(Omega^{n-1}) u, boundary values included, restricted to the free rows; the copy
+     without constraints still sits on the previous domain */
+  PetscCall(FEMResidual(f->dm_all, f->xlocal_work, f->all_y));
   PetscCall(DMGlobalToLocal(f->dm_all, f->all_y, INSERT_VALUES, f->all_local));
   PetscCall(VecZeroEntries(f->work));
   PetscCall(DMLocalToGlobal(f->dm, f->all_local, INSERT_VALUES, f->work));
@@ -65,21 +66,71 @@ static PetscErrorCode JacobianALE(SNES snes, Vec x, Mat J, Mat P, void *ctx)
   (void)snes;
   PetscCall(FEMGlobalToLocal(f->dm, x, f->xlocal_work));
   PetscCall(DMPlexSNESComputeJacobianFEM(f->dm, f->xlocal_work, J, P, NULL));
+  if (f->mass_old_step != f->step) {
+    Vec zero;
+    PetscCall(DMGetLocalVector(f->dm_all, &zero));
+    PetscCall(VecZeroEntries(zero));
+    PetscCall(DMPlexSNESComputeJacobianFEM(f->dm_all, zero, f->mass_old_all, f->mass_old_all, NULL));
+    PetscCall(DMRestoreLocalVector(f->dm_all, &zero));
+    PetscCall(MatCreateSubMatrix(f->mass_old_all, f->free_in_all, f->free_in_all, MAT_REUSE_MATRIX, &f->mass_old));
+    f->mass_old_step = f->step;
+  }
   PetscCall(MatAXPY(P, 1.0, f->mass_old, SUBSET_NONZERO_PATTERN));
   if (J != P) PetscCall(MatAXPY(J, 1.0, f->mass_old, SUBSET_NONZERO_PATTERN));
   f->counts.factorizations++;
   PetscFunctionReturn(0);
 }
 
+/* The fluid's free dofs, in its global order, as indices of the unconstrained copy. */
+static PetscErrorCode FreeDofsInAll(Fluid f, IS *is)
+{
+  PetscSection    ls, gs, as;
+  PetscInt        pStart, pEnd, n = 0, *idx;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetLocalSection(f->dm, &ls));
+  PetscCall(DMGetGlobalSection(f->dm, &gs));
+  PetscCall(DMGetGlobalSection(f->dm_all, &as));
+  PetscCall(PetscSectionGetChart(gs, &pStart, &pEnd));
+  PetscCall(VecGetLocalSize(f->x, &n));
+  PetscCall(PetscMalloc1(n, &idx));
+  {
+    PetscInt rstart, k = 0;
+    PetscCall(VecGetOwnershipRange(f->x, &rstart, NULL));
+    for (PetscInt p = pStart; p < pEnd; ++p) {
+      PetscInt        dof, cdof, goff, aoff, next = 0;
+      const PetscInt *cidx = NULL;
+
+      PetscCall(PetscSectionGetDof(gs, p, &dof));
+      if (dof <= 0) continue;
+      PetscCall(PetscSectionGetOffset(gs, p, &goff));
+      PetscCall(PetscSectionGetOffset(as, p, &aoff));
+      PetscCall(PetscSectionGetDof(ls, p, &dof));
+      PetscCall(PetscSectionGetConstraintDof(ls, p, &cdof));
+      if (cdof) PetscCall(PetscSectionGetConstraintIndices(ls, p, &cidx));
+      for (PetscInt d = 0, c = 0; d < dof; ++d) {
+        if (c < cdof && cidx[c] == d) {
+          ++c;
+          continue;
+        }
+        idx[goff - rstart + next++] = aoff + d;
+        ++k;
+      }
+    }
+    PetscCheck(k == n, PETSC_COMM_SELF, PETSC_ERR_PLIB, "fluid: %" PetscInt_FMT " free dofs mapped, %" PetscInt_FMT " expected", k, n);
+  }
+  PetscCall(ISCreateGeneral(f->comm, n, idx, PETSC_OWN_POINTER, is));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FluidALESetUp(Fluid f)
 {
-  PetscObject velocity, pressure;
+  PetscObject velocity;
   PetscDS     ds;
   Vec         coordinates;
 
   PetscFunctionBeginUser;
   PetscCall(DMGetField(f->dm, 0, NULL, &velocity));
-  PetscCall(DMGetField(f->dm, 1, NULL, &pressure));
   /* the mesh velocity: vertex values, as the (affine) coordinates */
   PetscCall(DMClone(f->dm, &f->dm_aux));
   PetscCall(FEMCreateField(f->dm_aux, 0, "mesh_velocity", -1, 1, (PetscFE)velocity));
@@ -97,17 +148,23 @@ PetscErrorCode FluidALESetUp(Fluid f)
   PetscCall(VecZeroEntries(f->displacement_old));
   /* the old-domain mass on every dof, boundary values included */
   PetscCall(DMClone(f->dm, &f->dm_all));
-  PetscCall(DMSetField(f->dm_all, 0, NULL, velocity));
-  PetscCall(DMSetField(f->dm_all, 1, NULL, pressure));
+  /* elements of its own: PETSc 3.18 caches cell geometry by quadrature on the cell IS
+     that clones share, and this copy lives on the previous domain */
+  PetscCall(FEMCreateField(f->dm_all, 0, "velocity", -1, f->velocity_degree, NULL));
+  {
+    PetscObject v;
+    PetscCall(DMGetField(f->dm_all, 0, NULL, &v));
+    PetscCall(FEMCreateField(f->dm_all, 1, "pressure", 1, f->pressure_degree, (PetscFE)v));
+  }
   PetscCall(DMCreateDS(f->dm_all));
   PetscCall(DMGetDS(f->dm_all, &ds));
+  PetscCall(PetscDSSetResidual(ds, 0, FluidF0MassStokes, NULL));
   PetscCall(PetscDSSetJacobian(ds, 0, 0, FluidG0MassStokes, NULL, NULL, NULL));
   PetscCall(DMCreateMatrix(f->dm_all, &f->mass_old_all));
-  PetscCall(DMCreateMatrix(f->dm, &f->mass_old));
   PetscCall(MatAssemblyBegin(f->mass_old_all, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(f->mass_old_all, MAT_FINAL_ASSEMBLY));
-  PetscCall(MatAssemblyBegin(f->mass_old, MAT_FINAL_ASSEMBLY));
-  PetscCall(MatAssemblyEnd(f->mass_old, MAT_FINAL_ASSEMBLY));
+  PetscCall(FreeDofsInAll(f, &f->free_in_all));
+  PetscCall(MatCreateSubMatrix(f->mass_old_all, f->free_in_all, f->free_in_all, MAT_INITIAL_MATRIX, &f->mass_old));
   PetscCall(DMCreateGlobalVector(f->dm_all, &f->all_x));
   PetscCall(VecDuplicate(f->all_x, &f->all_y));
   PetscCall(DMCreateLocalVector(f->dm_all, &f->all_local));
@@ -121,14 +178,13 @@ PetscErrorCode FluidALESetUp(Fluid f)
 /* Before the time and the mesh move on: M(Omega^{n-1}), and d^{n-1}. */
 PetscErrorCode FluidALEBeginStep(Fluid f)
 {
-  Vec         coordinates, zero;
+  Vec         coordinates;
   PetscDS     ds, ds_all;
   PetscInt    n;
   const PetscScalar *c;
 
   PetscFunctionBeginUser;
   PetscCall(FluidSetConstants(f, f->rho / f->dt, 0.0, 0.0));
-  PetscCall(DMPlexSNESComputeJacobianFEM(f->dm, f->xlocal_old, f->mass_old, f->mass_old, NULL));
   PetscCall(DMGetCoordinatesLocal(f->dm, &coordinates));
   PetscCall(DMSetCoordinatesLocal(f->dm_all, coordinates));
   PetscCall(FEMInvalidateGeometry(f->dm_all));
@@ -136,13 +192,65 @@ PetscErrorCode FluidALEBeginStep(Fluid f)
   PetscCall(DMGetDS(f->dm_all, &ds_all));
   PetscCall(PetscDSGetConstants(ds, &n, &c));
   PetscCall(PetscDSSetConstants(ds_all, n, (PetscScalar *)c));
-  PetscCall(DMGetLocalVector(f->dm_all, &zero));
-  PetscCall(VecZeroEntries(zero));
-  PetscCall(DMPlexSNESComputeJacobianFEM(f->dm_all, zero, f->mass_old_all, f->mass_old_all, NULL));
-  PetscCall(DMRestoreLocalVector(f->dm_all, &zero));
+  f->mass_old_step = -1; /* assembled when a Jacobian needs it */
   PetscCall(VecCopy(f->displacement, f->displacement_old));
   PetscCall(VecZeroEntries(f->z_local));
   PetscFunctionReturn(0);
+}
+
+/* Every corner of every cell must keep its orientation and at least 1e-3 of its reference
+   area: otherwise the step cannot go on, and the run stops naming the cell. 2D cells. */
+static PetscErrorCode CheckCells(Fluid f, Vec coordinates)
+{
+  DM        cdm;
+  PetscInt  cStart, cEnd, dim, bad = -1;
+  PetscReal worst = PETSC_MAX_REAL, centre[2] = {0, 0};
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetDimension(f->dm, &dim));
+  if (dim != 2) PetscFunctionReturn(0);
+  PetscCall(DMGetCoordinateDM(f->dm, &cdm));
+  PetscCall(DMPlexGetHeightStratum(f->dm, 0, &cStart, &cEnd));
+  for (PetscInt c = cStart; c < cEnd; ++c) {
+    PetscScalar *X = NULL, *x = NULL;
+    PetscInt     n, m;
+
+    PetscCall(DMPlexVecGetClosure(cdm, NULL, f->coordinates_reference, c, &n, &X));
+    PetscCall(DMPlexVecGetClosure(cdm, NULL, coordinates, c, &m, &x));
+    n /= 2;
+    for (PetscInt i = 0; i < n; ++i) {
+      const PetscInt  j = (i + 1) % n, k = (i + n - 1) % n;
+      const PetscReal A = PetscRealPart((X[2 * j] - X[2 * i]) * (X[2 * k + 1] - X[2 * i + 1]) - (X[2 * j + 1] - X[2 * i + 1]) * (X[2 * k] - X[2 * i]));
+      const PetscReal a = PetscRealPart((x[2 * j] - x[2 * i]) * (x[2 * k + 1] - x[2 * i + 1]) - (x[2 * j + 1] - x[2 * i + 1]) * (x[2 * k] - x[2 * i]));
+      if (a / A < worst) {
+        worst = a / A;
+        if (worst < 1e-3) {
+          bad       = c;
+          centre[0] = 0;
+          centre[1] = 0;
+          for (PetscInt v = 0; v < n; ++v) {
+            centre[0] += PetscRealPart(x[2 * v]) / n;
+            centre[1] += PetscRealPart(x[2 * v + 1]) / n;
+          }
+        }
+      }
+    }
+    PetscCall(DMPlexVecRestoreClosure(cdm, NULL, f->coordinates_reference, c, &n, &X));
+    PetscCall(DMPlexVecRestoreClosure(cdm, NULL, coordinates, c, &m, &x));
+  }
+  {
+    PetscMPIInt rank, first, size;
+    PetscReal   where[3] = {(PetscReal)bad, centre[0], centre[1]};
+    PetscCallMPI(MPI_Comm_rank(f->comm, &rank));
+    PetscCallMPI(MPI_Comm_size(f->comm, &size));
+    {
+      PetscMPIInt mine = bad >= 0 ? rank : size;
+      PetscCallMPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, f->comm));
+    }
+    if (first == size) PetscFunctionReturn(0);
+    PetscCallMPI(MPI_Bcast(where, 3, MPIU_REAL, first, f->comm));
+    SETERRQ(f->comm, PETSC_ERR_NOT_CONVERGED, "fluid mesh inverted or degenerate at step %" PetscInt_FMT " (t = %g): cell %d near (%g, %g) has a corner below 1e-3 of its reference area; the load is too large for this mesh motion (-mesh_motion elastic or a finer mesh may help)", f->step, (double)f->time, (int)where[0], (double)where[1], (double)where[2]);
+  }
 }
 
 PetscErrorCode FluidSetMeshDisplacement(Fluid f, Vec displacement)
@@ -154,6 +262,7 @@ PetscErrorCode FluidSetMeshDisplacement(Fluid f, Vec displacement)
   PetscCall(VecCopy(displacement, f->displacement));
   PetscCall(VecDuplicate(f->coordinates_reference, &coordinates));
   PetscCall(VecWAXPY(coordinates, 1.0, f->coordinates_reference, displacement));
+  PetscCall(CheckCells(f, coordinates));
   PetscCall(DMSetCoordinatesLocal(f->dm, coordinates));
   PetscCall(FEMInvalidateGeometry(f->dm));
   PetscCall(VecDestroy(&coordinates));
@@ -208,6 +317,7 @@ PetscErrorCode FluidALEDestroy(Fluid f)
   PetscCall(VecDestroy(&f->displacement));
   PetscCall(VecDestroy(&f->displacement_old));
   PetscCall(MatDestroy(&f->mass_old));
+  PetscCall(ISDestroy(&f->free_in_all));
   PetscCall(MatDestroy(&f->mass_old_all));
   PetscCall(VecDestroy(&f->all_x));
   PetscCall(VecDestroy(&f->all_y));

@@ -12,6 +12,7 @@ struct _p_Fluid {
   PetscReal      rho, mu;
   PetscInt       velocity_degree, pressure_degree;
   PetscReal      time, dt;
+  PetscInt       step;
   Vec            x;          /* (u, p) at `time` */
   Vec            xlocal_old; /* previous state with its boundary values */
   Vec            history;    /* rho/dt M(Omega^{n-1}) u^{n-1} */
@@ -27,6 +28,8 @@ struct _p_Fluid {
   Vec            coordinates_reference, displacement, displacement_old; /* coordinate layout */
   DM             dm_all;                                   /* the same fields without constraints */
   Mat            mass_old, mass_old_all;                   /* rho/dt M(Omega^{n-1}): free rows, all rows */
+  IS             free_in_all;
+  PetscInt       mass_old_step; /* the step M(Omega^{n-1}) was assembled for */
   Vec            all_x, all_y, all_local, xlocal_work, work;
   PhysicsData    data;
   DirichletDatum datums[FSIOPT_MAX_BOUNDARIES];

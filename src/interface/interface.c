@@ -542,3 +542,12 @@ PetscErrorCode InterfaceStructureInsertLocal(Interface itf, Vec all, Vec structu
   PetscCall(VecRestoreArrayRead(itf->structure_all, &a));
   PetscFunctionReturn(0);
 }
+
+PetscErrorCode InterfaceGetFluidNodes(Interface itf, PetscInt *n, const PetscInt **points, const PetscReal **coords)
+{
+  PetscFunctionBeginUser;
+  if (n) *n = itf->fluid.n;
+  if (points) *points = itf->fluid.point;
+  if (coords) *coords = itf->fluid.coords;
+  PetscFunctionReturn(0);
+}

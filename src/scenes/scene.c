@@ -11,6 +11,7 @@ PetscErrorCode SceneRegisterAll(void)
   PetscCall(PetscFunctionListAdd(&scene_list, "mms-stokes", SceneCreate_MMSStokes));
   PetscCall(PetscFunctionListAdd(&scene_list, "mms-ns", SceneCreate_MMSNS));
   PetscCall(PetscFunctionListAdd(&scene_list, "gcl", SceneCreate_GCL));
+  PetscCall(PetscFunctionListAdd(&scene_list, "channel2d", SceneCreate_Channel2D));
   PetscFunctionReturn(0);
 }
 

@@ -290,6 +290,13 @@ PetscErrorCode StructureLinearSolve(Structure s, Vec rhs, Vec x, PetscBool trans
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode StructureGetDisplacementLocal(Structure s, Vec *eta_local)
+{
+  PetscFunctionBeginUser;
+  *eta_local = s->eta_local;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode StructureGetVelocityLocal(Structure s, Vec *etadot_local)
 {
   PetscFunctionBeginUser;

@@ -1,0 +1,17 @@
+#ifndef FSIOPT_MOTION_H
+#define FSIOPT_MOTION_H
+#include "fsiopt.h"
+#include "interface.h"
+
+/* The fluid mesh displacement: the harmonic (or linear-elastic, -mesh_motion elastic)
+   extension of the interface displacement into the fluid's reference domain, zero on
+   the fixed boundaries. The operator never changes: one factorization per run. */
+typedef struct _p_MeshMotion *MeshMotion;
+
+PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfixed, const PetscInt fixed_faces[], MeshMotion *);
+/* interface: an interface vector (fluid node order) of displacements; the result is a
+   local vector in the fluid's coordinate layout. Collective on the fluid's ranks. */
+PetscErrorCode MeshMotionSolve(MeshMotion, Interface, Vec interface, Vec displacement);
+PetscErrorCode MeshMotionGetFactorizations(MeshMotion, PetscInt *);
+PetscErrorCode MeshMotionDestroy(MeshMotion *);
+#endif

@@ -1,0 +1,96 @@
+#include "probes.h"
+#include "history.h"
+#include <stdio.h>
+
+struct _p_Probes {
+  MPI_Comm   comm;
+  PetscInt   n, dim;
+  VecScatter to_zero;
+  Vec        values; /* on rank 0: n * dim */
+  FILE      *fp;
+  char       path[PETSC_MAX_PATH_LEN], partial[PETSC_MAX_PATH_LEN];
+};
+
+PetscErrorCode ProbesCreate(MPI_Comm comm, Interface itf, PetscInt n, const PetscReal points[][3], const char dir[], Probes *probes)
+{
+  Probes           P;
+  PetscInt         nlocal, dim, start, *index;
+  const PetscReal *coords;
+  Vec              all;
+  IS               from;
+  PetscMPIInt      rank;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&P));
+  P->comm = comm;
+  P->n    = n;
+  PetscCall(InterfaceCreateVector(itf, &all));
+  PetscCall(VecGetBlockSize(all, &dim));
+  P->dim = dim;
+  PetscCall(VecGetOwnershipRange(all, &start, NULL));
+  PetscCall(InterfaceGetFluidNodes(itf, &nlocal, NULL, &coords));
+  PetscCall(PetscMalloc1(n * dim, &index));
+  for (PetscInt p = 0; p < n; ++p) {
+    PetscInt found = -1;
+    for (PetscInt i = 0; i < nlocal && found < 0; ++i) {
+      PetscReal dist = 0;
+      for (PetscInt d = 0; d < dim; ++d) dist = PetscMax(dist, PetscAbsReal(coords[i * dim + d] - points[p][d]));
+      if (dist < 1e-10) found = start + i * dim;
+    }
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &found, 1, MPIU_INT, MPI_MAX, comm));
+    PetscCheck(found >= 0, comm, PETSC_ERR_ARG_WRONG, "probe (%g, %g): not a node of the fluid-structure interface", (double)points[p][0], (double)points[p][1]);
+    for (PetscInt d = 0; d < dim; ++d) index[p * dim + d] = found + d;
+  }
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(VecCreateSeq(PETSC_COMM_SELF, rank ? 0 : n * dim, &P->values));
+  PetscCall(ISCreateGeneral(comm, rank ? 0 : n * dim, index, PETSC_COPY_VALUES, &from));
+  PetscCall(VecScatterCreate(all, from, P->values, NULL, &P->to_zero));
+  PetscCall(ISDestroy(&from));
+  PetscCall(PetscFree(index));
+  PetscCall(VecDestroy(&all));
+  PetscCall(PetscSNPrintf(P->path, sizeof(P->path), "%s/probes.csv", dir));
+  PetscCall(PetscSNPrintf(P->partial, sizeof(P->partial), "%s/probes.csv.partial", dir));
+  if (!rank) PetscCall(OutputMakeDirectories(dir));
+  PetscCallMPI(MPI_Barrier(comm));
+  PetscCall(PetscFOpen(comm, P->partial, "w", &P->fp));
+  PetscCall(PetscFPrintf(comm, P->fp, "t"));
+  for (PetscInt p = 0; p < n; ++p)
+    for (PetscInt d = 0; d < dim; ++d) PetscCall(PetscFPrintf(comm, P->fp, ",d%c(%g;%g)", "xyz"[d], (double)points[p][0], (double)points[p][1]));
+  PetscCall(PetscFPrintf(comm, P->fp, "\n"));
+  *probes = P;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ProbesRecord(Probes P, PetscReal t, Vec displacement)
+{
+  const PetscScalar *v;
+  PetscMPIInt        rank;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecScatterBegin(P->to_zero, displacement, P->values, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(P->to_zero, displacement, P->values, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCallMPI(MPI_Comm_rank(P->comm, &rank));
+  PetscCall(PetscFPrintf(P->comm, P->fp, "%.10g", (double)t));
+  PetscCall(VecGetArrayRead(P->values, &v));
+  if (!rank)
+    for (PetscInt i = 0; i < P->n * P->dim; ++i) PetscCall(PetscFPrintf(PETSC_COMM_SELF, P->fp, ",%.12e", (double)PetscRealPart(v[i])));
+  PetscCall(VecRestoreArrayRead(P->values, &v));
+  PetscCall(PetscFPrintf(P->comm, P->fp, "\n"));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ProbesClose(Probes *probes, PetscBool complete)
+{
+  Probes      P = *probes;
+  PetscMPIInt rank;
+
+  PetscFunctionBeginUser;
+  if (!P) PetscFunctionReturn(0);
+  PetscCall(PetscFClose(P->comm, P->fp));
+  PetscCallMPI(MPI_Comm_rank(P->comm, &rank));
+  if (complete && !rank) PetscCheck(rename(P->partial, P->path) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot rename %s to %s", P->partial, P->path);
+  PetscCall(VecScatterDestroy(&P->to_zero));
+  PetscCall(VecDestroy(&P->values));
+  PetscCall(PetscFree(*probes));
+  PetscFunctionReturn(0);
+}

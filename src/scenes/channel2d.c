@@ -1,0 +1,89 @@
+/* Scene channel2d (seed §3.6.1, §4.10): the haemodynamic channel. Fluid [0,6]x[0,1],
+   wall [0,6]x[1,1.1] on top of it; a pressure pulse enters at x = 0 as the traction
+   b(t) = (A (1 - cos(2 pi t / T_b)), 0) for t <= T_b (A = 1e3 dyn/cm^2, T_b = 0.025 s),
+   the outlet x = 6 is traction-free, the bottom is a no-slip wall, the wall's ends are
+   clamped and its top is traction-free. cgs units; rho = 1, mu = 0.035, rho_s = 1.1,
+   E = 3e6, nu_s = 0.3 (our reading of the numbers the seed's text lost, DESIGN §4).
+   The fluid mesh follows the wall (harmonic extension, fixed on the other three sides). */
+#include "scene.h"
+#include "fluid.h"
+#include "options.h"
+
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+
+enum { INLET_AMPLITUDE = FLUID_NUM_CONSTANTS, INLET_DURATION };
+
+static PetscErrorCode Zero(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *u, void *ctx)
+{
+  for (PetscInt c = 0; c < Nc; ++c) u[c] = 0;
+  return 0;
+}
+
+/* the traction on the inlet: constant along it, so PETSc's face integration is exact */
+static void InletTraction(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], const PetscReal n[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
+{
+  const PetscReal time = PetscRealPart(constants[FLUID_TIME]), T = PetscRealPart(constants[INLET_DURATION]);
+  const PetscReal b    = time <= T ? PetscRealPart(constants[INLET_AMPLITUDE]) * (1.0 - PetscCosReal(2.0 * PETSC_PI * time / T)) : 0.0;
+
+  f0[0] -= constants[FLUID_LOAD] * b;
+}
+
+PetscErrorCode SceneCreate_Channel2D(Scene *scene)
+{
+  PhysicsData *fluid = &scene->fluid, *structure = &scene->structure;
+  PetscReal    amplitude = 1e3, duration = 0.025;
+
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene channel2d: the seed's haemodynamic channel", "scene");
+  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-channel_inlet_amplitude", "amplitude A of the inlet traction pulse A (1 - cos(2 pi t/T)), dyn/cm^2", &amplitude));
+  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-channel_inlet_duration", "duration T of the inlet pulse, s", &duration));
+  PetscOptionsEnd();
+  PetscCall(OptionsSetDefault("-fluid_dm_plex_simplex", "0"));
+  PetscCall(OptionsSetDefault("-fluid_dm_plex_box_lower", "0,0"));
+  PetscCall(OptionsSetDefault("-fluid_dm_plex_box_upper", "6,1"));
+  PetscCall(OptionsSetDefault("-fluid_dm_plex_box_faces", "30,10"));
+  PetscCall(OptionsSetDefault("-structure_dm_plex_simplex", "0"));
+  PetscCall(OptionsSetDefault("-structure_dm_plex_box_lower", "0,1"));
+  PetscCall(OptionsSetDefault("-structure_dm_plex_box_upper", "6,1.1"));
+  PetscCall(OptionsSetDefault("-structure_dm_plex_box_faces", "30,1"));
+  PetscCall(OptionsSetDefault("-fluid_density", "1.0"));
+  PetscCall(OptionsSetDefault("-fluid_viscosity", "0.035"));
+  PetscCall(OptionsSetDefault("-structure_density", "1.1"));
+  PetscCall(OptionsSetDefault("-structure_youngs_modulus", "3e6"));
+  PetscCall(OptionsSetDefault("-structure_poisson_ratio", "0.3"));
+
+  scene->has_fluid             = PETSC_TRUE;
+  fluid->n_dirichlet           = 1;
+  fluid->dirichlet_faces[0]    = FACE_BOTTOM;
+  fluid->dirichlet_fn[0]       = Zero;
+  fluid->n_traction            = 2;
+  fluid->traction_faces[0]     = FACE_LEFT;
+  fluid->traction_kernel[0]    = InletTraction;
+  fluid->traction_faces[1]     = FACE_RIGHT; /* traction-free outlet */
+  fluid->interface_face        = FACE_TOP;
+  fluid->n_fixed_mesh_faces    = 3;
+  fluid->fixed_mesh_faces[0]   = FACE_BOTTOM;
+  fluid->fixed_mesh_faces[1]   = FACE_LEFT;
+  fluid->fixed_mesh_faces[2]   = FACE_RIGHT;
+  fluid->n_extra               = 2;
+  fluid->extra[0]              = amplitude;
+  fluid->extra[1]              = duration;
+
+  scene->has_structure          = PETSC_TRUE;
+  structure->n_dirichlet        = 2;
+  structure->dirichlet_faces[0] = FACE_LEFT;
+  structure->dirichlet_faces[1] = FACE_RIGHT;
+  structure->dirichlet_fn[0]    = Zero;
+  structure->dirichlet_fn[1]    = Zero;
+  structure->n_traction         = 1;
+  structure->traction_faces[0]  = FACE_TOP; /* traction-free */
+  structure->interface_face     = FACE_BOTTOM;
+
+  /* the vertical displacement of the seed's three interface points */
+  scene->n_probes = 3;
+  for (PetscInt i = 0; i < 3; ++i) {
+    scene->probes[i][0] = 1.5 * (i + 1);
+    scene->probes[i][1] = 1.0;
+  }
+  PetscFunctionReturn(0);
+}
