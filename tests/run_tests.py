@@ -254,6 +254,48 @@ def _():
     return check_rates(errs, {"u_L2": 0.9, "p_L2": 0.9})
 
 
+CHANNEL = ["-options_file", "options/channel2d.yaml"]
+CHANNEL_REFERENCE = os.path.join(ROOT, "tests", "reference", "channel2d-50-steps-probes.csv")
+
+
+def read_probes(path):
+    rows = list(csv.reader(open(path)))
+    return rows[0], [[float(v) for v in r] for r in rows[1:]]
+
+
+@test("channel2d 50 steps: jump <= tol every step, probes = reference")
+def _():
+    out = os.path.join(WORK, "channel")
+    s = solve(CHANNEL + ["-t_final", "0.005"], out=out)
+    last = {}
+    for r in csv.DictReader(open(os.path.join(out, "history.csv"))):
+        last[int(r["step"])] = float(r["jump"])
+    assert len(last) == 50 and max(last.values()) <= 1e-6, "steps %d, worst final jump %.2e" % (len(last), max(last.values()))
+    head, got = read_probes(os.path.join(out, "probes.csv"))
+    ref_head, ref = read_probes(CHANNEL_REFERENCE)
+    assert head == ref_head and len(got) == len(ref), "probe layout differs from the reference"
+    worst = 0.0
+    for c in range(1, len(head)):
+        scale = max(abs(r[c]) for r in ref)
+        for g, r in zip(got, ref):
+            worst = max(worst, abs(g[c] - r[c]) / scale)
+    assert worst <= 1e-8, "probes differ from the reference by %.2e relative" % worst
+    return "%.2f GN its/step, probes within %.1e of the reference" % (s["avg_coupling_iterations"], worst)
+
+
+@test("channel2d: fluid | structure ranks = 1 rank")
+def _():
+    args = CHANNEL + ["-t_final", "0.001"]
+    outs = [os.path.join(WORK, "ch1"), os.path.join(WORK, "ch2")]
+    solve(args, out=outs[0])
+    two = solve(args + ["-structure_ranks", "1"], nproc=2, out=outs[1])
+    assert two["ranks"] == {"fluid": 1, "structure": 1}, "ranks %s" % two["ranks"]
+    (_, a), (_, b) = read_probes(os.path.join(outs[0], "probes.csv")), read_probes(os.path.join(outs[1], "probes.csv"))
+    worst = max(abs(x - y) / max(abs(x), 1e-300) for ra, rb in zip(a, b) for x, y in zip(ra[1:], rb[1:]) if x != 0)
+    assert worst <= 1e-8, "2 ranks differ by %.2e relative" % worst
+    return "max relative difference %.1e" % worst
+
+
 @test("summary.json has every DESIGN key")
 def _():
     s = solve(FLUID_SPACE)
@@ -309,6 +351,7 @@ def bad_input_cases():
         ("negative Tikhonov weight", ["-scene", "mms-stokes", "-coupling_tikhonov", "-1"], "-coupling_tikhonov"),
         ("zero coupling tolerance", ["-scene", "mms-stokes", "-coupling_tol", "0"], "-coupling_tol"),
         ("relaxed descent without Tikhonov", ["-scene", "mms-stokes", "-tao_type", "sdrelaxed"], "-coupling_tikhonov"),
+        ("mesh motion inverting cells", ["-scene", "gcl", "-dt", "0.01", "-t_final", "0.1", "-gcl_amplitude", "0.6"], "inverted or degenerate at step"),
         ("diverging coupling says where", ["-options_file", "options/mms-stokes.yaml", "-t_final", "0.6", "-tao_type", "sdrelaxed",
                                            "-coupling_tikhonov", "1e-4", "-tao_sdrelaxed_alpha", "0.5"], "step 1, iteration"),
     ]

@@ -249,7 +249,7 @@ static PetscErrorCode CheckCells(Fluid f, Vec coordinates)
     }
     if (first == size) PetscFunctionReturn(0);
     PetscCallMPI(MPI_Bcast(where, 3, MPIU_REAL, first, f->comm));
-    SETERRQ(f->comm, PETSC_ERR_NOT_CONVERGED, "fluid mesh inverted or degenerate at step %" PetscInt_FMT " (t = %g): cell %d near (%g, %g) has a corner below 1e-3 of its reference area; the load is too large for this mesh motion (-mesh_motion elastic or a finer mesh may help)", f->step, (double)f->time, (int)where[0], (double)where[1], (double)where[2]);
+    SETERRQ(f->comm, PETSC_ERR_NOT_CONVERGED, "fluid mesh inverted or degenerate at step %" PetscInt_FMT " (t = %g): cell %d near (%g, %g) has a corner below 1e-3 of its reference area: the displacement is too large for this mesh (-mesh_motion elastic or a finer mesh may help)", f->step, (double)f->time, (int)where[0], (double)where[1], (double)where[2]);
   }
 }
 
