@@ -170,6 +170,7 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
   PetscCall(FluidSetUpWeakForm(f));
   if (f->model == FLUID_STOKES) policy = FEM_JACOBIAN_CONSTANT;
   else if (f->interface_face) policy = FEM_JACOBIAN_ON_REQUEST;
+  f->chord = policy == FEM_JACOBIAN_ON_REQUEST ? PETSC_TRUE : PETSC_FALSE;
   PetscCall(FEMCreateSNES(f->dm, "fluid_", policy, &f->counts.factorizations, &f->snes));
   PetscCall(SNESGetTolerances(f->snes, &f->atol, NULL, NULL, NULL, NULL));
   if (data->mesh_displacement) f->moving = PETSC_TRUE;
@@ -177,6 +178,7 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
   PetscCall(PetscObjectSetName((PetscObject)f->x, "fluid"));
   PetscCall(VecDuplicate(f->x, &f->history));
   PetscCall(VecDuplicate(f->x, &f->rhs));
+  PetscCall(VecDuplicate(f->x, &f->x_start));
   PetscCall(DMCreateLocalVector(f->dm, &f->xlocal_old));
   if (f->moving) PetscCall(FluidALESetUp(f));
   if (data->exact[0] && data->exact[1]) {
@@ -245,9 +247,28 @@ PetscErrorCode FluidSolve(Fluid f, Vec load, PetscInt step)
     PetscCall(VecNorm(f->rhs, NORM_2, &rhs_norm));
     PetscCall(SNESSetTolerances(f->snes, PetscMax(f->atol, 1e-13 * rhs_norm), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT));
   }
+  if (f->chord) PetscCall(VecCopy(f->x, f->x_start));
   PetscCall(SNESSolve(f->snes, f->rhs, f->x));
   PetscCall(SNESGetConvergedReason(f->snes, &reason));
   PetscCall(SNESGetIterationNumber(f->snes, &its));
+  if (reason < 0 && f->chord) {
+    /* the factors in hand came from a state too far away: refactor where this solve
+       started and try once more */
+    f->counts.linear_solves += PetscMax(its, 1);
+    SNESLineSearch ls;
+    PetscCall(VecCopy(f->x_start, f->x));
+    PetscCall(FEMUpdateJacobian(f->snes, f->x));
+    f->chord_restarts++;
+    /* Newton with a fresh Jacobian at every iteration and a backtracking search */
+    PetscCall(SNESGetLineSearch(f->snes, &ls));
+    PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBT));
+    PetscCall(SNESSetLagJacobian(f->snes, 1));
+    PetscCall(SNESSolve(f->snes, f->rhs, f->x));
+    PetscCall(SNESGetConvergedReason(f->snes, &reason));
+    PetscCall(SNESGetIterationNumber(f->snes, &its));
+    PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
+    PetscCall(SNESSetLagJacobian(f->snes, -1));
+  }
   PetscCheck(reason > 0, f->comm, PETSC_ERR_NOT_CONVERGED, "fluid solve failed at step %" PetscInt_FMT " (t = %g) after %" PetscInt_FMT " Newton iterations: SNES reason %s", step, (double)f->time, its, SNESConvergedReasons[reason]);
   f->counts.nonlinear_solves += 1;
   f->counts.linear_solves += PetscMax(its, 1);
@@ -341,6 +362,7 @@ PetscErrorCode FluidDestroy(Fluid *fluid)
   PetscCall(VecDestroy(&f->x));
   PetscCall(VecDestroy(&f->history));
   PetscCall(VecDestroy(&f->rhs));
+  PetscCall(VecDestroy(&f->x_start));
   PetscCall(FluidALEDestroy(f));
   PetscCall(VecDestroy(&f->xlocal_old));
   PetscCall(SNESDestroy(&f->snes));

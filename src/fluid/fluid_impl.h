@@ -16,7 +16,9 @@ struct _p_Fluid {
   Vec            x;          /* (u, p) at `time` */
   Vec            xlocal_old; /* previous state with its boundary values */
   Vec            history;    /* rho/dt M(Omega^{n-1}) u^{n-1} */
-  Vec            rhs;
+  Vec            rhs, x_start;
+  PetscBool      chord;          /* nonlinear solves on factors from another state */
+  PetscInt       chord_restarts; /* solves that needed fresh factors */
   PetscInt       interface_face;            /* 0: no interface */
   PetscBool      interface_convective_term; /* -1/2 rho ((u.n) u, v) on the interface: the control absorbs it */
   PetscBool      initial_projection;
