@@ -37,6 +37,9 @@ PetscErrorCode FluidSetFromOptions(Fluid f)
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-fluid_viscosity", "fluid dynamic viscosity mu", &f->mu));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-fluid_velocity_degree", "polynomial degree of the velocity", 1, 4, &f->velocity_degree));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-fluid_pressure_degree", "polynomial degree of the pressure", 1, 3, &f->pressure_degree));
+  PetscCall(PetscOptionsBool("-fluid_backflow_stabilization", "Add -1/2 rho ((u-z).n)_- (u, v) on the traction boundaries, against backflow instabilities", NULL, f->backflow, &f->backflow, NULL));
+  f->n_backflow_faces = FSIOPT_MAX_BOUNDARIES;
+  PetscCall(PetscOptionsIntArray("-fluid_backflow_faces", "Face sets that get the backflow stabilization (default: every traction face)", NULL, f->backflow_faces, &f->n_backflow_faces, &f->backflow_faces_given));
   PetscCall(PetscOptionsBool("-fluid_initial_projection", "Start from the Stokes projection of the scene's exact solution (discretely divergence free) instead of its interpolant", NULL, f->initial_projection, &f->initial_projection, NULL));
   PetscOptionsEnd();
   PetscCheck(f->pressure_degree < f->velocity_degree, f->comm, PETSC_ERR_ARG_INCOMP, "option -fluid_pressure_degree: expected a degree below -fluid_velocity_degree (%" PetscInt_FMT ") for an inf-sup stable Taylor-Hood pair, got %" PetscInt_FMT, f->velocity_degree, f->pressure_degree);
@@ -98,6 +101,24 @@ static PetscErrorCode FluidSetUpWeakForm(Fluid f)
   PetscCall(PetscDSGetWeakForm(ds, &wf));
   if (f->data.load_value_kernel || f->data.load_stress_kernel) PetscCall(PetscWeakFormAddResidual(wf, NULL, 0, 0, 0, f->data.load_value_kernel, f->data.load_stress_kernel));
   PetscCall(FEMAddBoundaries(f->dm, 0, &f->data, f->datums, &f->time));
+  if (f->backflow && f->model == FLUID_NAVIER_STOKES) {
+    DMLabel label;
+    PetscCall(DMGetLabel(f->dm, "Face Sets", &label));
+    for (PetscInt b = 0; b < f->data.n_traction; ++b) {
+      PetscWeakForm bdwf;
+      PetscInt      bd;
+      char          name[64];
+      PetscBool     listed = f->backflow_faces_given ? PETSC_FALSE : PETSC_TRUE;
+
+      for (PetscInt i = 0; i < f->n_backflow_faces && f->backflow_faces_given; ++i) listed = listed || f->backflow_faces[i] == f->data.traction_faces[b];
+      if (!listed) continue;
+      PetscCall(PetscSNPrintf(name, sizeof(name), "backflow_%" PetscInt_FMT, f->data.traction_faces[b]));
+      PetscCall(DMAddBoundary(f->dm, DM_BC_NATURAL, name, label, 1, &f->data.traction_faces[b], 0, 0, NULL, NULL, NULL, NULL, &bd));
+      PetscCall(PetscDSGetBoundary(ds, bd, &bdwf, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
+      PetscCall(PetscWeakFormAddBdResidual(bdwf, label, f->data.traction_faces[b], 0, 0, FluidF0Backflow, NULL));
+      PetscCall(PetscWeakFormAddBdJacobian(bdwf, label, f->data.traction_faces[b], 0, 0, 0, FluidG0Backflow, NULL, NULL, NULL));
+    }
+  }
   if (f->interface_face && f->interface_convective_term && f->model == FLUID_NAVIER_STOKES) {
     DMLabel       label;
     PetscWeakForm bdwf;

@@ -22,6 +22,8 @@ struct _p_Fluid {
   PetscInt       interface_face;            /* 0: no interface */
   PetscBool      interface_convective_term; /* -1/2 rho ((u.n) u, v) on the interface: the control absorbs it */
   PetscBool      initial_projection;
+  PetscBool      backflow, backflow_faces_given;
+  PetscInt       n_backflow_faces, backflow_faces[FSIOPT_MAX_BOUNDARIES];
   PetscReal      atol; /* the user's (or our default) absolute residual tolerance */
   /* moving meshes (fluid_ale.c) */
   PetscBool      moving;

@@ -113,3 +113,26 @@ void FluidG0InterfaceConvection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const
   for (PetscInt c = 0; c < dim; ++c)
     for (PetscInt d = 0; d < dim; ++d) g0[c * dim + d] = -half_rho * (u[uOff[0] + c] * n[d] + (c == d ? un : 0.0));
 }
+
+/* Backflow stabilization on open boundaries: -1/2 rho ((u - z).n)_- (u, v), which cancels
+   the energy a traction-free boundary lets in where the flow turns inward. */
+void FluidF0Backflow(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], const PetscReal n[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
+{
+  const PetscScalar half_rho = 0.5 * constants[FLUID_RHO] * constants[FLUID_OPERATOR] * constants[FLUID_CONVECTION];
+  PetscScalar       un       = 0;
+
+  for (PetscInt d = 0; d < dim; ++d) un += (u[uOff[0] + d] - MESH_VELOCITY(d)) * n[d];
+  if (PetscRealPart(un) >= 0) return;
+  for (PetscInt c = 0; c < dim; ++c) f0[c] -= half_rho * un * u[uOff[0] + c];
+}
+
+void FluidG0Backflow(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], const PetscReal n[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g0[])
+{
+  const PetscScalar half_rho = 0.5 * constants[FLUID_RHO] * constants[FLUID_OPERATOR] * constants[FLUID_CONVECTION];
+  PetscScalar       un       = 0;
+
+  for (PetscInt d = 0; d < dim; ++d) un += (u[uOff[0] + d] - MESH_VELOCITY(d)) * n[d];
+  if (PetscRealPart(un) >= 0) return;
+  for (PetscInt c = 0; c < dim; ++c)
+    for (PetscInt d = 0; d < dim; ++d) g0[c * dim + d] -= half_rho * (u[uOff[0] + c] * n[d] + (c == d ? un : 0.0));
+}
