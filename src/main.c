@@ -174,6 +174,11 @@ static PetscErrorCode Run(void)
   PetscCall(DMDestroy(&fluid_mesh));
   PetscCall(DMDestroy(&structure_mesh));
   PetscCall(PetscLogStagePop());
+  if (help) {
+    /* every object has read its options by now: the listing is complete */
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fsiopt: -help: the options above; no time step was run\n"));
+    params.steps = 0;
+  }
 
   for (PetscInt step = 1; step <= params.steps; ++step) {
     if (coupling) {
@@ -196,6 +201,7 @@ static PetscErrorCode Run(void)
     }
   }
 
+  if (help) goto cleanup;
   PetscCall(PetscLogStagePush(FSIOPT_STAGE_OUTPUT));
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_ERRORS, 0, 0, 0, 0));
   if (fluid) PetscCall(FluidErrors(fluid, &fluid_errors));
@@ -247,6 +253,7 @@ static PetscErrorCode Run(void)
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\nfsiopt: outputs in %s/\n", params.output_dir));
   PetscCall(PetscLogStagePop());
 
+cleanup:
   PetscCall(CouplingDestroy(&coupling));
   PetscCall(ProbesClose(&probes, PETSC_FALSE));
   PetscCall(VecDestroy(&interface_displacement));
