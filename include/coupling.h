@@ -24,10 +24,6 @@ typedef enum { CONTROL_TRACTION, CONTROL_CONVECTIVE } ControlVariant;
 
 typedef struct _p_CouplingProblem *CouplingProblem;
 
-typedef struct {
-  PetscInt residuals, jacobians, sensitivities, adjoints;
-} CouplingProblemCounts;
-
 PetscErrorCode CouplingProblemCreate(MPI_Comm, Fluid, Structure, Interface, const PhysicsData *fluid_data, CouplingProblem *);
 PetscErrorCode CouplingProblemDestroy(CouplingProblem *);
 PetscErrorCode CouplingProblemGetControlVariant(ControlVariant *); /* -coupling_control, readable before the solvers exist */
@@ -47,7 +43,6 @@ PetscErrorCode CouplingProblemJacobianMultTranspose(CouplingProblem, Vec rho, Ve
 /* ||u - v_s||_{L2(Gamma_I)} at x (with the consistent interface mass) */
 PetscErrorCode CouplingProblemJump(CouplingProblem, Vec x, PetscReal *jump);
 PetscErrorCode CouplingProblemEndStep(CouplingProblem, Vec x);
-PetscErrorCode CouplingProblemGetCounts(CouplingProblem, CouplingProblemCounts *);
 /* The structure's displacement on the interface nodes (fluid node order). Collective. */
 PetscErrorCode CouplingProblemInterfaceDisplacement(CouplingProblem, Vec all);
 

@@ -29,6 +29,8 @@ PetscErrorCode FEMSolveSteady(DM dm, const char prefix[], PetscInt *jacobian_ass
 /* After the coordinates moved: PETSc 3.18 keeps the cell geometry of residual and
    Jacobian assembly composed on the cell IS, and the coordinate field cached on the DM. */
 PetscErrorCode FEMInvalidateGeometry(DM dm);
+/* A solve with A or A^T, the factors the SNES holds (no new factorization). */
+PetscErrorCode FEMLinearSolve(SNES snes, Vec rhs, Vec x, PetscBool transpose);
 /* Assembles the Jacobian at x and factors it now (FEM_JACOBIAN_ON_REQUEST). */
 PetscErrorCode FEMUpdateJacobian(SNES snes, Vec x);
 /* Per field: L2 error and L2 error of the gradient against closed forms at time t

@@ -28,14 +28,12 @@ PetscErrorCode FluidLinearSolve(Fluid, Vec rhs, Vec x, PetscBool transpose); /* 
 PetscErrorCode FluidGetDM(Fluid, DM *);
 PetscErrorCode FluidGetSolution(Fluid, Vec *);
 PetscErrorCode FluidGetTime(Fluid, PetscReal *);
-PetscBool      FluidIsLinear(Fluid);
 
 /* Moving meshes (fluid_ale.c). Displacements are local vectors in the coordinate layout
    (vertex values), relative to the reference mesh. */
 PetscErrorCode FluidEnableMeshMotion(Fluid); /* before FluidSetUp */
 PetscErrorCode FluidSetMeshDisplacement(Fluid, Vec displacement);
 PetscErrorCode FluidGetMeshDisplacement(Fluid, Vec *displacement);
-PetscErrorCode FluidGetReferenceCoordinates(Fluid, Vec *coordinates);
 PetscErrorCode FluidErrors(Fluid, ErrorTable *);
 PetscErrorCode FluidGetCounts(Fluid, SolverCounts *);
 PetscErrorCode FluidGetInfo(Fluid, PetscInt *dim, PetscInt *ndofs);

@@ -44,7 +44,6 @@ PetscErrorCode InterfaceStructureInsertLocal(Interface, Vec all, Vec structure_l
 
 /* Interpolates a closed form at the interface nodes at time t. */
 PetscErrorCode InterfaceInterpolate(Interface, FieldFn, PetscReal t, Vec all);
-PetscErrorCode InterfaceGetSizes(Interface, PetscInt *nodes, PetscInt *control_nodes);
 /* This rank's interface nodes in the order of its part of an interface vector: the
    fluid mesh points carrying them and their reference coordinates. */
 PetscErrorCode InterfaceGetFluidNodes(Interface, PetscInt *n, const PetscInt **points, const PetscReal **coords);

@@ -12,6 +12,5 @@ PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfix
 /* interface: an interface vector (fluid node order) of displacements; the result is a
    local vector in the fluid's coordinate layout. Collective on the fluid's ranks. */
 PetscErrorCode MeshMotionSolve(MeshMotion, Interface, Vec interface, Vec displacement);
-PetscErrorCode MeshMotionGetFactorizations(MeshMotion, PetscInt *);
 PetscErrorCode MeshMotionDestroy(MeshMotion *);
 #endif

@@ -3,8 +3,8 @@
 #include "fsiopt.h"
 #include "interface.h"
 
-/* probes.csv: t, then the structure displacement (each component) at interface points.
-   Written as probes.csv.partial until ProbesClose(complete). */
+/* probes.csv: t, then the structure displacement (each component) at interface points,
+   a PartialFile until ProbesClose(complete). */
 typedef struct _p_Probes *Probes;
 
 PetscErrorCode ProbesCreate(MPI_Comm, Interface, PetscInt n, const PetscReal points[][3], const char dir[], Probes *);

@@ -30,7 +30,6 @@ PetscErrorCode StructureGetDM(Structure, DM *);
 PetscErrorCode StructureGetVelocityLocal(Structure, Vec *);
 PetscErrorCode StructureGetDisplacementLocal(Structure, Vec *); /* eta^n with its boundary values; do not modify */
 PetscErrorCode StructureRestoreVelocityLocal(Structure, Vec *);
-PetscErrorCode StructureGetSolution(Structure, Vec *);
 PetscErrorCode StructureErrors(Structure, ErrorTable *);
 PetscErrorCode StructureGetCounts(Structure, SolverCounts *);
 PetscErrorCode StructureGetInfo(Structure, PetscInt *dim, PetscInt *ndofs);

@@ -197,6 +197,17 @@ PetscErrorCode FEMInvalidateGeometry(DM dm)
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode FEMLinearSolve(SNES snes, Vec rhs, Vec x, PetscBool transpose)
+{
+  KSP ksp;
+
+  PetscFunctionBeginUser;
+  PetscCall(SNESGetKSP(snes, &ksp));
+  if (transpose) PetscCall(KSPSolveTranspose(ksp, rhs, x));
+  else PetscCall(KSPSolve(ksp, rhs, x));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FEMUpdateJacobian(SNES snes, Vec x)
 {
   Mat J, P;

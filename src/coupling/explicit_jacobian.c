@@ -3,7 +3,7 @@
 struct _p_ExplicitJacobian {
   Mat        J;       /* the Jacobian shell */
   Mat        J0;      /* dense, sequential, the same on every rank */
-  Vec        e, Je, all, y;
+  Vec        e, Je, all, y, z;
   VecScatter to_all;
   PetscBool  rebuild, factored;
   PetscInt   builds;
@@ -41,6 +41,7 @@ static PetscErrorCode Build(ExplicitJacobian E)
   }
   PetscCall(MatLUFactor(E->J0, NULL, NULL, NULL));
   if (!E->y) PetscCall(VecDuplicate(E->all, &E->y));
+  if (!E->z) PetscCall(VecDuplicate(E->all, &E->z));
   E->factored = PETSC_TRUE;
   E->rebuild  = PETSC_FALSE;
   E->builds++;
@@ -50,19 +51,16 @@ static PetscErrorCode Build(ExplicitJacobian E)
 static PetscErrorCode Apply(PC pc, Vec x, Vec out)
 {
   ExplicitJacobian E;
-  Vec              z;
 
   PetscFunctionBeginUser;
   PetscCall(PCShellGetContext(pc, &E));
   if (E->rebuild || !E->factored) PetscCall(Build(E));
   PetscCall(VecScatterBegin(E->to_all, x, E->all, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterEnd(E->to_all, x, E->all, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecDuplicate(E->all, &z));
   PetscCall(MatSolveTranspose(E->J0, E->all, E->y)); /* J0^{-T} x */
-  PetscCall(MatSolve(E->J0, E->y, z));               /* J0^{-1} J0^{-T} x */
-  PetscCall(VecScatterBegin(E->to_all, z, out, INSERT_VALUES, SCATTER_REVERSE));
-  PetscCall(VecScatterEnd(E->to_all, z, out, INSERT_VALUES, SCATTER_REVERSE));
-  PetscCall(VecDestroy(&z));
+  PetscCall(MatSolve(E->J0, E->y, E->z));            /* J0^{-1} J0^{-T} x */
+  PetscCall(VecScatterBegin(E->to_all, E->z, out, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(E->to_all, E->z, out, INSERT_VALUES, SCATTER_REVERSE));
   PetscFunctionReturn(0);
 }
 
@@ -104,6 +102,7 @@ PetscErrorCode ExplicitJacobianDestroy(ExplicitJacobian *explicit_jacobian)
   PetscCall(VecDestroy(&E->Je));
   PetscCall(VecDestroy(&E->all));
   PetscCall(VecDestroy(&E->y));
+  PetscCall(VecDestroy(&E->z));
   PetscCall(VecScatterDestroy(&E->to_all));
   PetscCall(PetscFree(*explicit_jacobian));
   PetscFunctionReturn(0);

@@ -29,8 +29,8 @@ struct _p_CouplingProblem {
   PetscReal                state_jump;
   PetscReal                converged_jump; /* at or below it, no new Jacobian: the optimizer stops there */
   PetscInt                 jacobian_lag, jacobian_age; /* refactor the fluid every jacobian_lag requests */
-  CouplingProblemCounts    counts;
   MeshMotion               motion; /* fluid ranks of a moving interface; NULL otherwise */
+  PetscBool                moving; /* the same on every rank */
   Vec                      mesh_displacement;
 };
 
@@ -124,7 +124,8 @@ PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure struc
     PetscCall(VecDuplicate(P->structure_vec, &P->structure_sol));
     PetscCall(DMCreateLocalVector(dm, &P->structure_local));
   }
-  if (fluid_data->n_fixed_mesh_faces) {
+  P->moving = fluid_data->n_fixed_mesh_faces ? PETSC_TRUE : PETSC_FALSE;
+  if (P->moving) {
     if (fluid) {
       DM  dm;
       Vec d;
@@ -189,13 +190,6 @@ PetscErrorCode CouplingProblemInterfaceDisplacement(CouplingProblem P, Vec all)
   PetscFunctionBeginUser;
   if (P->structure) PetscCall(StructureGetDisplacementLocal(P->structure, &eta));
   PetscCall(InterfaceStructureTrace(P->itf, eta, all));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode CouplingProblemGetCounts(CouplingProblem P, CouplingProblemCounts *counts)
-{
-  PetscFunctionBeginUser;
-  *counts = P->counts;
   PetscFunctionReturn(0);
 }
 
@@ -349,7 +343,6 @@ PetscErrorCode CouplingProblemResidual(CouplingProblem P, Vec x, Vec F)
   PetscCall(VecCopy(x, P->state_x));
   PetscCall(VecCopy(F, P->state_F));
   P->state_valid = PETSC_TRUE;
-  P->counts.residuals++;
   PetscFunctionReturn(0);
 }
 
@@ -372,11 +365,8 @@ PetscErrorCode CouplingProblemJump(CouplingProblem P, Vec x, PetscReal *jump)
    Algorithm 3.3: the domain lags one Gauss-Newton iteration). Collective. */
 static PetscErrorCode MoveMesh(CouplingProblem P)
 {
-  PetscBool moving = P->motion ? PETSC_TRUE : PETSC_FALSE;
-
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &moving, 1, MPIU_BOOL, MPI_LOR, P->comm));
-  if (!moving) PetscFunctionReturn(0);
+  if (!P->moving) PetscFunctionReturn(0);
   {
     Vec eta = NULL;
     if (P->structure) PetscCall(StructureGetDisplacementLocal(P->structure, &eta));
@@ -417,7 +407,6 @@ static PetscErrorCode UpdateJacobian(CouplingProblem P, Vec x, PetscBool force)
   }
   PetscCall(VecCopy(x, P->jacobian_x));
   P->jacobian_valid = PETSC_TRUE;
-  P->counts.jacobians++;
   PetscFunctionReturn(0);
 }
 
@@ -464,7 +453,6 @@ PetscErrorCode CouplingProblemJacobianMult(CouplingProblem P, Vec h, Vec y)
   PetscCall(ControlToLoad(P, h, P->all_q));
   PetscCall(SolveAndTrace(P, PETSC_FALSE, y));
   PetscCall(VecPointwiseMult(y, y, P->weight_sqrt));
-  P->counts.sensitivities++;
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_SENSITIVITY, 0, 0, 0, 0));
   PetscCall(PetscLogStagePop());
   PetscFunctionReturn(0);
@@ -482,7 +470,6 @@ PetscErrorCode CouplingProblemJacobianMultTranspose(CouplingProblem P, Vec rho, 
   PetscCall(MatMult(P->mass, P->all_a, P->all_b));
   PetscCall(InterfaceRestrict(P->itf, P->all_b, y));
   PetscCall(VecPointwiseDivide(y, y, P->weight_sqrt));
-  P->counts.adjoints++;
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_ADJOINT, 0, 0, 0, 0));
   PetscCall(PetscLogStagePop());
   PetscFunctionReturn(0);

@@ -141,11 +141,6 @@ PetscErrorCode FluidSetInterface(Fluid f, PetscInt face, PetscBool convective_te
   PetscFunctionReturn(0);
 }
 
-PetscBool FluidIsLinear(Fluid f)
-{
-  return f->model == FLUID_STOKES ? PETSC_TRUE : PETSC_FALSE;
-}
-
 /* The Stokes projection of the exact solution: a(u_h, v) - (p_h, div v) = (sigma_ex, grad v),
    (q, div u_h) = 0, with the Dirichlet data at t0 and sigma_ex n on the other sides. It is
    discretely divergence free, so a first step with a tiny dt does not see an O(h^k/dt)
@@ -315,12 +310,8 @@ PetscErrorCode FluidUpdateJacobian(Fluid f)
 
 PetscErrorCode FluidLinearSolve(Fluid f, Vec rhs, Vec x, PetscBool transpose)
 {
-  KSP ksp;
-
   PetscFunctionBeginUser;
-  PetscCall(SNESGetKSP(f->snes, &ksp));
-  if (transpose) PetscCall(KSPSolveTranspose(ksp, rhs, x));
-  else PetscCall(KSPSolve(ksp, rhs, x));
+  PetscCall(FEMLinearSolve(f->snes, rhs, x, transpose));
   f->counts.linear_solves += 1;
   PetscFunctionReturn(0);
 }

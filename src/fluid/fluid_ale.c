@@ -280,13 +280,6 @@ PetscErrorCode FluidGetMeshDisplacement(Fluid f, Vec *displacement)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FluidGetReferenceCoordinates(Fluid f, Vec *coordinates)
-{
-  PetscFunctionBeginUser;
-  *coordinates = f->coordinates_reference;
-  PetscFunctionReturn(0);
-}
-
 /* The scene's closed-form motion d(X, t) at the reference vertices. */
 PetscErrorCode FluidPrescribedDisplacement(Fluid f, FieldFn motion, PetscReal t, Vec displacement)
 {

@@ -408,14 +408,6 @@ PetscErrorCode InterfaceGetLumpedControlMass(Interface itf, Vec *lumped)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode InterfaceGetSizes(Interface itf, PetscInt *nodes, PetscInt *control_nodes)
-{
-  PetscFunctionBeginUser;
-  if (nodes) PetscCallMPI(MPI_Allreduce(&itf->fluid.n, nodes, 1, MPIU_INT, MPI_SUM, itf->comm));
-  if (control_nodes) PetscCallMPI(MPI_Allreduce(&itf->ncontrol, control_nodes, 1, MPIU_INT, MPI_SUM, itf->comm));
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode InterfaceRestrict(Interface itf, Vec all, Vec control)
 {
   const PetscScalar *a;

@@ -1,14 +1,12 @@
 #include "probes.h"
-#include "history.h"
-#include <stdio.h>
+#include "output.h"
 
 struct _p_Probes {
   MPI_Comm   comm;
   PetscInt   n, dim;
   VecScatter to_zero;
   Vec        values; /* on rank 0: n * dim */
-  FILE      *fp;
-  char       path[PETSC_MAX_PATH_LEN], partial[PETSC_MAX_PATH_LEN];
+  PartialFile file;
 };
 
 PetscErrorCode ProbesCreate(MPI_Comm comm, Interface itf, PetscInt n, const PetscReal points[][3], const char dir[], Probes *probes)
@@ -48,15 +46,11 @@ PetscErrorCode ProbesCreate(MPI_Comm comm, Interface itf, PetscInt n, const Pets
   PetscCall(ISDestroy(&from));
   PetscCall(PetscFree(index));
   PetscCall(VecDestroy(&all));
-  PetscCall(PetscSNPrintf(P->path, sizeof(P->path), "%s/probes.csv", dir));
-  PetscCall(PetscSNPrintf(P->partial, sizeof(P->partial), "%s/probes.csv.partial", dir));
-  if (!rank) PetscCall(OutputMakeDirectories(dir));
-  PetscCallMPI(MPI_Barrier(comm));
-  PetscCall(PetscFOpen(comm, P->partial, "w", &P->fp));
-  PetscCall(PetscFPrintf(comm, P->fp, "t"));
+  PetscCall(PartialFileOpen(comm, dir, "probes.csv", &P->file));
+  PetscCall(PetscFPrintf(comm, P->file.fp, "t"));
   for (PetscInt p = 0; p < n; ++p)
-    for (PetscInt d = 0; d < dim; ++d) PetscCall(PetscFPrintf(comm, P->fp, ",d%c(%g;%g)", "xyz"[d], (double)points[p][0], (double)points[p][1]));
-  PetscCall(PetscFPrintf(comm, P->fp, "\n"));
+    for (PetscInt d = 0; d < dim; ++d) PetscCall(PetscFPrintf(comm, P->file.fp, ",d%c(%g;%g)", "xyz"[d], (double)points[p][0], (double)points[p][1]));
+  PetscCall(PetscFPrintf(comm, P->file.fp, "\n"));
   *probes = P;
   PetscFunctionReturn(0);
 }
@@ -70,25 +64,22 @@ PetscErrorCode ProbesRecord(Probes P, PetscReal t, Vec displacement)
   PetscCall(VecScatterBegin(P->to_zero, displacement, P->values, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterEnd(P->to_zero, displacement, P->values, INSERT_VALUES, SCATTER_FORWARD));
   PetscCallMPI(MPI_Comm_rank(P->comm, &rank));
-  PetscCall(PetscFPrintf(P->comm, P->fp, "%.10g", (double)t));
+  PetscCall(PetscFPrintf(P->comm, P->file.fp, "%.10g", (double)t));
   PetscCall(VecGetArrayRead(P->values, &v));
   if (!rank)
-    for (PetscInt i = 0; i < P->n * P->dim; ++i) PetscCall(PetscFPrintf(PETSC_COMM_SELF, P->fp, ",%.12e", (double)PetscRealPart(v[i])));
+    for (PetscInt i = 0; i < P->n * P->dim; ++i) PetscCall(PetscFPrintf(PETSC_COMM_SELF, P->file.fp, ",%.12e", (double)PetscRealPart(v[i])));
   PetscCall(VecRestoreArrayRead(P->values, &v));
-  PetscCall(PetscFPrintf(P->comm, P->fp, "\n"));
+  PetscCall(PetscFPrintf(P->comm, P->file.fp, "\n"));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode ProbesClose(Probes *probes, PetscBool complete)
 {
-  Probes      P = *probes;
-  PetscMPIInt rank;
+  Probes P = *probes;
 
   PetscFunctionBeginUser;
   if (!P) PetscFunctionReturn(0);
-  PetscCall(PetscFClose(P->comm, P->fp));
-  PetscCallMPI(MPI_Comm_rank(P->comm, &rank));
-  if (complete && !rank) PetscCheck(rename(P->partial, P->path) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot rename %s to %s", P->partial, P->path);
+  PetscCall(PartialFileClose(&P->file, complete));
   PetscCall(VecScatterDestroy(&P->to_zero));
   PetscCall(VecDestroy(&P->values));
   PetscCall(PetscFree(*probes));

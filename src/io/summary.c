@@ -1,5 +1,5 @@
 #include "summary.h"
-#include "history.h"
+#include "output.h"
 #include <stdio.h>
 
 PetscErrorCode ErrorTableAdd(ErrorTable *table, const char name[], PetscReal value)

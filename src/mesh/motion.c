@@ -162,13 +162,6 @@ PetscErrorCode MeshMotionSolve(MeshMotion mm, Interface itf, Vec interface, Vec 
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode MeshMotionGetFactorizations(MeshMotion mm, PetscInt *n)
-{
-  PetscFunctionBeginUser;
-  *n = mm->factorizations;
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode MeshMotionDestroy(MeshMotion *motion)
 {
   MeshMotion mm = *motion;

@@ -280,12 +280,8 @@ PetscErrorCode StructureSetInitialLoad(Structure s, Vec load)
 
 PetscErrorCode StructureLinearSolve(Structure s, Vec rhs, Vec x, PetscBool transpose)
 {
-  KSP ksp;
-
   PetscFunctionBeginUser;
-  PetscCall(SNESGetKSP(s->snes, &ksp));
-  if (transpose) PetscCall(KSPSolveTranspose(ksp, rhs, x));
-  else PetscCall(KSPSolve(ksp, rhs, x));
+  PetscCall(FEMLinearSolve(s->snes, rhs, x, transpose));
   s->counts.linear_solves += 1;
   PetscFunctionReturn(0);
 }
@@ -322,13 +318,6 @@ PetscErrorCode StructureGetDM(Structure s, DM *dm)
 {
   PetscFunctionBeginUser;
   *dm = s->dm;
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode StructureGetSolution(Structure s, Vec *eta)
-{
-  PetscFunctionBeginUser;
-  *eta = s->eta;
   PetscFunctionReturn(0);
 }
 

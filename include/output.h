@@ -1,0 +1,18 @@
+#ifndef FSIOPT_OUTPUT_H
+#define FSIOPT_OUTPUT_H
+#include <stdio.h>
+#include <petscsys.h>
+
+PetscErrorCode OutputMakeDirectories(const char dir[]);
+
+/* A CSV written by rank 0 as <dir>/<name>.partial and renamed to <dir>/<name> only when
+   the run completes: a failed run never leaves a file that looks complete. */
+typedef struct {
+  MPI_Comm comm;
+  FILE    *fp;
+  char     path[PETSC_MAX_PATH_LEN], partial[PETSC_MAX_PATH_LEN];
+} PartialFile;
+
+PetscErrorCode PartialFileOpen(MPI_Comm, const char dir[], const char name[], PartialFile *);
+PetscErrorCode PartialFileClose(PartialFile *, PetscBool complete);
+#endif
