@@ -21,6 +21,7 @@
    Jacobians and c = d v_s / d eta^n. The fluid satisfies R_f(x_f) = B_f g and the
    structure R_s(x_s) = -B_s g (B = S M P^T), hence the two plus signs above. */
 typedef enum { CONTROL_TRACTION, CONTROL_CONVECTIVE } ControlVariant;
+typedef enum { DOMAIN_LAGGED, DOMAIN_CURRENT } DomainUpdate; /* -coupling_domain */
 
 typedef struct _p_CouplingProblem *CouplingProblem;
 

@@ -13,6 +13,7 @@
 #include "interface.h"
 #include "coupling.h"
 #include "probes.h"
+#include "fields.h"
 
 static const char help[] = "fsiopt: fluid-structure interaction by optimization-based decoupling.\n"
                            "  fsiopt -options_file options/<scene>.yaml [options]   or   fsiopt -scene <name> [options]\n"
@@ -102,6 +103,7 @@ static PetscErrorCode Run(void)
   CouplingProblem problem   = NULL;
   Coupling        coupling  = NULL;
   Probes          probes    = NULL;
+  FieldWriter     fields    = NULL;
   Vec             interface_displacement = NULL;
   PetscBool       scene_given, help, coupled;
   PetscLogDouble  start, end;
@@ -171,6 +173,8 @@ static PetscErrorCode Run(void)
     }
     PetscCall(PetscLogEventEnd(FSIOPT_EVENT_INTERFACE, 0, 0, 0, 0));
   }
+  PetscCall(FieldWriterCreate(PETSC_COMM_WORLD, &params, fluid, structure, &fields));
+  PetscCall(FieldWriterWrite(fields, 0));
   PetscCall(DMDestroy(&fluid_mesh));
   PetscCall(DMDestroy(&structure_mesh));
   PetscCall(PetscLogStagePop());
@@ -187,6 +191,7 @@ static PetscErrorCode Run(void)
         PetscCall(CouplingProblemInterfaceDisplacement(problem, interface_displacement));
         PetscCall(ProbesRecord(probes, params.t_start + step * params.dt, interface_displacement));
       }
+      PetscCall(FieldWriterWrite(fields, step));
       continue;
     }
     if (fluid) {
@@ -199,6 +204,7 @@ static PetscErrorCode Run(void)
       PetscCall(StructureStep(structure, step));
       PetscCall(PetscLogStagePop());
     }
+    PetscCall(FieldWriterWrite(fields, step));
   }
 
   if (help) goto cleanup;
@@ -246,6 +252,7 @@ static PetscErrorCode Run(void)
   summary.has_structure = scene.has_structure;
   if (!scene.has_fluid) summary.fluid_ranks = 0;
   if (!scene.has_structure) summary.structure_ranks = 0;
+  PetscCall(FieldWriterFinish(fields));
   PetscCall(SummaryWrite(PETSC_COMM_WORLD, params.output_dir, &summary));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fsiopt: scene %s, %" PetscInt_FMT " steps to t = %g:", params.scene, params.steps, (double)params.t_final));
   for (PetscInt i = 0; i < summary.errors.n; ++i) PetscCall(PetscPrintf(PETSC_COMM_WORLD, " %s %.3e", summary.errors.name[i], (double)summary.errors.value[i]));
@@ -256,6 +263,7 @@ static PetscErrorCode Run(void)
 cleanup:
   PetscCall(CouplingDestroy(&coupling));
   PetscCall(ProbesClose(&probes, PETSC_FALSE));
+  PetscCall(FieldWriterDestroy(&fields));
   PetscCall(VecDestroy(&interface_displacement));
   PetscCall(CouplingProblemDestroy(&problem));
   PetscCall(InterfaceDestroy(&itf));

@@ -13,8 +13,8 @@ PetscErrorCode FEMCreateField(DM dm, PetscInt field, const char name[], PetscInt
   PetscCall(DMGetDimension(dm, &dim));
   PetscCall(DMPlexIsSimplex(dm, &simplex));
   if (Nc < 0) Nc = dim;
-  /* k+3 Gauss points per direction: exact for mass terms, ample for convection and error norms. */
-  PetscCall(PetscFECreateLagrange(PETSC_COMM_SELF, dim, Nc, simplex, degree, degree + 2, &fe));
+  /* k+1 Gauss points per direction: exact for mass terms on affine cells; the rest is O(h^{2k}). */
+  PetscCall(PetscFECreateLagrange(PETSC_COMM_SELF, dim, Nc, simplex, degree, degree, &fe));
   PetscCall(PetscObjectSetName((PetscObject)fe, name));
   if (quadrature_from) PetscCall(PetscFECopyQuadrature(quadrature_from, fe));
   PetscCall(DMSetField(dm, field, NULL, (PetscObject)fe));
@@ -278,5 +278,46 @@ PetscErrorCode FEMErrors(DM dm, Vec xglobal, PetscReal t, const FieldFn exact[],
     for (PetscInt f = 0; f < Nf; ++f) h1[f] = PetscSqrtReal(PetscRealPart(integral[f]));
   }
   PetscCall(PetscMemzero(&target, sizeof(target)));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMFreeDofs(DM dm, DM dm_all, IS *is)
+{
+  PetscSection ls, gs, as;
+  PetscInt     pStart, pEnd, n, rstart, k = 0, *idx;
+  Vec          v;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetLocalSection(dm, &ls));
+  PetscCall(DMGetGlobalSection(dm, &gs));
+  PetscCall(DMGetGlobalSection(dm_all, &as));
+  PetscCall(PetscSectionGetChart(gs, &pStart, &pEnd));
+  PetscCall(DMGetGlobalVector(dm, &v));
+  PetscCall(VecGetLocalSize(v, &n));
+  PetscCall(VecGetOwnershipRange(v, &rstart, NULL));
+  PetscCall(DMRestoreGlobalVector(dm, &v));
+  PetscCall(PetscMalloc1(n, &idx));
+  for (PetscInt p = pStart; p < pEnd; ++p) {
+    PetscInt        dof, cdof, goff, aoff, next = 0;
+    const PetscInt *cidx = NULL;
+
+    PetscCall(PetscSectionGetDof(gs, p, &dof));
+    if (dof <= 0) continue; /* not owned here */
+    PetscCall(PetscSectionGetOffset(gs, p, &goff));
+    PetscCall(PetscSectionGetOffset(as, p, &aoff));
+    PetscCall(PetscSectionGetDof(ls, p, &dof));
+    PetscCall(PetscSectionGetConstraintDof(ls, p, &cdof));
+    if (cdof) PetscCall(PetscSectionGetConstraintIndices(ls, p, &cidx));
+    for (PetscInt d = 0, c = 0; d < dof; ++d) {
+      if (c < cdof && cidx[c] == d) {
+        ++c;
+        continue;
+      }
+      idx[goff - rstart + next++] = aoff + d;
+      ++k;
+    }
+  }
+  PetscCheck(k == n, PETSC_COMM_SELF, PETSC_ERR_PLIB, "%" PetscInt_FMT " free dofs mapped, %" PetscInt_FMT " expected", k, n);
+  PetscCall(ISCreateGeneral(PetscObjectComm((PetscObject)dm), n, idx, PETSC_OWN_POINTER, is));
   PetscFunctionReturn(0);
 }

@@ -7,6 +7,7 @@
 #include "motion.h"
 
 static const char *const ControlVariants[]  = {"traction", "convective", "ControlVariant", "CONTROL_", NULL};
+static const char *const DomainUpdates[]    = {"lagged", "current", "DomainUpdate", "DOMAIN_", NULL};
 static const char *const VelocityMeasures[] = {"scheme", "difference", "StructureVelocityMeasure", "STRUCTURE_VELOCITY_", NULL};
 
 struct _p_CouplingProblem {
@@ -29,9 +30,13 @@ struct _p_CouplingProblem {
   PetscReal                state_jump;
   PetscReal                converged_jump; /* at or below it, no new Jacobian: the optimizer stops there */
   PetscInt                 jacobian_lag, jacobian_age; /* refactor the fluid every jacobian_lag requests */
+  PetscBool                predict;                    /* fluid's first guess from the linearization */
+  Vec                      control_change;
   MeshMotion               motion; /* fluid ranks of a moving interface; NULL otherwise */
   PetscBool                moving; /* the same on every rank */
-  Vec                      mesh_displacement;
+  PetscBool                extrapolate_mesh;
+  DomainUpdate             domain;
+  Vec                      mesh_displacement, mesh_displacement_before; /* d^{n-2} */
 };
 
 PetscErrorCode CouplingProblemGetControlVariant(ControlVariant *variant)
@@ -82,10 +87,15 @@ PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure struc
   P->measure    = STRUCTURE_VELOCITY_SCHEME;
   P->converged_jump = -1;
   P->jacobian_lag   = 1;
+  P->predict        = PETSC_TRUE;
+  P->extrapolate_mesh = PETSC_TRUE;
   PetscOptionsBegin(comm, NULL, "Coupling problem options", "coupling");
   PetscCall(PetscOptionsEnum("-coupling_control", "What the control replaces: the fluid traction (seed ch. 3, 6) or the traction minus the convective boundary flux 1/2 rho ((u-z).n) u (seed ch. 4, 5)", NULL, ControlVariants, (PetscEnum)P->variant, (PetscEnum *)&P->variant, NULL));
   PetscCall(PetscOptionsEnum("-coupling_velocity", "Structure velocity matched on the interface: the scheme's own (seed ch. 3, 6) or (eta^n - eta^{n-1})/dt (seed ch. 4, 5)", NULL, VelocityMeasures, (PetscEnum)P->measure, (PetscEnum *)&P->measure, NULL));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_jacobian_lag", "refactor the fluid Jacobian at every K-th Gauss-Newton iteration (1: exact Gauss-Newton; more: an older Jacobian in J h and J^T r)", 1, 1000000, &P->jacobian_lag));
+  PetscCall(PetscOptionsBool("-coupling_predictor", "start each fluid solve of a step from the last state plus its linearized response to the control's change (one solve with the factors in hand)", NULL, P->predict, &P->predict, NULL));
+  PetscCall(PetscOptionsEnum("-coupling_domain", "Fluid domain of an evaluation of F(g): the structure's displacement of the previous Gauss-Newton iteration (seed Algorithm 3.3: fluid and structure solve at the same time) or of this one (the structure solves first, then the mesh moves, then the fluid solves)", NULL, DomainUpdates, (PetscEnum)P->domain, (PetscEnum *)&P->domain, NULL));
+  PetscCall(PetscOptionsBool("-coupling_mesh_extrapolate", "start each step on the fluid mesh 2 d^{n-1} - d^{n-2} instead of d^{n-1}: the first iterations see a domain O(dt^2) (not O(dt)) from the one they will end on", NULL, P->extrapolate_mesh, &P->extrapolate_mesh, NULL));
   PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-coupling_tikhonov", "Tikhonov weight epsilon (delta) of eps/2 ||g||^2_{L2(Gamma_I)}", &P->tikhonov));
   PetscOptionsEnd();
   if (structure) P->velocity_coefficient = StructureVelocityCoefficient(structure, P->measure);
@@ -106,6 +116,7 @@ PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure struc
   PetscCall(VecDuplicate(P->weight_sqrt, &P->state_x));
   PetscCall(VecDuplicate(P->weight_sqrt, &P->state_F));
   PetscCall(VecDuplicate(P->weight_sqrt, &P->jacobian_x));
+  PetscCall(VecDuplicate(P->weight_sqrt, &P->control_change));
   PetscCall(InterfaceCreateVector(itf, &P->all_a));
   PetscCall(VecDuplicate(P->all_a, &P->all_b));
   PetscCall(VecDuplicate(P->all_a, &P->all_q));
@@ -133,6 +144,8 @@ PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure struc
       PetscCall(MeshMotionCreate(dm, fluid_data->interface_face, fluid_data->n_fixed_mesh_faces, fluid_data->fixed_mesh_faces, &P->motion));
       PetscCall(FluidGetMeshDisplacement(fluid, &d));
       PetscCall(VecDuplicate(d, &P->mesh_displacement));
+      PetscCall(VecDuplicate(d, &P->mesh_displacement_before));
+      PetscCall(VecCopy(d, P->mesh_displacement_before));
     }
   }
   PetscCall(MatchInitialVelocity(P));
@@ -152,6 +165,7 @@ PetscErrorCode CouplingProblemDestroy(CouplingProblem *problem)
   PetscCall(VecDestroy(&P->state_x));
   PetscCall(VecDestroy(&P->state_F));
   PetscCall(VecDestroy(&P->jacobian_x));
+  PetscCall(VecDestroy(&P->control_change));
   PetscCall(VecDestroy(&P->all_a));
   PetscCall(VecDestroy(&P->all_b));
   PetscCall(VecDestroy(&P->all_q));
@@ -163,6 +177,7 @@ PetscErrorCode CouplingProblemDestroy(CouplingProblem *problem)
   PetscCall(VecDestroy(&P->structure_sol));
   PetscCall(VecDestroy(&P->structure_local));
   PetscCall(VecDestroy(&P->mesh_displacement));
+  PetscCall(VecDestroy(&P->mesh_displacement_before));
   PetscCall(MeshMotionDestroy(&P->motion));
   PetscCall(PetscFree(*problem));
   PetscFunctionReturn(0);
@@ -273,6 +288,15 @@ PetscErrorCode CouplingProblemBeginStep(CouplingProblem P, PetscInt step)
   P->state_valid    = PETSC_FALSE;
   P->jacobian_valid = PETSC_FALSE;
   if (P->fluid) PetscCall(FluidBeginStep(P->fluid));
+  if (P->motion && P->extrapolate_mesh && P->domain == DOMAIN_LAGGED) {
+    /* the domain lags one iteration (seed Algorithm 3.3): started on Omega^{n-1}, the
+       first iteration's step is spent on the domain's own move */
+    Vec d;
+    PetscCall(FluidGetMeshDisplacement(P->fluid, &d));
+    PetscCall(VecAXPBYPCZ(P->mesh_displacement, 2.0, -1.0, 0.0, d, P->mesh_displacement_before));
+    PetscCall(VecCopy(d, P->mesh_displacement_before));
+    PetscCall(FluidSetMeshDisplacement(P->fluid, P->mesh_displacement));
+  }
   if (P->structure) PetscCall(StructureBeginStep(P->structure));
   PetscCall(VecZeroEntries(P->datum_load));
   if (P->variant == CONTROL_CONVECTIVE && P->fluid_data.convective_interface_datum) {
@@ -303,6 +327,35 @@ static PetscErrorCode Jump(CouplingProblem P, PetscReal structure_scale, Vec r, 
   PetscFunctionReturn(0);
 }
 
+/* The fluid domain follows the structure's interface displacement: the one of the last
+   evaluation (lagged, seed Algorithm 3.3) or of this one (current). Collective. */
+static PetscErrorCode MoveMesh(CouplingProblem P)
+{
+  PetscFunctionBeginUser;
+  if (!P->moving) PetscFunctionReturn(0);
+  {
+    Vec eta = NULL;
+    if (P->structure) PetscCall(StructureGetDisplacementLocal(P->structure, &eta));
+    PetscCall(InterfaceStructureTrace(P->itf, eta, P->all_a));
+  }
+  if (P->motion) {
+    PetscCall(MeshMotionSolve(P->motion, P->itf, P->all_a, P->mesh_displacement));
+    PetscCall(FluidSetMeshDisplacement(P->fluid, P->mesh_displacement));
+  }
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode SolveStructure(CouplingProblem P)
+{
+  PetscFunctionBeginUser;
+  if (!P->structure) PetscFunctionReturn(0);
+  PetscCall(PetscLogStagePush(FSIOPT_STAGE_STRUCTURE));
+  PetscCall(StructureSolve(P->structure, P->structure_vec, P->step));
+  PetscCall(StructureVelocityLocal(P->structure, P->measure, P->structure_local));
+  PetscCall(PetscLogStagePop());
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode CouplingProblemResidual(CouplingProblem P, Vec x, Vec F)
 {
   PetscBool same = PETSC_FALSE;
@@ -313,6 +366,22 @@ PetscErrorCode CouplingProblemResidual(CouplingProblem P, Vec x, Vec F)
     PetscCall(VecCopy(P->state_F, F));
     PetscFunctionReturn(0);
   }
+  if (P->predict && P->state_valid && P->jacobian_valid) {
+    /* u(x) ~ u(x_last) + du/dg (x - x_last): then the chord iterations start within
+       O(|x - x_last|^2) of the solution and the state-relative tolerance ends them early */
+    PetscCall(VecWAXPY(P->control_change, -1.0, P->state_x, x));
+    PetscCall(ControlToLoad(P, P->control_change, P->all_q));
+    if (P->fluid) {
+      Vec state;
+      PetscCall(VecZeroEntries(P->fluid_vec));
+      PetscCall(InterfaceFluidSpread(P->itf, P->all_q, P->fluid_vec));
+      PetscCall(PetscLogStagePush(FSIOPT_STAGE_FLUID));
+      PetscCall(FluidLinearSolve(P->fluid, P->fluid_vec, P->fluid_sol, PETSC_FALSE));
+      PetscCall(PetscLogStagePop());
+      PetscCall(FluidGetSolution(P->fluid, &state));
+      PetscCall(VecAXPY(state, 1.0, P->fluid_sol));
+    }
+  }
   PetscCall(ControlToLoad(P, x, P->all_q));
   if (P->structure) PetscCall(VecZeroEntries(P->structure_vec));
   PetscCall(InterfaceStructureSpread(P->itf, P->all_q, P->structure ? P->structure_vec : NULL));
@@ -321,7 +390,12 @@ PetscErrorCode CouplingProblemResidual(CouplingProblem P, Vec x, Vec F)
     PetscCall(VecZeroEntries(P->fluid_vec));
     PetscCall(InterfaceFluidSpread(P->itf, P->all_q, P->fluid_vec));
   }
-  /* On separate ranks these two run at the same time. */
+  /* On separate ranks these two run at the same time on a lagged domain; on the current
+     one the fluid waits for the structure's displacement. */
+  if (P->domain == DOMAIN_CURRENT) {
+    PetscCall(SolveStructure(P));
+    PetscCall(MoveMesh(P));
+  }
   if (P->fluid) {
     DM  dm;
     Vec state;
@@ -332,12 +406,7 @@ PetscErrorCode CouplingProblemResidual(CouplingProblem P, Vec x, Vec F)
     PetscCall(FEMGlobalToLocal(dm, state, P->fluid_local));
     PetscCall(PetscLogStagePop());
   }
-  if (P->structure) {
-    PetscCall(PetscLogStagePush(FSIOPT_STAGE_STRUCTURE));
-    PetscCall(StructureSolve(P->structure, P->structure_vec, P->step));
-    PetscCall(StructureVelocityLocal(P->structure, P->measure, P->structure_local));
-    PetscCall(PetscLogStagePop());
-  }
+  if (P->domain == DOMAIN_LAGGED) PetscCall(SolveStructure(P));
   PetscCall(Jump(P, 1.0, P->r, &P->state_jump));
   PetscCall(VecPointwiseMult(F, P->r, P->weight_sqrt));
   PetscCall(VecCopy(x, P->state_x));
@@ -361,24 +430,6 @@ PetscErrorCode CouplingProblemJump(CouplingProblem P, Vec x, PetscReal *jump)
   PetscFunctionReturn(0);
 }
 
-/* The fluid domain follows the structure's current interface displacement (seed
-   Algorithm 3.3: the domain lags one Gauss-Newton iteration). Collective. */
-static PetscErrorCode MoveMesh(CouplingProblem P)
-{
-  PetscFunctionBeginUser;
-  if (!P->moving) PetscFunctionReturn(0);
-  {
-    Vec eta = NULL;
-    if (P->structure) PetscCall(StructureGetDisplacementLocal(P->structure, &eta));
-    PetscCall(InterfaceStructureTrace(P->itf, eta, P->all_a));
-  }
-  if (P->motion) {
-    PetscCall(MeshMotionSolve(P->motion, P->itf, P->all_a, P->mesh_displacement));
-    PetscCall(FluidSetMeshDisplacement(P->fluid, P->mesh_displacement));
-  }
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode CouplingProblemSetConvergedJump(CouplingProblem P, PetscReal jump)
 {
   PetscFunctionBeginUser;
@@ -396,7 +447,7 @@ static PetscErrorCode UpdateJacobian(CouplingProblem P, Vec x, PetscBool force)
      accept: there the factors in hand serve (the gradient is only reported), and the
      next step's chord iterations start from them. */
   if (!force && P->state_jump <= P->converged_jump) PetscFunctionReturn(0);
-  PetscCall(MoveMesh(P));
+  if (P->domain == DOMAIN_LAGGED) PetscCall(MoveMesh(P));
   if (P->jacobian_valid) PetscCall(VecEqual(x, P->jacobian_x, &same));
   if (same) PetscFunctionReturn(0);
   if (P->fluid && (force || ++P->jacobian_age >= P->jacobian_lag)) {
@@ -512,7 +563,7 @@ PetscErrorCode CouplingProblemEndStep(CouplingProblem P, Vec x)
 {
   PetscFunctionBeginUser;
   PetscCall(EnsureState(P, x));
-  PetscCall(MoveMesh(P));
+  if (P->domain == DOMAIN_LAGGED) PetscCall(MoveMesh(P));
   if (P->structure) PetscCall(StructureEndStep(P->structure));
   PetscFunctionReturn(0);
 }

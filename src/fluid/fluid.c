@@ -23,6 +23,7 @@ PetscErrorCode FluidCreate(MPI_Comm comm, Fluid *fluid)
   f->rho             = 1.0;
   f->mu              = 1.0;
   f->velocity_degree = 2;
+  f->rhs_rtol        = 1e-13;
   f->pressure_degree = 1;
   *fluid             = f;
   PetscFunctionReturn(0);
@@ -40,6 +41,7 @@ PetscErrorCode FluidSetFromOptions(Fluid f)
   PetscCall(PetscOptionsBool("-fluid_backflow_stabilization", "Add -1/2 rho ((u-z).n)_- (u, v) on the traction boundaries, against backflow instabilities", NULL, f->backflow, &f->backflow, NULL));
   f->n_backflow_faces = FSIOPT_MAX_BOUNDARIES;
   PetscCall(PetscOptionsIntArray("-fluid_backflow_faces", "Face sets that get the backflow stabilization (default: every traction face)", NULL, f->backflow_faces, &f->n_backflow_faces, &f->backflow_faces_given));
+  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-fluid_rhs_rtol", "nonlinear solves also stop when ||F|| <= rhs_rtol ||rhs||, a relative accuracy of the state that does not depend on how good the initial guess was", &f->rhs_rtol));
   PetscCall(PetscOptionsBool("-fluid_initial_projection", "Start from the Stokes projection of the scene's exact solution (discretely divergence free) instead of its interpolant", NULL, f->initial_projection, &f->initial_projection, NULL));
   PetscOptionsEnd();
   PetscCheck(f->pressure_degree < f->velocity_degree, f->comm, PETSC_ERR_ARG_INCOMP, "option -fluid_pressure_degree: expected a degree below -fluid_velocity_degree (%" PetscInt_FMT ") for an inf-sup stable Taylor-Hood pair, got %" PetscInt_FMT, f->velocity_degree, f->pressure_degree);
@@ -258,10 +260,10 @@ PetscErrorCode FluidSolve(Fluid f, Vec load, PetscInt step)
   else PetscCall(VecCopy(f->history, f->rhs));
   {
     /* With a small dt the residual is a difference of terms of size rho/dt: it cannot fall
-       below round-off of the right-hand side, whatever the absolute tolerance says. */
+       below round-off of the right-hand side (1e-13), whatever the absolute tolerance says. */
     PetscReal rhs_norm;
     PetscCall(VecNorm(f->rhs, NORM_2, &rhs_norm));
-    PetscCall(SNESSetTolerances(f->snes, PetscMax(f->atol, 1e-13 * rhs_norm), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT));
+    PetscCall(SNESSetTolerances(f->snes, PetscMax(f->atol, PetscMax(f->rhs_rtol, 1e-13) * rhs_norm), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT));
   }
   if (f->chord) PetscCall(VecCopy(f->x, f->x_start));
   PetscCall(SNESSolve(f->snes, f->rhs, f->x));

@@ -6,8 +6,8 @@
    M(Omega^{n-1})] u^n (Reynolds transport for mesh-bound basis functions), which leaves
      rho/dt M(Omega^{n-1}) (u^n - u^{n-1}) + rho (((u^n - z) . grad) u^n, v)_{Omega^n} + ...
    and satisfies the discrete geometric conservation law: a uniform flow stays uniform on
-   any mesh motion. M(Omega^{n-1}) u is a residual evaluation on a copy of the DM kept on
-   the previous domain; the matrix is assembled only when a Jacobian needs it. */
+   any mesh motion. M(Omega^{n-1}) is a matrix assembled once per step on a copy of the
+   DM kept on the previous domain. */
 #include "fluid_impl.h"
 #include "fem.h"
 
@@ -40,6 +40,59 @@ static PetscErrorCode CopyVertexValues(DM dm, Vec from, PetscBool from_coordinat
   PetscFunctionReturn(0);
 }
 
+/* rho/dt M(Omega^{n-1}) on every dof, once per step. Assembled here rather than through
+   DMPlexSNESComputeJacobianFEM, whose generic element loop (every component pair of the
+   vector basis, with the g1..g3 slots) costs as much as the full Navier-Stokes Jacobian:
+   the mass needs only sum_q w_q |J_q| phi_i . phi_j on the velocity block. */
+static PetscErrorCode AssembleOldMass(Fluid f)
+{
+  PetscDS          ds;
+  PetscFE          fe;
+  PetscQuadrature  quad;
+  PetscTabulation  T;
+  const PetscReal *weights;
+  PetscReal       *v, *J, *invJ, *detJ;
+  PetscScalar     *element;
+  PetscInt         dim, Nq, Nb, Nc, totDim, cStart, cEnd;
+  const PetscReal  coefficient = f->rho / f->dt;
+
+  PetscFunctionBeginUser;
+  if (f->mass_old_step == f->step) PetscFunctionReturn(0);
+  PetscCall(DMGetDimension(f->dm_all, &dim));
+  PetscCall(DMGetDS(f->dm_all, &ds));
+  PetscCall(PetscDSGetTotalDimension(ds, &totDim));
+  PetscCall(PetscDSGetDiscretization(ds, 0, (PetscObject *)&fe));
+  PetscCall(PetscFEGetQuadrature(fe, &quad));
+  PetscCall(PetscQuadratureGetData(quad, NULL, NULL, &Nq, NULL, &weights));
+  PetscCall(PetscFEGetDimension(fe, &Nb));
+  PetscCall(PetscFEGetNumComponents(fe, &Nc));
+  PetscCall(PetscFEGetCellTabulation(fe, 0, &T));
+  PetscCall(PetscMalloc5(Nq * dim, &v, Nq * dim * dim, &J, Nq * dim * dim, &invJ, Nq, &detJ, totDim * totDim, &element));
+  PetscCall(DMPlexGetHeightStratum(f->dm_all, 0, &cStart, &cEnd));
+  PetscCall(MatZeroEntries(f->mass_old_all));
+  for (PetscInt cell = cStart; cell < cEnd; ++cell) {
+    PetscCall(DMPlexComputeCellGeometryFEM(f->dm_all, cell, quad, v, J, invJ, detJ));
+    PetscCall(PetscArrayzero(element, totDim * totDim));
+    for (PetscInt q = 0; q < Nq; ++q) {
+      const PetscReal *phi = &T->T[0][q * Nb * Nc];
+      const PetscReal  wq  = coefficient * weights[q] * detJ[q];
+      for (PetscInt i = 0; i < Nb; ++i)
+        for (PetscInt j = 0; j < Nb; ++j) {
+          PetscReal dot = 0;
+          for (PetscInt c = 0; c < Nc; ++c) dot += phi[i * Nc + c] * phi[j * Nc + c];
+          element[i * totDim + j] += wq * dot;
+        }
+    }
+    PetscCall(DMPlexMatSetClosure(f->dm_all, NULL, NULL, f->mass_old_all, cell, element, ADD_VALUES));
+  }
+  PetscCall(MatAssemblyBegin(f->mass_old_all, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(f->mass_old_all, MAT_FINAL_ASSEMBLY));
+  PetscCall(PetscFree5(v, J, invJ, detJ, element));
+  PetscCall(MatCreateSubMatrix(f->mass_old_all, f->free_in_all, f->free_in_all, MAT_REUSE_MATRIX, &f->mass_old));
+  f->mass_old_step = f->step;
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode ResidualALE(SNES snes, Vec x, Vec F, void *ctx)
 {
   Fluid f = (Fluid)ctx;
@@ -48,9 +101,10 @@ static PetscErrorCode ResidualALE(SNES snes, Vec x, Vec F, void *ctx)
   (void)snes;
   PetscCall(FEMGlobalToLocal(f->dm, x, f->xlocal_work));
   PetscCall(FEMResidual(f->dm, f->xlocal_work, F)); /* no mass term in the kernels */
-  /* + M(Omega^{n-1}) u, boundary values included, restricted to the free rows; the copy
-     without constraints still sits on the previous domain */
-  PetscCall(FEMResidual(f->dm_all, f->xlocal_work, f->all_y));
+  /* + M(Omega^{n-1}) u with the boundary values included, on the free rows */
+  PetscCall(AssembleOldMass(f));
+  PetscCall(DMLocalToGlobal(f->dm_all, f->xlocal_work, INSERT_VALUES, f->all_x));
+  PetscCall(MatMult(f->mass_old_all, f->all_x, f->all_y));
   PetscCall(DMGlobalToLocal(f->dm_all, f->all_y, INSERT_VALUES, f->all_local));
   PetscCall(VecZeroEntries(f->work));
   PetscCall(DMLocalToGlobal(f->dm, f->all_local, INSERT_VALUES, f->work));
@@ -66,67 +120,16 @@ static PetscErrorCode JacobianALE(SNES snes, Vec x, Mat J, Mat P, void *ctx)
   (void)snes;
   PetscCall(FEMGlobalToLocal(f->dm, x, f->xlocal_work));
   PetscCall(DMPlexSNESComputeJacobianFEM(f->dm, f->xlocal_work, J, P, NULL));
-  if (f->mass_old_step != f->step) {
-    Vec zero;
-    PetscCall(DMGetLocalVector(f->dm_all, &zero));
-    PetscCall(VecZeroEntries(zero));
-    PetscCall(DMPlexSNESComputeJacobianFEM(f->dm_all, zero, f->mass_old_all, f->mass_old_all, NULL));
-    PetscCall(DMRestoreLocalVector(f->dm_all, &zero));
-    PetscCall(MatCreateSubMatrix(f->mass_old_all, f->free_in_all, f->free_in_all, MAT_REUSE_MATRIX, &f->mass_old));
-    f->mass_old_step = f->step;
-  }
+  PetscCall(AssembleOldMass(f));
   PetscCall(MatAXPY(P, 1.0, f->mass_old, SUBSET_NONZERO_PATTERN));
   if (J != P) PetscCall(MatAXPY(J, 1.0, f->mass_old, SUBSET_NONZERO_PATTERN));
   f->counts.factorizations++;
   PetscFunctionReturn(0);
 }
 
-/* The fluid's free dofs, in its global order, as indices of the unconstrained copy. */
-static PetscErrorCode FreeDofsInAll(Fluid f, IS *is)
-{
-  PetscSection    ls, gs, as;
-  PetscInt        pStart, pEnd, n = 0, *idx;
-
-  PetscFunctionBeginUser;
-  PetscCall(DMGetLocalSection(f->dm, &ls));
-  PetscCall(DMGetGlobalSection(f->dm, &gs));
-  PetscCall(DMGetGlobalSection(f->dm_all, &as));
-  PetscCall(PetscSectionGetChart(gs, &pStart, &pEnd));
-  PetscCall(VecGetLocalSize(f->x, &n));
-  PetscCall(PetscMalloc1(n, &idx));
-  {
-    PetscInt rstart, k = 0;
-    PetscCall(VecGetOwnershipRange(f->x, &rstart, NULL));
-    for (PetscInt p = pStart; p < pEnd; ++p) {
-      PetscInt        dof, cdof, goff, aoff, next = 0;
-      const PetscInt *cidx = NULL;
-
-      PetscCall(PetscSectionGetDof(gs, p, &dof));
-      if (dof <= 0) continue;
-      PetscCall(PetscSectionGetOffset(gs, p, &goff));
-      PetscCall(PetscSectionGetOffset(as, p, &aoff));
-      PetscCall(PetscSectionGetDof(ls, p, &dof));
-      PetscCall(PetscSectionGetConstraintDof(ls, p, &cdof));
-      if (cdof) PetscCall(PetscSectionGetConstraintIndices(ls, p, &cidx));
-      for (PetscInt d = 0, c = 0; d < dof; ++d) {
-        if (c < cdof && cidx[c] == d) {
-          ++c;
-          continue;
-        }
-        idx[goff - rstart + next++] = aoff + d;
-        ++k;
-      }
-    }
-    PetscCheck(k == n, PETSC_COMM_SELF, PETSC_ERR_PLIB, "fluid: %" PetscInt_FMT " free dofs mapped, %" PetscInt_FMT " expected", k, n);
-  }
-  PetscCall(ISCreateGeneral(f->comm, n, idx, PETSC_OWN_POINTER, is));
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode FluidALESetUp(Fluid f)
 {
   PetscObject velocity;
-  PetscDS     ds;
   Vec         coordinates;
 
   PetscFunctionBeginUser;
@@ -157,13 +160,10 @@ PetscErrorCode FluidALESetUp(Fluid f)
     PetscCall(FEMCreateField(f->dm_all, 1, "pressure", 1, f->pressure_degree, (PetscFE)v));
   }
   PetscCall(DMCreateDS(f->dm_all));
-  PetscCall(DMGetDS(f->dm_all, &ds));
-  PetscCall(PetscDSSetResidual(ds, 0, FluidF0MassStokes, NULL));
-  PetscCall(PetscDSSetJacobian(ds, 0, 0, FluidG0MassStokes, NULL, NULL, NULL));
   PetscCall(DMCreateMatrix(f->dm_all, &f->mass_old_all));
   PetscCall(MatAssemblyBegin(f->mass_old_all, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(f->mass_old_all, MAT_FINAL_ASSEMBLY));
-  PetscCall(FreeDofsInAll(f, &f->free_in_all));
+  PetscCall(FEMFreeDofs(f->dm, f->dm_all, &f->free_in_all));
   PetscCall(MatCreateSubMatrix(f->mass_old_all, f->free_in_all, f->free_in_all, MAT_INITIAL_MATRIX, &f->mass_old));
   PetscCall(DMCreateGlobalVector(f->dm_all, &f->all_x));
   PetscCall(VecDuplicate(f->all_x, &f->all_y));
@@ -178,21 +178,13 @@ PetscErrorCode FluidALESetUp(Fluid f)
 /* Before the time and the mesh move on: M(Omega^{n-1}), and d^{n-1}. */
 PetscErrorCode FluidALEBeginStep(Fluid f)
 {
-  Vec         coordinates;
-  PetscDS     ds, ds_all;
-  PetscInt    n;
-  const PetscScalar *c;
+  Vec coordinates;
 
   PetscFunctionBeginUser;
-  PetscCall(FluidSetConstants(f, f->rho / f->dt, 0.0, 0.0));
   PetscCall(DMGetCoordinatesLocal(f->dm, &coordinates));
   PetscCall(DMSetCoordinatesLocal(f->dm_all, coordinates));
   PetscCall(FEMInvalidateGeometry(f->dm_all));
-  PetscCall(DMGetDS(f->dm, &ds));
-  PetscCall(DMGetDS(f->dm_all, &ds_all));
-  PetscCall(PetscDSGetConstants(ds, &n, &c));
-  PetscCall(PetscDSSetConstants(ds_all, n, (PetscScalar *)c));
-  f->mass_old_step = -1; /* assembled when a Jacobian needs it */
+  f->mass_old_step = -1; /* assembled at the step's first residual */
   PetscCall(VecCopy(f->displacement, f->displacement_old));
   PetscCall(VecZeroEntries(f->z_local));
   PetscFunctionReturn(0);

@@ -24,7 +24,8 @@ struct _p_Fluid {
   PetscBool      initial_projection;
   PetscBool      backflow, backflow_faces_given;
   PetscInt       n_backflow_faces, backflow_faces[FSIOPT_MAX_BOUNDARIES];
-  PetscReal      atol; /* the user's (or our default) absolute residual tolerance */
+  PetscReal      atol;     /* the user's (or our default) absolute residual tolerance */
+  PetscReal      rhs_rtol; /* and one relative to the right-hand side */
   /* moving meshes (fluid_ale.c) */
   PetscBool      moving;
   DM             dm_aux;                                   /* the mesh velocity z, Q1 */

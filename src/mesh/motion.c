@@ -1,4 +1,8 @@
-/* Harmonic or linear-elastic extension of the interface displacement (DESIGN §2). */
+/* Harmonic or linear-elastic extension of the interface displacement (DESIGN §2). The
+   operator A lives on the reference mesh and never changes: it is assembled once on all
+   dofs, and each extension is one solve with the factored free block,
+     A_ff d_f = -A_fb d_b,
+   with no finite-element evaluation per call. */
 #include "motion.h"
 #include "fem.h"
 #include "options.h"
@@ -9,19 +13,16 @@ typedef enum { MOTION_HARMONIC, MOTION_ELASTIC } MotionType;
 static const char *const MotionTypes[] = {"harmonic", "elastic", "MotionType", "MOTION_", NULL};
 
 struct _p_MeshMotion {
-  DM             dm, dm_free; /* Q1 vector field with (without) the Dirichlet constraints */
-  SNES           snes;
-  Vec            d, bc_local, free_global;
-  PetscInt       factorizations;
+  DM             dm, dm_all; /* Q1 vector field with (without) the Dirichlet constraints */
+  Mat            operator_all, operator_free;
+  IS             free_in_all;
+  KSP            ksp;
+  Vec            d, rhs, bc_local, bc_all, operator_bc_all;
   MotionType     type;
   DirichletDatum datums[FSIOPT_MAX_BOUNDARIES];
   PetscReal      time;
 };
 
-static void F1Harmonic(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f1[])
-{
-  for (PetscInt i = 0; i < dim * dim; ++i) f1[i] = u_x[i];
-}
 
 static void G3Harmonic(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g3[])
 {
@@ -30,14 +31,6 @@ static void G3Harmonic(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt
 }
 
 /* linear elasticity with mu = lambda = 1 */
-static void F1Elastic(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f1[])
-{
-  PetscScalar divergence = 0;
-  for (PetscInt d = 0; d < dim; ++d) divergence += u_x[d * dim + d];
-  for (PetscInt c = 0; c < dim; ++c)
-    for (PetscInt d = 0; d < dim; ++d) f1[c * dim + d] = u_x[c * dim + d] + u_x[d * dim + c] + (c == d ? divergence : 0.0);
-}
-
 static void G3Elastic(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g3[])
 {
   for (PetscInt c = 0; c < dim; ++c)
@@ -54,17 +47,6 @@ static PetscErrorCode Zero(PetscInt dim, PetscReal t, const PetscReal x[], Petsc
   return 0;
 }
 
-/* zero on every constrained dof, then the interface displacement where it is given */
-static PetscErrorCode InsertBoundary(DM dm, Vec xlocal, void *ctx)
-{
-  MeshMotion mm = (MeshMotion)ctx;
-
-  PetscFunctionBeginUser;
-  PetscCall(DMPlexInsertBoundaryValues(dm, PETSC_TRUE, xlocal, 0.0, NULL, NULL, NULL));
-  PetscCall(VecAXPY(xlocal, 1.0, mm->bc_local));
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfixed, const PetscInt fixed_faces[], MeshMotion *motion)
 {
   MeshMotion  mm;
@@ -76,34 +58,51 @@ PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfix
   PetscOptionsBegin(PetscObjectComm((PetscObject)fluid), NULL, "Mesh motion", "mesh");
   PetscCall(PetscOptionsEnum("-mesh_motion", "Extension of the interface displacement into the fluid mesh", NULL, MotionTypes, (PetscEnum)mm->type, (PetscEnum *)&mm->type, NULL));
   PetscOptionsEnd();
-  PetscCall(DMClone(fluid, &mm->dm_free));
   /* a quadrature of its own: PETSc 3.18 caches cell geometry by quadrature on the cell
      IS that clones share, and this mesh does not move */
-  PetscCall(FEMCreateField(mm->dm_free, 0, "mesh_displacement", -1, 1, NULL));
-  PetscCall(DMCreateDS(mm->dm_free));
+  PetscCall(DMClone(fluid, &mm->dm_all));
+  PetscCall(FEMCreateField(mm->dm_all, 0, "mesh_displacement", -1, 1, NULL));
+  PetscCall(DMCreateDS(mm->dm_all));
+  PetscCall(DMGetDS(mm->dm_all, &ds));
+  if (mm->type == MOTION_HARMONIC) PetscCall(PetscDSSetJacobian(ds, 0, 0, NULL, NULL, NULL, G3Harmonic));
+  else PetscCall(PetscDSSetJacobian(ds, 0, 0, NULL, NULL, NULL, G3Elastic));
+  PetscCall(DMCreateMatrix(mm->dm_all, &mm->operator_all));
+  {
+    Vec zero;
+    PetscCall(DMGetLocalVector(mm->dm_all, &zero));
+    PetscCall(VecZeroEntries(zero));
+    PetscCall(DMPlexSNESComputeJacobianFEM(mm->dm_all, zero, mm->operator_all, mm->operator_all, NULL));
+    PetscCall(DMRestoreLocalVector(mm->dm_all, &zero));
+  }
+  /* the same field with the fixed faces and the interface constrained: its free dofs */
   PetscCall(DMClone(fluid, &mm->dm));
   PetscCall(FEMCreateField(mm->dm, 0, "mesh_displacement", -1, 1, NULL));
-  PetscCall(DMCreateDS(mm->dm));
-  PetscCall(DMGetDS(mm->dm, &ds));
-  if (mm->type == MOTION_HARMONIC) {
-    PetscCall(PetscDSSetResidual(ds, 0, NULL, F1Harmonic));
-    PetscCall(PetscDSSetJacobian(ds, 0, 0, NULL, NULL, NULL, G3Harmonic));
-  } else {
-    PetscCall(PetscDSSetResidual(ds, 0, NULL, F1Elastic));
-    PetscCall(PetscDSSetJacobian(ds, 0, 0, NULL, NULL, NULL, G3Elastic));
-  }
   PetscCall(PetscMemzero(&data, sizeof(data)));
   data.n_dirichlet = nfixed + 1;
   for (PetscInt b = 0; b < nfixed; ++b) data.dirichlet_faces[b] = fixed_faces[b];
   data.dirichlet_faces[nfixed] = interface_face;
   for (PetscInt b = 0; b <= nfixed; ++b) data.dirichlet_fn[b] = Zero;
+  PetscCall(DMCreateDS(mm->dm));
   PetscCall(FEMAddBoundaries(mm->dm, 0, &data, mm->datums, &mm->time));
-  PetscCall(FEMCreateSNES(mm->dm, "mesh_", FEM_JACOBIAN_CONSTANT, &mm->factorizations, &mm->snes));
-  PetscCall(DMSNESSetBoundaryLocal(mm->dm, InsertBoundary, mm));
+  PetscCall(FEMFreeDofs(mm->dm, mm->dm_all, &mm->free_in_all));
+  PetscCall(MatCreateSubMatrix(mm->operator_all, mm->free_in_all, mm->free_in_all, MAT_INITIAL_MATRIX, &mm->operator_free));
+  PetscCall(KSPCreate(PetscObjectComm((PetscObject)fluid), &mm->ksp));
+  PetscCall(KSPSetOptionsPrefix(mm->ksp, "mesh_"));
+  PetscCall(KSPSetOperators(mm->ksp, mm->operator_free, mm->operator_free));
+  PetscCall(KSPSetType(mm->ksp, KSPPREONLY));
+  {
+    PC pc;
+    PetscCall(KSPGetPC(mm->ksp, &pc));
+    PetscCall(PCSetType(pc, PCLU));
+    PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+  }
+  PetscCall(KSPSetFromOptions(mm->ksp));
+  PetscCall(KSPSetUp(mm->ksp));
   PetscCall(DMCreateGlobalVector(mm->dm, &mm->d));
-  PetscCall(VecZeroEntries(mm->d));
+  PetscCall(VecDuplicate(mm->d, &mm->rhs));
   PetscCall(DMCreateLocalVector(mm->dm, &mm->bc_local));
-  PetscCall(DMCreateGlobalVector(mm->dm_free, &mm->free_global));
+  PetscCall(DMCreateGlobalVector(mm->dm_all, &mm->bc_all));
+  PetscCall(VecDuplicate(mm->bc_all, &mm->operator_bc_all));
   *motion = mm;
   PetscFunctionReturn(0);
 }
@@ -116,7 +115,7 @@ PetscErrorCode MeshMotionSolve(MeshMotion mm, Interface itf, Vec interface, Vec 
   PetscScalar       *b;
   PetscSection       ls, cs;
   Vec                dlocal;
-  SNESConvergedReason reason;
+  KSPConvergedReason reason;
 
   PetscFunctionBeginUser;
   PetscCall(DMGetDimension(mm->dm, &dim));
@@ -135,18 +134,25 @@ PetscErrorCode MeshMotionSolve(MeshMotion mm, Interface itf, Vec interface, Vec 
   }
   PetscCall(VecRestoreArray(mm->bc_local, &b));
   PetscCall(VecRestoreArrayRead(interface, &g));
-  PetscCall(VecZeroEntries(mm->free_global));
-  PetscCall(DMLocalToGlobal(mm->dm_free, mm->bc_local, ADD_VALUES, mm->free_global));
-  PetscCall(DMGlobalToLocal(mm->dm_free, mm->free_global, INSERT_VALUES, mm->bc_local));
+  PetscCall(VecZeroEntries(mm->bc_all));
+  PetscCall(DMLocalToGlobal(mm->dm_all, mm->bc_local, ADD_VALUES, mm->bc_all));
+  PetscCall(DMGlobalToLocal(mm->dm_all, mm->bc_all, INSERT_VALUES, mm->bc_local));
 
-  PetscCall(FEMInvalidateGeometry(mm->dm));
-  PetscCall(SNESSolve(mm->snes, NULL, mm->d));
-  PetscCall(SNESGetConvergedReason(mm->snes, &reason));
-  PetscCheck(reason > 0, PetscObjectComm((PetscObject)mm->dm), PETSC_ERR_NOT_CONVERGED, "mesh motion solve failed: SNES reason %s", SNESConvergedReasons[reason]);
+  PetscCall(MatMult(mm->operator_all, mm->bc_all, mm->operator_bc_all));
+  {
+    Vec free_part;
+    PetscCall(VecGetSubVector(mm->operator_bc_all, mm->free_in_all, &free_part));
+    PetscCall(VecCopy(free_part, mm->rhs));
+    PetscCall(VecRestoreSubVector(mm->operator_bc_all, mm->free_in_all, &free_part));
+  }
+  PetscCall(VecScale(mm->rhs, -1.0));
+  PetscCall(KSPSolve(mm->ksp, mm->rhs, mm->d));
+  PetscCall(KSPGetConvergedReason(mm->ksp, &reason));
+  PetscCheck(reason > 0, PetscObjectComm((PetscObject)mm->dm), PETSC_ERR_NOT_CONVERGED, "mesh motion solve failed: KSP reason %s", KSPConvergedReasons[reason]);
   PetscCall(DMGetLocalVector(mm->dm, &dlocal));
   PetscCall(VecZeroEntries(dlocal));
   PetscCall(DMGlobalToLocal(mm->dm, mm->d, INSERT_VALUES, dlocal));
-  PetscCall(InsertBoundary(mm->dm, dlocal, mm));
+  PetscCall(VecAXPY(dlocal, 1.0, mm->bc_local));
   PetscCall(DMGetCoordinateSection(mm->dm, &cs));
   PetscCall(VecGetArrayRead(dlocal, &g));
   PetscCall(VecGetArray(displacement, &b));
@@ -170,10 +176,15 @@ PetscErrorCode MeshMotionDestroy(MeshMotion *motion)
   if (!mm) PetscFunctionReturn(0);
   PetscCall(VecDestroy(&mm->d));
   PetscCall(VecDestroy(&mm->bc_local));
-  PetscCall(VecDestroy(&mm->free_global));
-  PetscCall(SNESDestroy(&mm->snes));
+  PetscCall(VecDestroy(&mm->rhs));
+  PetscCall(VecDestroy(&mm->bc_all));
+  PetscCall(VecDestroy(&mm->operator_bc_all));
+  PetscCall(MatDestroy(&mm->operator_all));
+  PetscCall(MatDestroy(&mm->operator_free));
+  PetscCall(ISDestroy(&mm->free_in_all));
+  PetscCall(KSPDestroy(&mm->ksp));
   PetscCall(DMDestroy(&mm->dm));
-  PetscCall(DMDestroy(&mm->dm_free));
+  PetscCall(DMDestroy(&mm->dm_all));
   PetscCall(PetscFree(*motion));
   PetscFunctionReturn(0);
 }

@@ -1,0 +1,192 @@
+#!/usr/bin/python3
+"""Shared helpers for scripts that run bin/fsiopt over several variants.
+
+A variant is one fsiopt command line with its own output directory. A run directory is
+re-used when it is complete (summary.json, probes.csv and history.csv present) and the
+command line recorded in its cmd.txt is the one we would run now. cmd.txt is written only
+after a successful run, and removed with the old outputs before a new run starts, so an
+interrupted run is never taken for a complete one.
+
+A run that exits with the one-line `fsiopt: error: ...` message has failed for good; a run
+that dies otherwise (killed by a signal, binary missing or busy while being rebuilt, a
+crash without that message) is retried a few times after a short wait."""
+import csv, json, os, shlex, subprocess, sys, threading, time
+from concurrent.futures import ThreadPoolExecutor
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+OUTPUTS = ("summary.json", "probes.csv", "history.csv")
+_print_lock = threading.Lock()
+
+
+def say(*parts, err=False):
+    with _print_lock:
+        print(*parts, file=sys.stderr if err else sys.stdout, flush=True)
+
+
+def rel(path):
+    """path relative to the repository root when inside it (keeps cmd.txt portable)."""
+    path = os.path.abspath(path)
+    r = os.path.relpath(path, ROOT)
+    return path if r.startswith("..") else r
+
+
+class Variant:
+    """One fsiopt run: name (also the run directory name), label (legend), options."""
+
+    def __init__(self, name, label, options, **params):
+        self.name, self.label, self.options, self.params = name, label, list(options), params
+        self.run_dir = None
+        self.status = "pending"   # ok | reused | failed
+        self.error = ""
+        self.elapsed_s = float("nan")
+        self.attempts = 0
+        self.summary = {}
+        self.cmdline = ""
+
+    def command(self, fsiopt, runs_dir):
+        self.run_dir = os.path.join(runs_dir, self.name)
+        return [rel(fsiopt)] + self.options + ["-output_dir", rel(self.run_dir)]
+
+    @property
+    def ok(self):
+        return self.status in ("ok", "reused")
+
+
+def read_summary(run_dir):
+    try:
+        with open(os.path.join(run_dir, "summary.json")) as f:
+            return json.load(f)
+    except (OSError, ValueError):
+        return {}
+
+
+def is_complete(run_dir, cmdline):
+    try:
+        with open(os.path.join(run_dir, "cmd.txt")) as f:
+            recorded = f.read().strip()
+    except OSError:
+        return False
+    return recorded == cmdline and all(os.path.isfile(os.path.join(run_dir, o)) for o in OUTPUTS) \
+        and bool(read_summary(run_dir))
+
+
+def _error_line(stderr, returncode):
+    lines = [l.strip() for l in stderr.splitlines() if l.strip()]
+    for l in reversed(lines):
+        if l.startswith("fsiopt: error:"):
+            return l, True
+    if returncode < 0:
+        msg = "killed by signal %d" % -returncode
+    else:
+        msg = "exit status %d" % returncode
+    if lines:
+        msg += " (stderr: %s)" % lines[-1][:300]
+    return msg, False
+
+
+def run_variant(v, fsiopt, runs_dir, force=False, retries=2, wait_s=5.0, env=None):
+    """Run (or re-use) one variant; sets v.status, v.error, v.summary, v.elapsed_s."""
+    cmd = v.command(fsiopt, runs_dir)
+    cmdline = v.cmdline = shlex.join(cmd)
+    if not force and is_complete(v.run_dir, cmdline):
+        v.status, v.summary = "reused", read_summary(v.run_dir)
+        v.elapsed_s = v.summary.get("wall_time_s", float("nan"))
+        say("  %-28s re-used %s" % (v.name, rel(v.run_dir)))
+        return v
+    os.makedirs(v.run_dir, exist_ok=True)
+    for name in ("cmd.txt",) + OUTPUTS:
+        try:
+            os.remove(os.path.join(v.run_dir, name))
+        except FileNotFoundError:
+            pass
+    say("  %-28s running: %s" % (v.name, cmdline))
+    for attempt in range(1, retries + 2):
+        v.attempts = attempt
+        t0 = time.time()
+        try:
+            p = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, env=env)
+            returncode, stdout, stderr = p.returncode, p.stdout, p.stderr
+        except OSError as e:   # binary missing or busy (being re-linked)
+            returncode, stdout, stderr = None, "", "cannot run %s: %s" % (cmd[0], e.strerror or e)
+        v.elapsed_s = time.time() - t0
+        with open(os.path.join(v.run_dir, "stdout.log"), "w") as f:
+            f.write(stdout)
+        with open(os.path.join(v.run_dir, "stderr.log"), "w") as f:
+            f.write(stderr)
+        if returncode == 0 and all(os.path.isfile(os.path.join(v.run_dir, o)) for o in OUTPUTS):
+            with open(os.path.join(v.run_dir, "cmd.txt"), "w") as f:
+                f.write(cmdline + "\n")
+            v.status, v.error, v.summary = "ok", "", read_summary(v.run_dir)
+            stall = v.summary.get("stalled_steps", 0)
+            say("  %-28s done in %.1f s%s" % (v.name, v.elapsed_s,
+                                             ", %d stalled steps (not converged)" % stall if stall else ""))
+            return v
+        if returncode is None:
+            msg, final = stderr, False
+        elif returncode == 0:
+            msg, final = "exit status 0 but outputs missing in %s" % rel(v.run_dir), False
+        else:
+            msg, final = _error_line(stderr, returncode)
+        v.status, v.error = "failed", msg
+        if final or attempt > retries:
+            break
+        say("  %-28s died (%s); retrying in %g s" % (v.name, msg, wait_s), err=True)
+        time.sleep(wait_s)
+    say("  %-28s FAILED: %s" % (v.name, v.error), err=True)
+    return v
+
+
+def run_all(variants, fsiopt, runs_dir, jobs=1, force=False, retries=2):
+    """Run the variants (jobs at a time); duplicates by name are run once."""
+    unique = list({v.name: v for v in variants}.values())
+    env = dict(os.environ)
+    if jobs > 1:   # one core per run
+        for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+            env.setdefault(k, "1")
+    say("%d run(s) in %s, %d at a time" % (len(unique), rel(runs_dir), jobs))
+    with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
+        list(pool.map(lambda v: run_variant(v, fsiopt, runs_dir, force, retries, env=env), unique))
+    return unique
+
+
+RUN_FIELDS = ["variant", "label", "status", "error", "attempts", "elapsed_s", "wall_time_s", "steps", "t_final",
+              "coupling_iterations", "avg_coupling_iterations", "inner_iterations", "work_factor", "fluid_solves",
+              "max_interface_jump", "factorizations_fluid", "factorizations_structure", "stalled_steps", "converged",
+              "fluid_dofs", "structure_dofs", "run_dir", "command"]
+
+
+def run_row(v):
+    s = v.summary or {}
+    f = s.get("factorizations", {})
+    cmd = v.cmdline
+    if not cmd and v.run_dir and os.path.isfile(os.path.join(v.run_dir, "cmd.txt")):
+        cmd = open(os.path.join(v.run_dir, "cmd.txt")).read().strip()
+    row = {"variant": v.name, "label": v.label, "status": v.status, "error": v.error, "attempts": v.attempts,
+           "elapsed_s": "%.2f" % v.elapsed_s, "run_dir": rel(v.run_dir) if v.run_dir else "", "command": cmd,
+           "factorizations_fluid": f.get("fluid", ""), "factorizations_structure": f.get("structure", "")}
+    for k in ("wall_time_s", "steps", "t_final", "coupling_iterations", "avg_coupling_iterations", "inner_iterations",
+              "work_factor", "fluid_solves", "max_interface_jump", "stalled_steps", "converged", "fluid_dofs",
+              "structure_dofs"):
+        val = s.get(k, "")
+        row[k] = str(val).lower() if isinstance(val, bool) else val
+    return row
+
+
+def write_runs_csv(path, variants):
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=RUN_FIELDS)
+        w.writeheader()
+        for v in variants:
+            w.writerow(run_row(v))
+
+
+def read_table(path):
+    """A CSV with a header row of names and numeric rows: (names, list of float columns)."""
+    with open(path, newline="") as f:
+        rows = list(csv.reader(f))
+    if not rows:
+        raise ValueError("%s is empty" % path)
+    names = [n.strip() for n in rows[0]]
+    data = [[float(x) for x in r] for r in rows[1:] if r]
+    cols = [[r[i] for r in data] for i in range(len(names))]
+    return names, cols

@@ -1,0 +1,386 @@
+#include "fields.h"
+#include "fem.h"
+#include "options.h"
+#include "output.h"
+#include <petscviewerhdf5.h>
+
+/* One grid. Vertices are gathered on the root and put in the DM's global vertex order,
+   so the topology is written once although the fluid's coordinates change every step. */
+typedef struct {
+  const char *name, *field[2];
+  PetscBool   deform;                          /* geometry = coordinates + first field */
+  PetscInt    nfields, nc[2];
+  PetscInt    dim, nv, ncells, nvertices;      /* the same on every rank */
+  PetscInt    nown, *own;                      /* vertex points this rank owns */
+  PetscInt   *index;                           /* root: global number of each gathered vertex */
+} Part;
+
+struct _p_FieldWriter {
+  MPI_Comm      comm;
+  PetscMPIInt   rank;
+  Fluid         fluid;
+  Structure     structure;
+  Part          part[2];
+  PetscInt      interval, steps, nwritten, *written;
+  PetscReal     t0, dt;
+  char          dir[PETSC_MAX_PATH_LEN], path[PETSC_MAX_PATH_LEN], partial[PETSC_MAX_PATH_LEN];
+  PetscViewer   viewer; /* root only */
+  PetscLogEvent event;
+};
+
+/* Concatenates every rank's n values on the root, in rank order. */
+static PetscErrorCode GatherOnRoot(MPI_Comm comm, PetscInt n, MPI_Datatype type, const void *send, void **recv, PetscInt *total)
+{
+  PetscMPIInt rank, size, mine = (PetscMPIInt)n, *counts = NULL, *displs = NULL, unit;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCallMPI(MPI_Type_size(type, &unit));
+  *recv  = NULL;
+  *total = 0;
+  if (!rank) PetscCall(PetscMalloc2(size, &counts, size, &displs));
+  PetscCallMPI(MPI_Gather(&mine, 1, MPI_INT, counts, 1, MPI_INT, 0, comm));
+  for (PetscMPIInt r = 0; !rank && r < size; ++r) {
+    displs[r] = (PetscMPIInt)*total;
+    *total += counts[r];
+  }
+  if (!rank) PetscCall(PetscMalloc((size_t)PetscMax(*total, 1) * (size_t)unit, recv));
+  PetscCallMPI(MPI_Gatherv(send, mine, type, *recv, counts, displs, type, 0, comm));
+  if (!rank) PetscCall(PetscFree2(counts, displs));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode WriteArray(PetscViewer viewer, const char name[], PetscInt bs, PetscInt n, const PetscScalar a[])
+{
+  Vec v;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecCreateSeqWithArray(PETSC_COMM_SELF, bs, n * bs, a, &v));
+  PetscCall(PetscObjectSetName((PetscObject)v, name));
+  PetscCall(VecView(v, viewer));
+  PetscCall(VecDestroy(&v));
+  PetscFunctionReturn(0);
+}
+
+#define MAX_CELL_VERTICES 8
+
+/* dm is NULL on ranks that do not hold this part. Writes /<name>/topology. */
+static PetscErrorCode PartSetUp(FieldWriter w, Part *P, DM dm)
+{
+  PetscInt  info[2] = {0, 0}, ncells = 0, *cells = NULL, *global = NULL, *gathered, total;
+  PetscBool bad = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  if (dm) {
+    IS              vnum, cnum;
+    const PetscInt *vn, *cn;
+    PetscInt        vStart, vEnd, cStart, cEnd;
+    PetscSection    s;
+
+    PetscCall(DMGetCoordinateDim(dm, &info[0]));
+    PetscCall(DMGetLocalSection(dm, &s));
+    PetscCall(DMPlexGetDepthStratum(dm, 0, &vStart, &vEnd));
+    PetscCall(DMPlexGetHeightStratum(dm, 0, &cStart, &cEnd));
+    PetscCall(DMPlexGetVertexNumbering(dm, &vnum));
+    PetscCall(DMPlexGetCellNumbering(dm, &cnum));
+    PetscCall(ISGetIndices(vnum, &vn));
+    PetscCall(ISGetIndices(cnum, &cn));
+    PetscCall(PetscMalloc1(vEnd - vStart, &P->own));
+    PetscCall(PetscMalloc1(vEnd - vStart, &global));
+    for (PetscInt v = vStart; v < vEnd; ++v) {
+      if (vn[v - vStart] < 0) continue; /* another rank writes it */
+      P->own[P->nown]    = v;
+      global[P->nown++] = vn[v - vStart];
+      /* a Lagrange field keeps its vertex value at the vertex point: one dof per component */
+      for (PetscInt f = 0; f < P->nfields; ++f) {
+        PetscInt ndof;
+        PetscCall(PetscSectionGetFieldDof(s, v, f, &ndof));
+        if (ndof != (P->nc[f] < 0 ? info[0] : P->nc[f])) bad = PETSC_TRUE;
+      }
+    }
+    PetscCall(PetscMalloc1((cEnd - cStart) * MAX_CELL_VERTICES, &cells));
+    for (PetscInt c = cStart; c < cEnd; ++c) {
+      PetscInt *closure = NULL, n, nv = 0;
+
+      if (cn[c - cStart] < 0) continue;
+      PetscCall(DMPlexGetTransitiveClosure(dm, c, PETSC_TRUE, &n, &closure));
+      for (PetscInt i = 0; i < 2 * n; i += 2) {
+        const PetscInt p = closure[i];
+        if (p < vStart || p >= vEnd) continue;
+        if (nv < MAX_CELL_VERTICES) cells[ncells * MAX_CELL_VERTICES + nv] = vn[p - vStart] < 0 ? -(vn[p - vStart] + 1) : vn[p - vStart];
+        ++nv;
+      }
+      PetscCall(DMPlexRestoreTransitiveClosure(dm, c, PETSC_TRUE, &n, &closure));
+      if (!info[1]) info[1] = nv;
+      if (nv != info[1] || nv > MAX_CELL_VERTICES) bad = PETSC_TRUE;
+      ++ncells;
+    }
+    PetscCall(ISRestoreIndices(vnum, &vn));
+    PetscCall(ISRestoreIndices(cnum, &cn));
+  }
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &bad, 1, MPIU_BOOL, MPI_LOR, w->comm));
+  PetscCheck(!bad, w->comm, PETSC_ERR_SUP, "option -write_fields: the %s needs a mesh of one cell type and Lagrange fields with values at the vertices", P->name);
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, info, 2, MPIU_INT, MPI_MAX, w->comm));
+  P->dim = info[0];
+  P->nv  = info[1];
+  PetscCheck((P->dim == 2 && (P->nv == 3 || P->nv == 4)) || (P->dim == 3 && P->nv == 4), w->comm, PETSC_ERR_SUP, "option -write_fields: the %s mesh has cells of %" PetscInt_FMT " vertices in %" PetscInt_FMT "D; only triangles, quadrilaterals and tetrahedra are written", P->name, P->nv, P->dim);
+  for (PetscInt f = 0; f < P->nfields; ++f)
+    if (P->nc[f] < 0) P->nc[f] = P->dim;
+  for (PetscInt c = 0; c < ncells; ++c)
+    for (PetscInt i = 0; i < P->nv; ++i) cells[c * P->nv + i] = cells[c * MAX_CELL_VERTICES + i];
+  PetscCall(GatherOnRoot(w->comm, ncells * P->nv, MPIU_INT, cells, (void **)&gathered, &total));
+  P->ncells = total / P->nv;
+  if (!w->rank) {
+    IS   is;
+    char group[64];
+
+    PetscCall(PetscSNPrintf(group, sizeof(group), "/%s", P->name));
+    PetscCall(ISCreateGeneral(PETSC_COMM_SELF, total, gathered, PETSC_USE_POINTER, &is));
+    PetscCall(ISSetBlockSize(is, P->nv));
+    PetscCall(PetscObjectSetName((PetscObject)is, "topology"));
+    PetscCall(PetscViewerHDF5PushGroup(w->viewer, group));
+    PetscCall(ISView(is, w->viewer));
+    PetscCall(PetscViewerHDF5PopGroup(w->viewer));
+    PetscCall(ISDestroy(&is));
+  }
+  PetscCall(GatherOnRoot(w->comm, P->nown, MPIU_INT, global, (void **)&P->index, &P->nvertices));
+  PetscCallMPI(MPI_Bcast(&P->nvertices, 1, MPIU_INT, 0, w->comm));
+  PetscCallMPI(MPI_Bcast(&P->ncells, 1, MPIU_INT, 0, w->comm));
+  PetscCall(PetscFree(gathered));
+  PetscCall(PetscFree(cells));
+  PetscCall(PetscFree(global));
+  PetscFunctionReturn(0);
+}
+
+/* dm and local are NULL on ranks that do not hold this part. */
+static PetscErrorCode PartWrite(FieldWriter w, const Part *P, DM dm, Vec local, const char group[], PetscReal t)
+{
+  const char    *name[3] = {"geometry", P->field[0], P->field[1]};
+  const PetscInt nq = 1 + P->nfields, bs[3] = {P->dim, P->nc[0], P->nfields > 1 ? P->nc[1] : 0};
+  const PetscInt ncomp = bs[0] + bs[1] + bs[2];
+  /* ParaView takes an XDMF Vector for three components: 2D vectors get a zero z */
+  const PetscInt obs[3] = {bs[0], bs[1] > 1 ? 3 : bs[1], bs[2] > 1 ? 3 : bs[2]};
+  PetscScalar   *buf = NULL, *all;
+  PetscInt       total;
+
+  PetscFunctionBeginUser;
+  if (dm) {
+    Vec                X;
+    PetscSection       cs, s;
+    const PetscScalar *x, *u;
+
+    PetscCall(DMGetCoordinatesLocal(dm, &X));
+    PetscCall(DMGetCoordinateSection(dm, &cs));
+    PetscCall(DMGetLocalSection(dm, &s));
+    PetscCall(VecGetArrayRead(X, &x));
+    PetscCall(VecGetArrayRead(local, &u));
+    PetscCall(PetscMalloc1(P->nown * ncomp, &buf));
+    for (PetscInt i = 0; i < P->nown; ++i) {
+      PetscScalar *b = buf + i * ncomp;
+      PetscInt     off;
+
+      PetscCall(PetscSectionGetOffset(cs, P->own[i], &off));
+      for (PetscInt d = 0; d < P->dim; ++d) *b++ = x[off + d];
+      for (PetscInt f = 0; f < P->nfields; ++f) {
+        PetscCall(PetscSectionGetFieldOffset(s, P->own[i], f, &off));
+        for (PetscInt c = 0; c < P->nc[f]; ++c) *b++ = u[off + c];
+      }
+    }
+    PetscCall(VecRestoreArrayRead(local, &u));
+    PetscCall(VecRestoreArrayRead(X, &x));
+  }
+  PetscCall(GatherOnRoot(w->comm, P->nown * ncomp, MPIU_SCALAR, buf, (void **)&all, &total));
+  if (!w->rank) {
+    const PetscInt N = P->nvertices;
+    PetscScalar   *q[3] = {NULL, NULL, NULL};
+
+    for (PetscInt k = 0; k < nq; ++k) PetscCall(PetscCalloc1(N * obs[k], &q[k]));
+    for (PetscInt j = 0; j < N; ++j) {
+      const PetscInt     g = P->index[j];
+      const PetscScalar *a = all + j * ncomp;
+
+      for (PetscInt k = 0; k < nq; ++k)
+        for (PetscInt c = 0; c < bs[k]; ++c) q[k][g * obs[k] + c] = *a++;
+      if (P->deform)
+        for (PetscInt d = 0; d < P->dim; ++d) q[0][g * P->dim + d] += q[1][g * obs[1] + d];
+    }
+    PetscCall(PetscViewerHDF5PushGroup(w->viewer, group));
+    for (PetscInt k = 0; k < nq; ++k) PetscCall(WriteArray(w->viewer, name[k], obs[k], N, q[k]));
+    PetscCall(PetscViewerHDF5PopGroup(w->viewer));
+    PetscCall(PetscViewerHDF5WriteAttribute(w->viewer, group, "time", PETSC_REAL, &t));
+    for (PetscInt k = 0; k < nq; ++k) PetscCall(PetscFree(q[k]));
+  }
+  PetscCall(PetscFree(all));
+  PetscCall(PetscFree(buf));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FieldWriterCreate(MPI_Comm comm, const RunParams *params, Fluid fluid, Structure structure, FieldWriter *writer)
+{
+  FieldWriter w;
+  PetscBool   on = PETSC_FALSE, help, ok = PETSC_TRUE, exists[2] = {fluid ? PETSC_TRUE : PETSC_FALSE, structure ? PETSC_TRUE : PETSC_FALSE};
+  PetscInt    interval = 10;
+
+  PetscFunctionBeginUser;
+  *writer = NULL;
+  PetscOptionsBegin(comm, NULL, "Field output for ParaView", "fsiopt");
+  PetscCall(PetscOptionsBool("-write_fields", "write <output_dir>/fields.h5 and fields.xdmf (fluid and structure fields over time)", NULL, on, &on, NULL));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-write_fields_interval", "write the fields every K-th step (the first and the last always)", 1, PETSC_MAX_INT, &interval));
+  PetscOptionsEnd();
+  PetscCall(PetscOptionsHasHelp(NULL, &help));
+  if (!on || help) PetscFunctionReturn(0); /* a -help run runs no step: nothing to show */
+  PetscCall(PetscNew(&w));
+  w->comm      = comm;
+  w->fluid     = fluid;
+  w->structure = structure;
+  w->interval  = interval;
+  w->steps     = params->steps;
+  w->t0        = params->t_start;
+  w->dt        = params->dt;
+  w->part[0]   = (Part){.name = "fluid", .field = {"velocity", "pressure"}, .nfields = 2, .nc = {-1, 1}};
+  w->part[1]   = (Part){.name = "structure", .field = {"displacement", NULL}, .nfields = 1, .nc = {-1, 0}, .deform = PETSC_TRUE};
+  PetscCall(PetscMalloc1(w->steps + 1, &w->written));
+  PetscCall(PetscStrncpy(w->dir, params->output_dir, sizeof(w->dir)));
+  PetscCall(PetscSNPrintf(w->path, sizeof(w->path), "%s/fields.h5", w->dir));
+  PetscCall(PetscSNPrintf(w->partial, sizeof(w->partial), "%s/fields.h5.partial", w->dir));
+  PetscCall(PetscLogEventRegister("FieldsWrite", PETSC_VIEWER_CLASSID, &w->event));
+  PetscCallMPI(MPI_Comm_rank(comm, &w->rank));
+  *writer = w; /* from here on FieldWriterDestroy cleans up after a failure */
+  if (!w->rank) {
+    FILE *fp;
+
+    PetscCall(OutputMakeDirectories(w->dir));
+    /* HDF5's own failure is a multi-line trace: test the path first */
+    fp = fopen(w->partial, "w");
+    ok = fp ? PETSC_TRUE : PETSC_FALSE;
+    if (fp) fclose(fp);
+  }
+  PetscCallMPI(MPI_Bcast(&ok, 1, MPIU_BOOL, 0, comm));
+  PetscCheck(ok, comm, PETSC_ERR_FILE_OPEN, "option -write_fields: cannot create %s", w->partial);
+  if (!w->rank) PetscCall(PetscViewerHDF5Open(PETSC_COMM_SELF, w->partial, FILE_MODE_WRITE, &w->viewer));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, exists, 2, MPIU_BOOL, MPI_LOR, comm));
+  if (exists[0]) {
+    DM dm = NULL;
+    if (fluid) PetscCall(FluidGetDM(fluid, &dm));
+    PetscCall(PartSetUp(w, &w->part[0], dm));
+  }
+  if (exists[1]) {
+    DM dm = NULL;
+    if (structure) PetscCall(StructureGetDM(structure, &dm));
+    PetscCall(PartSetUp(w, &w->part[1], dm));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FieldWriterWrite(FieldWriter w, PetscInt step)
+{
+  PetscFunctionBeginUser;
+  if (!w || (step % w->interval && step != 0 && step != w->steps)) PetscFunctionReturn(0);
+  if (step > w->steps || (w->nwritten && w->written[w->nwritten - 1] >= step)) PetscFunctionReturn(0);
+  PetscCall(PetscLogEventBegin(w->event, 0, 0, 0, 0));
+  for (PetscInt p = 0; p < 2; ++p) {
+    DM   dm    = NULL;
+    Vec  local = NULL, x;
+    char group[64];
+
+    if (!w->part[p].nvertices) continue; /* not in this scene */
+    if (p == 0 && w->fluid) {
+      /* the global solution lacks the Dirichlet values */
+      PetscCall(FluidGetDM(w->fluid, &dm));
+      PetscCall(FluidGetSolution(w->fluid, &x));
+      PetscCall(DMGetLocalVector(dm, &local));
+      PetscCall(FEMGlobalToLocal(dm, x, local));
+    }
+    if (p == 1 && w->structure) {
+      PetscCall(StructureGetDM(w->structure, &dm));
+      PetscCall(StructureGetDisplacementLocal(w->structure, &local));
+    }
+    PetscCall(PetscSNPrintf(group, sizeof(group), "/%s/step_%05" PetscInt_FMT, w->part[p].name, step));
+    PetscCall(PartWrite(w, &w->part[p], dm, local, group, w->t0 + step * w->dt));
+    if (p == 0 && w->fluid) PetscCall(DMRestoreLocalVector(dm, &local));
+  }
+  if (!w->rank) PetscCall(PetscViewerFlush(w->viewer));
+  w->written[w->nwritten++] = step;
+  PetscCall(PetscLogEventEnd(w->event, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode XdmfItem(MPI_Comm comm, FILE *fp, const char *indent, PetscInt n, PetscInt bs, const char type[], size_t precision, const char path[])
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFPrintf(comm, fp, "%s<DataItem Dimensions=\"%" PetscInt_FMT, indent, n));
+  if (bs > 1) PetscCall(PetscFPrintf(comm, fp, " %" PetscInt_FMT, bs));
+  PetscCall(PetscFPrintf(comm, fp, "\" NumberType=\"%s\" Precision=\"%d\" Format=\"HDF\">fields.h5:%s</DataItem>\n", type, (int)precision, path));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode XdmfGrid(MPI_Comm comm, FILE *fp, const Part *P, PetscInt step)
+{
+  const char *topology = P->dim == 3 ? "Tetrahedron" : P->nv == 3 ? "Triangle" : "Quadrilateral";
+  char        path[128];
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscFPrintf(comm, fp, "      <Grid Name=\"%s\" GridType=\"Uniform\">\n", P->name));
+  PetscCall(PetscFPrintf(comm, fp, "        <Topology TopologyType=\"%s\" NumberOfElements=\"%" PetscInt_FMT "\" NodesPerElement=\"%" PetscInt_FMT "\">\n", topology, P->ncells, P->nv));
+  PetscCall(PetscSNPrintf(path, sizeof(path), "/%s/topology", P->name));
+  PetscCall(XdmfItem(comm, fp, "          ", P->ncells, P->nv, "Int", sizeof(PetscInt), path));
+  PetscCall(PetscFPrintf(comm, fp, "        </Topology>\n        <Geometry GeometryType=\"%s\">\n", P->dim == 3 ? "XYZ" : "XY"));
+  PetscCall(PetscSNPrintf(path, sizeof(path), "/%s/step_%05" PetscInt_FMT "/geometry", P->name, step));
+  PetscCall(XdmfItem(comm, fp, "          ", P->nvertices, P->dim, "Float", sizeof(PetscScalar), path));
+  PetscCall(PetscFPrintf(comm, fp, "        </Geometry>\n"));
+  for (PetscInt f = 0; f < P->nfields; ++f) {
+    PetscCall(PetscFPrintf(comm, fp, "        <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"Node\">\n", P->field[f], P->nc[f] > 1 ? "Vector" : "Scalar"));
+    PetscCall(PetscSNPrintf(path, sizeof(path), "/%s/step_%05" PetscInt_FMT "/%s", P->name, step, P->field[f]));
+    PetscCall(XdmfItem(comm, fp, "          ", P->nvertices, P->nc[f] > 1 ? 3 : 1, "Float", sizeof(PetscScalar), path));
+    PetscCall(PetscFPrintf(comm, fp, "        </Attribute>\n"));
+  }
+  PetscCall(PetscFPrintf(comm, fp, "      </Grid>\n"));
+  PetscFunctionReturn(0);
+}
+
+/* The run completed: fields.h5 gets its name, then the XDMF that refers to it is written. */
+PetscErrorCode FieldWriterFinish(FieldWriter w)
+{
+  PartialFile xdmf;
+  PetscBool   renamed = PETSC_TRUE;
+
+  PetscFunctionBeginUser;
+  if (!w) PetscFunctionReturn(0);
+  if (!w->rank) {
+    PetscCall(PetscViewerDestroy(&w->viewer));
+    renamed = rename(w->partial, w->path) == 0 ? PETSC_TRUE : PETSC_FALSE;
+  }
+  PetscCallMPI(MPI_Bcast(&renamed, 1, MPIU_BOOL, 0, w->comm));
+  PetscCheck(renamed, w->comm, PETSC_ERR_FILE_WRITE, "option -write_fields: cannot rename %s to %s", w->partial, w->path);
+  PetscCall(PartialFileOpen(w->comm, w->dir, "fields.xdmf", &xdmf));
+  PetscCall(PetscFPrintf(w->comm, xdmf.fp, "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"3.0\">\n  <Domain>\n"));
+  PetscCall(PetscFPrintf(w->comm, xdmf.fp, "    <Grid Name=\"fsiopt\" GridType=\"Collection\" CollectionType=\"Temporal\">\n"));
+  for (PetscInt i = 0; i < w->nwritten; ++i) {
+    PetscCall(PetscFPrintf(w->comm, xdmf.fp, "    <Grid Name=\"step_%05" PetscInt_FMT "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n", w->written[i]));
+    PetscCall(PetscFPrintf(w->comm, xdmf.fp, "      <Time Value=\"%.12g\"/>\n", (double)(w->t0 + w->written[i] * w->dt)));
+    for (PetscInt p = 0; p < 2; ++p)
+      if (w->part[p].nvertices) PetscCall(XdmfGrid(w->comm, xdmf.fp, &w->part[p], w->written[i]));
+    PetscCall(PetscFPrintf(w->comm, xdmf.fp, "    </Grid>\n"));
+  }
+  PetscCall(PetscFPrintf(w->comm, xdmf.fp, "    </Grid>\n  </Domain>\n</Xdmf>\n"));
+  PetscCall(PartialFileClose(&xdmf, PETSC_TRUE));
+  PetscFunctionReturn(0);
+}
+
+/* Without FieldWriterFinish the files keep their .partial names. */
+PetscErrorCode FieldWriterDestroy(FieldWriter *writer)
+{
+  FieldWriter w = *writer;
+
+  PetscFunctionBeginUser;
+  if (!w) PetscFunctionReturn(0);
+  PetscCall(PetscViewerDestroy(&w->viewer));
+  for (PetscInt p = 0; p < 2; ++p) {
+    PetscCall(PetscFree(w->part[p].own));
+    PetscCall(PetscFree(w->part[p].index));
+  }
+  PetscCall(PetscFree(w->written));
+  PetscCall(PetscFree(*writer));
+  PetscFunctionReturn(0);
+}
