@@ -57,7 +57,7 @@ static PetscErrorCode AssembleOldMass(Fluid f)
   const PetscReal  coefficient = f->rho / f->dt;
 
   PetscFunctionBeginUser;
-  if (f->mass_old_step == f->step) PetscFunctionReturn(0);
+  if (f->mass_old_step >= 0) PetscFunctionReturn(0); /* this step's */
   PetscCall(DMGetDimension(f->dm_all, &dim));
   PetscCall(DMGetDS(f->dm_all, &ds));
   PetscCall(PetscDSGetTotalDimension(ds, &totDim));
@@ -93,6 +93,19 @@ static PetscErrorCode AssembleOldMass(Fluid f)
   PetscFunctionReturn(0);
 }
 
+/* out = M(Omega^{n-1}) u on the free rows, u a local state with its boundary values */
+static PetscErrorCode OldMassMult(Fluid f, Vec xlocal, Vec out)
+{
+  PetscFunctionBeginUser;
+  PetscCall(AssembleOldMass(f));
+  PetscCall(DMLocalToGlobal(f->dm_all, xlocal, INSERT_VALUES, f->all_x));
+  PetscCall(MatMult(f->mass_old_all, f->all_x, f->all_y));
+  PetscCall(DMGlobalToLocal(f->dm_all, f->all_y, INSERT_VALUES, f->all_local));
+  PetscCall(VecZeroEntries(out));
+  PetscCall(DMLocalToGlobal(f->dm, f->all_local, INSERT_VALUES, out));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode ResidualALE(SNES snes, Vec x, Vec F, void *ctx)
 {
   Fluid f = (Fluid)ctx;
@@ -101,13 +114,7 @@ static PetscErrorCode ResidualALE(SNES snes, Vec x, Vec F, void *ctx)
   (void)snes;
   PetscCall(FEMGlobalToLocal(f->dm, x, f->xlocal_work));
   PetscCall(FEMResidual(f->dm, f->xlocal_work, F)); /* no mass term in the kernels */
-  /* + M(Omega^{n-1}) u with the boundary values included, on the free rows */
-  PetscCall(AssembleOldMass(f));
-  PetscCall(DMLocalToGlobal(f->dm_all, f->xlocal_work, INSERT_VALUES, f->all_x));
-  PetscCall(MatMult(f->mass_old_all, f->all_x, f->all_y));
-  PetscCall(DMGlobalToLocal(f->dm_all, f->all_y, INSERT_VALUES, f->all_local));
-  PetscCall(VecZeroEntries(f->work));
-  PetscCall(DMLocalToGlobal(f->dm, f->all_local, INSERT_VALUES, f->work));
+  PetscCall(OldMassMult(f, f->xlocal_work, f->work));
   PetscCall(VecAXPY(F, 1.0, f->work));
   PetscFunctionReturn(0);
 }
@@ -175,7 +182,8 @@ PetscErrorCode FluidALESetUp(Fluid f)
   PetscFunctionReturn(0);
 }
 
-/* Before the time and the mesh move on: M(Omega^{n-1}), and d^{n-1}. */
+/* Before the time and the mesh move on: M(Omega^{n-1}), the history term
+   M(Omega^{n-1}) u^{n-1} (xlocal_old), and d^{n-1}. */
 PetscErrorCode FluidALEBeginStep(Fluid f)
 {
   Vec coordinates;
@@ -184,7 +192,8 @@ PetscErrorCode FluidALEBeginStep(Fluid f)
   PetscCall(DMGetCoordinatesLocal(f->dm, &coordinates));
   PetscCall(DMSetCoordinatesLocal(f->dm_all, coordinates));
   PetscCall(FEMInvalidateGeometry(f->dm_all));
-  f->mass_old_step = -1; /* assembled at the step's first residual */
+  f->mass_old_step = -1;
+  PetscCall(OldMassMult(f, f->xlocal_old, f->history));
   PetscCall(VecCopy(f->displacement, f->displacement_old));
   PetscCall(VecZeroEntries(f->z_local));
   PetscFunctionReturn(0);

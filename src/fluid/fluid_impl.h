@@ -17,6 +17,8 @@ struct _p_Fluid {
   Vec            xlocal_old; /* previous state with its boundary values */
   Vec            history;    /* rho/dt M(Omega^{n-1}) u^{n-1} */
   Vec            rhs, x_start;
+  Vec            x_before;    /* u^{n-2} while a step starts, for the extrapolated first guess */
+  PetscBool      extrapolate;
   PetscBool      chord;          /* nonlinear solves on factors from another state */
   PetscInt       chord_restarts; /* solves that needed fresh factors */
   PetscInt       interface_face;            /* 0: no interface */
