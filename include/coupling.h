@@ -44,6 +44,13 @@ PetscErrorCode CouplingProblemJacobianMultTranspose(CouplingProblem, Vec rho, Ve
 /* ||u - v_s||_{L2(Gamma_I)} at x (with the consistent interface mass) */
 PetscErrorCode CouplingProblemJump(CouplingProblem, Vec x, PetscReal *jump);
 PetscErrorCode CouplingProblemEndStep(CouplingProblem, Vec x);
+/* One Dirichlet-Neumann sweep (the partitioned baselines): the structure under the
+   control x, the fluid mesh moved to its displacement, the fluid with the structure's
+   interface velocity prescribed, and x_new: the control whose load equals the fluid's
+   reaction on the interface. A fixed point is a solution of the coupled step. */
+PetscErrorCode CouplingProblemSweep(CouplingProblem, Vec x, Vec x_new);
+/* ||u - v_s||_{L2(Gamma_I)} of the last sweep's state (zero up to the solvers' tolerance) */
+PetscErrorCode CouplingProblemSweepJump(CouplingProblem, PetscReal *jump);
 /* The structure's displacement on the interface nodes (fluid node order). Collective. */
 PetscErrorCode CouplingProblemInterfaceDisplacement(CouplingProblem, Vec all);
 
@@ -54,10 +61,11 @@ PetscErrorCode CouplingProblemTestTaylor(CouplingProblem, Vec x);
 /* A coupling method advances the coupled system by one step (one file per method). */
 typedef struct _p_Coupling *Coupling;
 typedef struct {
-  PetscInt  iterations;      /* coupling iterations, summed over steps */
+  PetscInt  iterations;      /* coupling iterations (Gauss-Newton or sweeps), summed over steps */
+  PetscInt  linearized_pairs; /* iterations that also solved the linearized and adjoint problems */
   PetscInt  inner_iterations;
   PetscInt  stalled_steps;
-  PetscReal max_jump;        /* largest final interface jump of a step */
+  PetscReal max_jump;        /* largest final interface jump (opt) or traction residual (partitioned) of a step */
 } CouplingStats;
 
 PetscErrorCode CouplingCreate(const char method[], CouplingProblem, const char output_dir[], PetscReal t0, Coupling *);

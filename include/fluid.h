@@ -25,6 +25,10 @@ PetscErrorCode FluidBeginStep(Fluid);                         /* old-domain term
 PetscErrorCode FluidSolve(Fluid, Vec load, PetscInt step);    /* R(x) = history + load */
 PetscErrorCode FluidUpdateJacobian(Fluid);                    /* A = dR/dx at the current state, factored */
 PetscErrorCode FluidLinearSolve(Fluid, Vec rhs, Vec x, PetscBool transpose); /* with the factors in hand */
+/* Dirichlet-Neumann use: solves with the interface rows (global indices) set to `values`
+   (a global vector; only those rows are read) and returns the reaction R(x) - history on
+   every row: on the interface rows, the load a traction-controlled fluid would need. */
+PetscErrorCode FluidSolveDirichlet(Fluid, IS rows, Vec values, Vec reaction, PetscInt step);
 PetscErrorCode FluidGetDM(Fluid, DM *);
 PetscErrorCode FluidGetSolution(Fluid, Vec *);
 PetscErrorCode FluidGetTime(Fluid, PetscReal *);

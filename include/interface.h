@@ -37,6 +37,11 @@ PetscErrorCode InterfaceExtend(Interface, Vec control, Vec all);
    rows of a global vector (insert; constrained nodes are dropped). */
 PetscErrorCode InterfaceFluidTrace(Interface, Vec fluid_local, Vec all);
 PetscErrorCode InterfaceFluidSpread(Interface, Vec all, Vec fluid_global);
+/* The adjoint of the spreading: the free interface rows of a fluid global vector (a
+   load, e.g. a reaction) as an interface vector; 0 at constrained nodes. */
+PetscErrorCode InterfaceFluidGather(Interface, Vec fluid_global, Vec all);
+/* The fluid's free interface rows (global indices, this rank's), every component. */
+PetscErrorCode InterfaceGetFluidRows(Interface, IS *rows);
 PetscErrorCode InterfaceStructureTrace(Interface, Vec structure_local, Vec all);
 PetscErrorCode InterfaceStructureSpread(Interface, Vec all, Vec structure_global);
 /* Overwrites the structure's owned interface values (all components) in a local vector. */

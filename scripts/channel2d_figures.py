@@ -15,8 +15,19 @@ dt = 1e-4 to T = 0.1 (options/channel2d.yaml). Reproduces, from bin/fsiopt runs:
   table [RUNDIR]    interface jump at each Gauss-Newton iteration of the steps at three times
                     (Table 3.1; default t = T/4, T/2, 3T/4 = 0.025, 0.05, 0.075 for the full
                     run) and the distribution of Gauss-Newton iterations per step
+  pressure [RUNDIR] the fluid pressure on the deformed fluid mesh and the deformed wall at
+                    three times (Fig 3.4; default T/4, T/2, 3T/4 = 0.025, 0.05, 0.075, --times),
+                    one panel per time, one colour scale shared by the panels (--color-scale
+                    panel: one each), displacement times --scale (default 1: true geometry).
+                    Reads RUNDIR/fields.h5 (fsiopt -write_fields), the written step nearest to
+                    each time (the panel title gives its time); without RUNDIR runs the default
+                    variant with -write_fields -write_fields_interval K, K = gcd of the steps of
+                    the times (250 for the defaults), a run of its own (<variant>-fK). The CSV
+                    has per snapshot the pressure range, the wall's largest displacement, its
+                    largest dy and where, and the gap between the fluid mesh and the wall
   all               mesh, order, tikhonov and the table of the shared default run (hy = 0.1,
-                    first-order wall, eps = 0)
+                    first-order wall, eps = 0), and the pressure figure (its run with fields
+                    goes with the others)
 
 Every subcommand writes PNG + CSV (+ Markdown for tables) into out/figures/ (--out). Runs go
 to out/figures/runs/<variant>/ (--runs-dir) and are re-used when complete and run with the
@@ -27,7 +38,8 @@ numbers go into <figure>-runs.csv. A run that fails (non-zero exit) is reported 
 Examples (build first: make all; the full T = 0.1 runs take several minutes each):
   scripts/channel2d_figures.py probes out/channel2d
   scripts/channel2d_figures.py all --jobs 2
-  scripts/channel2d_figures.py mesh --t-final 0.01 --out out/figures-short"""
+  scripts/channel2d_figures.py mesh --t-final 0.01 --out out/figures-short
+  scripts/channel2d_figures.py pressure --t-final 0.01 --times 0.0025,0.005,0.0075 --out /tmp/pf"""
 import argparse, csv, hashlib, math, os, re, shlex, sys
 
 import matplotlib
@@ -50,20 +62,30 @@ DEFAULT_EPS = [1e-5, 1e-6, 5e-7, 1e-12]
 _variants = {}
 
 
-def variant(args, ny=10, order=1, eps=0.0):
+def variant(args, ny=10, order=1, eps=0.0, fields=0):
     """The channel run with fluid NX x ny cells, a wall of NX x ny/10 cells, the given wall
-    time order and Tikhonov weight; one object per distinct run (shared between studies)."""
+    time order and Tikhonov weight; one object per distinct run (shared between studies).
+    fields = K > 0: also -write_fields -write_fields_interval K (a run of its own, name ...-fK)."""
     nx, extra = args.nx, shlex.split(args.extra)
     name = "nx%d-ny%d-o%d-eps%g-T%g" % (nx, ny, order, eps, args.t_final)
+    if fields:
+        name += "-f%d" % fields
     if extra:
         name += "-x" + hashlib.sha1(" ".join(extra).encode()).hexdigest()[:8]
     if name not in _variants:
         options = ["-options_file", OPTIONS_FILE, "-t_final", "%g" % args.t_final,
                    "-fluid_dm_plex_box_faces", "%d,%d" % (nx, ny),
                    "-structure_dm_plex_box_faces", "%d,%d" % (nx, ny // 10),
-                   "-structure_time_order", str(order), "-coupling_tikhonov", "%g" % eps] + extra
+                   "-structure_time_order", str(order), "-coupling_tikhonov", "%g" % eps]
+        outputs = fr.OUTPUTS
+        if fields:
+            options += ["-write_fields", "-write_fields_interval", str(fields)]
+            outputs += ("fields.h5", "fields.xdmf")
         label = "%s (hx = %g), %s, eps = %g" % (HY_LABEL.get(ny, "hy = 1/%d" % ny), 6.0 / nx, ORDER_LABEL[order], eps)
-        _variants[name] = fr.Variant(name, label, options, nx=nx, ny=ny, order=order, eps=eps)
+        if fields:
+            label += ", fields every %d steps" % fields
+        _variants[name] = fr.Variant(name, label, options + extra, outputs=outputs, nx=nx, ny=ny, order=order, eps=eps,
+                                     fields=fields)
     return _variants[name]
 
 
@@ -313,6 +335,195 @@ def write_table(run_dir, times, name, out):
     return problems
 
 
+# ---------------------------------------------------------------------------- pressure
+def run_time_grid(args):
+    """(t_start, dt) of our runs: -t_start / -dt in --extra, else the options file's."""
+    grid = {"t_start": 0.0, "dt": 1e-4}
+    try:
+        with open(os.path.join(ROOT, OPTIONS_FILE)) as f:
+            for line in f:
+                m = re.match(r"(t_start|dt):\s*([-+0-9.eE]+)\s*(#.*)?$", line)
+                if m:
+                    grid[m.group(1)] = float(m.group(2))
+    except OSError:
+        pass
+    extra = shlex.split(args.extra)
+    for i, opt in enumerate(extra[:-1]):
+        if opt in ("-t_start", "-dt"):
+            grid[opt[1:]] = float(extra[i + 1])
+    return grid["t_start"], grid["dt"]
+
+
+def default_times(t_start, t_final):
+    return [t_start + f * (t_final - t_start) for f in (0.25, 0.5, 0.75)]
+
+
+def fields_interval(args, times):
+    """K of -write_fields_interval for the requested times: the gcd of their steps, leaving
+    out step 0 and the last step (always written); sys.exit on a time outside the run."""
+    t_start, dt = run_time_grid(args)
+    last = int(math.floor((args.t_final - t_start) / dt + 0.5))
+    steps = []
+    for t in times:
+        n = int(math.floor((t - t_start) / dt + 0.5))
+        if not 0 <= n <= last:
+            sys.exit("channel2d_figures: pressure: t = %g is outside the run [%g, %g]" % (t, t_start, args.t_final))
+        if 0 < n < last:
+            steps.append(n)
+    return math.gcd(*steps) if steps else last
+
+
+def pressure_variant(args):
+    times = args.times or default_times(run_time_grid(args)[0], args.t_final)
+    return variant(args, fields=fields_interval(args, times)), times
+
+
+def boundary_edges(cells):
+    """The edges (vertex pairs) of a cell mesh that belong to one cell only."""
+    count = {}
+    for c in cells:
+        for a, b in zip(c, np.roll(c, -1)):
+            key = (min(a, b), max(a, b))
+            count[key] = count.get(key, 0) + 1
+    return np.array([e for e, k in count.items() if k == 1], dtype=int).reshape(-1, 2)
+
+
+def read_fields(run_dir, times):
+    """Snapshots of run_dir/fields.h5 at the written steps nearest to the times (default
+    T/4, T/2, 3T/4 of the written range): (snapshots, fluid topology, wall topology or
+    None, wall reference coordinates or None). A snapshot is a dict: requested, time, step,
+    fluid x (current), fluid x0 (first written step: the reference when the run starts at
+    rest), p, wall x, wall displacement."""
+    import h5py   # only this subcommand needs it
+    path = os.path.join(run_dir, "fields.h5")
+    if not os.path.isfile(path):
+        extra = " (only fields.h5.partial: the run is unfinished or failed)" if os.path.isfile(path + ".partial") else \
+            " (a run without -write_fields?)"
+        raise FileNotFoundError("%s: no such file%s" % (fr.rel(path), extra))
+    with h5py.File(path, "r") as f:
+        if "fluid" not in f:
+            raise ValueError("%s: no /fluid group" % fr.rel(path))
+        fluid, wall = f["fluid"], f.get("structure")
+        steps = sorted((int(k[5:]), float(g.attrs["time"])) for k, g in fluid.items() if k.startswith("step_"))
+        if not steps:
+            raise ValueError("%s: no /fluid/step_NNNNN groups" % fr.rel(path))
+        if not times:
+            times = default_times(steps[0][1], steps[-1][1])
+        topo = np.asarray(fluid["topology"][:], dtype=int)
+        x0 = np.asarray(fluid["step_%05d/geometry" % steps[0][0]][:, :2], dtype=float)
+        wall_topo = np.asarray(wall["topology"][:], dtype=int) if wall is not None else None
+        snaps = []
+        for t in times:
+            n, tn = min(steps, key=lambda s: (abs(s[1] - t), s[0]))
+            g = fluid["step_%05d" % n]
+            snap = {"requested": t, "time": tn, "step": n, "x": np.asarray(g["geometry"][:, :2], dtype=float), "x0": x0,
+                    "p": np.asarray(g["pressure"][:], dtype=float).ravel(), "wall_x": None, "wall_d": None}
+            if wall is not None and "step_%05d" % n in wall:
+                w = wall["step_%05d" % n]
+                snap["wall_x"] = np.asarray(w["geometry"][:, :2], dtype=float)
+                snap["wall_d"] = np.asarray(w["displacement"][:, :2], dtype=float)
+            snaps.append(snap)
+    return snaps, topo, wall_topo, [tn for _, tn in steps]
+
+
+def interface_gap(snap):
+    """Largest distance of a fluid vertex on the deformed wall (reference y = max y) from the
+    nearest wall vertex: 0 when the fluid mesh follows the wall exactly."""
+    if snap["wall_x"] is None:
+        return float("nan")
+    top = snap["x0"][:, 1] > snap["x0"][:, 1].max() - 1e-9
+    d = np.linalg.norm(snap["x"][top][:, None, :] - snap["wall_x"][None, :, :], axis=2)
+    return float(d.min(axis=1).max())
+
+
+def write_pressure(run_dir, times, name, out, scale=1.0, color_scale="shared", cmap="turbo", mesh=True):
+    """Fig 3.4: the fluid pressure on the deformed fluid mesh and the deformed wall at the
+    written steps nearest to the times, one panel per time; PNG + CSV. Returns notes on the
+    requested times that are not written steps (the nearest one is drawn)."""
+    from matplotlib.collections import LineCollection, PolyCollection
+    from matplotlib.tri import Triangulation
+    snaps, topo, wall_topo, written = read_fields(run_dir, times)
+    notes = ["t = %g is not written, drawn: the nearest written step %d at t = %g (%s has t = %s)"
+             % (s["requested"], s["step"], s["time"], fr.rel(run_dir),
+                ", ".join("%g" % t for t in written[:12]) + (", ..." if len(written) > 12 else ""))
+             for s in snaps if abs(s["time"] - s["requested"]) > 1e-9]
+    tris = np.concatenate([topo[:, [0, 1, 2]], topo[:, [0, 2, 3]]]) if topo.shape[1] == 4 else topo
+    wall_ref = snaps[0]["wall_x"] - snaps[0]["wall_d"] if snaps[0]["wall_x"] is not None else None
+    wall_edges = boundary_edges(wall_topo) if wall_topo is not None else None
+    plim = (min(s["p"].min() for s in snaps), max(s["p"].max() for s in snaps))
+    for s in snaps:   # exaggerated geometry: reference + scale * displacement
+        s["xs"] = s["x0"] + scale * (s["x"] - s["x0"])
+        s["wall_xs"] = None if s["wall_x"] is None else wall_ref + scale * s["wall_d"]
+    allx = np.concatenate([s["xs"] for s in snaps] + [s["wall_xs"] for s in snaps if s["wall_xs"] is not None])
+    lo, hi = allx.min(axis=0), allx.max(axis=0)
+    pad = 0.04 * (hi - lo).max()
+    aspect = (hi[1] - lo[1] + 2 * pad) / (hi[0] - lo[0] + 2 * pad)
+    fig, axes = plt.subplots(len(snaps), 1, sharex=True, squeeze=False,
+                             figsize=(9.5, len(snaps) * (8.0 * aspect + 0.55) + 0.9))
+    for ax, s in zip(axes[:, 0], snaps):
+        vmin, vmax = plim if color_scale == "shared" else (s["p"].min(), s["p"].max())
+        tri = Triangulation(s["xs"][:, 0], s["xs"][:, 1], tris)
+        im = ax.tripcolor(tri, s["p"], shading="gouraud", cmap=cmap, vmin=vmin, vmax=vmax)
+        if mesh:
+            ax.add_collection(PolyCollection(s["xs"][topo], facecolors="none", edgecolors="k", linewidths=0.25,
+                                             alpha=0.25))
+        if s["wall_xs"] is not None:
+            ax.add_collection(PolyCollection(s["wall_xs"][wall_topo], facecolors="0.75", edgecolors="0.35",
+                                             linewidths=0.4))
+            ax.add_collection(LineCollection(wall_ref[wall_edges], colors="k", linewidths=0.6, linestyles="--"))
+        ax.set_xlim(lo[0] - pad, hi[0] + pad)
+        ax.set_ylim(lo[1] - pad, hi[1] + pad)
+        ax.set_aspect("equal")
+        ax.set_ylabel("Height (cm)")
+        title = "t = %.4g s (step %d)" % (s["time"], s["step"])
+        if abs(s["time"] - s["requested"]) > 1e-9:
+            title += ", requested t = %g" % s["requested"]
+        ax.set_title(title, fontsize="medium")
+        if color_scale != "shared":
+            fig.colorbar(im, ax=ax, label="pressure (dyn/cm^2)", fraction=0.035, pad=0.015)
+    axes[-1, 0].set_xlabel("Length (cm)")
+    if color_scale == "shared":
+        fig.colorbar(im, ax=axes[:, 0].tolist(), label="pressure (dyn/cm^2)", fraction=0.035, pad=0.015, aspect=30)
+    fig.suptitle("channel2d: fluid pressure on the deformed mesh, wall in grey (dashed: at rest)\n%s colour scale, "
+                 "displacement %s; %s" % ("shared" if color_scale == "shared" else "per-panel",
+                                          "true size" if scale == 1 else "x %g" % scale, fr.rel(run_dir)),
+                 fontsize="medium")
+    base = os.path.join(out, name)
+    fig.savefig(base + ".png", dpi=150, bbox_inches="tight")
+    plt.close(fig)
+    with open(base + ".csv", "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["requested_t", "t", "step", "p_min", "p_max", "x_p_max", "max_wall_displacement", "max_wall_dy",
+                    "x_max_wall_dy", "min_wall_dy", "interface_gap"])
+        for s in snaps:
+            row = ["%g" % s["requested"], "%.10g" % s["time"], s["step"], "%.6e" % s["p"].min(), "%.6e" % s["p"].max(),
+                   "%.4g" % s["x"][int(s["p"].argmax()), 0]]
+            if s["wall_d"] is not None:
+                d, i = s["wall_d"], int(s["wall_d"][:, 1].argmax())
+                row += ["%.6e" % np.linalg.norm(d, axis=1).max(), "%.6e" % d[i, 1], "%.4g" % (s["wall_x"][i, 0] - d[i, 0]),
+                        "%.6e" % d[:, 1].min(), "%.3e" % interface_gap(s)]
+            else:
+                row += [""] * 5
+            w.writerow(row)
+    with open(base + ".csv") as f:
+        print(f.read().rstrip())
+    print("written: %s, %s" % (fr.rel(base + ".png"), fr.rel(base + ".csv")))
+    return notes
+
+
+def pressure_figure(args, run_dir, name, times):
+    """write_pressure with the options of args; returns ok (a time that is not a written
+    step is a note, not a failure)."""
+    try:
+        notes = write_pressure(run_dir, times, name, args.out, args.scale, args.color_scale, args.cmap, args.mesh)
+    except (OSError, ValueError, KeyError) as e:
+        print("channel2d_figures: pressure: %s" % e, file=sys.stderr)
+        return False
+    for n in notes:
+        print("channel2d_figures: pressure: note: %s" % n, file=sys.stderr)
+    return True
+
+
 # ---------------------------------------------------------------------------- commands
 def cmd_probes(args):
     if args.labels and len(args.labels) != len(args.rundirs):
@@ -367,9 +578,25 @@ def cmd_table(args):
     return not problems
 
 
+def cmd_pressure(args):
+    if args.rundir:
+        return pressure_figure(args, args.rundir, args.name or os.path.basename(os.path.normpath(args.rundir)) + "-pressure",
+                               args.times)
+    # the default run (hy = 0.1, first-order wall, eps = 0) with -write_fields at --t-final
+    v, times = pressure_variant(args)
+    name = args.name or "channel2d-pressure"
+    fr.run_all([v], args.bin, args.runs_dir, 1, args.force, args.retries)
+    fr.write_runs_csv(os.path.join(args.out, name + "-runs.csv"), [v])
+    if not v.ok:
+        print("channel2d_figures: pressure: variant %s failed: %s" % (v.name, v.error), file=sys.stderr)
+        return False
+    return pressure_figure(args, v.run_dir, name, times)
+
+
 def cmd_all(args):
     studies = ["mesh", "order", "tikhonov"]
-    everything = [variant(args)] + [v for s in studies for _, v in study(args, s)[1]]
+    pv, ptimes = pressure_variant(args)
+    everything = [variant(args)] + [v for s in studies for _, v in study(args, s)[1]] + [pv]
     unique = fr.run_all(everything, args.bin, args.runs_dir, args.jobs, args.force, args.retries)
     fr.write_runs_csv(os.path.join(args.out, "channel2d-all-runs.csv"), unique)
     print("written: %s" % fr.rel(os.path.join(args.out, "channel2d-all-runs.csv")))
@@ -380,6 +607,12 @@ def cmd_all(args):
         ok = cmd_table(args) and ok
     else:
         print("channel2d_figures: all: the default run failed, no table", file=sys.stderr)
+        ok = False
+    if pv.ok:
+        ok = pressure_figure(args, pv.run_dir, "channel2d-pressure", ptimes) and ok
+    else:
+        print("channel2d_figures: all: the run with fields (%s) failed, no pressure figure: %s" % (pv.name, pv.error),
+              file=sys.stderr)
         ok = False
     return ok
 
@@ -407,6 +640,12 @@ def main():
     runs.add_argument("--nx", type=int, default=30, help="cells along the channel, fluid and wall (default 30; even, so that the probes x = 1.5, 3, 4.5 are Q2 nodes)")
     runs.add_argument("--ny", type=ints, default=[10, 20, 30], help="mesh study: fluid cells across (default 10,20,30)")
     runs.add_argument("--eps", type=floats, default=DEFAULT_EPS, help="tikhonov study: weights (default 1e-5,1e-6,5e-7,1e-12)")
+    pres = argparse.ArgumentParser(add_help=False)
+    pres.add_argument("--scale", type=float, default=1.0, help="pressure: displacement drawn times SCALE (default 1: the true geometry)")
+    pres.add_argument("--color-scale", choices=("shared", "panel"), default="shared",
+                      help="pressure: one colour scale for all panels (default) or one per panel")
+    pres.add_argument("--cmap", default="turbo", help="pressure: matplotlib colour map (default turbo)")
+    pres.add_argument("--no-mesh", dest="mesh", action="store_false", help="pressure: do not draw the fluid cells' edges")
     sub = ap.add_subparsers(dest="command", required=True)
     p = sub.add_parser("probes", parents=[out], help="dy at the three interface points against time, one curve per run dir")
     p.add_argument("rundirs", nargs="+", metavar="RUNDIR")
@@ -422,8 +661,15 @@ def main():
     p.add_argument("--times", type=floats, help="times of the columns (default T/4, T/2, 3T/4)")
     p.add_argument("--name", help="output name (default <dirname>-table or channel2d-table)")
     p.set_defaults(func=cmd_table)
-    p = sub.add_parser("all", parents=[out, runs], help="mesh, order, tikhonov and the table")
-    p.add_argument("--times", type=floats, help="table: times of the columns (default T/4, T/2, 3T/4)")
+    p = sub.add_parser("pressure", parents=[out, runs, pres], help="pressure field and wall at three times (Fig 3.4)")
+    p.add_argument("rundir", nargs="?", metavar="RUNDIR", help="a finished run with fields.h5 (default: run the default "
+                   "variant with -write_fields)")
+    p.add_argument("--times", type=floats, help="times of the panels (default T/4, T/2, 3T/4 = 0.025,0.05,0.075 for "
+                   "T = 0.1; of a RUNDIR: of its written time range); the nearest written step is drawn")
+    p.add_argument("--name", help="output name (default <dirname>-pressure or channel2d-pressure)")
+    p.set_defaults(func=cmd_pressure)
+    p = sub.add_parser("all", parents=[out, runs, pres], help="mesh, order, tikhonov, the table and the pressure figure")
+    p.add_argument("--times", type=floats, help="table and pressure: times (default T/4, T/2, 3T/4)")
     p.set_defaults(func=cmd_all)
     args = ap.parse_args()
     args.out = os.path.abspath(args.out)

@@ -2,7 +2,8 @@
 """Shared helpers for scripts that run bin/fsiopt over several variants.
 
 A variant is one fsiopt command line with its own output directory. A run directory is
-re-used when it is complete (summary.json, probes.csv and history.csv present) and the
+re-used when it is complete (summary.json, probes.csv and history.csv present, and the
+variant's extra outputs, e.g. fields.h5 of a run with -write_fields) and the
 command line recorded in its cmd.txt is the one we would run now. cmd.txt is written only
 after a successful run, and removed with the old outputs before a new run starts, so an
 interrupted run is never taken for a complete one.
@@ -31,10 +32,12 @@ def rel(path):
 
 
 class Variant:
-    """One fsiopt run: name (also the run directory name), label (legend), options."""
+    """One fsiopt run: name (also the run directory name), label (legend), options;
+    outputs: the files a complete run has (default OUTPUTS)."""
 
-    def __init__(self, name, label, options, **params):
+    def __init__(self, name, label, options, outputs=OUTPUTS, **params):
         self.name, self.label, self.options, self.params = name, label, list(options), params
+        self.outputs = tuple(outputs)
         self.run_dir = None
         self.status = "pending"   # ok | reused | failed
         self.error = ""
@@ -60,13 +63,13 @@ def read_summary(run_dir):
         return {}
 
 
-def is_complete(run_dir, cmdline):
+def is_complete(run_dir, cmdline, outputs=OUTPUTS):
     try:
         with open(os.path.join(run_dir, "cmd.txt")) as f:
             recorded = f.read().strip()
     except OSError:
         return False
-    return recorded == cmdline and all(os.path.isfile(os.path.join(run_dir, o)) for o in OUTPUTS) \
+    return recorded == cmdline and all(os.path.isfile(os.path.join(run_dir, o)) for o in outputs) \
         and bool(read_summary(run_dir))
 
 
@@ -88,13 +91,13 @@ def run_variant(v, fsiopt, runs_dir, force=False, retries=2, wait_s=5.0, env=Non
     """Run (or re-use) one variant; sets v.status, v.error, v.summary, v.elapsed_s."""
     cmd = v.command(fsiopt, runs_dir)
     cmdline = v.cmdline = shlex.join(cmd)
-    if not force and is_complete(v.run_dir, cmdline):
+    if not force and is_complete(v.run_dir, cmdline, v.outputs):
         v.status, v.summary = "reused", read_summary(v.run_dir)
         v.elapsed_s = v.summary.get("wall_time_s", float("nan"))
         say("  %-28s re-used %s" % (v.name, rel(v.run_dir)))
         return v
     os.makedirs(v.run_dir, exist_ok=True)
-    for name in ("cmd.txt",) + OUTPUTS:
+    for name in ("cmd.txt",) + v.outputs:
         try:
             os.remove(os.path.join(v.run_dir, name))
         except FileNotFoundError:
@@ -113,7 +116,7 @@ def run_variant(v, fsiopt, runs_dir, force=False, retries=2, wait_s=5.0, env=Non
             f.write(stdout)
         with open(os.path.join(v.run_dir, "stderr.log"), "w") as f:
             f.write(stderr)
-        if returncode == 0 and all(os.path.isfile(os.path.join(v.run_dir, o)) for o in OUTPUTS):
+        if returncode == 0 and all(os.path.isfile(os.path.join(v.run_dir, o)) for o in v.outputs):
             with open(os.path.join(v.run_dir, "cmd.txt"), "w") as f:
                 f.write(cmdline + "\n")
             v.status, v.error, v.summary = "ok", "", read_summary(v.run_dir)

@@ -242,7 +242,7 @@ static PetscErrorCode Run(void)
     summary.max_interface_jump  = stats.max_jump;
     summary.stalled_steps       = stats.stalled_steps;
     /* seed eq. 6.5: a forward run with the traction known needs one fluid solve per step */
-    summary.work_factor = (PetscReal)(fluid_solves + 2 * stats.iterations) / params.steps;
+    summary.work_factor = (PetscReal)(fluid_solves + 2 * stats.linearized_pairs) / params.steps;
   }
   PetscCall(PetscTime(&end));
   summary.params        = &params;

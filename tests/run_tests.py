@@ -320,6 +320,41 @@ def _():
     return "3 times, interface max |d| %.2e, fluid vs wall %.1e" % (scale, worst)
 
 
+_partitioned = {}
+
+
+def partitioned_runs():
+    """channel2d, 10 steps, with the optimization-based and two partitioned couplings (the
+    latter to a relative traction change of 1e-6, so that opt's tolerance dominates)."""
+    if not _partitioned:
+        for m in ["opt", "aitken", "iqnils"]:
+            out = os.path.join(WORK, "pt-" + m)
+            s = solve(CHANNEL + ["-t_final", "0.001", "-coupling", m] + (["-coupling_rtol", "1e-6"] if m != "opt" else []), out=out)
+            _partitioned[m] = (s, read_probes(os.path.join(out, "probes.csv"))[1])
+    return _partitioned
+
+
+@test("opt, aitken, iqnils agree on channel2d probes (10 x tol)")
+def _():
+    runs, tol = partitioned_runs(), 1e-4  # -coupling_tol of options/channel2d.yaml
+    _, ref = runs["opt"]
+    worst = {}
+    for m in ["aitken", "iqnils"]:
+        _, got = runs[m]
+        worst[m] = max(max(abs(g[c] - r[c]) for g, r in zip(got, ref)) / max(abs(r[c]) for r in ref) for c in (2, 4, 6))
+        assert worst[m] <= 10 * tol, "%s differs from opt by %.2e of the probe amplitude" % (m, worst[m])
+        assert runs[m][0]["max_interface_jump"] <= 1e-10, "%s: velocity jump %.2e" % (m, runs[m][0]["max_interface_jump"])
+    return ", ".join("%s %.1e" % kv for kv in worst.items())
+
+
+@test("iqnils needs fewer coupling iterations than aitken")
+def _():
+    runs = partitioned_runs()
+    a, q = runs["aitken"][0]["avg_coupling_iterations"], runs["iqnils"][0]["avg_coupling_iterations"]
+    assert q < a, "iqnils %.2f, aitken %.2f sweeps per step" % (q, a)
+    return "sweeps per step: iqnils %.2f, aitken %.2f, opt %.2f GN" % (q, a, runs["opt"][0]["avg_coupling_iterations"])
+
+
 @test("summary.json has every DESIGN key")
 def _():
     s = solve(FLUID_SPACE)
@@ -370,7 +405,10 @@ def bad_input_cases():
         ("negative refine", F + ["-refine", "-1"], "-refine"),
         ("non-conforming interface (counts)", ["-scene", "mms-stokes", "-structure_dm_plex_box_faces", "5,2"], "do not conform"),
         ("non-conforming interface (shifted)", ["-scene", "mms-stokes", "-structure_dm_plex_box_lower", "0.01,1", "-structure_dm_plex_box_upper", "1.01,1.5"], "fluid node (0"),
-        ("coupling not implemented", ["-scene", "mms-stokes", "-coupling", "iqnils"], "-coupling"),
+        ("unrelaxed Dirichlet-Neumann diverges (added mass)", CHANNEL + ["-t_final", "0.001", "-coupling", "dn"], "coupling dn diverged at step 1"),
+        ("Dirichlet-Neumann with the convective control", CHANNEL + ["-coupling", "aitken", "-coupling_control", "convective"], "-coupling_control"),
+        ("Dirichlet-Neumann on an enclosed fluid", ["-scene", "mms-stokes", "-coupling", "iqnils"], "incompressibility"),
+        ("zero relaxation", ["-scene", "mms-stokes", "-coupling", "dn", "-coupling_omega", "0"], "-coupling_omega"),
         ("too many structure ranks", ["-scene", "mms-stokes", "-structure_ranks", "3"], "-structure_ranks"),
         ("negative Tikhonov weight", ["-scene", "mms-stokes", "-coupling_tikhonov", "-1"], "-coupling_tikhonov"),
         ("zero coupling tolerance", ["-scene", "mms-stokes", "-coupling_tol", "0"], "-coupling_tol"),

@@ -5,16 +5,17 @@
 PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, const char output_dir[], PetscReal t0, Coupling *coupling)
 {
   Coupling  C;
-  PetscBool opt;
+  PetscBool opt, partitioned = PETSC_FALSE;
 
   PetscFunctionBeginUser;
   PetscCall(PetscStrcmp(method, "opt", &opt));
-  PetscCheck(opt, PETSC_COMM_WORLD, PETSC_ERR_SUP, "option -coupling %s: not implemented yet (the baselines dn, aitken, iqnils arrive with issue 5); use -coupling opt", method);
+  for (const char **m = (const char *[]){"dn", "aitken", "iqnils", NULL}; *m && !partitioned; ++m) PetscCall(PetscStrcmp(method, *m, &partitioned));
+  PetscCheck(opt || partitioned, PETSC_COMM_WORLD, PETSC_ERR_SUP, "option -coupling %s: unknown coupling method; expected opt, dn, aitken or iqnils", method);
   PetscCall(PetscNew(&C));
   PetscCall(PetscStrncpy(C->method, method, sizeof(C->method)));
   C->problem = problem;
   C->tol     = 1e-10;
-  C->max_it  = 50;
+  C->max_it  = opt ? 50 : 500; /* relaxation methods may need hundreds */
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Coupling options", "coupling");
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_tol", "stop when ||u - v_s||_{L2(Gamma_I)} falls below this", &C->tol));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_max_it", "coupling iterations per step before the run stops with an error", 1, 100000, &C->max_it));
@@ -24,7 +25,8 @@ PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, cons
   PetscCall(CouplingProblemCreateControl(problem, &C->x));
   PetscCall(CouplingProblemInitialControl(problem, t0, C->x));
   PetscCall(HistoryOpen(PETSC_COMM_WORLD, output_dir, &C->history));
-  PetscCall(CouplingCreate_Opt(C));
+  if (opt) PetscCall(CouplingCreate_Opt(C));
+  else PetscCall(CouplingCreate_Partitioned(C));
   *coupling = C;
   PetscFunctionReturn(0);
 }

@@ -21,4 +21,5 @@ struct _p_Coupling {
 };
 
 PetscErrorCode CouplingCreate_Opt(Coupling);
+PetscErrorCode CouplingCreate_Partitioned(Coupling); /* dn, aitken, iqnils */
 #endif

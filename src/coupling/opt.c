@@ -141,6 +141,7 @@ static PetscErrorCode OptStep(Coupling C, PetscInt step)
   PetscCheck(reason > 0, PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "coupling opt (%s) failed at step %" PetscInt_FMT ", iteration %" PetscInt_FMT ": TAO reason %s, interface jump %.3e > -coupling_tol %.3e%s", C->ops.optimizer(C), step, opt->last_iteration, TaoConvergedReasons[reason], (double)opt->last_jump, (double)C->tol, reason == TAO_DIVERGED_USER ? " (the jump grew 1000-fold: diverging)" : "");
   PetscCall(CouplingProblemEndStep(C->problem, C->x));
   C->stats.iterations += opt->last_iteration;
+  C->stats.linearized_pairs += opt->last_iteration;
   opt->steps_done++;
   if (opt->stalled && opt->last_jump > C->tol) {
     C->stats.stalled_steps++;

@@ -37,6 +37,9 @@ struct _p_CouplingProblem {
   PetscBool                extrapolate_mesh;
   DomainUpdate             domain;
   Vec                      mesh_displacement, mesh_displacement_before; /* d^{n-2} */
+  KSP                      control_mass_ksp;
+  PetscBool                swept; /* the state is the last sweep's */
+  IS                       fluid_interface_rows; /* Dirichlet-Neumann sweeps */
 };
 
 PetscErrorCode CouplingProblemGetControlVariant(ControlVariant *variant)
@@ -178,6 +181,8 @@ PetscErrorCode CouplingProblemDestroy(CouplingProblem *problem)
   PetscCall(VecDestroy(&P->structure_local));
   PetscCall(VecDestroy(&P->mesh_displacement));
   PetscCall(VecDestroy(&P->mesh_displacement_before));
+  PetscCall(KSPDestroy(&P->control_mass_ksp));
+  PetscCall(ISDestroy(&P->fluid_interface_rows));
   PetscCall(MeshMotionDestroy(&P->motion));
   PetscCall(PetscFree(*problem));
   PetscFunctionReturn(0);
@@ -230,37 +235,44 @@ static PetscErrorCode ControlMassMult(Mat A, Vec x, Vec y)
   PetscFunctionReturn(0);
 }
 
+/* g = (P M P^T)^{-1} b: the control whose load on the control rows is b. CG on the
+   (small, well-conditioned) interface mass, kept for the run. */
+static PetscErrorCode ControlMassSolve(CouplingProblem P, Vec b, Vec g)
+{
+  PetscFunctionBeginUser;
+  if (!P->control_mass_ksp) {
+    Mat      A;
+    PC       pc;
+    PetscInt n, N;
+    PetscCall(VecGetLocalSize(g, &n));
+    PetscCall(VecGetSize(g, &N));
+    PetscCall(MatCreateShell(P->comm, n, n, N, N, P, &A));
+    PetscCall(MatShellSetOperation(A, MATOP_MULT, (void (*)(void))ControlMassMult));
+    PetscCall(KSPCreate(P->comm, &P->control_mass_ksp));
+    PetscCall(KSPSetType(P->control_mass_ksp, KSPCG));
+    PetscCall(KSPSetOperators(P->control_mass_ksp, A, A));
+    PetscCall(KSPGetPC(P->control_mass_ksp, &pc));
+    PetscCall(PCSetType(pc, PCNONE));
+    PetscCall(KSPSetTolerances(P->control_mass_ksp, 1e-14, 1e-300, PETSC_DEFAULT, 1000));
+    PetscCall(MatDestroy(&A));
+  }
+  PetscCall(KSPSolve(P->control_mass_ksp, b, g));
+  PetscFunctionReturn(0);
+}
+
 /* The control that acts on the free rows as the traction t does: the solution of
    P M P^T g = P M t. Restricting t's nodal values instead would drop its part on the
    constrained nodes, an O(1) error in the elements next to them. */
 static PetscErrorCode TractionToControl(CouplingProblem P, Vec traction_all, Vec g)
 {
-  Mat      A;
-  KSP      ksp;
-  Vec      b;
-  PetscInt n, N;
+  Vec b;
 
   PetscFunctionBeginUser;
-  PetscCall(VecGetLocalSize(g, &n));
-  PetscCall(VecGetSize(g, &N));
-  PetscCall(MatCreateShell(P->comm, n, n, N, N, P, &A));
-  PetscCall(MatShellSetOperation(A, MATOP_MULT, (void (*)(void))ControlMassMult));
   PetscCall(VecDuplicate(g, &b));
   PetscCall(MatMult(P->mass, traction_all, P->all_b));
   PetscCall(InterfaceRestrict(P->itf, P->all_b, b));
-  PetscCall(KSPCreate(P->comm, &ksp));
-  PetscCall(KSPSetType(ksp, KSPCG));
-  PetscCall(KSPSetOperators(ksp, A, A));
-  {
-    PC pc;
-    PetscCall(KSPGetPC(ksp, &pc));
-    PetscCall(PCSetType(pc, PCNONE));
-  }
-  PetscCall(KSPSetTolerances(ksp, 1e-14, 1e-300, PETSC_DEFAULT, 1000));
-  PetscCall(KSPSolve(ksp, b, g));
-  PetscCall(KSPDestroy(&ksp));
+  PetscCall(ControlMassSolve(P, b, g));
   PetscCall(VecDestroy(&b));
-  PetscCall(MatDestroy(&A));
   PetscFunctionReturn(0);
 }
 
@@ -286,6 +298,7 @@ PetscErrorCode CouplingProblemBeginStep(CouplingProblem P, PetscInt step)
   PetscFunctionBeginUser;
   P->step           = step;
   P->state_valid    = PETSC_FALSE;
+  P->swept          = PETSC_FALSE;
   P->jacobian_valid = PETSC_FALSE;
   if (P->fluid) PetscCall(FluidBeginStep(P->fluid));
   if (P->motion && P->extrapolate_mesh && P->domain == DOMAIN_LAGGED) {
@@ -353,6 +366,49 @@ static PetscErrorCode SolveStructure(CouplingProblem P)
   PetscCall(StructureSolve(P->structure, P->structure_vec, P->step));
   PetscCall(StructureVelocityLocal(P->structure, P->measure, P->structure_local));
   PetscCall(PetscLogStagePop());
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemSweep(CouplingProblem P, Vec x, Vec x_new)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(P->variant == CONTROL_TRACTION, P->comm, PETSC_ERR_SUP, "option -coupling_control convective: the Dirichlet-Neumann methods exchange the traction itself; use -coupling_control traction");
+  /* with the interface velocity prescribed too, an enclosed fluid's pressure is
+     undetermined and its volume cannot change (the incompressibility dilemma) */
+  PetscCheck(P->fluid_data.n_traction > 0, P->comm, PETSC_ERR_SUP, "option -coupling: the Dirichlet-Neumann methods (dn, aitken, iqnils) need a fluid boundary with a traction condition besides the interface; this scene's fluid is enclosed (incompressibility dilemma): use -coupling opt");
+  PetscCall(ControlToLoad(P, x, P->all_q));
+  if (P->structure) PetscCall(VecZeroEntries(P->structure_vec));
+  PetscCall(InterfaceStructureSpread(P->itf, P->all_q, P->structure ? P->structure_vec : NULL));
+  PetscCall(SolveStructure(P));
+  PetscCall(MoveMesh(P));
+  PetscCall(InterfaceStructureTrace(P->itf, P->structure ? P->structure_local : NULL, P->all_b));
+  if (P->fluid) {
+    DM  dm;
+    Vec state;
+    if (!P->fluid_interface_rows) PetscCall(InterfaceGetFluidRows(P->itf, &P->fluid_interface_rows));
+    PetscCall(VecZeroEntries(P->fluid_vec));
+    PetscCall(InterfaceFluidSpread(P->itf, P->all_b, P->fluid_vec));
+    PetscCall(PetscLogStagePush(FSIOPT_STAGE_FLUID));
+    PetscCall(FluidSolveDirichlet(P->fluid, P->fluid_interface_rows, P->fluid_vec, P->fluid_sol, P->step));
+    PetscCall(PetscLogStagePop());
+    PetscCall(FluidGetDM(P->fluid, &dm));
+    PetscCall(FluidGetSolution(P->fluid, &state));
+    PetscCall(FEMGlobalToLocal(dm, state, P->fluid_local));
+  }
+  PetscCall(InterfaceFluidGather(P->itf, P->fluid ? P->fluid_sol : NULL, P->all_a));
+  PetscCall(InterfaceRestrict(P->itf, P->all_a, P->r));
+  PetscCall(ControlMassSolve(P, P->r, x_new));
+  PetscCall(VecPointwiseMult(x_new, x_new, P->weight_sqrt));
+  P->state_valid = PETSC_FALSE; /* the state is not the traction-controlled one at x */
+  P->swept       = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemSweepJump(CouplingProblem P, PetscReal *jump)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(P->swept, P->comm, PETSC_ERR_ORDER, "no sweep to measure");
+  PetscCall(Jump(P, 1.0, P->r, jump));
   PetscFunctionReturn(0);
 }
 
@@ -562,8 +618,10 @@ PetscErrorCode CouplingProblemCreateJacobian(CouplingProblem P, Mat *J)
 PetscErrorCode CouplingProblemEndStep(CouplingProblem P, Vec x)
 {
   PetscFunctionBeginUser;
-  PetscCall(EnsureState(P, x));
-  if (P->domain == DOMAIN_LAGGED) PetscCall(MoveMesh(P));
+  if (!P->swept) {
+    PetscCall(EnsureState(P, x));
+    if (P->domain == DOMAIN_LAGGED) PetscCall(MoveMesh(P));
+  }
   if (P->structure) PetscCall(StructureEndStep(P->structure));
   PetscFunctionReturn(0);
 }

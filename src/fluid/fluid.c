@@ -391,6 +391,7 @@ PetscErrorCode FluidDestroy(Fluid *fluid)
   PetscCall(VecDestroy(&f->x_start));
   PetscCall(VecDestroy(&f->x_before));
   PetscCall(FluidALEDestroy(f));
+  PetscCall(FluidDirichletDestroy(f));
   PetscCall(VecDestroy(&f->xlocal_old));
   PetscCall(SNESDestroy(&f->snes));
   PetscCall(DMDestroy(&f->dm));

@@ -38,6 +38,12 @@ struct _p_Fluid {
   IS             free_in_all;
   PetscInt       mass_old_step; /* the step M(Omega^{n-1}) was assembled for */
   Vec            all_x, all_y, all_local, xlocal_work, work;
+  /* the interface velocity prescribed (fluid_dirichlet.c) */
+  SNES           snes_dirichlet;
+  Mat            dirichlet_jacobian;
+  Vec            dirichlet_rhs;
+  PetscInt       n_dirichlet_rows, *dirichlet_rows; /* local offsets of the interface rows */
+  PetscInt       dirichlet_step;
   PhysicsData    data;
   DirichletDatum datums[FSIOPT_MAX_BOUNDARIES];
   SolverCounts   counts;
@@ -45,6 +51,8 @@ struct _p_Fluid {
 
 
 PetscErrorCode FluidSetConstants(Fluid, PetscReal mass, PetscReal op, PetscReal load);
+
+PetscErrorCode FluidDirichletDestroy(Fluid);
 
 /* fluid_ale.c */
 PetscErrorCode FluidPrescribedDisplacement(Fluid, FieldFn motion, PetscReal t, Vec displacement);

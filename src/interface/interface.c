@@ -543,3 +543,40 @@ PetscErrorCode InterfaceGetFluidNodes(Interface itf, PetscInt *n, const PetscInt
   if (coords) *coords = itf->fluid.coords;
   PetscFunctionReturn(0);
 }
+
+PetscErrorCode InterfaceGetFluidRows(Interface itf, IS *rows)
+{
+  const Side *side = &itf->fluid;
+  PetscInt   *idx, n = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(side->n * itf->dim, &idx));
+  for (PetscInt i = 0; i < side->n; ++i) {
+    if (side->global[i] < 0) continue;
+    for (PetscInt d = 0; d < itf->dim; ++d) idx[n++] = side->global[i] + d;
+  }
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, n, idx, PETSC_OWN_POINTER, rows));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode InterfaceFluidGather(Interface itf, Vec fluid_global, Vec all)
+{
+  const Side        *side = &itf->fluid;
+  const PetscScalar *g;
+  PetscScalar       *a;
+  PetscInt           rstart;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecZeroEntries(all));
+  if (!fluid_global) PetscFunctionReturn(0);
+  PetscCall(VecGetOwnershipRange(fluid_global, &rstart, NULL));
+  PetscCall(VecGetArrayRead(fluid_global, &g));
+  PetscCall(VecGetArray(all, &a));
+  for (PetscInt i = 0; i < side->n; ++i) {
+    if (side->global[i] < 0) continue;
+    for (PetscInt d = 0; d < itf->dim; ++d) a[i * itf->dim + d] = g[side->global[i] - rstart + d];
+  }
+  PetscCall(VecRestoreArray(all, &a));
+  PetscCall(VecRestoreArrayRead(fluid_global, &g));
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,645 @@
+#!/usr/bin/python3
+"""Side-by-side benchmark of the coupling methods of fsiopt on one scene (default channel2d).
+
+Runs bin/fsiopt once per method (-coupling NAME plus the method's own options, the same
+horizon and --extra options for all) and once more as the reference: opt with
+-coupling_tol 1e-7 -fluid_snes_rtol 1e-10 -fluid_rhs_rtol 1e-12 over the same horizon.
+Measures, per method:
+
+  wall time (summary.json wall_time_s), fluid nonlinear solves, fluid linear solves,
+  coupling iterations per step (for opt: Gauss-Newton iterations; for dn, aitken, iqnils:
+  Dirichlet-Neumann sweeps), work factor, max interface jump, converged, the -log_view
+  stage times (Main Stage, Setup, Fluid, Structure, Output, Optimizer = the coupling
+  method's own work, Sensitivity, Adjoint), and the probe error against the reference:
+  max over time and the three dy columns of probes.csv of |dy - dy_ref| divided by that
+  column's max |dy_ref|. Every numeric column also gets its ratio to the best (smallest)
+  value among the methods that ran (the reference is not a competitor).
+
+A method is NAME[:extra options], e.g. "dn:-coupling_omega 0.05"; --methods takes a
+comma-separated list (a comma inside the options, as in "-fluid_dm_plex_box_faces 30,10",
+is kept when the text after it does not look like a method name). A failing method is
+reported in the tables (status and its `fsiopt: error:` message) and the others go on; the
+script exits non-zero only when a reference run fails.
+
+--work-precision: every method is run over a list of tolerances (opt: -coupling_tol
+1e-2,1e-3,1e-4,1e-5, --opt-tols; the partitioned methods: -coupling_rtol
+1e-3,1e-4,1e-5,1e-6, --rtols) and over --refine-levels (default 0; "0,1" adds the mesh
+refined once, -refine 1, with its own reference), and the probe error (against the
+reference of the same refine level) is plotted against the wall time, log-log, one line per
+method and refine level (work-precision.png, .csv, .md).
+
+Outputs under out/bench/ (--out): bench.csv, bench.md, or work-precision.{png,csv,md}.
+Runs go to <out>/runs/<run>/ (--runs-dir), each run with -log_view (stdout.log),
+stderr.log, cmd.txt (written after a successful run) and status.json; a complete run whose
+command line is the one we would run now is re-used (--force: run again). A run that failed
+with an `fsiopt: error:` message or timed out (after at least the current --timeout) is
+re-used as a failure too, unless --rerun-failed. A run that dies otherwise (signal, binary
+missing or being rebuilt) is retried once after a few seconds (--retries).
+
+Examples (build first: make all; the full T = 0.1 opt run alone takes ~90 s, the partitioned
+methods many times that):
+  scripts/bench.py --t-final 0.001 --out /tmp/b1
+  scripts/bench.py --methods "opt,aitken,iqnils,iqnils:-coupling_iqn_reuse 0" --t-final 0.01
+  scripts/bench.py --work-precision --t-final 0.0005 --methods opt,iqnils --out /tmp/b2"""
+import argparse, csv, hashlib, json, math, os, re, shlex, subprocess, sys, threading, time
+from concurrent.futures import ThreadPoolExecutor
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+FSIOPT = os.path.join(ROOT, "bin", "fsiopt")
+OPTIONS_FILE = "options/channel2d.yaml"
+OUTPUTS = ("summary.json", "probes.csv", "history.csv", "stdout.log")
+STAGES = ["Main Stage", "Setup", "Fluid", "Structure", "Output", "Optimizer", "Sensitivity", "Adjoint"]
+DEFAULT_METHODS = "opt,dn:-coupling_omega 0.05,aitken,iqnils"
+REFERENCE_OPTIONS = ["-coupling", "opt", "-coupling_tol", "1e-7", "-fluid_snes_rtol", "1e-10", "-fluid_rhs_rtol", "1e-12"]
+OPT_TOLS = [1e-2, 1e-3, 1e-4, 1e-5]
+RTOLS = [1e-3, 1e-4, 1e-5, 1e-6]
+_print_lock = threading.Lock()
+
+
+def say(*parts, err=False):
+    with _print_lock:
+        print(*parts, file=sys.stderr if err else sys.stdout, flush=True)
+
+
+def rel(path):
+    """path relative to the repository root when inside it (keeps cmd.txt portable)."""
+    path = os.path.abspath(path)
+    r = os.path.relpath(path, ROOT)
+    return path if r.startswith("..") else r
+
+
+def floats(text):
+    return [float(x) for x in text.split(",") if x.strip()]
+
+
+def ints(text):
+    return [int(x) for x in text.split(",") if x.strip()]
+
+
+def fmt_time(t):
+    """-t_final / -dt text: exact enough, no float noise (3*1e-5 -> 3e-05)."""
+    return "%.10g" % t
+
+
+def extra_tag(extra):
+    """run-name suffix for --extra options (a short hash; empty without)."""
+    return "-x" + hashlib.sha1(" ".join(extra).encode()).hexdigest()[:8] if extra else ""
+
+
+# ---------------------------------------------------------------------------- methods
+class Method:
+    """NAME[:extra options]: -coupling NAME plus the options."""
+
+    def __init__(self, spec):
+        spec = spec.strip()
+        name, _, opts = spec.partition(":")
+        self.spec, self.name, self.options = spec, name.strip(), shlex.split(opts)
+        if not re.fullmatch(r"[A-Za-z][\w-]*", self.name):
+            raise ValueError("bad method %r: expected NAME[:options]" % spec)
+        slug = "-".join([self.name] + [re.sub(r"^-+", "", o) for o in self.options])
+        slug = re.sub(r"[^\w.+-]+", "_", slug)
+        if len(slug) > 60:
+            slug = slug[:40] + "-" + hashlib.sha1(slug.encode()).hexdigest()[:8]
+        self.slug = slug
+
+    @property
+    def partitioned(self):
+        return self.name != "opt"
+
+    def coupling_options(self):
+        return ["-coupling", self.name] + self.options
+
+
+def parse_methods(text):
+    """'opt,dn:-coupling_omega 0.05,aitken' -> [Method]; a comma followed by something that
+    is not a method name (e.g. '30,10') stays inside the options."""
+    parts = re.split(r",(?=\s*[A-Za-z][\w-]*\s*(?::|,|$))", text)
+    methods = [Method(p) for p in parts if p.strip()]
+    if len({m.slug for m in methods}) != len(methods):
+        raise ValueError("--methods: a method is listed twice")
+    return methods
+
+
+# ---------------------------------------------------------------------------- runs
+class Run:
+    """One fsiopt run: name (= run directory name), label, options (without -output_dir and
+    -log_view, which are added). After run(): status ok | failed | timeout, reused, error,
+    elapsed_s, summary, stages {stage: seconds}."""
+
+    def __init__(self, name, label, options, **params):
+        self.name, self.label, self.options, self.params = name, label, list(options), params
+        self.run_dir = None
+        self.status = "pending"
+        self.reused = False
+        self.error = ""
+        self.elapsed_s = float("nan")
+        self.attempts = 0
+        self.summary = {}
+        self.stages = {}
+        self.cmdline = ""
+
+    def command(self, fsiopt, runs_dir):
+        self.run_dir = os.path.join(runs_dir, self.name)
+        return [rel(fsiopt)] + self.options + ["-log_view", "-output_dir", rel(self.run_dir)]
+
+    @property
+    def ok(self):
+        return self.status == "ok"
+
+    @property
+    def wall(self):
+        """fsiopt's own wall time when it finished, else the time until it stopped."""
+        return self.summary.get("wall_time_s", self.elapsed_s) if self.ok else self.elapsed_s
+
+    def status_text(self):
+        return self.status + (" (re-used)" if self.reused else "")
+
+
+def read_json(path):
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except (OSError, ValueError):
+        return {}
+
+
+def parse_stages(stdout_text):
+    """{stage name: seconds} from the 'Summary of Stages' of -log_view."""
+    stages, inside = {}, False
+    for line in stdout_text.splitlines():
+        if line.startswith("Summary of Stages"):
+            inside = True
+            continue
+        if inside:
+            m = re.match(r"\s*\d+:\s+(.+?):\s+([-+0-9.eE]+)\s+[0-9.]+%", line)
+            if m:
+                stages[m.group(1).strip()] = float(m.group(2))
+            elif stages and not line.strip():
+                break
+    return stages
+
+
+def read_stages(run_dir):
+    try:
+        with open(os.path.join(run_dir, "stdout.log")) as f:
+            return parse_stages(f.read())
+    except OSError:
+        return {}
+
+
+def error_line(stderr, returncode):
+    """(message, final): the `fsiopt: error:` line (final: do not retry) or a description."""
+    lines = [l.strip() for l in stderr.splitlines() if l.strip()]
+    for l in reversed(lines):
+        if l.startswith("fsiopt: error:"):
+            return l[len("fsiopt: error:"):].strip(), True
+    msg = "killed by signal %d" % -returncode if returncode < 0 else "exit status %d" % returncode
+    if lines:
+        msg += " (stderr: %s)" % lines[-1][:300]
+    return msg, False
+
+
+def _reuse(r, cmdline, timeout, rerun_failed):
+    """True when the run directory holds a result of this very command line we may re-use."""
+    d = r.run_dir
+    try:
+        with open(os.path.join(d, "cmd.txt")) as f:
+            recorded = f.read().strip()
+    except OSError:
+        recorded = None
+    if recorded == cmdline and all(os.path.isfile(os.path.join(d, o)) for o in OUTPUTS):
+        s = read_json(os.path.join(d, "summary.json"))
+        if s:
+            r.status, r.summary, r.error = "ok", s, ""
+            r.elapsed_s = read_json(os.path.join(d, "status.json")).get("elapsed_s", s.get("wall_time_s", float("nan")))
+            return True
+    st = read_json(os.path.join(d, "status.json"))
+    if rerun_failed or st.get("cmdline") != cmdline:
+        return False
+    if st.get("status") == "failed" and st.get("final") or \
+            st.get("status") == "timeout" and (not timeout or st.get("timeout_s", 0) >= timeout):
+        r.status, r.error, r.elapsed_s = st["status"], st.get("error", ""), st.get("elapsed_s", float("nan"))
+        return True
+    return False
+
+
+def run_one(r, fsiopt, runs_dir, timeout=None, force=False, rerun_failed=False, retries=1, wait_s=5.0, env=None):
+    """Run (or re-use) one run; sets its status, error, summary, stages, elapsed_s."""
+    cmd = r.command(fsiopt, runs_dir)
+    cmdline = r.cmdline = shlex.join(cmd)
+    if not force and _reuse(r, cmdline, timeout, rerun_failed):
+        r.reused, r.stages = True, read_stages(r.run_dir)
+        say("  %-40s re-used (%s)%s" % (r.name, r.status, ": " + r.error if r.error else ""))
+        return r
+    os.makedirs(r.run_dir, exist_ok=True)
+    for name in ("cmd.txt", "status.json", "stderr.log") + OUTPUTS:
+        try:
+            os.remove(os.path.join(r.run_dir, name))
+        except FileNotFoundError:
+            pass
+    say("  %-40s running: %s" % (r.name, cmdline))
+    final = False
+    for attempt in range(1, retries + 2):
+        r.attempts = attempt
+        t0 = time.time()
+        timed_out = False
+        try:
+            p = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, env=env, timeout=timeout or None)
+            returncode, stdout, stderr = p.returncode, p.stdout, p.stderr
+        except subprocess.TimeoutExpired as e:   # subprocess.run has killed the child
+            timed_out, returncode = True, None
+            stdout = e.stdout.decode(errors="replace") if isinstance(e.stdout, bytes) else (e.stdout or "")
+            stderr = e.stderr.decode(errors="replace") if isinstance(e.stderr, bytes) else (e.stderr or "")
+        except OSError as e:   # binary missing or busy (being re-linked)
+            returncode, stdout, stderr = None, "", "cannot run %s: %s" % (cmd[0], e.strerror or e)
+        r.elapsed_s = time.time() - t0
+        with open(os.path.join(r.run_dir, "stdout.log"), "w") as f:
+            f.write(stdout)
+        with open(os.path.join(r.run_dir, "stderr.log"), "w") as f:
+            f.write(stderr)
+        r.stages = parse_stages(stdout)
+        if returncode == 0 and all(os.path.isfile(os.path.join(r.run_dir, o)) for o in OUTPUTS):
+            r.status, r.error = "ok", ""
+            r.summary = read_json(os.path.join(r.run_dir, "summary.json"))
+            with open(os.path.join(r.run_dir, "cmd.txt"), "w") as f:
+                f.write(cmdline + "\n")
+            break
+        if timed_out:
+            r.status, r.error, final = "timeout", "timeout after %g s" % timeout, True
+        else:
+            if returncode is None:
+                msg = stderr
+            elif returncode == 0:
+                msg = "exit status 0 but outputs missing in %s" % rel(r.run_dir)
+            else:
+                msg, final = error_line(stderr, returncode)
+            r.status, r.error = "failed", msg
+        if final or attempt > retries:
+            break
+        say("  %-40s died (%s); retrying in %g s" % (r.name, r.error, wait_s), err=True)
+        time.sleep(wait_s)
+    with open(os.path.join(r.run_dir, "status.json"), "w") as f:
+        json.dump({"status": r.status, "final": final, "error": r.error, "elapsed_s": r.elapsed_s,
+                   "timeout_s": timeout or 0, "attempts": r.attempts, "cmdline": cmdline}, f, indent=1)
+    if r.ok:
+        say("  %-40s done in %.1f s" % (r.name, r.elapsed_s))
+    else:
+        say("  %-40s %s after %.1f s: %s" % (r.name, r.status.upper(), r.elapsed_s, r.error), err=True)
+    return r
+
+
+def run_all(runs, fsiopt, runs_dir, jobs=1, timeout=None, force=False, rerun_failed=False, retries=1):
+    """Run the runs, jobs at a time (duplicates by name once); returns the unique runs."""
+    unique = list({r.name: r for r in runs}.values())
+    env = dict(os.environ)
+    if jobs > 1:   # one core per run
+        for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+            env.setdefault(k, "1")
+    say("%d run(s) in %s, %d at a time%s" % (len(unique), rel(runs_dir), jobs,
+                                             ", timeout %g s each" % timeout if timeout else ""))
+    with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
+        list(pool.map(lambda r: run_one(r, fsiopt, runs_dir, timeout, force, rerun_failed, retries, env=env), unique))
+    return unique
+
+
+# ---------------------------------------------------------------------------- probes
+def read_probes(run_dir):
+    """(t, {column name: dy}) from probes.csv (the dy(...) columns)."""
+    path = os.path.join(run_dir, "probes.csv")
+    with open(path, newline="") as f:
+        rows = [r for r in csv.reader(f) if r]
+    if len(rows) < 2 or rows[0][0].strip() != "t":
+        raise ValueError("%s: no data or no first column t" % rel(path))
+    names = [n.strip() for n in rows[0]]
+    data = np.array([[float(x) for x in r] for r in rows[1:]])
+    dy = {n: data[:, i] for i, n in enumerate(names) if n.startswith("dy(")}
+    if not dy:
+        raise ValueError("%s: no dy(...) columns" % rel(path))
+    return data[:, 0], dy
+
+
+def probe_error(run, ref):
+    """max over the dy columns and time of |dy - dy_ref| / max |dy_ref| of that column; the
+    run is compared at the reference's times (interpolated when its time grid differs).
+    nan when either is missing or the run does not cover the reference's time span."""
+    if not (run.ok and ref is not None and ref.ok):
+        return float("nan")
+    try:
+        t, dy = read_probes(run.run_dir)
+        tr, dyr = read_probes(ref.run_dir)
+    except (OSError, ValueError):
+        return float("nan")
+    span = max(abs(tr[-1] - tr[0]), 1e-300)
+    if abs(t[0] - tr[0]) > 1e-9 * span or abs(t[-1] - tr[-1]) > 1e-9 * span:
+        return float("nan")
+    err = 0.0
+    for name, ref_col in dyr.items():
+        if name not in dy:
+            return float("nan")
+        col = dy[name] if len(t) == len(tr) and np.allclose(t, tr, rtol=0, atol=1e-9 * span) \
+            else np.interp(tr, t, dy[name])
+        scale = np.max(np.abs(ref_col))
+        if scale > 0:
+            err = max(err, float(np.max(np.abs(col - ref_col)) / scale))
+    return err
+
+
+# ---------------------------------------------------------------------------- tables
+NUMERIC = [  # (csv column, markdown header, format)
+    ("wall_time_s", "wall s", "%.3g"),
+    ("fluid_solves", "fluid solves", "%d"),
+    ("fluid_linear_solves", "fluid linear solves", "%d"),
+    ("its_per_step", "coupling its/step", "%.3g"),
+    ("work_factor", "work factor", "%.3g"),
+    ("max_interface_jump", "max jump", "%.2e"),
+    ("probe_error", "probe error", "%.2e"),
+]
+
+
+def stage_key(stage):
+    return "stage_" + re.sub(r"\W+", "_", stage).strip("_").lower() + "_s"
+
+
+def bench_row(label, r, ref):
+    s = r.summary if r.ok else {}
+    f = s.get("factorizations", {})
+    row = {"method": label, "status": r.status, "reused": str(r.reused).lower(), "error": r.error,
+           "attempts": r.attempts, "elapsed_s": "%.3f" % r.elapsed_s,
+           "wall_time_s": s.get("wall_time_s", ""), "fluid_solves": s.get("fluid_solves", ""),
+           "fluid_linear_solves": s.get("fluid_linear_solves", ""), "structure_solves": s.get("structure_solves", ""),
+           "coupling_iterations": s.get("coupling_iterations", ""), "its_per_step": s.get("avg_coupling_iterations", ""),
+           "work_factor": s.get("work_factor", ""), "max_interface_jump": s.get("max_interface_jump", ""),
+           "converged": str(s["converged"]).lower() if "converged" in s else "", "steps": s.get("steps", ""),
+           "factorizations_fluid": f.get("fluid", ""), "factorizations_structure": f.get("structure", ""),
+           "probe_error": "", "run_dir": rel(r.run_dir) if r.run_dir else "", "command": r.cmdline}
+    e = probe_error(r, ref)
+    if not math.isnan(e):
+        row["probe_error"] = e
+    for st in STAGES:
+        row[stage_key(st)] = r.stages.get(st, "")
+    return row
+
+
+def number(x):
+    try:
+        v = float(x)
+    except (TypeError, ValueError):
+        return None
+    return v if math.isfinite(v) and v >= 0 else None
+
+
+def add_ratios(rows, keys):
+    """row[key + '_ratio'] = value / smallest value of the column (over rows with a value):
+    1 for the best; with a best of 0, 1 for the zeros and inf for the others."""
+    for k in keys:
+        vals = [number(r.get(k)) for r in rows]
+        present = [v for v in vals if v is not None]
+        if not present:
+            continue
+        best = min(present)
+        for r, v in zip(rows, vals):
+            if v is None:
+                r[k + "_ratio"] = ""
+            elif best > 0:
+                r[k + "_ratio"] = v / best
+            else:
+                r[k + "_ratio"] = 1.0 if v == 0 else float("inf")
+
+
+def cell(row, key, fmt, ratio=True):
+    v = number(row.get(key))
+    if v is None:
+        return ""
+    text = fmt % v
+    q = row.get(key + "_ratio", "")
+    if ratio and q != "":
+        text += " (%s)" % ratio_text(q)
+    return text
+
+
+def ratio_text(q):
+    return "x inf" if math.isinf(q) else "x%.2f" % q if q < 100 else "x%.3g" % q
+
+
+def status_cell(row):
+    text = row["status"] + (" (re-used)" if row["reused"] == "true" else "")
+    if row["error"]:
+        text += " after %.3g s: %s" % (float(row["elapsed_s"]), md_escape(row["error"]))
+    return text
+
+
+def md_escape(text):
+    return str(text).replace("|", "\\|").replace("\n", " ")
+
+
+def write_csv(path, rows, fields):
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=fields, extrasaction="ignore")
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: ("%.6g" % v if isinstance(v, float) else v) for k, v in r.items()})
+
+
+def bench(args, methods, extra):
+    tf = fmt_time(args.t_final)
+    base = ["-options_file", args.options_file, "-t_final", tf]
+    tag = "-T%s%s" % (tf, extra_tag(extra))
+    ref = Run("reference" + tag, "reference (opt, tight tolerances)", base + REFERENCE_OPTIONS + extra)
+    runs = [(m.spec, Run(m.slug + tag, m.spec, base + m.coupling_options() + extra)) for m in methods]
+    run_all([r for _, r in runs] + [ref], args.bin, args.runs_dir, args.jobs, args.timeout, args.force,
+            args.rerun_failed, args.retries)
+    rows = [bench_row(label, r, ref) for label, r in runs]
+    stage_keys = [stage_key(s) for s in STAGES]
+    ok_rows = [row for row, (_, r) in zip(rows, runs) if r.ok]
+    add_ratios(ok_rows, [k for k, _, _ in NUMERIC] + stage_keys)
+    ref_row = bench_row("reference", ref, ref)
+    fields = ["method", "status", "reused", "error", "attempts", "elapsed_s", "wall_time_s", "fluid_solves",
+              "fluid_linear_solves", "structure_solves", "coupling_iterations", "its_per_step", "work_factor",
+              "max_interface_jump", "converged", "steps", "factorizations_fluid", "factorizations_structure",
+              "probe_error"] + stage_keys + [k + "_ratio" for k, _, _ in NUMERIC] + \
+             [k + "_ratio" for k in stage_keys] + ["run_dir", "command"]
+    os.makedirs(args.out, exist_ok=True)
+    csv_path, md_path = os.path.join(args.out, "bench.csv"), os.path.join(args.out, "bench.md")
+    write_csv(csv_path, rows + [ref_row], fields)
+
+    present = [s for s in STAGES if any(r.stages.get(s) for _, r in runs + [("", ref)])]
+    md = ["# fsiopt coupling methods side by side", "",
+          "Scene: `%s`, t_final = %s%s; runs %s, %d at a time%s." % (
+              " ".join(base), tf, ", extra options `%s`" % " ".join(extra) if extra else "", rel(args.runs_dir),
+              args.jobs, " (timings compete for the cores)" if args.jobs > 1 else ""),
+          "Reference: `%s`. Probe error: max over t and the three dy probes of |dy - dy_ref| / max |dy_ref|." %
+          " ".join(REFERENCE_OPTIONS), "(xR) = ratio to the best method in that column. Coupling its/step: "
+          "Gauss-Newton iterations for opt, Dirichlet-Neumann sweeps for the partitioned methods.", "",
+          "| method | status | " + " | ".join(h for _, h, _ in NUMERIC) + " | converged |",
+          "|" + "---|" * (3 + len(NUMERIC))]
+    for row in rows + [ref_row]:
+        md.append("| %s | %s | %s | %s |" % (md_escape(row["method"]), status_cell(row),
+                                              " | ".join(cell(row, k, f) for k, _, f in NUMERIC), row["converged"]))
+    md += ["", "## -log_view stage times (s; share of the sum of the stages)", "",
+           "| method | " + " | ".join(present) + " |", "|" + "---|" * (1 + len(present))]
+    for row, (_, r) in zip(rows + [ref_row], runs + [("", ref)]):
+        total = sum(r.stages.values()) or float("nan")
+        md.append("| %s | %s |" % (md_escape(row["method"]), " | ".join(
+            "%.3g (%.0f%%)%s" % (r.stages[s], 100 * r.stages[s] / total,
+                                 " " + ratio_text(row[stage_key(s) + "_ratio"])
+                                 if isinstance(row.get(stage_key(s) + "_ratio"), float) else "")
+            if s in r.stages else "" for s in present)))
+    md.append("")
+    md.append("Stage times of a failed run are those up to its failure.")
+    failed = [(label, r) for label, r in runs + [("reference", ref)] if not r.ok]
+    if failed:
+        md += ["", "## Failures", ""] + ["- %s: %s after %.1f s: %s" % (label, r.status, r.elapsed_s, md_escape(r.error))
+                                         for label, r in failed]
+    if any(row["max_interface_jump"] == 0 for row in rows):
+        md += ["", "Max jump 0: the partitioned methods impose the structure's velocity on the fluid as a Dirichlet "
+               "condition, so the interface velocity jump vanishes by construction."]
+    with open(md_path, "w") as f:
+        f.write("\n".join(md) + "\n")
+    print("\n".join(md))
+    print("written: %s, %s" % (rel(csv_path), rel(md_path)))
+    return ref.ok
+
+
+def work_precision(args, methods, extra):
+    tf = fmt_time(args.t_final)
+    refs, points = {}, []   # points: (method, level, tol, run)
+    for level in args.refine_levels:
+        lev = ["-refine", str(level)] if level else []
+        base = ["-options_file", args.options_file, "-t_final", tf] + lev
+        tag = "-T%s%s%s" % (tf, "-r%d" % level if level else "", extra_tag(extra))
+        refs[level] = Run("reference" + tag, "reference, refine %d" % level, base + REFERENCE_OPTIONS + extra)
+        for m in methods:
+            opt, tols = ("-coupling_rtol", args.rtols) if m.partitioned else ("-coupling_tol", args.opt_tols)
+            for tol in tols:
+                points.append((m, level, tol, Run("%s%s-tol%g" % (m.slug, tag, tol), "%s, tol %g" % (m.spec, tol),
+                                                  base + m.coupling_options() + [opt, "%g" % tol] + extra)))
+    run_all(list(refs.values()) + [p[3] for p in points], args.bin, args.runs_dir, args.jobs, args.timeout, args.force,
+            args.rerun_failed, args.retries)
+    os.makedirs(args.out, exist_ok=True)
+    rows = []
+    for m, level, tol, r in points:
+        row = bench_row(m.spec, r, refs[level])
+        row.update({"refine": level, "tolerance_option": "-coupling_rtol" if m.partitioned else "-coupling_tol",
+                    "tolerance": tol})
+        rows.append(row)
+    for level, r in refs.items():
+        row = bench_row("reference", r, r)
+        row.update({"refine": level, "tolerance_option": "-coupling_tol", "tolerance": 1e-7})
+        rows.append(row)
+    fields = ["method", "refine", "tolerance_option", "tolerance", "status", "reused", "error", "elapsed_s",
+              "wall_time_s", "probe_error", "its_per_step", "fluid_solves", "fluid_linear_solves", "work_factor",
+              "max_interface_jump", "converged", "steps"] + [stage_key(s) for s in STAGES] + ["run_dir", "command"]
+    base_path = os.path.join(args.out, "work-precision")
+    write_csv(base_path + ".csv", rows, fields)
+
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    styles = ["-", "--", ":", "-."]
+    markers = ["o", "s", "^", "D"]
+    curves = []   # (method index, level index, label, [(wall, error, tol)])
+    for i, m in enumerate(methods):
+        for j, level in enumerate(args.refine_levels):
+            pts = [(r.wall, probe_error(r, refs[level]), tol) for mm, lv, tol, r in points
+                   if mm is m and lv == level and r.ok]
+            pts = [p for p in pts if not math.isnan(p[1])]
+            if pts:
+                curves.append((i, j, m.spec + (", refine %d" % level if len(args.refine_levels) > 1 else ""), pts))
+    positive = [p[1] for _, _, _, pts in curves for p in pts if p[1] > 0]
+    # an error of exactly 0 (probes equal to the reference's as written) is drawn at a floor
+    floor = 10 ** (math.floor(math.log10(min(positive))) - 1) if positive else 1e-12
+    plotted = bool(curves)
+    for i, j, label, pts in curves:
+        colour = colours[i % len(colours)]
+        xs, ys = [p[0] for p in pts], [p[1] if p[1] > 0 else floor for p in pts]
+        ax.plot(xs, ys, styles[j % len(styles)], marker=markers[j % len(markers)], color=colour, label=label)
+        for x, y, (_, e, tol) in zip(xs, ys, pts):
+            if e == 0:
+                ax.plot([x], [y], markers[j % len(markers)], color=colour, mfc="white")
+            ax.annotate("%g" % tol, (x, y), textcoords="offset points", xytext=(4, 3), fontsize=7, color=colour)
+    if plotted and any(p[1] == 0 for _, _, _, pts in curves for p in pts):
+        ax.axhline(floor, color="grey", ls=":", lw=0.8)
+        ax.text(0.01, floor, " open markers: error 0 (probes equal to the reference's as written), drawn at %g" % floor,
+                transform=ax.get_yaxis_transform(), fontsize=7, color="grey", va="top")
+    if plotted:
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.legend(fontsize="small")
+    else:
+        ax.text(0.5, 0.5, "no successful run", ha="center", va="center", transform=ax.transAxes)
+    ax.set_xlabel("wall time (s)")
+    ax.set_ylabel("probe error: max |dy - dy_ref| / max |dy_ref|")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.set_title("work-precision, %s, t_final = %s\n(labels: -coupling_tol for opt, -coupling_rtol for the others)"
+                 % (os.path.basename(args.options_file), tf), fontsize=10)
+    fig.tight_layout()
+    fig.savefig(base_path + ".png", dpi=130)
+    plt.close(fig)
+
+    md = ["# fsiopt work-precision", "",
+          "Scene: `-options_file %s -t_final %s`%s; reference per refine level: `%s`." % (
+              args.options_file, tf, ", extra `%s`" % " ".join(extra) if extra else "", " ".join(REFERENCE_OPTIONS)), "",
+          "| method | refine | tolerance | status | wall s | probe error | coupling its/step | fluid solves | work factor |",
+          "|---|---|---|---|---|---|---|---|---|"]
+    for row in rows:
+        md.append("| %s | %d | %s %g | %s | %s | %s | %s | %s | %s |" % (
+            md_escape(row["method"]), row["refine"], row["tolerance_option"], row["tolerance"],
+            status_cell(row),
+            cell(row, "wall_time_s", "%.3g") or ("(%.3g)" % float(row["elapsed_s"])), cell(row, "probe_error", "%.2e"),
+            cell(row, "its_per_step", "%.3g"), cell(row, "fluid_solves", "%d"), cell(row, "work_factor", "%.3g")))
+    with open(base_path + ".md", "w") as f:
+        f.write("\n".join(md) + "\n")
+    print("\n".join(md))
+    print("written: %s.png, %s.csv, %s.md" % ((rel(base_path),) * 3))
+    return all(r.ok for r in refs.values())
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--methods", default=DEFAULT_METHODS,
+                    help='comma-separated NAME[:options] (default "%s")' % DEFAULT_METHODS)
+    ap.add_argument("--t-final", type=float, default=0.1, help="end time of every run (default 0.1 = 1000 steps)")
+    ap.add_argument("--options-file", default=OPTIONS_FILE, help="scene options (default %s)" % OPTIONS_FILE)
+    ap.add_argument("--extra", default="", help='options passed to every run, e.g. --extra="-dt 5e-5"')
+    ap.add_argument("--jobs", type=int, default=1,
+                    help="runs in parallel (default 1: the wall times are compared side by side and must not "
+                         "compete for the cores; more jobs skew them)")
+    ap.add_argument("--timeout", type=float, default=0, help="seconds per run before it is killed and reported as "
+                                                              "timeout (default 0: no limit)")
+    ap.add_argument("--out", default=os.path.join(ROOT, "out", "bench"), help="output directory (default out/bench)")
+    ap.add_argument("--runs-dir", default=None, help="where the runs go (default <out>/runs)")
+    ap.add_argument("--bin", default=FSIOPT, help="fsiopt binary (default bin/fsiopt)")
+    ap.add_argument("--force", action="store_true", help="run again even when a complete matching run exists")
+    ap.add_argument("--rerun-failed", action="store_true", help="run again runs that failed or timed out before")
+    ap.add_argument("--retries", type=int, default=1, help="retries of a run that dies without an fsiopt error "
+                                                           "(default 1)")
+    ap.add_argument("--work-precision", action="store_true", help="probe error against wall time over tolerances")
+    ap.add_argument("--opt-tols", type=floats, default=OPT_TOLS, help="work-precision: -coupling_tol of opt "
+                                                                      "(default 1e-2,1e-3,1e-4,1e-5)")
+    ap.add_argument("--rtols", type=floats, default=RTOLS, help="work-precision: -coupling_rtol of the partitioned "
+                                                                "methods (default 1e-3,1e-4,1e-5,1e-6)")
+    ap.add_argument("--refine-levels", type=ints, default=[0], help="work-precision: -refine levels (default 0)")
+    args = ap.parse_args()
+    args.out = os.path.abspath(args.out)
+    args.runs_dir = os.path.abspath(args.runs_dir or os.path.join(args.out, "runs"))
+    try:
+        methods = parse_methods(args.methods)
+    except ValueError as e:
+        ap.error(str(e))
+    if not methods:
+        ap.error("--methods: no method")
+    extra = shlex.split(args.extra)
+    if not os.path.isfile(args.bin):
+        say("bench: %s not found (build first: make all); the runs will retry once" % rel(args.bin), err=True)
+    ok = work_precision(args, methods, extra) if args.work_precision else bench(args, methods, extra)
+    if not ok:
+        say("bench: the reference run failed: no probe errors", err=True)
+        sys.exit(1)
+
+
+if __name__ == "__main__":
+    main()

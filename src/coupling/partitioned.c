@@ -1,0 +1,247 @@
+/* The partitioned baselines (issue 5): Dirichlet-Neumann fixed-point iterations on the
+   interface traction, x_{k+1} = x_k + update(r_k) with r_k = S(x_k) - x_k and S one sweep
+   (structure under the traction x_k, fluid with the structure's interface velocity,
+   the fluid's reaction as the new traction; CouplingProblemSweep).
+     dn      fixed relaxation: x + omega r                    (-coupling_omega)
+     aitken  Aitken's dynamic relaxation, the seed's reference (§3.6.1)
+     iqnils  interface quasi-Newton with an inverse-Jacobian least-squares model
+             (Degroote et al. 2009; the algorithm of preCICE and CoCoNuT): columns of
+             residual and sweep differences, those of the last q steps reused
+             (-coupling_iqn_reuse), nearly dependent columns filtered out by a QR
+             (-coupling_iqn_filter).
+   A step has converged when ||r|| <= -coupling_rtol ||S(x)|| (traction change relative to
+   the traction, in L2(Gamma_I)); iterations past -coupling_max_it or a residual 1000x
+   its first one stop the run with a message naming the step and the iteration. */
+#include "coupling_impl.h"
+#include "options.h"
+#include "logging.h"
+#include <petscblaslapack.h>
+
+typedef enum { PARTITIONED_DN, PARTITIONED_AITKEN, PARTITIONED_IQNILS } PartitionedKind;
+
+typedef struct {
+  PartitionedKind kind;
+  PetscReal       omega, rtol, filter;
+  PetscBool       extrapolate;
+  PetscInt        reuse, steps_done;
+  Vec             x_tilde, r, r_before, x_tilde_before, x_previous;
+  /* iqnils: columns V (residual differences) and W (sweep differences), newest first,
+     with the step each came from */
+  PetscInt        ncols, max_cols, *col_step;
+  Vec            *V, *W;
+} Partitioned;
+
+static const char *PartitionedName(Coupling C)
+{
+  (void)C;
+  return NULL; /* no optimizer */
+}
+
+/* Drops the columns older than the reuse window (and the oldest past max_cols). */
+static PetscErrorCode TrimColumns(Partitioned *pt, PetscInt step)
+{
+  PetscFunctionBeginUser;
+  while (pt->ncols > 0 && (pt->ncols > pt->max_cols || pt->col_step[pt->ncols - 1] <= step - 1 - pt->reuse)) pt->ncols--;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode AddColumn(Partitioned *pt, PetscInt step, Vec dr, Vec dxt)
+{
+  Vec v, w;
+
+  PetscFunctionBeginUser;
+  if (pt->ncols == pt->max_cols) pt->ncols--; /* the oldest goes */
+  v = pt->V[pt->ncols];
+  w = pt->W[pt->ncols];
+  for (PetscInt j = pt->ncols; j > 0; --j) {
+    pt->V[j]        = pt->V[j - 1];
+    pt->W[j]        = pt->W[j - 1];
+    pt->col_step[j] = pt->col_step[j - 1];
+  }
+  pt->V[0] = v;
+  pt->W[0] = w;
+  PetscCall(VecCopy(dr, v));
+  PetscCall(VecCopy(dxt, w));
+  pt->col_step[0] = step;
+  pt->ncols++;
+  PetscFunctionReturn(0);
+}
+
+/* c = argmin ||V c + r|| by modified Gram-Schmidt QR; a column whose new part is below
+   filter * its norm is dropped (it would make R nearly singular). Returns the update
+   W c (+ r is added by the caller through x_tilde). */
+static PetscErrorCode QuasiNewtonUpdate(Partitioned *pt, Vec r, Vec dx)
+{
+  PetscInt     n = pt->ncols, kept = 0;
+  Vec         *Q;
+  PetscScalar *R, *rhs, *c;
+  PetscInt    *keep;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecZeroEntries(dx));
+  if (!n) PetscFunctionReturn(0);
+  PetscCall(VecDuplicateVecs(r, n, &Q));
+  PetscCall(PetscCalloc4(n * n, &R, n, &rhs, n, &c, n, &keep));
+  for (PetscInt j = 0; j < n; ++j) {
+    PetscReal norm0, norm;
+    PetscCall(VecCopy(pt->V[j], Q[kept]));
+    PetscCall(VecNorm(Q[kept], NORM_2, &norm0));
+    for (PetscInt i = 0; i < kept; ++i) {
+      PetscScalar d;
+      PetscCall(VecDot(Q[kept], Q[i], &d));
+      R[i * n + kept] = d;
+      PetscCall(VecAXPY(Q[kept], -d, Q[i]));
+    }
+    PetscCall(VecNorm(Q[kept], NORM_2, &norm));
+    if (norm0 == 0 || norm < pt->filter * norm0) continue;
+    R[kept * n + kept] = norm;
+    PetscCall(VecScale(Q[kept], 1.0 / norm));
+    keep[kept++] = j;
+  }
+  for (PetscInt i = 0; i < kept; ++i) {
+    PetscCall(VecDot(r, Q[i], &rhs[i]));
+    rhs[i] = -rhs[i];
+  }
+  for (PetscInt i = kept - 1; i >= 0; --i) {
+    PetscScalar s = rhs[i];
+    for (PetscInt k = i + 1; k < kept; ++k) s -= R[i * n + k] * c[k];
+    c[i] = s / R[i * n + i];
+  }
+  for (PetscInt i = 0; i < kept; ++i) PetscCall(VecAXPY(dx, c[i], pt->W[keep[i]]));
+  PetscCall(VecDestroyVecs(n, &Q));
+  PetscCall(PetscFree4(R, rhs, c, keep));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode PartitionedStep(Coupling C, PetscInt step)
+{
+  Partitioned *pt = (Partitioned *)C->data;
+  PetscReal    omega = pt->omega, first = 0, rnorm = 0, xnorm;
+  PetscInt     k;
+
+  PetscFunctionBeginUser;
+  PetscCall(CouplingProblemBeginStep(C->problem, step));
+  if (pt->extrapolate && pt->steps_done >= 1) {
+    PetscCall(VecAXPBY(C->x, -1.0, 2.0, pt->x_previous)); /* 2 x^{n-1} - x^{n-2} */
+    PetscCall(VecAXPBY(pt->x_previous, 0.5, 0.5, C->x));  /* x^{n-1} */
+  } else PetscCall(VecCopy(C->x, pt->x_previous));
+  if (pt->kind == PARTITIONED_IQNILS) PetscCall(TrimColumns(pt, step));
+  for (k = 0;; ++k) {
+    PetscCall(CouplingProblemSweep(C->problem, C->x, pt->x_tilde));
+    PetscCall(VecWAXPY(pt->r, -1.0, C->x, pt->x_tilde));
+    PetscCall(VecNorm(pt->r, NORM_2, &rnorm));
+    PetscCall(VecNorm(pt->x_tilde, NORM_2, &xnorm));
+    /* history: the objective column holds 1/2 ||r||^2, the jump column ||r|| (traction) */
+    PetscCall(HistoryAppend(C->history, step, k, 0.5 * rnorm * rnorm, rnorm, 0));
+    if (k == 0) first = rnorm;
+    if (rnorm <= pt->rtol * xnorm) break;
+    PetscCheck(!PetscIsInfOrNanReal(rnorm) && !(k > 0 && rnorm > 1e3 * first), PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "coupling %s diverged at step %" PetscInt_FMT ", iteration %" PetscInt_FMT ": traction residual %.3e, 1000 times its first value %.3e (relaxation -coupling_omega %g)", C->method, step, k, (double)rnorm, (double)first, (double)omega);
+    PetscCheck(k < C->max_it, PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "coupling %s did not converge at step %" PetscInt_FMT " in -coupling_max_it %" PetscInt_FMT " iterations: traction residual %.3e > -coupling_rtol %.1e times the traction %.3e", C->method, step, C->max_it, (double)rnorm, (double)pt->rtol, (double)xnorm);
+    PetscCall(PetscLogStagePush(FSIOPT_STAGE_OPTIMIZER)); /* the method's own work */
+    switch (pt->kind) {
+    case PARTITIONED_DN:
+      PetscCall(VecAXPY(C->x, omega, pt->r));
+      break;
+    case PARTITIONED_AITKEN:
+      if (k > 0) {
+        /* omega_k = -omega_{k-1} (r_{k-1}, r_k - r_{k-1}) / ||r_k - r_{k-1}||^2 */
+        PetscScalar num, den;
+        PetscCall(VecAYPX(pt->r_before, -1.0, pt->r)); /* r_k - r_{k-1} */
+        PetscCall(VecDot(pt->r_before, pt->r, &num));
+        PetscCall(VecDot(pt->r_before, pt->r_before, &den));
+        /* (r_{k-1}, d) = (r_k, d) - (d, d) */
+        if (PetscAbsScalar(den) > 0) omega = -omega * PetscRealPart(num - den) / PetscRealPart(den);
+      }
+      PetscCall(VecCopy(pt->r, pt->r_before));
+      PetscCall(VecAXPY(C->x, omega, pt->r));
+      break;
+    case PARTITIONED_IQNILS: {
+      if (k > 0) {
+        PetscCall(VecAYPX(pt->r_before, -1.0, pt->r));                 /* r_k - r_{k-1} */
+        PetscCall(VecAYPX(pt->x_tilde_before, -1.0, pt->x_tilde));     /* S_k - S_{k-1} */
+        PetscCall(AddColumn(pt, step, pt->r_before, pt->x_tilde_before));
+      }
+      PetscCall(VecCopy(pt->r, pt->r_before));
+      PetscCall(VecCopy(pt->x_tilde, pt->x_tilde_before));
+      if (pt->ncols) {
+        /* x = S(x_k) + W c, c = argmin ||V c + r_k|| */
+        Vec dx;
+        PetscCall(VecDuplicate(C->x, &dx));
+        PetscCall(QuasiNewtonUpdate(pt, pt->r, dx));
+        PetscCall(VecWAXPY(C->x, 1.0, pt->x_tilde, dx));
+        PetscCall(VecDestroy(&dx));
+      } else PetscCall(VecAXPY(C->x, omega, pt->r)); /* no model yet: one relaxed step */
+    } break;
+    }
+    PetscCall(PetscLogStagePop());
+  }
+  {
+    PetscReal jump;
+    PetscCall(CouplingProblemSweepJump(C->problem, &jump));
+    C->stats.max_jump = PetscMax(C->stats.max_jump, jump);
+  }
+  PetscCall(CouplingProblemEndStep(C->problem, C->x));
+  C->stats.iterations += k + 1; /* sweeps */
+  pt->steps_done++;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode PartitionedDestroy(Coupling C)
+{
+  Partitioned *pt = (Partitioned *)C->data;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecDestroy(&pt->x_tilde));
+  PetscCall(VecDestroy(&pt->r));
+  PetscCall(VecDestroy(&pt->r_before));
+  PetscCall(VecDestroy(&pt->x_tilde_before));
+  PetscCall(VecDestroy(&pt->x_previous));
+  if (pt->V) PetscCall(VecDestroyVecs(pt->max_cols, &pt->V));
+  if (pt->W) PetscCall(VecDestroyVecs(pt->max_cols, &pt->W));
+  PetscCall(PetscFree(pt->col_step));
+  PetscCall(PetscFree(C->data));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingCreate_Partitioned(Coupling C)
+{
+  Partitioned *pt;
+  PetscBool    is;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&pt));
+  C->data          = pt;
+  C->ops.step      = PartitionedStep;
+  C->ops.destroy   = PartitionedDestroy;
+  C->ops.optimizer = PartitionedName;
+  pt->kind         = PARTITIONED_DN;
+  PetscCall(PetscStrcmp(C->method, "aitken", &is));
+  if (is) pt->kind = PARTITIONED_AITKEN;
+  PetscCall(PetscStrcmp(C->method, "iqnils", &is));
+  if (is) pt->kind = PARTITIONED_IQNILS;
+  pt->omega       = pt->kind == PARTITIONED_DN ? 1.0 : 0.05;
+  pt->rtol        = 1e-5;
+  pt->extrapolate = PETSC_TRUE;
+  pt->reuse       = 8;
+  pt->max_cols    = 100;
+  pt->filter      = 1e-8;
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Partitioned (Dirichlet-Neumann) coupling", "coupling");
+  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_omega", "relaxation: fixed for dn (default 1, unrelaxed), the first step of aitken and iqnils (default 0.05, the seed's)", &pt->omega));
+  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_rtol", "a step has converged when the traction changes by less than this, relative, in L2(Gamma_I)", &pt->rtol));
+  PetscCall(PetscOptionsBool("-coupling_extrapolate", "Start each step from 2 g^{n-1} - g^{n-2} instead of g^{n-1}", NULL, pt->extrapolate, &pt->extrapolate, NULL));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_iqn_reuse", "iqnils: reuse the columns of this many previous time steps", 0, 1000, &pt->reuse));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_iqn_columns", "iqnils: at most this many columns", 1, 10000, &pt->max_cols));
+  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_iqn_filter", "iqnils: drop a column whose part orthogonal to the newer ones is below this fraction of its norm", &pt->filter));
+  PetscOptionsEnd();
+  PetscCall(VecDuplicate(C->x, &pt->x_tilde));
+  PetscCall(VecDuplicate(C->x, &pt->r));
+  PetscCall(VecDuplicate(C->x, &pt->r_before));
+  PetscCall(VecDuplicate(C->x, &pt->x_tilde_before));
+  PetscCall(VecDuplicate(C->x, &pt->x_previous));
+  if (pt->kind == PARTITIONED_IQNILS) {
+    PetscCall(VecDuplicateVecs(C->x, pt->max_cols, &pt->V));
+    PetscCall(VecDuplicateVecs(C->x, pt->max_cols, &pt->W));
+    PetscCall(PetscMalloc1(pt->max_cols, &pt->col_step));
+  }
+  PetscFunctionReturn(0);
+}

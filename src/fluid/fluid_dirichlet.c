@@ -1,0 +1,162 @@
+/* The fluid with a prescribed interface velocity, for the Dirichlet-Neumann baselines
+   (-coupling dn|aitken|iqnils). The interface rows of R(x) = rhs are replaced by
+   x_i = v_i; the DM, its kernels, the moving mesh and the boundary data are the ones of
+   the traction-controlled fluid, and the reaction R(x)_i - history_i on those rows is the
+   interface load B_f g that fluid would need for the same state: the consistent (weak)
+   interface traction. Its own SNES (options prefix -fluid_dirichlet_) and factors. */
+#include "fluid_impl.h"
+#include "fem.h"
+#include "logging.h"
+
+/* R(x) with the interface rows replaced by x_i */
+static PetscErrorCode DirichletFunction(SNES snes, Vec x, Vec F, void *ctx)
+{
+  Fluid              f = (Fluid)ctx;
+  const PetscScalar *xa;
+  PetscScalar       *Fa;
+
+  PetscFunctionBeginUser;
+  (void)snes;
+  PetscCall(SNESComputeFunction(f->snes, x, F));
+  PetscCall(VecGetArrayRead(x, &xa));
+  PetscCall(VecGetArray(F, &Fa));
+  for (PetscInt i = 0; i < f->n_dirichlet_rows; ++i) Fa[f->dirichlet_rows[i]] = xa[f->dirichlet_rows[i]];
+  PetscCall(VecRestoreArray(F, &Fa));
+  PetscCall(VecRestoreArrayRead(x, &xa));
+  PetscFunctionReturn(0);
+}
+
+/* The fluid's own Jacobian routine (not SNESComputeJacobian, whose lag would skip it),
+   then identity rows on the interface */
+static PetscErrorCode DirichletJacobian(SNES snes, Vec x, Mat J, Mat P, void *ctx)
+{
+  Fluid    f = (Fluid)ctx;
+  PetscErrorCode (*jacobian)(SNES, Vec, Mat, Mat, void *);
+  void    *jctx;
+  PetscInt rstart;
+
+  PetscFunctionBeginUser;
+  (void)snes;
+  PetscCall(SNESGetJacobian(f->snes, NULL, NULL, &jacobian, &jctx));
+  PetscCall((*jacobian)(f->snes, x, P, P, jctx));
+  PetscCall(VecGetOwnershipRange(x, &rstart, NULL));
+  {
+    PetscInt *rows;
+    PetscCall(PetscMalloc1(f->n_dirichlet_rows, &rows));
+    for (PetscInt i = 0; i < f->n_dirichlet_rows; ++i) rows[i] = rstart + f->dirichlet_rows[i];
+    PetscCall(MatZeroRows(P, f->n_dirichlet_rows, rows, 1.0, NULL, NULL));
+    PetscCall(PetscFree(rows));
+  }
+  if (J != P) {
+    PetscCall(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
+    PetscCall(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
+  }
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode DirichletSetUp(Fluid f, IS rows)
+{
+  Mat             J;
+  KSP             ksp;
+  PC              pc;
+  PetscInt        rstart, n;
+  const PetscInt *idx;
+
+  PetscFunctionBeginUser;
+  PetscCall(ISGetLocalSize(rows, &n));
+  PetscCall(ISGetIndices(rows, &idx));
+  PetscCall(VecGetOwnershipRange(f->x, &rstart, NULL));
+  PetscCall(PetscMalloc1(n, &f->dirichlet_rows));
+  for (PetscInt i = 0; i < n; ++i) f->dirichlet_rows[i] = idx[i] - rstart;
+  f->n_dirichlet_rows = n;
+  PetscCall(ISRestoreIndices(rows, &idx));
+  PetscCall(SNESSetUp(f->snes));
+  PetscCall(SNESGetJacobian(f->snes, &J, NULL, NULL, NULL));
+  PetscCall(MatDuplicate(J, MAT_DO_NOT_COPY_VALUES, &f->dirichlet_jacobian));
+  PetscCall(MatSetOption(f->dirichlet_jacobian, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
+  PetscCall(VecDuplicate(f->x, &f->dirichlet_rhs));
+  /* no DM: the callbacks stay off the fluid DM's own DMSNES */
+  PetscCall(SNESCreate(f->comm, &f->snes_dirichlet));
+  PetscCall(SNESSetOptionsPrefix(f->snes_dirichlet, "fluid_dirichlet_"));
+  PetscCall(SNESSetFunction(f->snes_dirichlet, NULL, DirichletFunction, f));
+  PetscCall(SNESSetJacobian(f->snes_dirichlet, f->dirichlet_jacobian, f->dirichlet_jacobian, DirichletJacobian, f));
+  PetscCall(SNESGetKSP(f->snes_dirichlet, &ksp));
+  PetscCall(KSPSetType(ksp, KSPPREONLY));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PCSetType(pc, PCLU));
+  PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+  {
+    SNESLineSearch ls;
+    PetscCall(SNESGetLineSearch(f->snes_dirichlet, &ls));
+    PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
+  }
+  PetscCall(SNESSetLagJacobian(f->snes_dirichlet, -2));
+  PetscCall(SNESSetLagJacobianPersists(f->snes_dirichlet, PETSC_TRUE));
+  /* the reaction is a small part of a residual dominated by rho/dt M u: it needs a
+     tighter solve than the state alone (relative to the first residual of each solve) */
+  PetscCall(SNESSetTolerances(f->snes_dirichlet, f->atol, 1e-10, PETSC_DEFAULT, 50, PETSC_DEFAULT));
+  PetscCall(SNESSetFromOptions(f->snes_dirichlet));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidSolveDirichlet(Fluid f, IS rows, Vec values, Vec reaction, PetscInt step)
+{
+  SNESConvergedReason reason;
+  PetscInt            its;
+  PetscScalar        *b;
+  const PetscScalar  *v;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_FLUID_SOLVE, 0, 0, 0, 0));
+  if (!f->snes_dirichlet) PetscCall(DirichletSetUp(f, rows));
+  /* one factorization per time step: later iterations of the step reuse it (chord) */
+  if (f->dirichlet_step != step) PetscCall(SNESSetLagJacobian(f->snes_dirichlet, -2));
+  f->dirichlet_step = step;
+  PetscCall(VecCopy(f->history, f->dirichlet_rhs));
+  PetscCall(VecGetArray(f->dirichlet_rhs, &b));
+  PetscCall(VecGetArrayRead(values, &v));
+  for (PetscInt i = 0; i < f->n_dirichlet_rows; ++i) b[f->dirichlet_rows[i]] = v[f->dirichlet_rows[i]];
+  PetscCall(VecRestoreArrayRead(values, &v));
+  PetscCall(VecRestoreArray(f->dirichlet_rhs, &b));
+  {
+    PetscReal rhs_norm;
+    PetscCall(VecNorm(f->dirichlet_rhs, NORM_2, &rhs_norm));
+    PetscCall(SNESSetTolerances(f->snes_dirichlet, PetscMax(f->atol, 1e-13 * rhs_norm), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT));
+  }
+  PetscCall(VecCopy(f->x, f->x_start));
+  PetscCall(SNESSolve(f->snes_dirichlet, f->dirichlet_rhs, f->x));
+  PetscCall(SNESGetConvergedReason(f->snes_dirichlet, &reason));
+  PetscCall(SNESGetIterationNumber(f->snes_dirichlet, &its));
+  if (reason < 0) {
+    /* the factors in hand came from a state too far away: Newton with fresh ones */
+    SNESLineSearch ls;
+    f->counts.linear_solves += PetscMax(its, 1);
+    PetscCall(VecCopy(f->x_start, f->x));
+    PetscCall(SNESGetLineSearch(f->snes_dirichlet, &ls));
+    PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBT));
+    PetscCall(SNESSetLagJacobian(f->snes_dirichlet, 1));
+    PetscCall(SNESSolve(f->snes_dirichlet, f->dirichlet_rhs, f->x));
+    PetscCall(SNESGetConvergedReason(f->snes_dirichlet, &reason));
+    PetscCall(SNESGetIterationNumber(f->snes_dirichlet, &its));
+    PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
+    PetscCall(SNESSetLagJacobian(f->snes_dirichlet, -1));
+  }
+  PetscCheck(reason > 0, f->comm, PETSC_ERR_NOT_CONVERGED, "fluid solve with the interface velocity prescribed failed at step %" PetscInt_FMT " (t = %g) after %" PetscInt_FMT " Newton iterations: SNES reason %s", step, (double)f->time, its, SNESConvergedReasons[reason]);
+  f->counts.nonlinear_solves += 1;
+  f->counts.linear_solves += PetscMax(its, 1);
+  /* the reaction: what the interface rows of R(x) = history + load would need as load */
+  PetscCall(SNESComputeFunction(f->snes, f->x, reaction));
+  PetscCall(VecAXPY(reaction, -1.0, f->history));
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_FLUID_SOLVE, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidDirichletDestroy(Fluid f)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SNESDestroy(&f->snes_dirichlet));
+  PetscCall(MatDestroy(&f->dirichlet_jacobian));
+  PetscCall(VecDestroy(&f->dirichlet_rhs));
+  PetscCall(PetscFree(f->dirichlet_rows));
+  PetscFunctionReturn(0);
+}
