@@ -261,11 +261,40 @@ PetscErrorCode FluidEnableMeshMotion(Fluid f)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FluidSolve(Fluid f, Vec load, PetscInt step)
+/* A nonlinear solve from f->x. Chord iterations (factors from another state) that fail
+   are retried once from the same start by Newton with fresh Jacobians and backtracking. */
+PetscErrorCode FluidNonlinearSolve(Fluid f, SNES snes, Vec rhs, PetscBool chord, PetscInt step, const char what[])
 {
   SNESConvergedReason reason;
   PetscInt            its;
 
+  PetscFunctionBeginUser;
+  if (chord) PetscCall(VecCopy(f->x, f->x_start));
+  PetscCall(SNESSolve(snes, rhs, f->x));
+  PetscCall(SNESGetConvergedReason(snes, &reason));
+  PetscCall(SNESGetIterationNumber(snes, &its));
+  if (reason < 0 && chord) {
+    SNESLineSearch ls;
+    f->counts.linear_solves += PetscMax(its, 1);
+    f->chord_restarts++;
+    PetscCall(VecCopy(f->x_start, f->x));
+    PetscCall(SNESGetLineSearch(snes, &ls));
+    PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBT));
+    PetscCall(SNESSetLagJacobian(snes, 1));
+    PetscCall(SNESSolve(snes, rhs, f->x));
+    PetscCall(SNESGetConvergedReason(snes, &reason));
+    PetscCall(SNESGetIterationNumber(snes, &its));
+    PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
+    PetscCall(SNESSetLagJacobian(snes, -1)); /* the fresh factors serve from now on */
+  }
+  PetscCheck(reason > 0, f->comm, PETSC_ERR_NOT_CONVERGED, "fluid solve%s failed at step %" PetscInt_FMT " (t = %g) after %" PetscInt_FMT " Newton iterations: SNES reason %s", what, step, (double)f->time, its, SNESConvergedReasons[reason]);
+  f->counts.nonlinear_solves += 1;
+  f->counts.linear_solves += PetscMax(its, 1);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidSolve(Fluid f, Vec load, PetscInt step)
+{
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_FLUID_SOLVE, 0, 0, 0, 0));
   if (load) PetscCall(VecWAXPY(f->rhs, 1.0, load, f->history));
@@ -277,31 +306,7 @@ PetscErrorCode FluidSolve(Fluid f, Vec load, PetscInt step)
     PetscCall(VecNorm(f->rhs, NORM_2, &rhs_norm));
     PetscCall(SNESSetTolerances(f->snes, PetscMax(f->atol, PetscMax(f->rhs_rtol, 1e-13) * rhs_norm), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT));
   }
-  if (f->chord) PetscCall(VecCopy(f->x, f->x_start));
-  PetscCall(SNESSolve(f->snes, f->rhs, f->x));
-  PetscCall(SNESGetConvergedReason(f->snes, &reason));
-  PetscCall(SNESGetIterationNumber(f->snes, &its));
-  if (reason < 0 && f->chord) {
-    /* the factors in hand came from a state too far away: refactor where this solve
-       started and try once more */
-    f->counts.linear_solves += PetscMax(its, 1);
-    SNESLineSearch ls;
-    PetscCall(VecCopy(f->x_start, f->x));
-    PetscCall(FEMUpdateJacobian(f->snes, f->x));
-    f->chord_restarts++;
-    /* Newton with a fresh Jacobian at every iteration and a backtracking search */
-    PetscCall(SNESGetLineSearch(f->snes, &ls));
-    PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBT));
-    PetscCall(SNESSetLagJacobian(f->snes, 1));
-    PetscCall(SNESSolve(f->snes, f->rhs, f->x));
-    PetscCall(SNESGetConvergedReason(f->snes, &reason));
-    PetscCall(SNESGetIterationNumber(f->snes, &its));
-    PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
-    PetscCall(SNESSetLagJacobian(f->snes, -1));
-  }
-  PetscCheck(reason > 0, f->comm, PETSC_ERR_NOT_CONVERGED, "fluid solve failed at step %" PetscInt_FMT " (t = %g) after %" PetscInt_FMT " Newton iterations: SNES reason %s", step, (double)f->time, its, SNESConvergedReasons[reason]);
-  f->counts.nonlinear_solves += 1;
-  f->counts.linear_solves += PetscMax(its, 1);
+  PetscCall(FluidNonlinearSolve(f, f->snes, f->rhs, f->chord, step, ""));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_FLUID_SOLVE, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }

@@ -101,10 +101,8 @@ static PetscErrorCode DirichletSetUp(Fluid f, IS rows)
 
 PetscErrorCode FluidSolveDirichlet(Fluid f, IS rows, Vec values, Vec reaction, PetscInt step)
 {
-  SNESConvergedReason reason;
-  PetscInt            its;
-  PetscScalar        *b;
-  const PetscScalar  *v;
+  PetscScalar       *b;
+  const PetscScalar *v;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_FLUID_SOLVE, 0, 0, 0, 0));
@@ -123,27 +121,7 @@ PetscErrorCode FluidSolveDirichlet(Fluid f, IS rows, Vec values, Vec reaction, P
     PetscCall(VecNorm(f->dirichlet_rhs, NORM_2, &rhs_norm));
     PetscCall(SNESSetTolerances(f->snes_dirichlet, PetscMax(f->atol, 1e-13 * rhs_norm), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT));
   }
-  PetscCall(VecCopy(f->x, f->x_start));
-  PetscCall(SNESSolve(f->snes_dirichlet, f->dirichlet_rhs, f->x));
-  PetscCall(SNESGetConvergedReason(f->snes_dirichlet, &reason));
-  PetscCall(SNESGetIterationNumber(f->snes_dirichlet, &its));
-  if (reason < 0) {
-    /* the factors in hand came from a state too far away: Newton with fresh ones */
-    SNESLineSearch ls;
-    f->counts.linear_solves += PetscMax(its, 1);
-    PetscCall(VecCopy(f->x_start, f->x));
-    PetscCall(SNESGetLineSearch(f->snes_dirichlet, &ls));
-    PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBT));
-    PetscCall(SNESSetLagJacobian(f->snes_dirichlet, 1));
-    PetscCall(SNESSolve(f->snes_dirichlet, f->dirichlet_rhs, f->x));
-    PetscCall(SNESGetConvergedReason(f->snes_dirichlet, &reason));
-    PetscCall(SNESGetIterationNumber(f->snes_dirichlet, &its));
-    PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
-    PetscCall(SNESSetLagJacobian(f->snes_dirichlet, -1));
-  }
-  PetscCheck(reason > 0, f->comm, PETSC_ERR_NOT_CONVERGED, "fluid solve with the interface velocity prescribed failed at step %" PetscInt_FMT " (t = %g) after %" PetscInt_FMT " Newton iterations: SNES reason %s", step, (double)f->time, its, SNESConvergedReasons[reason]);
-  f->counts.nonlinear_solves += 1;
-  f->counts.linear_solves += PetscMax(its, 1);
+  PetscCall(FluidNonlinearSolve(f, f->snes_dirichlet, f->dirichlet_rhs, PETSC_TRUE, step, " with the interface velocity prescribed"));
   /* the reaction: what the interface rows of R(x) = history + load would need as load */
   PetscCall(SNESComputeFunction(f->snes, f->x, reaction));
   PetscCall(VecAXPY(reaction, -1.0, f->history));

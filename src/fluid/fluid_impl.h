@@ -52,6 +52,7 @@ struct _p_Fluid {
 
 PetscErrorCode FluidSetConstants(Fluid, PetscReal mass, PetscReal op, PetscReal load);
 
+PetscErrorCode FluidNonlinearSolve(Fluid, SNES, Vec rhs, PetscBool chord, PetscInt step, const char what[]);
 PetscErrorCode FluidDirichletDestroy(Fluid);
 
 /* fluid_ale.c */
