@@ -24,9 +24,6 @@ typedef struct {
   PetscReal *objectives; /* this step's, by iteration */
   PetscBool  stalled, test_adjoint, test_taylor;
   PetscReal  last_jump, first_jump;
-  PetscBool  extrapolate;
-  Vec        x_previous; /* the control of the step before, for the extrapolated start */
-  PetscInt   steps_done;
   /* the explicit-Jacobian preconditioner of the inner CG (explicit_pc.c) */
   ExplicitJacobian explicit_jacobian;
   PetscInt   rebuild_every;
@@ -126,12 +123,6 @@ static PetscErrorCode OptStep(Coupling C, PetscInt step)
   if (step == 1 && opt->test_adjoint) PetscCall(CouplingProblemTestAdjoint(C->problem, C->x));
   if (step == 1 && opt->test_taylor) PetscCall(CouplingProblemTestTaylor(C->problem, C->x));
   opt->inner_seen = 0; /* TaoSolve restarts TAO's count */
-  /* start from the linear extrapolation of the last two controls (the seed starts from the
-     last one, Remark 3.4) */
-  if (opt->extrapolate && opt->steps_done >= 1) {
-    PetscCall(VecAXPBY(C->x, -1.0, 2.0, opt->x_previous));        /* 2 x^{n-1} - x^{n-2} */
-    PetscCall(VecAXPBY(opt->x_previous, 0.5, 0.5, C->x));        /* x^{n-1} */
-  } else PetscCall(VecCopy(C->x, opt->x_previous));
   if (opt->explicit_jacobian && opt->rebuild_every > 0 && (step - 1) % opt->rebuild_every == 0) PetscCall(ExplicitJacobianRequestRebuild(opt->explicit_jacobian));
   PetscCall(TaoSetSolution(opt->tao, C->x));
   PetscCall(PetscLogStagePush(FSIOPT_STAGE_OPTIMIZER));
@@ -142,7 +133,6 @@ static PetscErrorCode OptStep(Coupling C, PetscInt step)
   PetscCall(CouplingProblemEndStep(C->problem, C->x));
   C->stats.iterations += opt->last_iteration;
   C->stats.linearized_pairs += opt->last_iteration;
-  opt->steps_done++;
   if (opt->stalled && opt->last_jump > C->tol) {
     C->stats.stalled_steps++;
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fsiopt: warning: step %" PetscInt_FMT " stalled after %" PetscInt_FMT " iterations (%s) at interface jump %.3e > -coupling_tol %.3e\n", step, opt->last_iteration, C->ops.optimizer(C), (double)opt->last_jump, (double)C->tol));
@@ -167,7 +157,6 @@ static PetscErrorCode OptDestroy(Coupling C)
   PetscCall(TaoDestroy(&opt->tao));
   PetscCall(MatDestroy(&opt->J));
   PetscCall(VecDestroy(&opt->F));
-  PetscCall(VecDestroy(&opt->x_previous));
   PetscCall(ExplicitJacobianDestroy(&opt->explicit_jacobian));
   PetscCall(PetscFree(opt->objectives));
   PetscCall(PetscFree(C->data));
@@ -188,9 +177,7 @@ PetscErrorCode CouplingCreate_Opt(Coupling C)
   C->ops.optimizer = OptOptimizer;
   opt->stall_its   = 5;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Optimization-based coupling", "coupling");
-  opt->extrapolate   = PETSC_TRUE;
   opt->rebuild_every = 0;
-  PetscCall(PetscOptionsBool("-coupling_extrapolate", "Start each step from 2 g^{n-1} - g^{n-2} instead of g^{n-1}", NULL, opt->extrapolate, &opt->extrapolate, NULL));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian", "Precondition the inner CG with the LU of an explicitly built J, rebuilt every K steps (0: no preconditioner, the seed's plain CGLS)", 0, 1000000, &opt->rebuild_every));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_stall_its", "stop a step as stalled when the objective has not improved by 1% over this many iterations", 1, 1000, &opt->stall_its));
   PetscCall(PetscOptionsBool("-coupling_test_adjoint", "At the first step, check <J h, r> = <h, J^T r> for random h, r", NULL, opt->test_adjoint, &opt->test_adjoint, NULL));
@@ -199,7 +186,6 @@ PetscErrorCode CouplingCreate_Opt(Coupling C)
   PetscCall(PetscMalloc1(C->max_it + 1, &opt->objectives));
   PetscCall(CouplingProblemGetTikhonov(C->problem, &opt->tikhonov));
   PetscCall(VecDuplicate(C->x, &opt->F));
-  PetscCall(VecDuplicate(C->x, &opt->x_previous));
   PetscCall(CouplingProblemCreateJacobian(C->problem, &opt->J));
   PetscCall(TaoRegister("sdrelaxed", TaoCreate_RelaxedSteepestDescent));
 

@@ -22,9 +22,8 @@ typedef enum { PARTITIONED_DN, PARTITIONED_AITKEN, PARTITIONED_IQNILS } Partitio
 typedef struct {
   PartitionedKind kind;
   PetscReal       omega, rtol, filter;
-  PetscBool       extrapolate;
-  PetscInt        reuse, steps_done;
-  Vec             x_tilde, r, r_before, x_tilde_before, x_previous;
+  PetscInt        reuse;
+  Vec             x_tilde, r, r_before, x_tilde_before;
   /* iqnils: columns V (residual differences) and W (sweep differences), newest first,
      with the step each came from */
   PetscInt        ncols, max_cols, *col_step;
@@ -121,10 +120,6 @@ static PetscErrorCode PartitionedStep(Coupling C, PetscInt step)
 
   PetscFunctionBeginUser;
   PetscCall(CouplingProblemBeginStep(C->problem, step));
-  if (pt->extrapolate && pt->steps_done >= 1) {
-    PetscCall(VecAXPBY(C->x, -1.0, 2.0, pt->x_previous)); /* 2 x^{n-1} - x^{n-2} */
-    PetscCall(VecAXPBY(pt->x_previous, 0.5, 0.5, C->x));  /* x^{n-1} */
-  } else PetscCall(VecCopy(C->x, pt->x_previous));
   if (pt->kind == PARTITIONED_IQNILS) PetscCall(TrimColumns(pt, step));
   for (k = 0;; ++k) {
     PetscCall(CouplingProblemSweep(C->problem, C->x, pt->x_tilde));
@@ -182,7 +177,6 @@ static PetscErrorCode PartitionedStep(Coupling C, PetscInt step)
   }
   PetscCall(CouplingProblemEndStep(C->problem, C->x));
   C->stats.iterations += k + 1; /* sweeps */
-  pt->steps_done++;
   PetscFunctionReturn(0);
 }
 
@@ -195,7 +189,6 @@ static PetscErrorCode PartitionedDestroy(Coupling C)
   PetscCall(VecDestroy(&pt->r));
   PetscCall(VecDestroy(&pt->r_before));
   PetscCall(VecDestroy(&pt->x_tilde_before));
-  PetscCall(VecDestroy(&pt->x_previous));
   if (pt->V) PetscCall(VecDestroyVecs(pt->max_cols, &pt->V));
   if (pt->W) PetscCall(VecDestroyVecs(pt->max_cols, &pt->W));
   PetscCall(PetscFree(pt->col_step));
@@ -221,14 +214,12 @@ PetscErrorCode CouplingCreate_Partitioned(Coupling C)
   if (is) pt->kind = PARTITIONED_IQNILS;
   pt->omega       = pt->kind == PARTITIONED_DN ? 1.0 : 0.05;
   pt->rtol        = 1e-5;
-  pt->extrapolate = PETSC_TRUE;
   pt->reuse       = 8;
   pt->max_cols    = 100;
   pt->filter      = 1e-8;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Partitioned (Dirichlet-Neumann) coupling", "coupling");
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_omega", "relaxation: fixed for dn (default 1, unrelaxed), the first step of aitken and iqnils (default 0.05, the seed's)", &pt->omega));
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_rtol", "a step has converged when the traction changes by less than this, relative, in L2(Gamma_I)", &pt->rtol));
-  PetscCall(PetscOptionsBool("-coupling_extrapolate", "Start each step from 2 g^{n-1} - g^{n-2} instead of g^{n-1}", NULL, pt->extrapolate, &pt->extrapolate, NULL));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_iqn_reuse", "iqnils: reuse the columns of this many previous time steps", 0, 1000, &pt->reuse));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_iqn_columns", "iqnils: at most this many columns", 1, 10000, &pt->max_cols));
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_iqn_filter", "iqnils: drop a column whose part orthogonal to the newer ones is below this fraction of its norm", &pt->filter));
@@ -237,7 +228,6 @@ PetscErrorCode CouplingCreate_Partitioned(Coupling C)
   PetscCall(VecDuplicate(C->x, &pt->r));
   PetscCall(VecDuplicate(C->x, &pt->r_before));
   PetscCall(VecDuplicate(C->x, &pt->x_tilde_before));
-  PetscCall(VecDuplicate(C->x, &pt->x_previous));
   if (pt->kind == PARTITIONED_IQNILS) {
     PetscCall(VecDuplicateVecs(C->x, pt->max_cols, &pt->V));
     PetscCall(VecDuplicateVecs(C->x, pt->max_cols, &pt->W));
