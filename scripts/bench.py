@@ -284,8 +284,13 @@ def run_one(r, fsiopt, runs_dir, timeout=None, force=False, rerun_failed=False, 
         say("  %-40s died (%s); retrying in %g s" % (r.name, r.error, wait_s), err=True)
         time.sleep(wait_s)
     with open(os.path.join(r.run_dir, "status.json"), "w") as f:
+        try:   # for the record only: re-use goes by the command line, not by the binary
+            built = time.strftime("%Y-%m-%dT%H:%M:%S", time.localtime(os.path.getmtime(fsiopt)))
+        except OSError:
+            built = ""
         json.dump({"status": r.status, "final": final, "error": r.error, "elapsed_s": r.elapsed_s,
-                   "timeout_s": timeout or 0, "attempts": r.attempts, "cmdline": cmdline}, f, indent=1)
+                   "timeout_s": timeout or 0, "attempts": r.attempts, "cmdline": cmdline, "binary_mtime": built},
+                  f, indent=1)
     if r.ok:
         say("  %-40s done in %.1f s" % (r.name, r.elapsed_s))
     else:

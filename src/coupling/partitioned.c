@@ -9,8 +9,8 @@
              residual and sweep differences, those of the last q steps reused
              (-coupling_iqn_reuse), nearly dependent columns filtered out by a QR
              (-coupling_iqn_filter).
-   A step has converged when ||r|| <= -coupling_rtol ||S(x)|| (traction change relative to
-   the traction, in L2(Gamma_I)); iterations past -coupling_max_it or a residual 1000x
+   A step has converged when ||r|| <= max(-coupling_rtol ||S(x)||, -coupling_atol) (traction
+   change relative to the traction, in L2(Gamma_I), or absolute); iterations past -coupling_max_it or a residual 1000x
    its first one stop the run with a message naming the step and the iteration. */
 #include "coupling_impl.h"
 #include "options.h"
@@ -21,7 +21,7 @@ typedef enum { PARTITIONED_DN, PARTITIONED_AITKEN, PARTITIONED_IQNILS } Partitio
 
 typedef struct {
   PartitionedKind kind;
-  PetscReal       omega, rtol, filter;
+  PetscReal       omega, rtol, atol, filter;
   PetscInt        reuse;
   Vec             x_tilde, r, r_before, x_tilde_before;
   /* iqnils: columns V (residual differences) and W (sweep differences), newest first,
@@ -129,9 +129,9 @@ static PetscErrorCode PartitionedStep(Coupling C, PetscInt step)
     /* history: the objective column holds 1/2 ||r||^2, the jump column ||r|| (traction) */
     PetscCall(HistoryAppend(C->history, step, k, 0.5 * rnorm * rnorm, rnorm, 0));
     if (k == 0) first = rnorm;
-    if (rnorm <= pt->rtol * xnorm) break;
+    if (rnorm <= PetscMax(pt->rtol * xnorm, pt->atol)) break;
     PetscCheck(!PetscIsInfOrNanReal(rnorm) && !(k > 0 && rnorm > 1e3 * first), PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "coupling %s diverged at step %" PetscInt_FMT ", iteration %" PetscInt_FMT ": traction residual %.3e, 1000 times its first value %.3e (relaxation -coupling_omega %g)", C->method, step, k, (double)rnorm, (double)first, (double)omega);
-    PetscCheck(k < C->max_it, PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "coupling %s did not converge at step %" PetscInt_FMT " in -coupling_max_it %" PetscInt_FMT " iterations: traction residual %.3e > -coupling_rtol %.1e times the traction %.3e", C->method, step, C->max_it, (double)rnorm, (double)pt->rtol, (double)xnorm);
+    PetscCheck(k < C->max_it, PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "coupling %s did not converge at step %" PetscInt_FMT " in -coupling_max_it %" PetscInt_FMT " iterations: traction residual %.3e > -coupling_rtol %.1e times the traction %.3e and > -coupling_atol %.1e", C->method, step, C->max_it, (double)rnorm, (double)pt->rtol, (double)xnorm, (double)pt->atol);
     PetscCall(PetscLogStagePush(FSIOPT_STAGE_OPTIMIZER)); /* the method's own work */
     switch (pt->kind) {
     case PARTITIONED_DN:
@@ -214,12 +214,14 @@ PetscErrorCode CouplingCreate_Partitioned(Coupling C)
   if (is) pt->kind = PARTITIONED_IQNILS;
   pt->omega       = pt->kind == PARTITIONED_DN ? 1.0 : 0.05;
   pt->rtol        = 1e-5;
+  pt->atol        = 1e-7;
   pt->reuse       = 8;
   pt->max_cols    = 100;
   pt->filter      = 1e-8;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Partitioned (Dirichlet-Neumann) coupling", "coupling");
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_omega", "relaxation: fixed for dn (default 1, unrelaxed), the first step of aitken and iqnils (default 0.05, the seed's)", &pt->omega));
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_rtol", "a step has converged when the traction changes by less than this, relative, in L2(Gamma_I)", &pt->rtol));
+  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-coupling_atol", "or by less than this, absolute: the floor set by the subproblems' solver tolerances while the traction is tiny", &pt->atol));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_iqn_reuse", "iqnils: reuse the columns of this many previous time steps", 0, 1000, &pt->reuse));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_iqn_columns", "iqnils: at most this many columns", 1, 10000, &pt->max_cols));
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_iqn_filter", "iqnils: drop a column whose part orthogonal to the newer ones is below this fraction of its norm", &pt->filter));
