@@ -40,7 +40,7 @@ Examples (build first: make all; the full T = 0.1 runs take several minutes each
   scripts/channel2d_figures.py all --jobs 2
   scripts/channel2d_figures.py mesh --t-final 0.01 --out out/figures-short
   scripts/channel2d_figures.py pressure --t-final 0.01 --times 0.0025,0.005,0.0075 --out /tmp/pf"""
-import argparse, csv, hashlib, math, os, re, shlex, sys
+import argparse, csv, hashlib, math, os, re, shlex, sys, textwrap
 
 import matplotlib
 matplotlib.use("Agg")
@@ -154,12 +154,12 @@ def plot_probes(curves, title, png, csv_path):
             if p in dy:
                 ax.plot(t, dy[p], label=label, lw=1.2)
         ax.set_title(point_title(p))
-        ax.set_ylabel("dy")
+        ax.set_ylabel("dy (cm)")
         ax.grid(True, alpha=0.3)
         ax.ticklabel_format(axis="y", style="sci", scilimits=(-2, 3))
-    axes[-1, 0].set_xlabel("t")
+    axes[-1, 0].set_xlabel("t (s)")
     axes[0, 0].legend(fontsize="small", loc="best")
-    fig.suptitle(title)
+    fig.suptitle(textwrap.fill(title, 80), fontsize="medium")
     fig.tight_layout()
     fig.savefig(png, dpi=130)
     plt.close(fig)
