@@ -19,14 +19,14 @@ PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, cons
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Coupling options", "coupling");
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_tol", "stop when ||u - v_s||_{L2(Gamma_I)} falls below this", &C->tol));
   C->extrapolation = 1;
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_extrapolation", "each step starts from the control extrapolated from the last K+1 steps by a polynomial of degree K (0: the last control, seed Remark 3.4)", 0, 2, &C->extrapolation));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_extrapolation", "each step starts from the control extrapolated from the last K+1 steps by a polynomial of degree K (0: the last control, seed Remark 3.4)", 0, FSIOPT_EXTRAPOLATION_MAX, &C->extrapolation));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_max_it", "coupling iterations per step before the run stops with an error", 1, 100000, &C->max_it));
   PetscOptionsEnd();
   C->stats.max_jump = 0;
   PetscCall(CouplingProblemSetConvergedJump(problem, C->tol));
   PetscCall(CouplingProblemCreateControl(problem, &C->x));
   PetscCall(CouplingProblemInitialControl(problem, t0, C->x));
-  for (PetscInt i = 0; i < 3; ++i) PetscCall(VecDuplicate(C->x, &C->past[i]));
+  for (PetscInt i = 0; i <= FSIOPT_EXTRAPOLATION_MAX; ++i) PetscCall(VecDuplicate(C->x, &C->past[i]));
   PetscCall(HistoryOpen(PETSC_COMM_WORLD, output_dir, &C->history));
   if (opt) PetscCall(CouplingCreate_Opt(C));
   else PetscCall(CouplingCreate_Partitioned(C));
@@ -34,25 +34,23 @@ PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, cons
   PetscFunctionReturn(0);
 }
 
-/* x^n starts from the polynomial through the last controls: x^{n-1}, 2x^{n-1} - x^{n-2}
-   or 3x^{n-1} - 3x^{n-2} + x^{n-3} (degree -coupling_extrapolation, lower while the
-   run has fewer steps behind it) */
+/* x^n starts from the polynomial of degree -coupling_extrapolation through the last
+   controls (lower while the run has fewer steps behind it): the weights of x^{n-1},
+   x^{n-2}, ... are the binomial coefficients with alternating signs */
 static PetscErrorCode Extrapolate(Coupling C)
 {
-  Vec       oldest = C->past[2];
-  PetscInt  degree;
+  static const PetscScalar weights[4][4] = {{1, 0, 0, 0}, {2, -1, 0, 0}, {3, -3, 1, 0}, {4, -6, 4, -1}};
+  Vec                      oldest       = C->past[FSIOPT_EXTRAPOLATION_MAX];
+  PetscInt                 degree;
 
   PetscFunctionBeginUser;
-  C->past[2] = C->past[1];
-  C->past[1] = C->past[0];
+  for (PetscInt i = FSIOPT_EXTRAPOLATION_MAX; i > 0; --i) C->past[i] = C->past[i - 1];
   C->past[0] = oldest;
   PetscCall(VecCopy(C->x, C->past[0]));
-  C->npast = PetscMin(C->npast + 1, 3);
+  C->npast = PetscMin(C->npast + 1, FSIOPT_EXTRAPOLATION_MAX + 1);
   degree   = PetscMin(C->extrapolation, C->npast - 1);
-  if (degree == 1) PetscCall(VecAXPBY(C->x, -1.0, 2.0, C->past[1]));
-  if (degree == 2) {
-    PetscCall(VecAXPBYPCZ(C->x, -3.0, 1.0, 3.0, C->past[1], C->past[2]));
-  }
+  PetscCall(VecZeroEntries(C->x));
+  PetscCall(VecMAXPY(C->x, degree + 1, weights[degree], C->past));
   PetscFunctionReturn(0);
 }
 
@@ -94,7 +92,7 @@ PetscErrorCode CouplingDestroy(Coupling *coupling)
   if (C->ops.destroy) PetscCall((*C->ops.destroy)(C));
   PetscCall(HistoryClose(&C->history, PETSC_FALSE));
   PetscCall(VecDestroy(&C->x));
-  for (PetscInt i = 0; i < 3; ++i) PetscCall(VecDestroy(&C->past[i]));
+  for (PetscInt i = 0; i <= FSIOPT_EXTRAPOLATION_MAX; ++i) PetscCall(VecDestroy(&C->past[i]));
   PetscCall(PetscFree(*coupling));
   PetscFunctionReturn(0);
 }

@@ -10,7 +10,8 @@ struct _p_Coupling {
   History         history;
   CouplingStats   stats;
   Vec             x; /* the scaled control, carried from step to step */
-  Vec             past[3]; /* x^{n-1}, x^{n-2}, x^{n-3} for the extrapolated start */
+#define FSIOPT_EXTRAPOLATION_MAX 3
+  Vec             past[FSIOPT_EXTRAPOLATION_MAX + 1]; /* x^{n-1}, x^{n-2}, ... for the extrapolated start */
   PetscInt        npast, extrapolation;
   PetscReal       tol;
   PetscInt        max_it;
