@@ -352,8 +352,10 @@ static PetscErrorCode MoveMesh(CouplingProblem P)
     PetscCall(InterfaceStructureTrace(P->itf, eta, P->all_a));
   }
   if (P->motion) {
+    PetscCall(PetscLogStagePush(FSIOPT_STAGE_MESH_MOTION));
     PetscCall(MeshMotionSolve(P->motion, P->itf, P->all_a, P->mesh_displacement));
     PetscCall(FluidSetMeshDisplacement(P->fluid, P->mesh_displacement));
+    PetscCall(PetscLogStagePop());
   }
   PetscFunctionReturn(0);
 }
