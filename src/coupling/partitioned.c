@@ -16,7 +16,6 @@
 #include "coupling_impl.h"
 #include "options.h"
 #include "logging.h"
-#include <petscblaslapack.h>
 
 typedef enum { PARTITIONED_DN, PARTITIONED_AITKEN, PARTITIONED_IQNILS } PartitionedKind;
 
