@@ -449,8 +449,17 @@ def _():
                        errors="replace", timeout=60)
     assert p.returncode == 0, "exit %d" % p.returncode
     for opt in ["-scene", "-coupling", "-refine", "-dt", "-t_start", "-t_final", "-output_dir", "-fluid_density",
-                "-fluid_viscosity", "-fluid_model", "-mms_discrete_time"]:
+                "-fluid_viscosity", "-fluid_model", "-mms_discrete_time", "-write_fields", "-write_fields_interval",
+                "-fluid_rhs_rtol", "-fluid_extrapolate"]:
         assert opt in p.stdout, "%s not in -help" % opt
+    # a coupled moving-mesh scene with a partitioned method lists the coupling's options too
+    p = subprocess.run([FSIOPT, "-help", "-options_file", "options/channel2d.yaml", "-coupling", "iqnils"], cwd=ROOT, env=ENV,
+                       capture_output=True, text=True, errors="replace", timeout=60)
+    assert p.returncode == 0, "exit %d" % p.returncode
+    for opt in ["-coupling_domain", "-coupling_predictor", "-coupling_mesh_extrapolate", "-coupling_extrapolation",
+                "-coupling_omega", "-coupling_rtol", "-coupling_atol", "-coupling_iqn_reuse", "-mesh_motion",
+                "-channel_inlet_amplitude", "-fluid_backflow_stabilization"]:
+        assert opt in p.stdout, "%s not in -help of channel2d with -coupling iqnils" % opt
     return ""
 
 
