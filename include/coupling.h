@@ -49,7 +49,14 @@ PetscErrorCode CouplingProblemEndStep(CouplingProblem, Vec x);
    interface velocity prescribed, and x_new: the control whose load equals the fluid's
    reaction on the interface. A fixed point is a solution of the coupled step. */
 PetscErrorCode CouplingProblemSweep(CouplingProblem, Vec x, Vec x_new);
-/* ||u - v_s||_{L2(Gamma_I)} of the last sweep's state (zero up to the solvers' tolerance) */
+/* The same sweep started from the fluid (the seed's arrangement, relaxing the wall's
+   motion): the fluid with the interface velocity v prescribed on the mesh of the last
+   structure solve, x the control equal to its reaction, the structure under x and v_new
+   its interface velocity. v, v_new: interface vectors (InterfaceCreateVector layout). */
+PetscErrorCode CouplingProblemSweepVelocity(CouplingProblem, Vec v, Vec x, Vec v_new);
+PetscErrorCode CouplingProblemCreateInterfaceVector(CouplingProblem, Vec *);
+/* ||u - v_s||_{L2(Gamma_I)} of the last sweep's state (zero up to the solvers' tolerance
+   for the traction sweep) */
 PetscErrorCode CouplingProblemSweepJump(CouplingProblem, PetscReal *jump);
 /* The structure's displacement on the interface nodes (fluid node order). Collective. */
 PetscErrorCode CouplingProblemInterfaceDisplacement(CouplingProblem, Vec all);

@@ -23,7 +23,11 @@ typedef struct {
   PartitionedKind kind;
   PetscReal       omega, rtol, atol, filter;
   PetscInt        reuse;
-  Vec             x_tilde, r, r_before, x_tilde_before;
+  PetscBool       relax_velocity;              /* iterate on the interface velocity (the seed's) */
+  Vec             u;                           /* the iterate: the control C->x, or pt->v */
+  Vec             v, v_past[2];                /* velocity iterate and its last two converged values */
+  PetscInt        nvpast;
+  Vec             x_tilde, r, r_before, x_tilde_before; /* in the iterate's layout */
   /* iqnils: columns V (residual differences) and W (sweep differences), newest first,
      with the step each came from */
   PetscInt        ncols, max_cols, *col_step;
@@ -121,21 +125,23 @@ static PetscErrorCode PartitionedStep(Coupling C, PetscInt step)
   PetscFunctionBeginUser;
   PetscCall(CouplingProblemBeginStep(C->problem, step));
   if (pt->kind == PARTITIONED_IQNILS) PetscCall(TrimColumns(pt, step));
+  if (pt->relax_velocity && pt->nvpast == 2) PetscCall(VecAXPBYPCZ(pt->v, 2.0, -1.0, 0.0, pt->v_past[0], pt->v_past[1]));
   for (k = 0;; ++k) {
-    PetscCall(CouplingProblemSweep(C->problem, C->x, pt->x_tilde));
-    PetscCall(VecWAXPY(pt->r, -1.0, C->x, pt->x_tilde));
+    if (pt->relax_velocity) PetscCall(CouplingProblemSweepVelocity(C->problem, pt->v, C->x, pt->x_tilde));
+    else PetscCall(CouplingProblemSweep(C->problem, C->x, pt->x_tilde));
+    PetscCall(VecWAXPY(pt->r, -1.0, pt->u, pt->x_tilde));
     PetscCall(VecNorm(pt->r, NORM_2, &rnorm));
     PetscCall(VecNorm(pt->x_tilde, NORM_2, &xnorm));
-    /* history: the objective column holds 1/2 ||r||^2, the jump column ||r|| (traction) */
+    /* history: the objective column holds 1/2 ||r||^2, the jump column ||r|| (traction or velocity) */
     PetscCall(HistoryAppend(C->history, step, k, 0.5 * rnorm * rnorm, rnorm, 0));
     if (k == 0) first = rnorm;
     if (rnorm <= PetscMax(pt->rtol * xnorm, pt->atol)) break;
-    PetscCheck(!PetscIsInfOrNanReal(rnorm) && !(k > (pt->kind == PARTITIONED_IQNILS ? 4 : 0) && rnorm > 1e3 * first), PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "coupling %s diverged at step %" PetscInt_FMT ", iteration %" PetscInt_FMT ": traction residual %.3e, 1000 times its first value %.3e (relaxation -coupling_omega %g)", C->method, step, k, (double)rnorm, (double)first, (double)omega);
-    PetscCheck(k < C->max_it, PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "coupling %s did not converge at step %" PetscInt_FMT " in -coupling_max_it %" PetscInt_FMT " iterations: traction residual %.3e > -coupling_rtol %.1e times the traction %.3e and > -coupling_atol %.1e", C->method, step, C->max_it, (double)rnorm, (double)pt->rtol, (double)xnorm, (double)pt->atol);
+    PetscCheck(!PetscIsInfOrNanReal(rnorm) && !(k > (pt->kind == PARTITIONED_IQNILS ? 4 : 0) && rnorm > 1e3 * first), PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "coupling %s diverged at step %" PetscInt_FMT ", iteration %" PetscInt_FMT ": residual %.3e, 1000 times its first value %.3e (relaxation -coupling_omega %g)", C->method, step, k, (double)rnorm, (double)first, (double)omega);
+    PetscCheck(k < C->max_it, PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "coupling %s did not converge at step %" PetscInt_FMT " in -coupling_max_it %" PetscInt_FMT " iterations: residual %.3e > -coupling_rtol %.1e times the iterate %.3e and > -coupling_atol %.1e", C->method, step, C->max_it, (double)rnorm, (double)pt->rtol, (double)xnorm, (double)pt->atol);
     PetscCall(PetscLogStagePush(FSIOPT_STAGE_OPTIMIZER)); /* the method's own work */
     switch (pt->kind) {
     case PARTITIONED_DN:
-      PetscCall(VecAXPY(C->x, omega, pt->r));
+      PetscCall(VecAXPY(pt->u, omega, pt->r));
       break;
     case PARTITIONED_AITKEN:
       if (k > 0) {
@@ -148,7 +154,7 @@ static PetscErrorCode PartitionedStep(Coupling C, PetscInt step)
         if (PetscAbsScalar(den) > 0) omega = -omega * PetscRealPart(num - den) / PetscRealPart(den);
       }
       PetscCall(VecCopy(pt->r, pt->r_before));
-      PetscCall(VecAXPY(C->x, omega, pt->r));
+      PetscCall(VecAXPY(pt->u, omega, pt->r));
       break;
     case PARTITIONED_IQNILS: {
       if (k > 0) {
@@ -161,11 +167,11 @@ static PetscErrorCode PartitionedStep(Coupling C, PetscInt step)
       if (pt->ncols) {
         /* x = S(x_k) + W c, c = argmin ||V c + r_k|| */
         Vec dx;
-        PetscCall(VecDuplicate(C->x, &dx));
+        PetscCall(VecDuplicate(pt->u, &dx));
         PetscCall(QuasiNewtonUpdate(pt, pt->r, dx));
-        PetscCall(VecWAXPY(C->x, 1.0, pt->x_tilde, dx));
+        PetscCall(VecWAXPY(pt->u, 1.0, pt->x_tilde, dx));
         PetscCall(VecDestroy(&dx));
-      } else PetscCall(VecAXPY(C->x, omega, pt->r)); /* no model yet: one relaxed step */
+      } else PetscCall(VecAXPY(pt->u, omega, pt->r)); /* no model yet: one relaxed step */
     } break;
     }
     PetscCall(PetscLogStagePop());
@@ -176,6 +182,13 @@ static PetscErrorCode PartitionedStep(Coupling C, PetscInt step)
     C->stats.max_jump = PetscMax(C->stats.max_jump, jump);
   }
   PetscCall(CouplingProblemEndStep(C->problem, C->x));
+  if (pt->relax_velocity) {
+    Vec oldest = pt->v_past[1];
+    pt->v_past[1] = pt->v_past[0];
+    pt->v_past[0] = oldest;
+    PetscCall(VecCopy(pt->v, pt->v_past[0]));
+    pt->nvpast = PetscMin(pt->nvpast + 1, 2);
+  }
   C->stats.iterations += k + 1; /* sweeps */
   PetscFunctionReturn(0);
 }
@@ -186,6 +199,9 @@ static PetscErrorCode PartitionedDestroy(Coupling C)
 
   PetscFunctionBeginUser;
   PetscCall(VecDestroy(&pt->x_tilde));
+  PetscCall(VecDestroy(&pt->v));
+  PetscCall(VecDestroy(&pt->v_past[0]));
+  PetscCall(VecDestroy(&pt->v_past[1]));
   PetscCall(VecDestroy(&pt->r));
   PetscCall(VecDestroy(&pt->r_before));
   PetscCall(VecDestroy(&pt->x_tilde_before));
@@ -222,17 +238,26 @@ PetscErrorCode CouplingCreate_Partitioned(Coupling C)
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_omega", "relaxation: fixed for dn (default 1, unrelaxed), the first step of aitken and iqnils (default 0.05, the seed's)", &pt->omega));
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_rtol", "a step has converged when the traction changes by less than this, relative, in L2(Gamma_I)", &pt->rtol));
   PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-coupling_atol", "or by less than this, absolute: the floor set by the subproblems' solver tolerances while the traction is tiny", &pt->atol));
+  PetscCall(PetscOptionsBool("-coupling_relax_velocity", "iterate on the interface velocity (fluid first, the structure's velocity relaxed: the seed's arrangement) instead of the traction", NULL, pt->relax_velocity, &pt->relax_velocity, NULL));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_iqn_reuse", "iqnils: reuse the columns of this many previous time steps", 0, 1000, &pt->reuse));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_iqn_columns", "iqnils: at most this many columns", 1, 10000, &pt->max_cols));
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_iqn_filter", "iqnils: drop a column whose part orthogonal to the newer ones is below this fraction of its norm", &pt->filter));
   PetscOptionsEnd();
-  PetscCall(VecDuplicate(C->x, &pt->x_tilde));
-  PetscCall(VecDuplicate(C->x, &pt->r));
-  PetscCall(VecDuplicate(C->x, &pt->r_before));
-  PetscCall(VecDuplicate(C->x, &pt->x_tilde_before));
+  pt->u = C->x;
+  if (pt->relax_velocity) {
+    PetscCall(CouplingProblemCreateInterfaceVector(C->problem, &pt->v));
+    PetscCall(VecZeroEntries(pt->v));
+    PetscCall(VecDuplicate(pt->v, &pt->v_past[0]));
+    PetscCall(VecDuplicate(pt->v, &pt->v_past[1]));
+    pt->u = pt->v;
+  }
+  PetscCall(VecDuplicate(pt->u, &pt->x_tilde));
+  PetscCall(VecDuplicate(pt->u, &pt->r));
+  PetscCall(VecDuplicate(pt->u, &pt->r_before));
+  PetscCall(VecDuplicate(pt->u, &pt->x_tilde_before));
   if (pt->kind == PARTITIONED_IQNILS) {
-    PetscCall(VecDuplicateVecs(C->x, pt->max_cols, &pt->V));
-    PetscCall(VecDuplicateVecs(C->x, pt->max_cols, &pt->W));
+    PetscCall(VecDuplicateVecs(pt->u, pt->max_cols, &pt->V));
+    PetscCall(VecDuplicateVecs(pt->u, pt->max_cols, &pt->W));
     PetscCall(PetscMalloc1(pt->max_cols, &pt->col_step));
   }
   PetscFunctionReturn(0);

@@ -371,25 +371,41 @@ static PetscErrorCode SolveStructure(CouplingProblem P)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CouplingProblemSweep(CouplingProblem P, Vec x, Vec x_new)
+static PetscErrorCode SweepCheck(CouplingProblem P)
 {
   PetscFunctionBeginUser;
   PetscCheck(P->variant == CONTROL_TRACTION, P->comm, PETSC_ERR_SUP, "option -coupling_control convective: the Dirichlet-Neumann methods exchange the traction itself; use -coupling_control traction");
   /* with the interface velocity prescribed too, an enclosed fluid's pressure is
      undetermined and its volume cannot change (the incompressibility dilemma) */
   PetscCheck(P->fluid_data.n_traction > 0, P->comm, PETSC_ERR_SUP, "option -coupling: the Dirichlet-Neumann methods (dn, aitken, iqnils) need a fluid boundary with a traction condition besides the interface; this scene's fluid is enclosed (incompressibility dilemma): use -coupling opt");
+  P->state_valid = PETSC_FALSE; /* the state will not be the traction-controlled one */
+  P->swept       = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+/* The structure under the control x; v_s (all interface nodes) its interface velocity. */
+static PetscErrorCode StructureUnderControl(CouplingProblem P, Vec x, Vec v_s)
+{
+  PetscFunctionBeginUser;
   PetscCall(ControlToLoad(P, x, P->all_q));
   if (P->structure) PetscCall(VecZeroEntries(P->structure_vec));
   PetscCall(InterfaceStructureSpread(P->itf, P->all_q, P->structure ? P->structure_vec : NULL));
   PetscCall(SolveStructure(P));
-  PetscCall(MoveMesh(P));
-  PetscCall(InterfaceStructureTrace(P->itf, P->structure ? P->structure_local : NULL, P->all_b));
+  PetscCall(InterfaceStructureTrace(P->itf, P->structure ? P->structure_local : NULL, v_s));
+  PetscFunctionReturn(0);
+}
+
+/* The fluid with the interface velocity v (all interface nodes) prescribed; x the control
+   whose load equals its reaction. */
+static PetscErrorCode FluidUnderVelocity(CouplingProblem P, Vec v, Vec x)
+{
+  PetscFunctionBeginUser;
   if (P->fluid) {
     DM  dm;
     Vec state;
     if (!P->fluid_interface_rows) PetscCall(InterfaceGetFluidRows(P->itf, &P->fluid_interface_rows));
     PetscCall(VecZeroEntries(P->fluid_vec));
-    PetscCall(InterfaceFluidSpread(P->itf, P->all_b, P->fluid_vec));
+    PetscCall(InterfaceFluidSpread(P->itf, v, P->fluid_vec));
     PetscCall(PetscLogStagePush(FSIOPT_STAGE_FLUID));
     PetscCall(FluidSolveDirichlet(P->fluid, P->fluid_interface_rows, P->fluid_vec, P->fluid_sol, P->step));
     PetscCall(PetscLogStagePop());
@@ -399,10 +415,35 @@ PetscErrorCode CouplingProblemSweep(CouplingProblem P, Vec x, Vec x_new)
   }
   PetscCall(InterfaceFluidGather(P->itf, P->fluid ? P->fluid_sol : NULL, P->all_a));
   PetscCall(InterfaceRestrict(P->itf, P->all_a, P->r));
-  PetscCall(ControlMassSolve(P, P->r, x_new));
-  PetscCall(VecPointwiseMult(x_new, x_new, P->weight_sqrt));
-  P->state_valid = PETSC_FALSE; /* the state is not the traction-controlled one at x */
-  P->swept       = PETSC_TRUE;
+  PetscCall(ControlMassSolve(P, P->r, x));
+  PetscCall(VecPointwiseMult(x, x, P->weight_sqrt));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemSweep(CouplingProblem P, Vec x, Vec x_new)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SweepCheck(P));
+  PetscCall(StructureUnderControl(P, x, P->all_b));
+  PetscCall(MoveMesh(P));
+  PetscCall(FluidUnderVelocity(P, P->all_b, x_new));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemSweepVelocity(CouplingProblem P, Vec v, Vec x, Vec v_new)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SweepCheck(P));
+  PetscCall(MoveMesh(P)); /* the wall of the last structure solve: the domain lags one sweep */
+  PetscCall(FluidUnderVelocity(P, v, x));
+  PetscCall(StructureUnderControl(P, x, v_new));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemCreateInterfaceVector(CouplingProblem P, Vec *v)
+{
+  PetscFunctionBeginUser;
+  PetscCall(InterfaceCreateVector(P->itf, v));
   PetscFunctionReturn(0);
 }
 
