@@ -1,7 +1,10 @@
-/* The partitioned baselines (issue 5): Dirichlet-Neumann fixed-point iterations on the
-   interface traction, x_{k+1} = x_k + update(r_k) with r_k = S(x_k) - x_k and S one sweep
-   (structure under the traction x_k, fluid with the structure's interface velocity,
-   the fluid's reaction as the new traction; CouplingProblemSweep).
+/* The partitioned baselines (issue 5): Dirichlet-Neumann fixed-point iterations
+   u_{k+1} = u_k + update(r_k), r_k = S(u_k) - u_k, S one sweep. The iterate u is the
+   interface traction (structure under the traction, fluid with the structure's interface
+   velocity, the fluid's reaction as the new traction; CouplingProblemSweep) or, with
+   -coupling_relax_velocity, the interface velocity (fluid under the velocity, structure
+   under the fluid's reaction, the structure's velocity as the new one; the seed's
+   arrangement, CouplingProblemSweepVelocity).
      dn      fixed relaxation: x + omega r                    (-coupling_omega)
      aitken  Aitken's dynamic relaxation, the seed's reference (§3.6.1)
      iqnils  interface quasi-Newton with an inverse-Jacobian least-squares model
@@ -9,10 +12,10 @@
              residual and sweep differences, those of the last q steps reused
              (-coupling_iqn_reuse), nearly dependent columns filtered out by a QR
              (-coupling_iqn_filter).
-   A step has converged when ||r|| <= max(-coupling_rtol ||S(x)||, -coupling_atol) (traction
-   change relative to the traction, in L2(Gamma_I), or absolute); iterations past -coupling_max_it or a residual 1000x
-   its first one (iqnils: after its first four iterations, which build its model) stop the
-   run with a message naming the step and the iteration. */
+   A step has converged when ||r|| <= max(-coupling_rtol ||S(u)||, -coupling_atol) (for the
+   traction: the change in L2(Gamma_I)); iterations past -coupling_max_it or a residual
+   1000x its first one (iqnils: after its first four iterations, which build its model)
+   stop the run with a message naming the step and the iteration. */
 #include "coupling_impl.h"
 #include "options.h"
 #include "logging.h"
@@ -27,7 +30,7 @@ typedef struct {
   Vec             u;                           /* the iterate: the control C->x, or pt->v */
   Vec             v, v_past[2];                /* velocity iterate and its last two converged values */
   PetscInt        nvpast;
-  Vec             x_tilde, r, r_before, x_tilde_before; /* in the iterate's layout */
+  Vec             sweep, r, r_before, sweep_before; /* S(u_k), r_k, r_{k-1}, S(u_{k-1}) */
   /* iqnils: columns V (residual differences) and W (sweep differences), newest first,
      with the step each came from */
   PetscInt        ncols, max_cols, *col_step;
@@ -72,7 +75,7 @@ static PetscErrorCode AddColumn(Partitioned *pt, PetscInt step, Vec dr, Vec dxt)
 
 /* c = argmin ||V c + r|| by modified Gram-Schmidt QR; a column whose new part is below
    filter * its norm is dropped (it would make R nearly singular). Returns the update
-   W c (+ r is added by the caller through x_tilde). */
+   W c (+ r is added by the caller through sweep). */
 static PetscErrorCode QuasiNewtonUpdate(Partitioned *pt, Vec r, Vec dx)
 {
   PetscInt     n = pt->ncols, kept = 0;
@@ -127,11 +130,11 @@ static PetscErrorCode PartitionedStep(Coupling C, PetscInt step)
   if (pt->kind == PARTITIONED_IQNILS) PetscCall(TrimColumns(pt, step));
   if (pt->relax_velocity && pt->nvpast == 2) PetscCall(VecAXPBYPCZ(pt->v, 2.0, -1.0, 0.0, pt->v_past[0], pt->v_past[1]));
   for (k = 0;; ++k) {
-    if (pt->relax_velocity) PetscCall(CouplingProblemSweepVelocity(C->problem, pt->v, C->x, pt->x_tilde));
-    else PetscCall(CouplingProblemSweep(C->problem, C->x, pt->x_tilde));
-    PetscCall(VecWAXPY(pt->r, -1.0, pt->u, pt->x_tilde));
+    if (pt->relax_velocity) PetscCall(CouplingProblemSweepVelocity(C->problem, pt->v, C->x, pt->sweep));
+    else PetscCall(CouplingProblemSweep(C->problem, C->x, pt->sweep));
+    PetscCall(VecWAXPY(pt->r, -1.0, pt->u, pt->sweep));
     PetscCall(VecNorm(pt->r, NORM_2, &rnorm));
-    PetscCall(VecNorm(pt->x_tilde, NORM_2, &xnorm));
+    PetscCall(VecNorm(pt->sweep, NORM_2, &xnorm));
     /* history: the objective column holds 1/2 ||r||^2, the jump column ||r|| (traction or velocity) */
     PetscCall(HistoryAppend(C->history, step, k, 0.5 * rnorm * rnorm, rnorm, 0));
     if (k == 0) first = rnorm;
@@ -159,17 +162,17 @@ static PetscErrorCode PartitionedStep(Coupling C, PetscInt step)
     case PARTITIONED_IQNILS: {
       if (k > 0) {
         PetscCall(VecAYPX(pt->r_before, -1.0, pt->r));                 /* r_k - r_{k-1} */
-        PetscCall(VecAYPX(pt->x_tilde_before, -1.0, pt->x_tilde));     /* S_k - S_{k-1} */
-        PetscCall(AddColumn(pt, step, pt->r_before, pt->x_tilde_before));
+        PetscCall(VecAYPX(pt->sweep_before, -1.0, pt->sweep));     /* S_k - S_{k-1} */
+        PetscCall(AddColumn(pt, step, pt->r_before, pt->sweep_before));
       }
       PetscCall(VecCopy(pt->r, pt->r_before));
-      PetscCall(VecCopy(pt->x_tilde, pt->x_tilde_before));
+      PetscCall(VecCopy(pt->sweep, pt->sweep_before));
       if (pt->ncols) {
         /* x = S(x_k) + W c, c = argmin ||V c + r_k|| */
         Vec dx;
         PetscCall(VecDuplicate(pt->u, &dx));
         PetscCall(QuasiNewtonUpdate(pt, pt->r, dx));
-        PetscCall(VecWAXPY(pt->u, 1.0, pt->x_tilde, dx));
+        PetscCall(VecWAXPY(pt->u, 1.0, pt->sweep, dx));
         PetscCall(VecDestroy(&dx));
       } else PetscCall(VecAXPY(pt->u, omega, pt->r)); /* no model yet: one relaxed step */
     } break;
@@ -198,13 +201,13 @@ static PetscErrorCode PartitionedDestroy(Coupling C)
   Partitioned *pt = (Partitioned *)C->data;
 
   PetscFunctionBeginUser;
-  PetscCall(VecDestroy(&pt->x_tilde));
+  PetscCall(VecDestroy(&pt->sweep));
   PetscCall(VecDestroy(&pt->v));
   PetscCall(VecDestroy(&pt->v_past[0]));
   PetscCall(VecDestroy(&pt->v_past[1]));
   PetscCall(VecDestroy(&pt->r));
   PetscCall(VecDestroy(&pt->r_before));
-  PetscCall(VecDestroy(&pt->x_tilde_before));
+  PetscCall(VecDestroy(&pt->sweep_before));
   if (pt->V) PetscCall(VecDestroyVecs(pt->max_cols, &pt->V));
   if (pt->W) PetscCall(VecDestroyVecs(pt->max_cols, &pt->W));
   PetscCall(PetscFree(pt->col_step));
@@ -251,10 +254,10 @@ PetscErrorCode CouplingCreate_Partitioned(Coupling C)
     PetscCall(VecDuplicate(pt->v, &pt->v_past[1]));
     pt->u = pt->v;
   }
-  PetscCall(VecDuplicate(pt->u, &pt->x_tilde));
+  PetscCall(VecDuplicate(pt->u, &pt->sweep));
   PetscCall(VecDuplicate(pt->u, &pt->r));
   PetscCall(VecDuplicate(pt->u, &pt->r_before));
-  PetscCall(VecDuplicate(pt->u, &pt->x_tilde_before));
+  PetscCall(VecDuplicate(pt->u, &pt->sweep_before));
   if (pt->kind == PARTITIONED_IQNILS) {
     PetscCall(VecDuplicateVecs(pt->u, pt->max_cols, &pt->V));
     PetscCall(VecDuplicateVecs(pt->u, pt->max_cols, &pt->W));
