@@ -41,7 +41,7 @@ methods many times that):
   scripts/bench.py --t-final 0.001 --out /tmp/b1
   scripts/bench.py --methods "opt,aitken,iqnils,iqnils:-coupling_iqn_reuse 0" --t-final 0.01
   scripts/bench.py --work-precision --t-final 0.0005 --methods opt,iqnils --out /tmp/b2"""
-import argparse, csv, hashlib, json, math, os, re, shlex, subprocess, sys, threading, time
+import argparse, csv, hashlib, json, math, os, re, shlex, subprocess, sys, time
 from concurrent.futures import ThreadPoolExecutor
 
 import matplotlib
@@ -49,7 +49,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.dont_write_bytecode = True   # no scripts/__pycache__ next to the sources
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from fsiopt_runs import ROOT, rel, say   # noqa: E402
+
 FSIOPT = os.path.join(ROOT, "bin", "fsiopt")
 OPTIONS_FILE = "options/channel2d.yaml"
 OUTPUTS = ("summary.json", "probes.csv", "history.csv", "stdout.log")
@@ -58,21 +61,6 @@ DEFAULT_METHODS = "opt,dn:-coupling_omega 0.05,aitken,iqnils"
 REFERENCE_OPTIONS = ["-coupling", "opt", "-coupling_tol", "1e-7", "-fluid_snes_rtol", "1e-10", "-fluid_rhs_rtol", "1e-12"]
 OPT_TOLS = [1e-2, 1e-3, 1e-4, 1e-5]
 RTOLS = [1e-3, 1e-4, 1e-5, 1e-6]
-_print_lock = threading.Lock()
-
-
-def say(*parts, err=False):
-    with _print_lock:
-        print(*parts, file=sys.stderr if err else sys.stdout, flush=True)
-
-
-def rel(path):
-    """path relative to the repository root when inside it (keeps cmd.txt portable)."""
-    path = os.path.abspath(path)
-    r = os.path.relpath(path, ROOT)
-    return path if r.startswith("..") else r
-
-
 def floats(text):
     return [float(x) for x in text.split(",") if x.strip()]
 
