@@ -27,7 +27,7 @@ PetscErrorCode FluidUpdateJacobian(Fluid);                    /* A = dR/dx at th
 PetscErrorCode FluidLinearSolve(Fluid, Vec rhs, Vec x, PetscBool transpose); /* with the factors in hand */
 /* Dirichlet-Neumann use: solves with the interface rows (global indices) set to `values`
    (a global vector; only those rows are read) and returns the reaction R(x) - history on
-   every row: on the interface rows, the load a traction-controlled fluid would need. */
+   those rows (0 elsewhere): the load a traction-controlled fluid would need there. */
 PetscErrorCode FluidSolveDirichlet(Fluid, IS rows, Vec values, Vec reaction, PetscInt step);
 PetscErrorCode FluidGetDM(Fluid, DM *);
 PetscErrorCode FluidGetSolution(Fluid, Vec *);

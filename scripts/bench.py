@@ -41,7 +41,7 @@ methods many times that):
   scripts/bench.py --t-final 0.001 --out /tmp/b1
   scripts/bench.py --methods "opt,aitken,iqnils,iqnils:-coupling_iqn_reuse 0" --t-final 0.01
   scripts/bench.py --work-precision --t-final 0.0005 --methods opt,iqnils --out /tmp/b2"""
-import argparse, csv, hashlib, json, math, os, re, shlex, subprocess, sys, time
+import argparse, csv, hashlib, json, math, os, re, shlex, sys, time
 from concurrent.futures import ThreadPoolExecutor
 
 import matplotlib
@@ -51,7 +51,7 @@ import numpy as np
 
 sys.dont_write_bytecode = True   # no scripts/__pycache__ next to the sources
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from fsiopt_runs import ROOT, rel, say   # noqa: E402
+from fsiopt_runs import ROOT, error_line, execute, read_json, rel, say   # noqa: E402
 
 FSIOPT = os.path.join(ROOT, "bin", "fsiopt")
 OPTIONS_FILE = "options/channel2d.yaml"
@@ -148,14 +148,6 @@ class Run:
         return self.status + (" (re-used)" if self.reused else "")
 
 
-def read_json(path):
-    try:
-        with open(path) as f:
-            return json.load(f)
-    except (OSError, ValueError):
-        return {}
-
-
 def parse_stages(stdout_text):
     """{stage name: seconds} from the 'Summary of Stages' of -log_view."""
     stages, inside = {}, False
@@ -178,18 +170,6 @@ def read_stages(run_dir):
             return parse_stages(f.read())
     except OSError:
         return {}
-
-
-def error_line(stderr, returncode):
-    """(message, final): the `fsiopt: error:` line (final: do not retry) or a description."""
-    lines = [l.strip() for l in stderr.splitlines() if l.strip()]
-    for l in reversed(lines):
-        if l.startswith("fsiopt: error:"):
-            return l[len("fsiopt: error:"):].strip(), True
-    msg = "killed by signal %d" % -returncode if returncode < 0 else "exit status %d" % returncode
-    if lines:
-        msg += " (stderr: %s)" % lines[-1][:300]
-    return msg, False
 
 
 def _reuse(r, cmdline, timeout, rerun_failed):
@@ -234,22 +214,7 @@ def run_one(r, fsiopt, runs_dir, timeout=None, force=False, rerun_failed=False, 
     final = False
     for attempt in range(1, retries + 2):
         r.attempts = attempt
-        t0 = time.time()
-        timed_out = False
-        try:
-            p = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, env=env, timeout=timeout or None)
-            returncode, stdout, stderr = p.returncode, p.stdout, p.stderr
-        except subprocess.TimeoutExpired as e:   # subprocess.run has killed the child
-            timed_out, returncode = True, None
-            stdout = e.stdout.decode(errors="replace") if isinstance(e.stdout, bytes) else (e.stdout or "")
-            stderr = e.stderr.decode(errors="replace") if isinstance(e.stderr, bytes) else (e.stderr or "")
-        except OSError as e:   # binary missing or busy (being re-linked)
-            returncode, stdout, stderr = None, "", "cannot run %s: %s" % (cmd[0], e.strerror or e)
-        r.elapsed_s = time.time() - t0
-        with open(os.path.join(r.run_dir, "stdout.log"), "w") as f:
-            f.write(stdout)
-        with open(os.path.join(r.run_dir, "stderr.log"), "w") as f:
-            f.write(stderr)
+        returncode, stdout, stderr, r.elapsed_s, timed_out = execute(cmd, r.run_dir, env, timeout)
         r.stages = parse_stages(stdout)
         if returncode == 0 and all(os.path.isfile(os.path.join(r.run_dir, o)) for o in OUTPUTS):
             r.status, r.error = "ok", ""

@@ -55,12 +55,16 @@ class Variant:
         return self.status in ("ok", "reused")
 
 
-def read_summary(run_dir):
+def read_json(path):
     try:
-        with open(os.path.join(run_dir, "summary.json")) as f:
+        with open(path) as f:
             return json.load(f)
     except (OSError, ValueError):
         return {}
+
+
+def read_summary(run_dir):
+    return read_json(os.path.join(run_dir, "summary.json"))
 
 
 def is_complete(run_dir, cmdline, outputs=OUTPUTS):
@@ -73,18 +77,37 @@ def is_complete(run_dir, cmdline, outputs=OUTPUTS):
         and bool(read_summary(run_dir))
 
 
-def _error_line(stderr, returncode):
+def error_line(stderr, returncode):
+    """(message, final): the `fsiopt: error:` line's message (final: do not retry) or a
+    description of how the run died."""
     lines = [l.strip() for l in stderr.splitlines() if l.strip()]
     for l in reversed(lines):
         if l.startswith("fsiopt: error:"):
-            return l, True
-    if returncode < 0:
-        msg = "killed by signal %d" % -returncode
-    else:
-        msg = "exit status %d" % returncode
+            return l[len("fsiopt: error:"):].strip(), True
+    msg = "killed by signal %d" % -returncode if returncode < 0 else "exit status %d" % returncode
     if lines:
         msg += " (stderr: %s)" % lines[-1][:300]
     return msg, False
+
+
+def execute(cmd, run_dir, env=None, timeout=None):
+    """Runs cmd once from the repository root, keeps its output in run_dir/stdout.log and
+    stderr.log. Returns (returncode or None, stdout, stderr, elapsed s, timed out)."""
+    t0, timed_out = time.time(), False
+    try:
+        p = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, env=env, timeout=timeout or None)
+        returncode, stdout, stderr = p.returncode, p.stdout, p.stderr
+    except subprocess.TimeoutExpired as e:   # subprocess.run has killed the child
+        timed_out, returncode = True, None
+        stdout = e.stdout.decode(errors="replace") if isinstance(e.stdout, bytes) else (e.stdout or "")
+        stderr = e.stderr.decode(errors="replace") if isinstance(e.stderr, bytes) else (e.stderr or "")
+    except OSError as e:   # binary missing or busy (being re-linked)
+        returncode, stdout, stderr = None, "", "cannot run %s: %s" % (cmd[0], e.strerror or e)
+    elapsed = time.time() - t0
+    for name, text in (("stdout.log", stdout), ("stderr.log", stderr)):
+        with open(os.path.join(run_dir, name), "w") as f:
+            f.write(text)
+    return returncode, stdout, stderr, elapsed, timed_out
 
 
 def run_variant(v, fsiopt, runs_dir, force=False, retries=2, wait_s=5.0, env=None):
@@ -105,17 +128,7 @@ def run_variant(v, fsiopt, runs_dir, force=False, retries=2, wait_s=5.0, env=Non
     say("  %-28s running: %s" % (v.name, cmdline))
     for attempt in range(1, retries + 2):
         v.attempts = attempt
-        t0 = time.time()
-        try:
-            p = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, env=env)
-            returncode, stdout, stderr = p.returncode, p.stdout, p.stderr
-        except OSError as e:   # binary missing or busy (being re-linked)
-            returncode, stdout, stderr = None, "", "cannot run %s: %s" % (cmd[0], e.strerror or e)
-        v.elapsed_s = time.time() - t0
-        with open(os.path.join(v.run_dir, "stdout.log"), "w") as f:
-            f.write(stdout)
-        with open(os.path.join(v.run_dir, "stderr.log"), "w") as f:
-            f.write(stderr)
+        returncode, stdout, stderr, v.elapsed_s, _ = execute(cmd, v.run_dir, env)
         if returncode == 0 and all(os.path.isfile(os.path.join(v.run_dir, o)) for o in v.outputs):
             with open(os.path.join(v.run_dir, "cmd.txt"), "w") as f:
                 f.write(cmdline + "\n")
@@ -129,7 +142,8 @@ def run_variant(v, fsiopt, runs_dir, force=False, retries=2, wait_s=5.0, env=Non
         elif returncode == 0:
             msg, final = "exit status 0 but outputs missing in %s" % rel(v.run_dir), False
         else:
-            msg, final = _error_line(stderr, returncode)
+            msg, final = error_line(stderr, returncode)
+            msg = "fsiopt: error: " + msg if final else msg
         v.status, v.error = "failed", msg
         if final or attempt > retries:
             break

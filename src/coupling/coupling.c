@@ -6,6 +6,7 @@ PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, cons
 {
   Coupling  C;
   PetscBool opt, partitioned = PETSC_FALSE;
+  PetscInt  degree;
 
   PetscFunctionBeginUser;
   PetscCall(PetscStrcmp(method, "opt", &opt));
@@ -18,15 +19,15 @@ PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, cons
   C->max_it  = opt ? 50 : 500; /* relaxation methods may need hundreds */
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Coupling options", "coupling");
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_tol", "stop when ||u - v_s||_{L2(Gamma_I)} falls below this", &C->tol));
-  C->extrapolation = 1;
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_extrapolation", "each step starts from the control extrapolated from the last K+1 steps by a polynomial of degree K (0: the last control, seed Remark 3.4)", 0, FSIOPT_EXTRAPOLATION_MAX, &C->extrapolation));
+  degree = 1;
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_extrapolation", "each step starts from the control extrapolated from the last K+1 steps by a polynomial of degree K (0: the last control, seed Remark 3.4)", 0, FSIOPT_EXTRAPOLATION_MAX, &degree));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_max_it", "coupling iterations per step before the run stops with an error", 1, 100000, &C->max_it));
   PetscOptionsEnd();
   C->stats.max_jump = 0;
   PetscCall(CouplingProblemSetConvergedJump(problem, C->tol));
   PetscCall(CouplingProblemCreateControl(problem, &C->x));
   PetscCall(CouplingProblemInitialControl(problem, t0, C->x));
-  for (PetscInt i = 0; i <= FSIOPT_EXTRAPOLATION_MAX; ++i) PetscCall(VecDuplicate(C->x, &C->past[i]));
+  PetscCall(ExtrapolationCreate(C->x, degree, &C->start));
   PetscCall(HistoryOpen(PETSC_COMM_WORLD, output_dir, &C->history));
   if (opt) PetscCall(CouplingCreate_Opt(C));
   else PetscCall(CouplingCreate_Partitioned(C));
@@ -34,30 +35,53 @@ PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, cons
   PetscFunctionReturn(0);
 }
 
-/* x^n starts from the polynomial of degree -coupling_extrapolation through the last
-   controls (lower while the run has fewer steps behind it): the weights of x^{n-1},
-   x^{n-2}, ... are the binomial coefficients with alternating signs */
-static PetscErrorCode Extrapolate(Coupling C)
+PetscErrorCode ExtrapolationCreate(Vec model, PetscInt degree, Extrapolation *e)
 {
-  static const PetscScalar weights[4][4] = {{1, 0, 0, 0}, {2, -1, 0, 0}, {3, -3, 1, 0}, {4, -6, 4, -1}};
-  Vec                      oldest       = C->past[FSIOPT_EXTRAPOLATION_MAX];
-  PetscInt                 degree;
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(e, sizeof(*e)));
+  e->degree = degree;
+  for (PetscInt i = 0; i <= FSIOPT_EXTRAPOLATION_MAX; ++i) PetscCall(VecDuplicate(model, &e->past[i]));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ExtrapolationRecord(Extrapolation *e, Vec x)
+{
+  Vec oldest = e->past[FSIOPT_EXTRAPOLATION_MAX];
 
   PetscFunctionBeginUser;
-  for (PetscInt i = FSIOPT_EXTRAPOLATION_MAX; i > 0; --i) C->past[i] = C->past[i - 1];
-  C->past[0] = oldest;
-  PetscCall(VecCopy(C->x, C->past[0]));
-  C->npast = PetscMin(C->npast + 1, FSIOPT_EXTRAPOLATION_MAX + 1);
-  degree   = PetscMin(C->extrapolation, C->npast - 1);
-  PetscCall(VecZeroEntries(C->x));
-  PetscCall(VecMAXPY(C->x, degree + 1, weights[degree], C->past));
+  for (PetscInt i = FSIOPT_EXTRAPOLATION_MAX; i > 0; --i) e->past[i] = e->past[i - 1];
+  e->past[0] = oldest;
+  PetscCall(VecCopy(x, e->past[0]));
+  e->npast = PetscMin(e->npast + 1, FSIOPT_EXTRAPOLATION_MAX + 1);
+  PetscFunctionReturn(0);
+}
+
+/* the weights of the newest, second newest, ... values: binomial coefficients with
+   alternating signs */
+PetscErrorCode ExtrapolationPredict(Extrapolation *e, Vec x)
+{
+  static const PetscScalar weights[4][4] = {{1, 0, 0, 0}, {2, -1, 0, 0}, {3, -3, 1, 0}, {4, -6, 4, -1}};
+  const PetscInt           degree        = PetscMin(e->degree, e->npast - 1);
+
+  PetscFunctionBeginUser;
+  if (degree < 0) PetscFunctionReturn(0); /* nothing recorded: x stays */
+  PetscCall(VecZeroEntries(x));
+  PetscCall(VecMAXPY(x, degree + 1, weights[degree], e->past));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ExtrapolationDestroy(Extrapolation *e)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i <= FSIOPT_EXTRAPOLATION_MAX; ++i) PetscCall(VecDestroy(&e->past[i]));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode CouplingStep(Coupling C, PetscInt step)
 {
   PetscFunctionBeginUser;
-  PetscCall(Extrapolate(C));
+  PetscCall(ExtrapolationRecord(&C->start, C->x));
+  PetscCall(ExtrapolationPredict(&C->start, C->x));
   PetscCall((*C->ops.step)(C, step));
   PetscFunctionReturn(0);
 }
@@ -92,7 +116,7 @@ PetscErrorCode CouplingDestroy(Coupling *coupling)
   if (C->ops.destroy) PetscCall((*C->ops.destroy)(C));
   PetscCall(HistoryClose(&C->history, PETSC_FALSE));
   PetscCall(VecDestroy(&C->x));
-  for (PetscInt i = 0; i <= FSIOPT_EXTRAPOLATION_MAX; ++i) PetscCall(VecDestroy(&C->past[i]));
+  PetscCall(ExtrapolationDestroy(&C->start));
   PetscCall(PetscFree(*coupling));
   PetscFunctionReturn(0);
 }

@@ -3,6 +3,18 @@
 #include "coupling.h"
 #include "history.h"
 
+/* A step's start from the values of the last steps: the polynomial of degree K through
+   them (lower while fewer are recorded). */
+#define FSIOPT_EXTRAPOLATION_MAX 3
+typedef struct {
+  Vec      past[FSIOPT_EXTRAPOLATION_MAX + 1]; /* newest first */
+  PetscInt npast, degree;
+} Extrapolation;
+PetscErrorCode ExtrapolationCreate(Vec model, PetscInt degree, Extrapolation *);
+PetscErrorCode ExtrapolationRecord(Extrapolation *, Vec x);  /* x: the newest value */
+PetscErrorCode ExtrapolationPredict(Extrapolation *, Vec x); /* x: the next step's start */
+PetscErrorCode ExtrapolationDestroy(Extrapolation *);
+
 /* What every coupling method shares; a method fills `ops` and keeps its own data. */
 struct _p_Coupling {
   char            method[16];
@@ -10,9 +22,7 @@ struct _p_Coupling {
   History         history;
   CouplingStats   stats;
   Vec             x; /* the scaled control, carried from step to step */
-#define FSIOPT_EXTRAPOLATION_MAX 3
-  Vec             past[FSIOPT_EXTRAPOLATION_MAX + 1]; /* x^{n-1}, x^{n-2}, ... for the extrapolated start */
-  PetscInt        npast, extrapolation;
+  Extrapolation   start;   /* the control each step starts from */
   PetscReal       tol;
   PetscInt        max_it;
   struct {

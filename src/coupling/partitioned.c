@@ -28,13 +28,14 @@ typedef struct {
   PetscInt        reuse;
   PetscBool       relax_velocity;              /* iterate on the interface velocity (the seed's) */
   Vec             u;                           /* the iterate: the control C->x, or pt->v */
-  Vec             v, v_past[2];                /* velocity iterate and its last two converged values */
-  PetscInt        nvpast;
+  Vec             v;                           /* the velocity iterate */
+  Extrapolation   v_start;                     /* its start from the last converged values */
   Vec             sweep, r, r_before, sweep_before; /* S(u_k), r_k, r_{k-1}, S(u_{k-1}) */
+  Vec             update;                           /* iqnils: W c */
   /* iqnils: columns V (residual differences) and W (sweep differences), newest first,
      with the step each came from */
   PetscInt        ncols, max_cols, *col_step;
-  Vec            *V, *W;
+  Vec            *V, *W, *Q; /* Q: V's orthonormal basis, work of the QR */
 } Partitioned;
 
 static const char *PartitionedName(Coupling C)
@@ -79,14 +80,13 @@ static PetscErrorCode AddColumn(Partitioned *pt, PetscInt step, Vec dr, Vec dxt)
 static PetscErrorCode QuasiNewtonUpdate(Partitioned *pt, Vec r, Vec dx)
 {
   PetscInt     n = pt->ncols, kept = 0;
-  Vec         *Q;
+  Vec         *Q = pt->Q;
   PetscScalar *R, *rhs, *c;
   PetscInt    *keep;
 
   PetscFunctionBeginUser;
   PetscCall(VecZeroEntries(dx));
   if (!n) PetscFunctionReturn(0);
-  PetscCall(VecDuplicateVecs(r, n, &Q));
   PetscCall(PetscCalloc4(n * n, &R, n, &rhs, n, &c, n, &keep));
   for (PetscInt j = 0; j < n; ++j) {
     PetscReal norm0, norm;
@@ -114,7 +114,6 @@ static PetscErrorCode QuasiNewtonUpdate(Partitioned *pt, Vec r, Vec dx)
     c[i] = s / R[i * n + i];
   }
   for (PetscInt i = 0; i < kept; ++i) PetscCall(VecAXPY(dx, c[i], pt->W[keep[i]]));
-  PetscCall(VecDestroyVecs(n, &Q));
   PetscCall(PetscFree4(R, rhs, c, keep));
   PetscFunctionReturn(0);
 }
@@ -128,7 +127,7 @@ static PetscErrorCode PartitionedStep(Coupling C, PetscInt step)
   PetscFunctionBeginUser;
   PetscCall(CouplingProblemBeginStep(C->problem, step));
   if (pt->kind == PARTITIONED_IQNILS) PetscCall(TrimColumns(pt, step));
-  if (pt->relax_velocity && pt->nvpast == 2) PetscCall(VecAXPBYPCZ(pt->v, 2.0, -1.0, 0.0, pt->v_past[0], pt->v_past[1]));
+  if (pt->relax_velocity) PetscCall(ExtrapolationPredict(&pt->v_start, pt->v));
   for (k = 0;; ++k) {
     if (pt->relax_velocity) PetscCall(CouplingProblemSweepVelocity(C->problem, pt->v, C->x, pt->sweep));
     else PetscCall(CouplingProblemSweep(C->problem, C->x, pt->sweep));
@@ -169,11 +168,8 @@ static PetscErrorCode PartitionedStep(Coupling C, PetscInt step)
       PetscCall(VecCopy(pt->sweep, pt->sweep_before));
       if (pt->ncols) {
         /* x = S(x_k) + W c, c = argmin ||V c + r_k|| */
-        Vec dx;
-        PetscCall(VecDuplicate(pt->u, &dx));
-        PetscCall(QuasiNewtonUpdate(pt, pt->r, dx));
-        PetscCall(VecWAXPY(pt->u, 1.0, pt->sweep, dx));
-        PetscCall(VecDestroy(&dx));
+        PetscCall(QuasiNewtonUpdate(pt, pt->r, pt->update));
+        PetscCall(VecWAXPY(pt->u, 1.0, pt->sweep, pt->update));
       } else PetscCall(VecAXPY(pt->u, omega, pt->r)); /* no model yet: one relaxed step */
     } break;
     }
@@ -185,13 +181,7 @@ static PetscErrorCode PartitionedStep(Coupling C, PetscInt step)
     C->stats.max_jump = PetscMax(C->stats.max_jump, jump);
   }
   PetscCall(CouplingProblemEndStep(C->problem, C->x));
-  if (pt->relax_velocity) {
-    Vec oldest = pt->v_past[1];
-    pt->v_past[1] = pt->v_past[0];
-    pt->v_past[0] = oldest;
-    PetscCall(VecCopy(pt->v, pt->v_past[0]));
-    pt->nvpast = PetscMin(pt->nvpast + 1, 2);
-  }
+  if (pt->relax_velocity) PetscCall(ExtrapolationRecord(&pt->v_start, pt->v));
   C->stats.iterations += k + 1; /* sweeps */
   PetscFunctionReturn(0);
 }
@@ -202,12 +192,15 @@ static PetscErrorCode PartitionedDestroy(Coupling C)
 
   PetscFunctionBeginUser;
   PetscCall(VecDestroy(&pt->sweep));
-  PetscCall(VecDestroy(&pt->v));
-  PetscCall(VecDestroy(&pt->v_past[0]));
-  PetscCall(VecDestroy(&pt->v_past[1]));
+  PetscCall(VecDestroy(&pt->update));
+  if (pt->relax_velocity) {
+    PetscCall(VecDestroy(&pt->v));
+    PetscCall(ExtrapolationDestroy(&pt->v_start));
+  }
   PetscCall(VecDestroy(&pt->r));
   PetscCall(VecDestroy(&pt->r_before));
   PetscCall(VecDestroy(&pt->sweep_before));
+  if (pt->Q) PetscCall(VecDestroyVecs(pt->max_cols, &pt->Q));
   if (pt->V) PetscCall(VecDestroyVecs(pt->max_cols, &pt->V));
   if (pt->W) PetscCall(VecDestroyVecs(pt->max_cols, &pt->W));
   PetscCall(PetscFree(pt->col_step));
@@ -250,8 +243,7 @@ PetscErrorCode CouplingCreate_Partitioned(Coupling C)
   if (pt->relax_velocity) {
     PetscCall(CouplingProblemCreateInterfaceVector(C->problem, &pt->v));
     PetscCall(VecZeroEntries(pt->v));
-    PetscCall(VecDuplicate(pt->v, &pt->v_past[0]));
-    PetscCall(VecDuplicate(pt->v, &pt->v_past[1]));
+    PetscCall(ExtrapolationCreate(pt->v, 1, &pt->v_start)); /* the wall's velocity: linear */
     pt->u = pt->v;
   }
   PetscCall(VecDuplicate(pt->u, &pt->sweep));
@@ -259,6 +251,8 @@ PetscErrorCode CouplingCreate_Partitioned(Coupling C)
   PetscCall(VecDuplicate(pt->u, &pt->r_before));
   PetscCall(VecDuplicate(pt->u, &pt->sweep_before));
   if (pt->kind == PARTITIONED_IQNILS) {
+    PetscCall(VecDuplicate(pt->u, &pt->update));
+    PetscCall(VecDuplicateVecs(pt->u, pt->max_cols, &pt->Q));
     PetscCall(VecDuplicateVecs(pt->u, pt->max_cols, &pt->V));
     PetscCall(VecDuplicateVecs(pt->u, pt->max_cols, &pt->W));
     PetscCall(PetscMalloc1(pt->max_cols, &pt->col_step));

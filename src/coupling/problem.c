@@ -223,6 +223,17 @@ static PetscErrorCode ControlToLoad(CouplingProblem P, Vec x, Vec q)
   PetscFunctionReturn(0);
 }
 
+/* structure_vec = B_s g for the scaled control x (the structure solves R_s = -B_s g);
+   all_q keeps the interface load M P^T g. */
+static PetscErrorCode StructureLoad(CouplingProblem P, Vec x)
+{
+  PetscFunctionBeginUser;
+  PetscCall(ControlToLoad(P, x, P->all_q));
+  if (P->structure) PetscCall(VecZeroEntries(P->structure_vec));
+  PetscCall(InterfaceStructureSpread(P->itf, P->all_q, P->structure ? P->structure_vec : NULL));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode ControlMassMult(Mat A, Vec x, Vec y)
 {
   CouplingProblem P;
@@ -286,9 +297,7 @@ PetscErrorCode CouplingProblemInitialControl(CouplingProblem P, PetscReal t0, Ve
     PetscCall(VecPointwiseMult(x, x, P->weight_sqrt));
   }
   /* the midpoint structure averages the traction of this and the previous step */
-  PetscCall(ControlToLoad(P, x, P->all_q));
-  if (P->structure) PetscCall(VecZeroEntries(P->structure_vec));
-  PetscCall(InterfaceStructureSpread(P->itf, P->all_q, P->structure ? P->structure_vec : NULL));
+  PetscCall(StructureLoad(P, x));
   if (P->structure) PetscCall(StructureSetInitialLoad(P->structure, P->structure_vec));
   PetscFunctionReturn(0);
 }
@@ -387,9 +396,7 @@ static PetscErrorCode SweepCheck(CouplingProblem P)
 static PetscErrorCode StructureUnderControl(CouplingProblem P, Vec x, Vec v_s)
 {
   PetscFunctionBeginUser;
-  PetscCall(ControlToLoad(P, x, P->all_q));
-  if (P->structure) PetscCall(VecZeroEntries(P->structure_vec));
-  PetscCall(InterfaceStructureSpread(P->itf, P->all_q, P->structure ? P->structure_vec : NULL));
+  PetscCall(StructureLoad(P, x));
   PetscCall(SolveStructure(P));
   PetscCall(InterfaceStructureTrace(P->itf, P->structure ? P->structure_local : NULL, v_s));
   PetscFunctionReturn(0);
@@ -481,9 +488,7 @@ PetscErrorCode CouplingProblemResidual(CouplingProblem P, Vec x, Vec F)
       PetscCall(VecAXPY(state, 1.0, P->fluid_sol));
     }
   }
-  PetscCall(ControlToLoad(P, x, P->all_q));
-  if (P->structure) PetscCall(VecZeroEntries(P->structure_vec));
-  PetscCall(InterfaceStructureSpread(P->itf, P->all_q, P->structure ? P->structure_vec : NULL));
+  PetscCall(StructureLoad(P, x));
   PetscCall(VecAXPY(P->all_q, 1.0, P->datum_load));
   if (P->fluid) {
     PetscCall(VecZeroEntries(P->fluid_vec));

@@ -40,7 +40,7 @@ static PetscErrorCode CopyVertexValues(DM dm, Vec from, PetscBool from_coordinat
   PetscFunctionReturn(0);
 }
 
-/* rho/dt M(Omega^{n-1}) on every dof, once per step. Assembled here rather than through
+/* rho/dt M(Omega^{n-1}) on every dof, once per step (FluidALEBeginStep). Assembled here rather than through
    DMPlexSNESComputeJacobianFEM, whose generic element loop (every component pair of the
    vector basis, with the g1..g3 slots) costs as much as the full Navier-Stokes Jacobian:
    the mass needs only sum_q w_q |J_q| phi_i . phi_j on the velocity block. */
@@ -57,7 +57,6 @@ static PetscErrorCode AssembleOldMass(Fluid f)
   const PetscReal  coefficient = f->rho / f->dt;
 
   PetscFunctionBeginUser;
-  if (f->mass_old_step >= 0) PetscFunctionReturn(0); /* this step's */
   PetscCall(DMGetDimension(f->dm_all, &dim));
   PetscCall(DMGetDS(f->dm_all, &ds));
   PetscCall(PetscDSGetTotalDimension(ds, &totDim));
@@ -89,7 +88,6 @@ static PetscErrorCode AssembleOldMass(Fluid f)
   PetscCall(MatAssemblyEnd(f->mass_old_all, MAT_FINAL_ASSEMBLY));
   PetscCall(PetscFree5(v, J, invJ, detJ, element));
   PetscCall(MatCreateSubMatrix(f->mass_old_all, f->free_in_all, f->free_in_all, MAT_REUSE_MATRIX, &f->mass_old));
-  f->mass_old_step = f->step;
   PetscFunctionReturn(0);
 }
 
@@ -97,7 +95,6 @@ static PetscErrorCode AssembleOldMass(Fluid f)
 static PetscErrorCode OldMassMult(Fluid f, Vec xlocal, Vec out)
 {
   PetscFunctionBeginUser;
-  PetscCall(AssembleOldMass(f));
   PetscCall(DMLocalToGlobal(f->dm_all, xlocal, INSERT_VALUES, f->all_x));
   PetscCall(MatMult(f->mass_old_all, f->all_x, f->all_y));
   PetscCall(DMGlobalToLocal(f->dm_all, f->all_y, INSERT_VALUES, f->all_local));
@@ -127,7 +124,6 @@ static PetscErrorCode JacobianALE(SNES snes, Vec x, Mat J, Mat P, void *ctx)
   (void)snes;
   PetscCall(FEMGlobalToLocal(f->dm, x, f->xlocal_work));
   PetscCall(DMPlexSNESComputeJacobianFEM(f->dm, f->xlocal_work, J, P, NULL));
-  PetscCall(AssembleOldMass(f));
   PetscCall(MatAXPY(P, 1.0, f->mass_old, SUBSET_NONZERO_PATTERN));
   if (J != P) PetscCall(MatAXPY(J, 1.0, f->mass_old, SUBSET_NONZERO_PATTERN));
   f->counts.factorizations++;
@@ -192,7 +188,7 @@ PetscErrorCode FluidALEBeginStep(Fluid f)
   PetscCall(DMGetCoordinatesLocal(f->dm, &coordinates));
   PetscCall(DMSetCoordinatesLocal(f->dm_all, coordinates));
   PetscCall(FEMInvalidateGeometry(f->dm_all));
-  f->mass_old_step = -1;
+  PetscCall(AssembleOldMass(f));
   PetscCall(OldMassMult(f, f->xlocal_old, f->history));
   PetscCall(VecCopy(f->displacement, f->displacement_old));
   PetscCall(VecZeroEntries(f->z_local));

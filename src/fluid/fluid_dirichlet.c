@@ -3,12 +3,14 @@
    x_i = v_i; the DM, its kernels, the moving mesh and the boundary data are the ones of
    the traction-controlled fluid, and the reaction R(x)_i - history_i on those rows is the
    interface load B_f g that fluid would need for the same state: the consistent (weak)
-   interface traction. Its own SNES (options prefix -fluid_dirichlet_) and factors. */
+   interface traction, kept from the solve's last residual evaluation. Its own SNES
+   (options prefix -fluid_dirichlet_) and factors. */
 #include "fluid_impl.h"
 #include "fem.h"
 #include "logging.h"
 
-/* R(x) with the interface rows replaced by x_i */
+/* R(x) with the interface rows replaced by x_i; their values R(x)_i are kept: at the
+   converged state they are the reaction */
 static PetscErrorCode DirichletFunction(SNES snes, Vec x, Vec F, void *ctx)
 {
   Fluid              f = (Fluid)ctx;
@@ -20,7 +22,10 @@ static PetscErrorCode DirichletFunction(SNES snes, Vec x, Vec F, void *ctx)
   PetscCall(SNESComputeFunction(f->snes, x, F));
   PetscCall(VecGetArrayRead(x, &xa));
   PetscCall(VecGetArray(F, &Fa));
-  for (PetscInt i = 0; i < f->n_dirichlet_rows; ++i) Fa[f->dirichlet_rows[i]] = xa[f->dirichlet_rows[i]];
+  for (PetscInt i = 0; i < f->n_dirichlet_rows; ++i) {
+    f->dirichlet_residual[i] = Fa[f->dirichlet_rows[i]];
+    Fa[f->dirichlet_rows[i]]  = xa[f->dirichlet_rows[i]];
+  }
   PetscCall(VecRestoreArray(F, &Fa));
   PetscCall(VecRestoreArrayRead(x, &xa));
   PetscFunctionReturn(0);
@@ -30,23 +35,15 @@ static PetscErrorCode DirichletFunction(SNES snes, Vec x, Vec F, void *ctx)
    then identity rows on the interface */
 static PetscErrorCode DirichletJacobian(SNES snes, Vec x, Mat J, Mat P, void *ctx)
 {
-  Fluid    f = (Fluid)ctx;
+  Fluid f = (Fluid)ctx;
   PetscErrorCode (*jacobian)(SNES, Vec, Mat, Mat, void *);
-  void    *jctx;
-  PetscInt rstart;
+  void *jctx;
 
   PetscFunctionBeginUser;
   (void)snes;
   PetscCall(SNESGetJacobian(f->snes, NULL, NULL, &jacobian, &jctx));
   PetscCall((*jacobian)(f->snes, x, P, P, jctx));
-  PetscCall(VecGetOwnershipRange(x, &rstart, NULL));
-  {
-    PetscInt *rows;
-    PetscCall(PetscMalloc1(f->n_dirichlet_rows, &rows));
-    for (PetscInt i = 0; i < f->n_dirichlet_rows; ++i) rows[i] = rstart + f->dirichlet_rows[i];
-    PetscCall(MatZeroRows(P, f->n_dirichlet_rows, rows, 1.0, NULL, NULL));
-    PetscCall(PetscFree(rows));
-  }
+  PetscCall(MatZeroRowsIS(P, f->dirichlet_rows_global, 1.0, NULL, NULL));
   if (J != P) {
     PetscCall(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
     PetscCall(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
@@ -66,10 +63,12 @@ static PetscErrorCode DirichletSetUp(Fluid f, IS rows)
   PetscCall(ISGetLocalSize(rows, &n));
   PetscCall(ISGetIndices(rows, &idx));
   PetscCall(VecGetOwnershipRange(f->x, &rstart, NULL));
-  PetscCall(PetscMalloc1(n, &f->dirichlet_rows));
+  PetscCall(PetscMalloc2(n, &f->dirichlet_rows, n, &f->dirichlet_residual));
   for (PetscInt i = 0; i < n; ++i) f->dirichlet_rows[i] = idx[i] - rstart;
   f->n_dirichlet_rows = n;
   PetscCall(ISRestoreIndices(rows, &idx));
+  PetscCall(PetscObjectReference((PetscObject)rows));
+  f->dirichlet_rows_global = rows;
   PetscCall(SNESSetUp(f->snes));
   PetscCall(SNESGetJacobian(f->snes, &J, NULL, NULL, NULL));
   PetscCall(MatDuplicate(J, MAT_DO_NOT_COPY_VALUES, &f->dirichlet_jacobian));
@@ -123,8 +122,16 @@ PetscErrorCode FluidSolveDirichlet(Fluid f, IS rows, Vec values, Vec reaction, P
   }
   PetscCall(FluidNonlinearSolve(f, f->snes_dirichlet, f->dirichlet_rhs, PETSC_TRUE, step, " with the interface velocity prescribed"));
   /* the reaction: what the interface rows of R(x) = history + load would need as load */
-  PetscCall(SNESComputeFunction(f->snes, f->x, reaction));
-  PetscCall(VecAXPY(reaction, -1.0, f->history));
+  {
+    const PetscScalar *h;
+    PetscScalar       *r;
+    PetscCall(VecZeroEntries(reaction));
+    PetscCall(VecGetArrayRead(f->history, &h));
+    PetscCall(VecGetArray(reaction, &r));
+    for (PetscInt i = 0; i < f->n_dirichlet_rows; ++i) r[f->dirichlet_rows[i]] = f->dirichlet_residual[i] - h[f->dirichlet_rows[i]];
+    PetscCall(VecRestoreArray(reaction, &r));
+    PetscCall(VecRestoreArrayRead(f->history, &h));
+  }
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_FLUID_SOLVE, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -135,6 +142,7 @@ PetscErrorCode FluidDirichletDestroy(Fluid f)
   PetscCall(SNESDestroy(&f->snes_dirichlet));
   PetscCall(MatDestroy(&f->dirichlet_jacobian));
   PetscCall(VecDestroy(&f->dirichlet_rhs));
-  PetscCall(PetscFree(f->dirichlet_rows));
+  PetscCall(PetscFree2(f->dirichlet_rows, f->dirichlet_residual));
+  PetscCall(ISDestroy(&f->dirichlet_rows_global));
   PetscFunctionReturn(0);
 }

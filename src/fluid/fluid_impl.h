@@ -36,13 +36,14 @@ struct _p_Fluid {
   DM             dm_all;                                   /* the same fields without constraints */
   Mat            mass_old, mass_old_all;                   /* rho/dt M(Omega^{n-1}): free rows, all rows */
   IS             free_in_all;
-  PetscInt       mass_old_step; /* the step M(Omega^{n-1}) was assembled for */
   Vec            all_x, all_y, all_local, xlocal_work, work;
   /* the interface velocity prescribed (fluid_dirichlet.c) */
   SNES           snes_dirichlet;
   Mat            dirichlet_jacobian;
   Vec            dirichlet_rhs;
   PetscInt       n_dirichlet_rows, *dirichlet_rows; /* local offsets of the interface rows */
+  IS             dirichlet_rows_global;
+  PetscScalar   *dirichlet_residual;                /* R(x) on them at the last evaluation */
   PetscInt       dirichlet_step;
   PhysicsData    data;
   DirichletDatum datums[FSIOPT_MAX_BOUNDARIES];
