@@ -283,6 +283,20 @@ def _():
     return "%.2f GN its/step, probes within %.1e of the reference" % (s["avg_coupling_iterations"], worst)
 
 
+@test("channel2d: least-squares start saves GN iterations, same probes (10 x tol)")
+def _():
+    runs = {}
+    for points in ["3", "6"]:  # the quadratic through the last 3 steps, fitted to the last 6
+        out = os.path.join(WORK, "start-%s" % points)
+        s = solve(CHANNEL + ["-t_final", "0.005", "-coupling_extrapolation", "2", "-coupling_extrapolation_points", points], out=out)
+        runs[points] = (s["coupling_iterations"], read_probes(os.path.join(out, "probes.csv"))[1])
+    (n3, p3), (n6, p6) = runs["3"], runs["6"]
+    diff = max(max(abs(a[c] - b[c]) for a, b in zip(p3, p6)) / max(abs(a[c]) for a in p3) for c in (2, 4, 6))
+    assert n6 < n3, "GN iterations: %d fitted to 6 steps, %d through 3" % (n6, n3)
+    assert diff <= 10 * 1e-4, "probes differ by %.2e of their amplitude" % diff
+    return "GN iterations %d (6 steps) vs %d (3 steps), probes within %.1e" % (n6, n3, diff)
+
+
 @test("channel2d: fluid | structure ranks = 1 rank (opt, iqnils)")
 def _():
     worst = {}
@@ -410,6 +424,7 @@ def bad_input_cases():
         ("unrelaxed Dirichlet-Neumann diverges (added mass)", CHANNEL + ["-t_final", "0.001", "-coupling", "dn"], "coupling dn diverged at step 1"),
         ("Dirichlet-Neumann with the convective control", CHANNEL + ["-coupling", "aitken", "-coupling_control", "convective"], "-coupling_control"),
         ("Dirichlet-Neumann on an enclosed fluid", ["-scene", "mms-stokes", "-coupling", "iqnils"], "incompressibility"),
+        ("too few extrapolation points", CHANNEL + ["-coupling_extrapolation", "2", "-coupling_extrapolation_points", "2"], "-coupling_extrapolation_points"),
         ("zero relaxation", ["-scene", "mms-stokes", "-coupling", "dn", "-coupling_omega", "0"], "-coupling_omega"),
         ("too many structure ranks", ["-scene", "mms-stokes", "-structure_ranks", "3"], "-structure_ranks"),
         ("negative Tikhonov weight", ["-scene", "mms-stokes", "-coupling_tikhonov", "-1"], "-coupling_tikhonov"),
@@ -459,6 +474,7 @@ def _():
                        capture_output=True, text=True, errors="replace", timeout=60)
     assert p.returncode == 0, "exit %d" % p.returncode
     for opt in ["-coupling_domain", "-coupling_predictor", "-coupling_mesh_extrapolate", "-coupling_extrapolation",
+                "-coupling_extrapolation_points",
                 "-coupling_omega", "-coupling_rtol", "-coupling_atol", "-coupling_iqn_reuse", "-mesh_motion",
                 "-channel_inlet_amplitude", "-fluid_backflow_stabilization"]:
         assert opt in p.stdout, "%s not in -help of channel2d with -coupling iqnils" % opt

@@ -6,7 +6,7 @@ PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, cons
 {
   Coupling  C;
   PetscBool opt, partitioned = PETSC_FALSE;
-  PetscInt  degree;
+  PetscInt  degree, points;
 
   PetscFunctionBeginUser;
   PetscCall(PetscStrcmp(method, "opt", &opt));
@@ -21,13 +21,16 @@ PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, cons
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_tol", "stop when ||u - v_s||_{L2(Gamma_I)} falls below this", &C->tol));
   degree = 1;
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_extrapolation", "each step starts from the control extrapolated from the last K+1 steps by a polynomial of degree K (0: the last control, seed Remark 3.4)", 0, FSIOPT_EXTRAPOLATION_MAX, &degree));
+  points = degree + 1;
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_extrapolation_points", "fit that polynomial by least squares to the last M >= K+1 steps: a larger M damps the error of controls accepted at the tolerance", 1, FSIOPT_EXTRAPOLATION_POINTS_MAX, &points));
+  PetscCheck(points > degree, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "option -coupling_extrapolation_points: expected at least -coupling_extrapolation + 1 = %" PetscInt_FMT " steps, got %" PetscInt_FMT, degree + 1, points);
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_max_it", "coupling iterations per step before the run stops with an error", 1, 100000, &C->max_it));
   PetscOptionsEnd();
   C->stats.max_jump = 0;
   PetscCall(CouplingProblemSetConvergedJump(problem, C->tol));
   PetscCall(CouplingProblemCreateControl(problem, &C->x));
   PetscCall(CouplingProblemInitialControl(problem, t0, C->x));
-  PetscCall(ExtrapolationCreate(C->x, degree, &C->start));
+  PetscCall(ExtrapolationCreate(C->x, degree, points, &C->start));
   PetscCall(HistoryOpen(PETSC_COMM_WORLD, output_dir, &C->history));
   if (opt) PetscCall(CouplingCreate_Opt(C));
   else PetscCall(CouplingCreate_Partitioned(C));
@@ -35,45 +38,71 @@ PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, cons
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ExtrapolationCreate(Vec model, PetscInt degree, Extrapolation *e)
+PetscErrorCode ExtrapolationCreate(Vec model, PetscInt degree, PetscInt points, Extrapolation *e)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(e, sizeof(*e)));
   e->degree = degree;
-  for (PetscInt i = 0; i <= FSIOPT_EXTRAPOLATION_MAX; ++i) PetscCall(VecDuplicate(model, &e->past[i]));
+  e->points = points;
+  for (PetscInt i = 0; i < points; ++i) PetscCall(VecDuplicate(model, &e->past[i]));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode ExtrapolationRecord(Extrapolation *e, Vec x)
 {
-  Vec oldest = e->past[FSIOPT_EXTRAPOLATION_MAX];
+  Vec oldest = e->past[e->points - 1];
 
   PetscFunctionBeginUser;
-  for (PetscInt i = FSIOPT_EXTRAPOLATION_MAX; i > 0; --i) e->past[i] = e->past[i - 1];
+  for (PetscInt i = e->points - 1; i > 0; --i) e->past[i] = e->past[i - 1];
   e->past[0] = oldest;
   PetscCall(VecCopy(x, e->past[0]));
-  e->npast = PetscMin(e->npast + 1, FSIOPT_EXTRAPOLATION_MAX + 1);
+  e->npast = PetscMin(e->npast + 1, e->points);
   PetscFunctionReturn(0);
 }
 
-/* the weights of the newest, second newest, ... values: binomial coefficients with
-   alternating signs */
+/* The weights w with sum_i w_i p(-i-1) = p(0) for the least-squares fit p of degree
+   `degree` to `n` values at times -1, ..., -n (binomial coefficients with alternating
+   signs when n = degree + 1): w = V y with (V^T V) y = e_0, V the Vandermonde matrix. */
+static void ExtrapolationWeights(PetscInt degree, PetscInt n, PetscScalar w[])
+{
+  const PetscInt m = degree + 1;
+  PetscReal      gram[FSIOPT_EXTRAPOLATION_MAX + 1][FSIOPT_EXTRAPOLATION_MAX + 2] = {{0}};
+
+  for (PetscInt r = 0; r < m; ++r) {
+    for (PetscInt c = 0; c < m; ++c)
+      for (PetscInt i = 0; i < n; ++i) gram[r][c] += PetscPowRealInt(-(i + 1.0), r + c);
+    gram[r][m] = r == 0;
+  }
+  for (PetscInt k = 0; k < m; ++k) /* the Gram matrix is positive definite: no pivoting */
+    for (PetscInt r = k + 1; r < m; ++r)
+      for (PetscInt c = m; c >= k; --c) gram[r][c] -= gram[r][k] / gram[k][k] * gram[k][c];
+  for (PetscInt r = m - 1; r >= 0; --r) {
+    for (PetscInt c = r + 1; c < m; ++c) gram[r][m] -= gram[r][c] * gram[c][m];
+    gram[r][m] /= gram[r][r];
+  }
+  for (PetscInt i = 0; i < n; ++i) {
+    w[i] = 0;
+    for (PetscInt r = 0; r < m; ++r) w[i] += PetscPowRealInt(-(i + 1.0), r) * gram[r][m];
+  }
+}
+
 PetscErrorCode ExtrapolationPredict(Extrapolation *e, Vec x)
 {
-  static const PetscScalar weights[4][4] = {{1, 0, 0, 0}, {2, -1, 0, 0}, {3, -3, 1, 0}, {4, -6, 4, -1}};
-  const PetscInt           degree        = PetscMin(e->degree, e->npast - 1);
+  PetscScalar    weights[FSIOPT_EXTRAPOLATION_POINTS_MAX];
+  const PetscInt degree = PetscMin(e->degree, e->npast - 1);
 
   PetscFunctionBeginUser;
   if (degree < 0) PetscFunctionReturn(0); /* nothing recorded: x stays */
+  ExtrapolationWeights(degree, e->npast, weights);
   PetscCall(VecZeroEntries(x));
-  PetscCall(VecMAXPY(x, degree + 1, weights[degree], e->past));
+  PetscCall(VecMAXPY(x, e->npast, weights, e->past));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode ExtrapolationDestroy(Extrapolation *e)
 {
   PetscFunctionBeginUser;
-  for (PetscInt i = 0; i <= FSIOPT_EXTRAPOLATION_MAX; ++i) PetscCall(VecDestroy(&e->past[i]));
+  for (PetscInt i = 0; i < e->points; ++i) PetscCall(VecDestroy(&e->past[i]));
   PetscFunctionReturn(0);
 }
 

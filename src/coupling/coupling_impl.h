@@ -3,14 +3,15 @@
 #include "coupling.h"
 #include "history.h"
 
-/* A step's start from the values of the last steps: the polynomial of degree K through
-   them (lower while fewer are recorded). */
-#define FSIOPT_EXTRAPOLATION_MAX 3
+/* A step's start from the values of the last M steps: the polynomial of degree K fitted to
+   them by least squares (lower degree and fewer values while fewer are recorded). */
+#define FSIOPT_EXTRAPOLATION_MAX        3
+#define FSIOPT_EXTRAPOLATION_POINTS_MAX 8
 typedef struct {
-  Vec      past[FSIOPT_EXTRAPOLATION_MAX + 1]; /* newest first */
-  PetscInt npast, degree;
+  Vec      past[FSIOPT_EXTRAPOLATION_POINTS_MAX]; /* newest first */
+  PetscInt npast, degree, points;
 } Extrapolation;
-PetscErrorCode ExtrapolationCreate(Vec model, PetscInt degree, Extrapolation *);
+PetscErrorCode ExtrapolationCreate(Vec model, PetscInt degree, PetscInt points, Extrapolation *);
 PetscErrorCode ExtrapolationRecord(Extrapolation *, Vec x);  /* x: the newest value */
 PetscErrorCode ExtrapolationPredict(Extrapolation *, Vec x); /* x: the next step's start */
 PetscErrorCode ExtrapolationDestroy(Extrapolation *);

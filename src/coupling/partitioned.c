@@ -243,7 +243,7 @@ PetscErrorCode CouplingCreate_Partitioned(Coupling C)
   if (pt->relax_velocity) {
     PetscCall(CouplingProblemCreateInterfaceVector(C->problem, &pt->v));
     PetscCall(VecZeroEntries(pt->v));
-    PetscCall(ExtrapolationCreate(pt->v, 1, &pt->v_start)); /* the wall's velocity: linear */
+    PetscCall(ExtrapolationCreate(pt->v, 1, 2, &pt->v_start)); /* the wall's velocity: linear */
     pt->u = pt->v;
   }
   PetscCall(VecDuplicate(pt->u, &pt->sweep));
