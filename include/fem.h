@@ -33,6 +33,9 @@ PetscErrorCode FEMInvalidateGeometry(DM dm);
 PetscErrorCode FEMLinearSolve(SNES snes, Vec rhs, Vec x, PetscBool transpose);
 /* Assembles the Jacobian at x and factors it now (FEM_JACOBIAN_ON_REQUEST). */
 PetscErrorCode FEMUpdateJacobian(SNES snes, Vec x);
+/* The same for a Newton SNES after its solve: the linear solves that follow use the
+   tangent at x; its next solve assembles afresh. */
+PetscErrorCode FEMFactorJacobianAt(SNES snes, Vec x);
 /* The free (unconstrained) dofs of dm, in dm's global order, as global indices of dm_all:
    a clone with the same fields and no constraints. */
 PetscErrorCode FEMFreeDofs(DM dm, DM dm_all, IS *is);

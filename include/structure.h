@@ -3,8 +3,10 @@
 #include "fsiopt.h"
 
 /* Constants handed to the structure's pointwise kernels; scene kernels read them too.
-   MASS is the coefficient of (eta, xi) (c rho_s with c = 1/dt^2 or 4/dt^2). */
-enum { STRUCTURE_RHO, STRUCTURE_MU, STRUCTURE_LAMBDA, STRUCTURE_MASS, STRUCTURE_OPERATOR, STRUCTURE_LOAD, STRUCTURE_TIME, STRUCTURE_DT, STRUCTURE_PROJECTION, STRUCTURE_NUM_CONSTANTS };
+   MASS is the coefficient of (eta, xi) (c rho_s with c = 1/dt^2 or 4/dt^2); MODEL is a
+   StructureModel. */
+enum { STRUCTURE_RHO, STRUCTURE_MU, STRUCTURE_LAMBDA, STRUCTURE_MASS, STRUCTURE_OPERATOR, STRUCTURE_LOAD, STRUCTURE_TIME, STRUCTURE_DT, STRUCTURE_PROJECTION, STRUCTURE_MODEL, STRUCTURE_NUM_CONSTANTS };
+typedef enum { STRUCTURE_LINEAR, STRUCTURE_SVK } StructureModel;
 
 typedef struct _p_Structure *Structure;
 
@@ -35,9 +37,16 @@ PetscErrorCode StructureGetCounts(Structure, SolverCounts *);
 PetscErrorCode StructureGetInfo(Structure, PetscInt *dim, PetscInt *ndofs);
 PetscErrorCode StructureDestroy(Structure *);
 
+/* The stress paired with grad xi for the displacement gradient grad_eta (row-major,
+   [c*dim+d] = d eta_c / d x_d): sigma(eta) (linear) or the first Piola stress F Sigma
+   (St. Venant-Kirchhoff). Scenes use it for manufactured loads. */
+void StructureStress(StructureModel, PetscInt dim, PetscReal mu, PetscReal lambda, const PetscScalar grad_eta[], PetscScalar stress[]);
+
 /* Pointwise kernels (structure_kernels.c). */
 void StructureF0Mass(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
 void StructureF1LinearStress(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
 void StructureG0Mass(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void StructureF1SVKStress(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void StructureG3SVK(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
 void StructureG3LinearElasticity(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
 #endif

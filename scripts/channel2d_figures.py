@@ -12,6 +12,10 @@ dt = 1e-4 to T = 0.1 (options/channel2d.yaml). Reproduces, from bin/fsiopt runs:
   tikhonov          Tikhonov weights eps = 1e-5, 1e-6, 5e-7 and 1e-12 ("small") (Fig 4.3);
                     a large weight makes the optimizer stop by its stall test (summary
                     converged: false): recorded, not a failure
+  svk               St. Venant-Kirchhoff against linear wall, each coupled by Gauss-Newton
+                    (opt) and by Dirichlet-Neumann with Aitken's relaxation (Fig 6.2); all four
+                    with the midpoint wall (options/channel2d-svk.yaml, and channel2d.yaml
+                    with -structure_time_order 2); the Aitken runs take about half an hour each
   table [RUNDIR]    interface jump at each Gauss-Newton iteration of the steps at three times
                     (Table 3.1; default t = T/4, T/2, 3T/4 = 0.025, 0.05, 0.075 for the full
                     run) and the distribution of Gauss-Newton iterations per step
@@ -52,7 +56,9 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import fsiopt_runs as fr   # noqa: E402
 
 ROOT = fr.ROOT
-OPTIONS_FILE = "options/channel2d.yaml"
+OPTIONS_FILE = {"linear": "options/channel2d.yaml", "svk": "options/channel2d-svk.yaml"}
+MODEL_LABEL = {"linear": "linear wall", "svk": "St. Venant-Kirchhoff wall"}
+COUPLING_LABEL = {"opt": "Gauss-Newton (opt)", "aitken": "Dirichlet-Neumann + Aitken"}
 HY_LABEL = {10: "hy = 0.1", 20: "hy = 0.05", 30: "hy = 1/30"}
 ORDER_LABEL = {1: "first-order wall", 2: "second-order (midpoint) wall"}
 DEFAULT_EPS = [1e-5, 1e-6, 5e-7, 1e-12]
@@ -62,26 +68,34 @@ DEFAULT_EPS = [1e-5, 1e-6, 5e-7, 1e-12]
 _variants = {}
 
 
-def variant(args, ny=10, order=1, eps=0.0, fields=0):
+def variant(args, ny=10, order=1, eps=0.0, fields=0, model="linear", coupling="opt"):
     """The channel run with fluid NX x ny cells, a wall of NX x ny/10 cells, the given wall
-    time order and Tikhonov weight; one object per distinct run (shared between studies).
-    fields = K > 0: also -write_fields -write_fields_interval K (a run of its own, name ...-fK)."""
+    time order, Tikhonov weight, wall model and coupling method; one object per distinct run
+    (shared between studies). fields = K > 0: also -write_fields -write_fields_interval K
+    (a run of its own, name ...-fK)."""
     nx, extra = args.nx, shlex.split(args.extra)
     name = "nx%d-ny%d-o%d-eps%g-T%g" % (nx, ny, order, eps, args.t_final)
     if fields:
         name += "-f%d" % fields
+    for value, default in ((model, "linear"), (coupling, "opt")):
+        if value != default:
+            name += "-" + value
     if extra:
         name += "-x" + hashlib.sha1(" ".join(extra).encode()).hexdigest()[:8]
     if name not in _variants:
-        options = ["-options_file", OPTIONS_FILE, "-t_final", "%g" % args.t_final,
+        options = ["-options_file", OPTIONS_FILE[model], "-t_final", "%g" % args.t_final,
                    "-fluid_dm_plex_box_faces", "%d,%d" % (nx, ny),
                    "-structure_dm_plex_box_faces", "%d,%d" % (nx, ny // 10),
                    "-structure_time_order", str(order), "-coupling_tikhonov", "%g" % eps]
+        if coupling != "opt":
+            options += ["-coupling", coupling]
         outputs = fr.OUTPUTS
         if fields:
             options += ["-write_fields", "-write_fields_interval", str(fields)]
             outputs += ("fields.h5", "fields.xdmf")
         label = "%s (hx = %g), %s, eps = %g" % (HY_LABEL.get(ny, "hy = 1/%d" % ny), 6.0 / nx, ORDER_LABEL[order], eps)
+        if (model, coupling) != ("linear", "opt"):
+            label += ", %s, %s" % (MODEL_LABEL[model], COUPLING_LABEL[coupling])
         if fields:
             label += ", fields every %d steps" % fields
         _variants[name] = fr.Variant(name, label, options + extra, outputs=outputs, nx=nx, ny=ny, order=order, eps=eps,
@@ -102,6 +116,10 @@ def study(args, which):
     if which == "tikhonov":
         return ("Tikhonov weight", [("eps = %g%s" % (e, " (small)" if 0 < e <= 1e-10 else ""), variant(args, eps=e))
                                     for e in args.eps])
+    if which == "svk":
+        return ("St. Venant-Kirchhoff against linear wall, Gauss-Newton against Aitken (midpoint wall)",
+                [("%s, %s" % (MODEL_LABEL[m], COUPLING_LABEL[c]), variant(args, order=2, model=m, coupling=c))
+                 for m in ("linear", "svk") for c in ("opt", "aitken")])
     raise ValueError(which)
 
 
@@ -340,7 +358,7 @@ def run_time_grid(args):
     """(t_start, dt) of our runs: -t_start / -dt in --extra, else the options file's."""
     grid = {"t_start": 0.0, "dt": 1e-4}
     try:
-        with open(os.path.join(ROOT, OPTIONS_FILE)) as f:
+        with open(os.path.join(ROOT, OPTIONS_FILE["linear"])) as f:
             for line in f:
                 m = re.match(r"(t_start|dt):\s*([-+0-9.eE]+)\s*(#.*)?$", line)
                 if m:
@@ -654,7 +672,8 @@ def main():
     p.add_argument("--title")
     p.set_defaults(func=cmd_probes)
     for name, text in (("mesh", "hy = 0.1, 0.05, 1/30 (Fig 3.2)"), ("order", "first- against second-order wall (Fig 3.5)"),
-                       ("tikhonov", "Tikhonov weights (Fig 4.3)")):
+                       ("tikhonov", "Tikhonov weights (Fig 4.3)"),
+                       ("svk", "St. Venant-Kirchhoff against linear wall, opt against Aitken (Fig 6.2)")):
         sub.add_parser(name, parents=[out, runs], help=text).set_defaults(func=cmd_study)
     p = sub.add_parser("table", parents=[out, runs], help="jump per Gauss-Newton iteration at three times (Table 3.1)")
     p.add_argument("rundir", nargs="?", metavar="RUNDIR", help="a finished run (default: run the default variant)")

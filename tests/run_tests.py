@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """fsiopt test suite: every test asserts a property (a convergence rate, agreement
 between runs, a solver count, a clean refusal of bad input). Run by `make test`.
-Last line: 'N passed, M failed'; exit status non-zero on any failure."""
+Last line: 'N passed, M failed'; exit status non-zero on any failure. Arguments select
+the tests whose names contain one of them."""
 import csv, json, math, os, shutil, subprocess, sys, tempfile, time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -98,6 +99,53 @@ def _():
     return check_rates(errs, {"eta_L2": 2.8, "eta_H1": 1.8})
 
 
+SVK = ["-scene", "mms-structure", "-structure_model", "svk"]
+
+
+@test("SVK: Q2 spatial and midpoint temporal rates")
+def _():
+    space = [solve(SVK + ["-dt", "1e-4", "-t_start", "0.5", "-t_final", "0.5001", "-refine", str(r)])["errors"] for r in range(3)]
+    time_ = [solve(SVK + ["-structure_time_order", "2", "-t_start", "0.5", "-t_final", "1", "-dt", str(dt), "-refine", "2"])["errors"]
+             for dt in (0.1, 0.05, 0.025)]
+    return "space: %s; time: %s" % (check_rates(space, {"eta_L2": 2.8, "eta_H1": 1.8}), check_rates(time_, {"eta_L2": 1.8, "eta_H1": 1.7}))
+
+
+@test("SVK: Jacobian = finite differences, Newton quadratic")
+def _():
+    # one step of dt = 0.5 on the coarse mesh: the stiffness, not the mass, dominates the
+    # Jacobian, and the manufactured displacement's gradient is of order one
+    rc, out, err, _ = run(SVK + ["-refine", "0", "-t_start", "0.5", "-dt", "0.5", "-t_final", "1",
+                                 "-structure_snes_test_jacobian", "-structure_snes_monitor"], tag="svk-jac")
+    assert rc == 0, "run failed: %s" % (err or out).strip()[-300:]
+    fd = [float(l.split("=")[1].split(",")[0]) for l in out.splitlines() if l.strip().startswith("||J - Jfd||_F/||J||_F =")]
+    norms = [float(l.split()[-1]) for l in out.splitlines() if "SNES Function norm" in l]
+    assert fd and max(fd) <= 1e-6, "||J - Jfd||/||J|| = %s" % fd
+    # convergence order log(r_{k+1}/r_k) / log(r_k/r_{k-1}) once the residual is 1e-2 of its start
+    orders = [math.log(norms[k + 1] / norms[k]) / math.log(norms[k] / norms[k - 1])
+              for k in range(1, len(norms) - 1) if norms[k] <= 1e-2 * norms[0]]
+    assert orders and max(orders) >= 1.8, "Newton residuals %s: orders %s" % (norms, orders)
+    return "||J - Jfd||/||J|| <= %.1e at %d states, Newton order %.2f (%d its)" % (max(fd), len(fd), max(orders), len(norms) - 1)
+
+
+@test("SVK under a small load = linear wall to second order")
+def _():
+    import h5py
+    diff = {}
+    for amplitude in ("1e-2", "1e-3"):
+        wall = {}
+        for model in ("linear", "svk"):
+            out = os.path.join(WORK, "svk-small-%s-%s" % (model, amplitude))
+            solve(["-scene", "mms-structure", "-structure_model", model, "-mms_amplitude", amplitude, "-mms_linear_load",
+                   "-t_start", "0.5", "-t_final", "0.6", "-dt", "0.025", "-write_fields"], out=out)
+            with h5py.File(os.path.join(out, "fields.h5"), "r") as h5:
+                last = sorted(k for k in h5["structure"] if k.startswith("step_"))[-1]
+                wall[model] = h5["structure/%s/displacement" % last][()]
+        diff[amplitude] = ((wall["svk"] - wall["linear"]) ** 2).sum() ** 0.5 / (wall["linear"] ** 2).sum() ** 0.5
+    order = 1 + math.log10(diff["1e-2"] / diff["1e-3"])  # of the absolute difference in the amplitude
+    assert 1.9 <= order <= 2.1, "relative differences %s: order %.2f" % (diff, order)
+    return "relative difference %.1e (amplitude 1e-2), %.1e (1e-3): order %.2f" % (diff["1e-2"], diff["1e-3"], order)
+
+
 @test("fluid backward Euler temporal rate")
 def _():
     errs = [solve(["-scene", "mms-fluid", "-t_start", "0.5", "-t_final", "1", "-dt", str(dt), "-refine", "1"])["errors"]
@@ -191,6 +239,18 @@ def _():
     assert len(ratios) >= 4, "too few Taylor lines: %s" % out[-300:]
     assert all(3.8 <= r <= 4.2 for r in ratios), "ratios %s" % ratios
     return "ratios " + " ".join("%.3f" % r for r in ratios)
+
+
+@test("SVK: adjoint identity and second-order Taylor remainder (mms-ns)")
+def _():
+    rc, out, err, _ = run(SHORT + ["-structure_model", "svk", "-structure_time_order", "2", "-coupling_test_adjoint",
+                                   "-coupling_test_taylor", "-t_final", "0.51"], tag="svk-adjoint")
+    assert rc == 0, "run failed: %s" % (err or out).strip()[-300:]
+    adjoint = [float(l.split()[-1]) for l in printed(out, "adjoint test:")]
+    ratios = [float(l.split()[-1]) for l in printed(out, "Taylor test:") if "ratio" in l]
+    assert len(adjoint) == 1 and adjoint[0] <= 1e-10, "adjoint test %s" % adjoint
+    assert len(ratios) >= 4 and all(3.8 <= r <= 4.2 for r in ratios), "Taylor ratios %s" % ratios
+    return "adjoint %.1e, Taylor ratios %s" % (adjoint[0], " ".join("%.3f" % r for r in ratios))
 
 
 @test("Gauss-Newton: ||F|| <= 1e-10 in <= 4 its/step (mms-stokes)")
@@ -425,6 +485,8 @@ def bad_input_cases():
         ("Dirichlet-Neumann with the convective control", CHANNEL + ["-coupling", "aitken", "-coupling_control", "convective"], "-coupling_control"),
         ("Dirichlet-Neumann on an enclosed fluid", ["-scene", "mms-stokes", "-coupling", "iqnils"], "incompressibility"),
         ("too few extrapolation points", CHANNEL + ["-coupling_extrapolation", "2", "-coupling_extrapolation_points", "2"], "-coupling_extrapolation_points"),
+        ("elastic projection of a St. Venant-Kirchhoff wall", ["-scene", "mms-structure", "-structure_model", "svk", "-structure_initial_projection"], "-structure_initial_projection"),
+        ("unknown structure model", ["-scene", "mms-structure", "-structure_model", "neo-hookean"], "-structure_model"),
         ("zero relaxation", ["-scene", "mms-stokes", "-coupling", "dn", "-coupling_omega", "0"], "-coupling_omega"),
         ("too many structure ranks", ["-scene", "mms-stokes", "-structure_ranks", "3"], "-structure_ranks"),
         ("negative Tikhonov weight", ["-scene", "mms-stokes", "-coupling_tikhonov", "-1"], "-coupling_tikhonov"),
@@ -476,15 +538,17 @@ def _():
     for opt in ["-coupling_domain", "-coupling_predictor", "-coupling_mesh_extrapolate", "-coupling_extrapolation",
                 "-coupling_extrapolation_points",
                 "-coupling_omega", "-coupling_rtol", "-coupling_atol", "-coupling_iqn_reuse", "-mesh_motion",
-                "-channel_inlet_amplitude", "-fluid_backflow_stabilization"]:
+                "-channel_inlet_amplitude", "-fluid_backflow_stabilization", "-structure_model"]:
         assert opt in p.stdout, "%s not in -help of channel2d with -coupling iqnils" % opt
     return ""
 
 
 if __name__ == "__main__":
     t0 = time.time()
+    # arguments: run only the tests whose names contain one of them (all without)
     for t in TESTS:
-        t()
+        if len(sys.argv) == 1 or any(a in t.__name__ for a in sys.argv[1:]):
+            t()
     shutil.rmtree(WORK, ignore_errors=True)
     passed, failed = results.count(True), results.count(False)
     print("total time %.0fs" % (time.time() - t0))

@@ -210,11 +210,18 @@ PetscErrorCode FEMLinearSolve(SNES snes, Vec rhs, Vec x, PetscBool transpose)
 
 PetscErrorCode FEMUpdateJacobian(SNES snes, Vec x)
 {
+  PetscFunctionBeginUser;
+  PetscCall(SNESSetLagJacobian(snes, -2));
+  PetscCall(FEMFactorJacobianAt(snes, x));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMFactorJacobianAt(SNES snes, Vec x)
+{
   Mat J, P;
   KSP ksp;
 
   PetscFunctionBeginUser;
-  PetscCall(SNESSetLagJacobian(snes, -2));
   PetscCall(SNESSetUp(snes));
   PetscCall(SNESGetJacobian(snes, &J, &P, NULL, NULL));
   PetscCall(SNESComputeJacobian(snes, x, J, P));

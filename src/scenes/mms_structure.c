@@ -9,21 +9,33 @@
 /* PETSc fixes the signatures of pointwise kernels and callbacks; most use a few of their arguments. */
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 
+/* The manufactured displacement is scaled by `amplitude`; its load is that of the model
+   being solved (the discrete solution then converges to the manufactured one), or that
+   of linear elasticity whatever the model: a St. Venant-Kirchhoff wall under the linear
+   load departs from the linear wall by O(amplitude^2). */
+static struct {
+  PetscReal amplitude;
+  PetscBool linear_load;
+} mms = {1.0, PETSC_FALSE};
+
 static PetscErrorCode Displacement(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *eta, void *ctx)
 {
   MMSStructureDisplacement(t, x, eta);
+  for (PetscInt c = 0; c < Nc; ++c) eta[c] *= mms.amplitude;
   return 0;
 }
 
 static PetscErrorCode Velocity(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *etadot, void *ctx)
 {
   MMSStructureVelocity(t, x, etadot);
+  for (PetscInt c = 0; c < Nc; ++c) etadot[c] *= mms.amplitude;
   return 0;
 }
 
 static PetscErrorCode DisplacementGradient(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *g, void *ctx)
 {
   MMSStructureDisplacementGradient(t, x, g);
+  for (PetscInt i = 0; i < Nc * dim; ++i) g[i] *= mms.amplitude;
   return 0;
 }
 
@@ -34,18 +46,19 @@ static void LoadValue(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt 
   PetscScalar f[2];
 
   MMSStructureInertia(PetscRealPart(constants[STRUCTURE_TIME]), x, PetscRealPart(constants[STRUCTURE_RHO]), f);
-  for (PetscInt c = 0; c < dim; ++c) f0[c] -= constants[STRUCTURE_LOAD] * f[c];
+  for (PetscInt c = 0; c < dim; ++c) f0[c] -= constants[STRUCTURE_LOAD] * mms.amplitude * f[c];
 }
 
-/* sigma = mu_s (grad eta + grad eta^T) + lambda (div eta) I of the exact solution */
+/* the stress of the exact solution, of the model being solved (linear or St. Venant-Kirchhoff) */
 static void LoadStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f1[])
 {
-  const PetscScalar mu = constants[STRUCTURE_MU], lambda = constants[STRUCTURE_LAMBDA], load = constants[STRUCTURE_LOAD];
-  PetscScalar       g[4];
+  const PetscScalar load = constants[STRUCTURE_LOAD];
+  PetscScalar       g[4], stress[4];
 
   MMSStructureDisplacementGradient(PetscRealPart(constants[STRUCTURE_TIME]), x, g);
-  for (PetscInt c = 0; c < 2; ++c)
-    for (PetscInt d = 0; d < 2; ++d) f1[c * 2 + d] -= load * (mu * (g[c * 2 + d] + g[d * 2 + c]) + (c == d ? lambda * (g[0] + g[3]) : 0.0));
+  for (PetscInt i = 0; i < 4; ++i) g[i] *= mms.amplitude;
+  StructureStress(mms.linear_load ? STRUCTURE_LINEAR : (StructureModel)PetscRealPart(constants[STRUCTURE_MODEL]), dim, PetscRealPart(constants[STRUCTURE_MU]), PetscRealPart(constants[STRUCTURE_LAMBDA]), g, stress);
+  for (PetscInt i = 0; i < 4; ++i) f1[i] -= load * stress[i];
 }
 
 PetscErrorCode SceneCreate_MMSStructure(Scene *scene)
@@ -53,6 +66,10 @@ PetscErrorCode SceneCreate_MMSStructure(Scene *scene)
   PhysicsData *structure = &scene->structure;
 
   PetscFunctionBeginUser;
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene mms-structure: the structure against a manufactured displacement", "scene");
+  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-mms_amplitude", "factor on the manufactured displacement", &mms.amplitude));
+  PetscCall(PetscOptionsBool("-mms_linear_load", "load of linear elasticity whatever -structure_model (the solution is then manufactured for the linear wall only)", NULL, mms.linear_load, &mms.linear_load, NULL));
+  PetscOptionsEnd();
   PetscCall(OptionsSetDefault("-structure_dm_plex_simplex", "0"));
   PetscCall(OptionsSetDefault("-structure_dm_plex_box_faces", "4,2"));
   PetscCall(OptionsSetDefault("-structure_dm_plex_box_lower", "0,1"));

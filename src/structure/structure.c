@@ -1,12 +1,15 @@
-/* The structure subproblem: linear elasticity with the seed's first-order (eq. 2.42) or
+/* The structure subproblem: linear or St. Venant-Kirchhoff elasticity with the seed's first-order (eq. 2.42) or
    second-order midpoint (eqs. 2.40-2.41) time stepping. With the velocity eliminated,
    both schemes read
      m M eta^n + K eta^n = m M (eta^{n-1} + dt etadot^{n-1}) + L^n            (order 1, m = rho_s/dt^2)
      m M eta^n + K eta^n = m M (eta^{n-1} + dt etadot^{n-1}) + L^n + L^{n-1} - K eta^{n-1}
                                                                                (order 2, m = 4 rho_s/dt^2)
    and the velocity follows as etadot^n = (eta^n - eta^{n-1})/dt, resp.
-   2 (eta^n - eta^{n-1})/dt - etadot^{n-1}. The matrix m M + K never changes:
-   it is assembled and factored once per run. */
+   2 (eta^n - eta^{n-1})/dt - etadot^{n-1}. For the linear wall the matrix m M + K never
+   changes: it is assembled and factored once per run. For St. Venant-Kirchhoff, K eta is
+   (F Sigma, grad xi) (seed eq. 6.17), each step is a Newton solve, and the tangent at the
+   solution is factored once more after it: the sensitivity and adjoint products solve with
+   the exact linearization (seed eq. 6.19). */
 #include "structure.h"
 #include "fem.h"
 #include "options.h"
@@ -22,6 +25,7 @@ struct _p_Structure {
   SNES           snes;
   PetscReal      rho, youngs_modulus, poisson_ratio, mu, lambda;
   PetscInt       degree, time_order;
+  StructureModel model;
   PetscBool      initial_projection;
   PetscReal      time, dt;
   Vec            eta;             /* global displacement at `time` */
@@ -53,12 +57,13 @@ PetscErrorCode StructureCreate(MPI_Comm comm, Structure *structure)
 
 PetscErrorCode StructureSetFromOptions(Structure s)
 {
-  const char *models[] = {"linear"};
-  PetscInt    model    = 0;
+  const char *models[] = {"linear", "svk"};
+  PetscInt    model    = s->model;
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(s->comm, NULL, "Structure options", "structure");
-  PetscCall(PetscOptionsEList("-structure_model", "Constitutive law (svk arrives with the nonlinear-wall issue)", NULL, models, 1, models[model], &model, NULL));
+  PetscCall(PetscOptionsEList("-structure_model", "Constitutive law: linear elasticity or St. Venant-Kirchhoff (svk)", NULL, models, 2, models[model], &model, NULL));
+  s->model = (StructureModel)model;
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-structure_density", "structure density rho_s", &s->rho));
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-structure_youngs_modulus", "Young's modulus E", &s->youngs_modulus));
   PetscCall(OptionsRealInRange(PetscOptionsObject, "-structure_poisson_ratio", "Poisson ratio nu_s", -1.0, 0.5, &s->poisson_ratio));
@@ -100,6 +105,7 @@ static PetscErrorCode StructureSetConstantsFull(Structure s, PetscReal mass, Pet
   c[STRUCTURE_TIME]     = time;
   c[STRUCTURE_DT]       = s->dt;
   c[STRUCTURE_PROJECTION] = projection;
+  c[STRUCTURE_MODEL]      = s->model;
   for (PetscInt i = 0; i < s->data.n_extra; ++i) c[STRUCTURE_NUM_CONSTANTS + i] = s->data.extra[i];
   PetscCall(DMGetDS(s->dm, &ds));
   PetscCall(PetscDSSetConstants(ds, STRUCTURE_NUM_CONSTANTS + s->data.n_extra, c));
@@ -119,8 +125,13 @@ static PetscErrorCode StructureSetUpWeakForm(Structure s)
   PetscCall(FEMCreateField(s->dm, 0, "displacement", -1, s->degree, NULL));
   PetscCall(DMCreateDS(s->dm));
   PetscCall(DMGetDS(s->dm, &ds));
-  PetscCall(PetscDSSetResidual(ds, 0, StructureF0Mass, StructureF1LinearStress));
-  PetscCall(PetscDSSetJacobian(ds, 0, 0, StructureG0Mass, NULL, NULL, StructureG3LinearElasticity));
+  if (s->model == STRUCTURE_SVK) {
+    PetscCall(PetscDSSetResidual(ds, 0, StructureF0Mass, StructureF1SVKStress));
+    PetscCall(PetscDSSetJacobian(ds, 0, 0, StructureG0Mass, NULL, NULL, StructureG3SVK));
+  } else {
+    PetscCall(PetscDSSetResidual(ds, 0, StructureF0Mass, StructureF1LinearStress));
+    PetscCall(PetscDSSetJacobian(ds, 0, 0, StructureG0Mass, NULL, NULL, StructureG3LinearElasticity));
+  }
   PetscCall(PetscDSGetWeakForm(ds, &wf));
   if (s->data.load_value_kernel || s->data.load_stress_kernel) PetscCall(PetscWeakFormAddResidual(wf, NULL, 0, 0, 0, s->data.load_value_kernel, s->data.load_stress_kernel));
   PetscCall(FEMAddBoundaries(s->dm, 0, &s->data, s->datums, &s->time));
@@ -138,13 +149,12 @@ static struct {
 
 static void ProjectionStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f1[])
 {
-  PetscScalar g[9] = {0}, divergence = 0;
+  PetscScalar g[9] = {0}, stress[9];
 
   if (constants[STRUCTURE_PROJECTION] == 0.0) return;
   (void)projection_target.gradient(dim, projection_target.t, x, dim, g, NULL);
-  for (PetscInt d = 0; d < dim; ++d) divergence += g[d * dim + d];
-  for (PetscInt c = 0; c < dim; ++c)
-    for (PetscInt d = 0; d < dim; ++d) f1[c * dim + d] -= constants[STRUCTURE_MU] * (g[c * dim + d] + g[d * dim + c]) + (c == d ? constants[STRUCTURE_LAMBDA] * divergence : 0.0);
+  StructureStress((StructureModel)PetscRealPart(constants[STRUCTURE_MODEL]), dim, PetscRealPart(constants[STRUCTURE_MU]), PetscRealPart(constants[STRUCTURE_LAMBDA]), g, stress);
+  for (PetscInt i = 0; i < dim * dim; ++i) f1[i] -= stress[i];
 }
 
 static PetscErrorCode StructureProjectExact(Structure s)
@@ -175,7 +185,15 @@ PetscErrorCode StructureSetUp(Structure s, DM mesh, const PhysicsData *data, Pet
   s->dt   = dt;
   PetscCall(PetscObjectReference((PetscObject)mesh));
   PetscCall(StructureSetUpWeakForm(s));
-  PetscCall(FEMCreateSNES(s->dm, "structure_", FEM_JACOBIAN_CONSTANT, &s->counts.factorizations, &s->snes));
+  PetscCall(FEMCreateSNES(s->dm, "structure_", s->model == STRUCTURE_SVK ? FEM_JACOBIAN_NEWTON : FEM_JACOBIAN_CONSTANT, &s->counts.factorizations, &s->snes));
+  if (s->model == STRUCTURE_SVK) {
+    /* A step starts near its solution and the wall's stiffness (E/h^2 against rho_s/dt^2)
+       makes the residual's round-off floor 1e-8 or more of its start, where a test
+       relative to it never ends; Newton converges quadratically, so a step below 1e-8 of
+       the displacement leaves an error at the floor. */
+    PetscCall(SNESSetTolerances(s->snes, 1e-12, 1e-10, 1e-8, 50, PETSC_DEFAULT));
+    PetscCall(SNESSetFromOptions(s->snes));
+  }
   PetscCall(DMCreateGlobalVector(s->dm, &s->eta));
   PetscCall(PetscObjectSetName((PetscObject)s->eta, "displacement"));
   PetscCall(VecDuplicate(s->eta, &s->history));
@@ -191,6 +209,7 @@ PetscErrorCode StructureSetUp(Structure s, DM mesh, const PhysicsData *data, Pet
   if (data->exact[0]) {
     PetscCall(DMProjectFunctionLocal(s->dm, t0, &s->data.exact[0], NULL, INSERT_ALL_VALUES, s->eta_local));
     PetscCall(DMLocalToGlobal(s->dm, s->eta_local, INSERT_VALUES, s->eta));
+    PetscCheck(!s->initial_projection || s->model == STRUCTURE_LINEAR, s->comm, PETSC_ERR_ARG_INCOMP, "option -structure_initial_projection: the elastic projection is defined for -structure_model linear only");
     if (s->initial_projection) PetscCall(StructureProjectExact(s));
   } else PetscCheck(!s->initial_projection, s->comm, PETSC_ERR_ARG_WRONG, "option -structure_initial_projection: the scene has no exact solution to project");
   if (data->exact_rate) PetscCall(DMProjectFunctionLocal(s->dm, t0, &s->data.exact_rate, NULL, INSERT_ALL_VALUES, s->etadot_local));
@@ -222,6 +241,7 @@ PetscErrorCode StructureBeginStep(Structure s)
 PetscErrorCode StructureSolve(Structure s, Vec load, PetscInt step)
 {
   SNESConvergedReason reason;
+  PetscInt            newton_its;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_STRUCTURE_SOLVE, 0, 0, 0, 0));
@@ -233,7 +253,11 @@ PetscErrorCode StructureSolve(Structure s, Vec load, PetscInt step)
   PetscCheck(reason > 0, s->comm, PETSC_ERR_NOT_CONVERGED, "structure solve failed at step %" PetscInt_FMT " (t = %g): SNES reason %s", step, (double)s->time, SNESConvergedReasons[reason]);
   PetscCall(FEMGlobalToLocal(s->dm, s->eta, s->eta_local));
   s->counts.nonlinear_solves += 1;
-  s->counts.linear_solves += 1;
+  if (s->model == STRUCTURE_SVK) {
+    PetscCall(SNESGetIterationNumber(s->snes, &newton_its));
+    s->counts.linear_solves += newton_its;
+    PetscCall(FEMFactorJacobianAt(s->snes, s->eta));
+  } else s->counts.linear_solves += 1;
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_STRUCTURE_SOLVE, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }

@@ -1,10 +1,14 @@
-/* Weak form of one step of linear elastodynamics in displacement eta:
+/* Weak form of one step of elastodynamics in displacement eta:
 
-     m (eta, xi) + op [ 2 mu_s (eps(eta), eps(xi)) + lambda (div eta, div xi) ]
-       - load [ (f_s, xi) + (h, xi)_{Gamma_N} ]  =  right-hand side of the scheme,
+     m (eta, xi) + op (P(eta), grad xi) - load [ (f_s, xi) + (h, xi)_{Gamma_N} ]
+       =  right-hand side of the scheme,
 
    where m = rho_s/dt^2 (first order, seed eq. 2.42) or 4 rho_s/dt^2 (midpoint,
-   seed eqs. 2.40-2.41 with the velocity eliminated). */
+   seed eqs. 2.40-2.41 with the velocity eliminated; for St. Venant-Kirchhoff eq. 6.17,
+   the stresses of both ends averaged) and P the stress of the model:
+     linear: sigma = 2 mu_s eps(eta) + lambda (div eta) I,
+     St. Venant-Kirchhoff: P = F Sigma, F = I + grad eta, Sigma = lambda tr(E) I + 2 mu_s E,
+       E = (F^T F - I)/2 (seed eq. 6.7). */
 #include "structure.h"
 
 /* PETSc fixes the signatures of pointwise kernels; each uses a few of their arguments. */
@@ -18,14 +22,48 @@ void StructureF0Mass(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt u
 
 void StructureF1LinearStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f1[])
 {
-  const PetscScalar op = constants[STRUCTURE_OPERATOR], mu = constants[STRUCTURE_MU], lambda = constants[STRUCTURE_LAMBDA];
-  PetscScalar       divergence = 0;
+  const PetscScalar op = constants[STRUCTURE_OPERATOR];
+  PetscScalar       sigma[9];
 
-  for (PetscInt d = 0; d < dim; ++d) divergence += u_x[uOff_x[0] + d * dim + d];
-  for (PetscInt c = 0; c < dim; ++c)
-    for (PetscInt d = 0; d < dim; ++d) f1[c * dim + d] = op * (mu * (u_x[uOff_x[0] + c * dim + d] + u_x[uOff_x[0] + d * dim + c]) + (c == d ? lambda * divergence : 0.0));
+  StructureStress(STRUCTURE_LINEAR, dim, PetscRealPart(constants[STRUCTURE_MU]), PetscRealPart(constants[STRUCTURE_LAMBDA]), &u_x[uOff_x[0]], sigma);
+  for (PetscInt i = 0; i < dim * dim; ++i) f1[i] = op * sigma[i];
 }
 
+
+void StructureStress(StructureModel model, PetscInt dim, PetscReal mu, PetscReal lambda, const PetscScalar G[], PetscScalar P[])
+{
+  PetscScalar F[9], S[9], trace = 0;
+
+  if (model == STRUCTURE_LINEAR) {
+    for (PetscInt d = 0; d < dim; ++d) trace += G[d * dim + d];
+    for (PetscInt c = 0; c < dim; ++c)
+      for (PetscInt d = 0; d < dim; ++d) P[c * dim + d] = mu * (G[c * dim + d] + G[d * dim + c]) + (c == d ? lambda * trace : 0.0);
+    return;
+  }
+  for (PetscInt i = 0; i < dim * dim; ++i) F[i] = G[i] + (i % (dim + 1) == 0 ? 1.0 : 0.0);
+  for (PetscInt k = 0; k < dim; ++k) /* S = 2 mu E for now, E = (F^T F - I)/2 */
+    for (PetscInt d = 0; d < dim; ++d) {
+      PetscScalar ftf = 0;
+      for (PetscInt a = 0; a < dim; ++a) ftf += F[a * dim + k] * F[a * dim + d];
+      S[k * dim + d] = mu * (ftf - (k == d ? 1.0 : 0.0));
+    }
+  for (PetscInt d = 0; d < dim; ++d) trace += S[d * dim + d] / (2 * mu);
+  for (PetscInt d = 0; d < dim; ++d) S[d * dim + d] += lambda * trace;
+  for (PetscInt c = 0; c < dim; ++c)
+    for (PetscInt d = 0; d < dim; ++d) {
+      P[c * dim + d] = 0;
+      for (PetscInt k = 0; k < dim; ++k) P[c * dim + d] += F[c * dim + k] * S[k * dim + d];
+    }
+}
+
+void StructureF1SVKStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f1[])
+{
+  const PetscScalar op = constants[STRUCTURE_OPERATOR];
+  PetscScalar       P[9];
+
+  StructureStress(STRUCTURE_SVK, dim, PetscRealPart(constants[STRUCTURE_MU]), PetscRealPart(constants[STRUCTURE_LAMBDA]), &u_x[uOff_x[0]], P);
+  for (PetscInt i = 0; i < dim * dim; ++i) f1[i] = op * P[i];
+}
 
 void StructureG0Mass(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g0[])
 {
@@ -42,4 +80,36 @@ void StructureG3LinearElasticity(PetscInt dim, PetscInt Nf, PetscInt NfAux, cons
       g3[((c * dim + d) * dim + d) * dim + c] += mu;
       g3[((c * dim + d) * dim + c) * dim + d] += lambda;
     }
+}
+
+/* dP_cd/dG_ef = delta_ce S_fd + lambda F_cd F_ef + mu_s F_cf F_ed + mu_s (F F^T)_ce delta_df
+   (seed eq. 6.19), at g3[test c][trial e][test derivative d][trial derivative f]. */
+void StructureG3SVK(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g3[])
+{
+  const PetscScalar  op = constants[STRUCTURE_OPERATOR], mu = constants[STRUCTURE_MU], lambda = constants[STRUCTURE_LAMBDA];
+  const PetscScalar *G  = &u_x[uOff_x[0]];
+  PetscScalar        F[9], S[9], FFt[9], trace = 0;
+
+  for (PetscInt i = 0; i < dim * dim; ++i) F[i] = G[i] + (i % (dim + 1) == 0 ? 1.0 : 0.0);
+  for (PetscInt k = 0; k < dim; ++k)
+    for (PetscInt d = 0; d < dim; ++d) {
+      PetscScalar ftf = 0, fft = 0;
+      for (PetscInt a = 0; a < dim; ++a) {
+        ftf += F[a * dim + k] * F[a * dim + d];
+        fft += F[k * dim + a] * F[d * dim + a];
+      }
+      S[k * dim + d]   = mu * (ftf - (k == d ? 1.0 : 0.0));
+      FFt[k * dim + d] = fft;
+    }
+  for (PetscInt d = 0; d < dim; ++d) trace += S[d * dim + d] / (2 * mu);
+  for (PetscInt d = 0; d < dim; ++d) S[d * dim + d] += lambda * trace;
+  for (PetscInt c = 0; c < dim; ++c)
+    for (PetscInt e = 0; e < dim; ++e)
+      for (PetscInt d = 0; d < dim; ++d)
+        for (PetscInt f = 0; f < dim; ++f) {
+          PetscScalar v = lambda * F[c * dim + d] * F[e * dim + f] + mu * F[c * dim + f] * F[e * dim + d];
+          if (c == e) v += S[f * dim + d];
+          if (d == f) v += mu * FFt[c * dim + e];
+          g3[((c * dim + e) * dim + d) * dim + f] += op * v;
+        }
 }
