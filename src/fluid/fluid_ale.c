@@ -195,58 +195,108 @@ PetscErrorCode FluidALEBeginStep(Fluid f)
   PetscFunctionReturn(0);
 }
 
-/* Every corner of every cell must keep its orientation and at least 1e-3 of its reference
-   area: otherwise the step cannot go on, and the run stops naming the cell. 2D cells. */
-static PetscErrorCode CheckCells(Fluid f, Vec coordinates)
+/* The corners of the cells: each vertex with the dim vertices it shares an edge with in
+   its cell, as offsets into the local coordinates (quadrilaterals, triangles, hexahedra,
+   tetrahedra: a vertex with another number of edge neighbours, a pyramid's apex, is left
+   out). Found once; the mesh's topology never changes. */
+static PetscErrorCode CellCornersSetUp(Fluid f)
 {
-  DM        cdm;
-  PetscInt  cStart, cEnd, dim, bad = -1;
-  PetscReal worst = PETSC_MAX_REAL, centre[2] = {0, 0};
+  PetscSection section;
+  PetscInt     cStart, cEnd, vStart, vEnd, eStart, eEnd, dim, n = 0, cap = 0;
 
   PetscFunctionBeginUser;
   PetscCall(DMGetDimension(f->dm, &dim));
-  if (dim != 2) PetscFunctionReturn(0);
-  PetscCall(DMGetCoordinateDM(f->dm, &cdm));
+  PetscCall(DMGetCoordinateSection(f->dm, &section));
   PetscCall(DMPlexGetHeightStratum(f->dm, 0, &cStart, &cEnd));
+  PetscCall(DMPlexGetDepthStratum(f->dm, 0, &vStart, &vEnd));
+  PetscCall(DMPlexGetDepthStratum(f->dm, 1, &eStart, &eEnd));
   for (PetscInt c = cStart; c < cEnd; ++c) {
-    PetscScalar *X = NULL, *x = NULL;
-    PetscInt     n, m;
+    PetscInt *closure = NULL, nclosure, verts[8], edges[12][2], nv = 0, ne = 0;
 
-    PetscCall(DMPlexVecGetClosure(cdm, NULL, f->coordinates_reference, c, &n, &X));
-    PetscCall(DMPlexVecGetClosure(cdm, NULL, coordinates, c, &m, &x));
-    n /= 2;
-    for (PetscInt i = 0; i < n; ++i) {
-      const PetscInt  j = (i + 1) % n, k = (i + n - 1) % n;
-      const PetscReal A = PetscRealPart((X[2 * j] - X[2 * i]) * (X[2 * k + 1] - X[2 * i + 1]) - (X[2 * j + 1] - X[2 * i + 1]) * (X[2 * k] - X[2 * i]));
-      const PetscReal a = PetscRealPart((x[2 * j] - x[2 * i]) * (x[2 * k + 1] - x[2 * i + 1]) - (x[2 * j + 1] - x[2 * i + 1]) * (x[2 * k] - x[2 * i]));
-      if (a / A < worst) {
-        worst = a / A;
-        if (worst < 1e-3) {
-          bad       = c;
-          centre[0] = 0;
-          centre[1] = 0;
-          for (PetscInt v = 0; v < n; ++v) {
-            centre[0] += PetscRealPart(x[2 * v]) / n;
-            centre[1] += PetscRealPart(x[2 * v + 1]) / n;
-          }
-        }
+    PetscCall(DMPlexGetTransitiveClosure(f->dm, c, PETSC_TRUE, &nclosure, &closure));
+    for (PetscInt i = 0; i < nclosure; ++i) {
+      const PetscInt p = closure[2 * i];
+      if (p >= vStart && p < vEnd && nv < 8) verts[nv++] = p;
+      if (p >= eStart && p < eEnd && ne < 12) {
+        const PetscInt *cone;
+        PetscCall(DMPlexGetCone(f->dm, p, &cone));
+        edges[ne][0] = cone[0];
+        edges[ne][1] = cone[1];
+        ++ne;
       }
     }
-    PetscCall(DMPlexVecRestoreClosure(cdm, NULL, f->coordinates_reference, c, &n, &X));
-    PetscCall(DMPlexVecRestoreClosure(cdm, NULL, coordinates, c, &m, &x));
+    PetscCall(DMPlexRestoreTransitiveClosure(f->dm, c, PETSC_TRUE, &nclosure, &closure));
+    if (n + nv > cap) {
+      PetscInt *grown;
+      cap = PetscMax(2 * cap, n + 8 * (cEnd - cStart) + 8);
+      PetscCall(PetscMalloc1(cap * 5, &grown));
+      if (n) PetscCall(PetscArraycpy(grown, f->corners, n * 5));
+      PetscCall(PetscFree(f->corners));
+      f->corners = grown;
+    }
+    for (PetscInt i = 0; i < nv; ++i) {
+      PetscInt *corner = &f->corners[n * 5], k = 0;
+      corner[0]        = c;
+      PetscCall(PetscSectionGetOffset(section, verts[i], &corner[1]));
+      for (PetscInt e = 0; e < ne; ++e) {
+        const PetscInt other = edges[e][0] == verts[i] ? edges[e][1] : edges[e][1] == verts[i] ? edges[e][0] : -1;
+        if (other >= 0 && k < dim) PetscCall(PetscSectionGetOffset(section, other, &corner[2 + k]));
+        if (other >= 0) ++k;
+      }
+      if (k == dim) ++n;
+    }
   }
+  f->ncorners = n;
+  PetscFunctionReturn(0);
+}
+
+/* the signed area (2D) or volume (3D) spanned by a corner's edges */
+static PetscReal CornerVolume(PetscInt dim, const PetscScalar *x, const PetscInt corner[])
+{
+  PetscReal e[3][3] = {{0}};
+
+  for (PetscInt k = 0; k < dim; ++k)
+    for (PetscInt d = 0; d < dim; ++d) e[k][d] = PetscRealPart(x[corner[2 + k] + d] - x[corner[1] + d]);
+  if (dim == 2) return e[0][0] * e[1][1] - e[0][1] * e[1][0];
+  return e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) - e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) + e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0]);
+}
+
+/* Every corner of every cell must keep its orientation and at least 1e-3 of its reference
+   area (volume): otherwise the step cannot go on, and the run stops naming the cell. */
+static PetscErrorCode CheckCells(Fluid f, Vec coordinates)
+{
+  PetscInt           dim, bad = -1;
+  PetscReal          worst = PETSC_MAX_REAL, where[4] = {-1, 0, 0, 0};
+  const PetscScalar *X, *x;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetDimension(f->dm, &dim));
+  if (!f->corners) PetscCall(CellCornersSetUp(f));
+  PetscCall(VecGetArrayRead(f->coordinates_reference, &X));
+  PetscCall(VecGetArrayRead(coordinates, &x));
+  for (PetscInt i = 0; i < f->ncorners; ++i) {
+    const PetscInt *corner = &f->corners[i * 5];
+    const PetscReal ratio  = CornerVolume(dim, x, corner) / CornerVolume(dim, X, corner);
+    if (ratio < worst) {
+      worst = ratio;
+      if (worst < 1e-3) bad = i;
+    }
+  }
+  if (bad >= 0) {
+    where[0] = (PetscReal)f->corners[bad * 5];
+    for (PetscInt d = 0; d < dim; ++d) where[1 + d] = PetscRealPart(x[f->corners[bad * 5 + 1] + d]);
+  }
+  PetscCall(VecRestoreArrayRead(coordinates, &x));
+  PetscCall(VecRestoreArrayRead(f->coordinates_reference, &X));
   {
-    PetscMPIInt rank, first, size;
-    PetscReal   where[3] = {(PetscReal)bad, centre[0], centre[1]};
+    PetscMPIInt rank, first, size, mine;
     PetscCallMPI(MPI_Comm_rank(f->comm, &rank));
     PetscCallMPI(MPI_Comm_size(f->comm, &size));
-    {
-      PetscMPIInt mine = bad >= 0 ? rank : size;
-      PetscCallMPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, f->comm));
-    }
+    mine = bad >= 0 ? rank : size;
+    PetscCallMPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, f->comm));
     if (first == size) PetscFunctionReturn(0);
-    PetscCallMPI(MPI_Bcast(where, 3, MPIU_REAL, first, f->comm));
-    SETERRQ(f->comm, PETSC_ERR_NOT_CONVERGED, "fluid mesh inverted or degenerate at step %" PetscInt_FMT " (t = %g): cell %d near (%g, %g) has a corner below 1e-3 of its reference area: the displacement is too large for this mesh (-mesh_motion elastic or a finer mesh may help)", f->step, (double)f->time, (int)where[0], (double)where[1], (double)where[2]);
+    PetscCallMPI(MPI_Bcast(where, 4, MPIU_REAL, first, f->comm));
+    SETERRQ(f->comm, PETSC_ERR_NOT_CONVERGED, "fluid mesh inverted or degenerate at step %" PetscInt_FMT " (t = %g): cell %d, corner at (%g, %g, %g), keeps less than 1e-3 of its reference %s: the displacement is too large for this mesh (-mesh_motion elastic or a finer mesh may help)", f->step, (double)f->time, (int)where[0], (double)where[1], (double)where[2], (double)where[3], dim == 2 ? "area" : "volume");
   }
 }
 
@@ -304,6 +354,7 @@ PetscErrorCode FluidALEDestroy(Fluid f)
   PetscFunctionBeginUser;
   PetscCall(VecDestroy(&f->z_local));
   PetscCall(VecDestroy(&f->coordinates_reference));
+  PetscCall(PetscFree(f->corners));
   PetscCall(VecDestroy(&f->displacement));
   PetscCall(VecDestroy(&f->displacement_old));
   PetscCall(MatDestroy(&f->mass_old));

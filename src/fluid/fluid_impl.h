@@ -33,6 +33,7 @@ struct _p_Fluid {
   DM             dm_aux;                                   /* the mesh velocity z, Q1 */
   Vec            z_local;
   Vec            coordinates_reference, displacement, displacement_old; /* coordinate layout */
+  PetscInt      *corners, ncorners; /* per cell corner: cell, its vertex's and its dim edge neighbours' coordinate offsets */
   DM             dm_all;                                   /* the same fields without constraints */
   Mat            mass_old, mass_old_all;                   /* rho/dt M(Omega^{n-1}): free rows, all rows */
   IS             free_in_all;
