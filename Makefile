@@ -42,6 +42,10 @@ build/%.o: %.c
 meshes/%.msh: meshes/%.geo
 	gmsh -2 -format msh22 -v 2 -o $@ $< >/dev/null
 
+# the tube's volumes: hexahedra from the shared cross-section (the more specific rule wins)
+meshes/tube3d-%.msh: meshes/tube3d-%.geo meshes/tube3d-section.geoinc
+	gmsh -3 -format msh22 -v 2 -o $@ $< >/dev/null
+
 # the seed's haemodynamic channel, 1000 steps; then its probe plot
 run: deps
 	$(MAKE) all

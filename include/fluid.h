@@ -6,7 +6,7 @@
    MASS is the coefficient of (u, v) (rho/dt in a step), OPERATOR and LOAD switch the
    spatial operator and the data on and off, so one weak form also yields the
    old-domain mass term M(Omega^{n-1}) u^{n-1}. */
-enum { FLUID_RHO, FLUID_MU, FLUID_MASS, FLUID_OPERATOR, FLUID_LOAD, FLUID_TIME, FLUID_DT, FLUID_CONVECTION, FLUID_PROJECTION, FLUID_NUM_CONSTANTS };
+enum { FLUID_RHO, FLUID_MU, FLUID_MASS, FLUID_OPERATOR, FLUID_LOAD, FLUID_TIME, FLUID_DT, FLUID_CONVECTION, FLUID_PROJECTION, FLUID_PRESSURE_STABILIZATION, FLUID_NUM_CONSTANTS };
 
 typedef struct _p_Fluid *Fluid;
 
@@ -58,4 +58,6 @@ void FluidG1Convection(PetscInt, PetscInt, PetscInt, const PetscInt[], const Pet
 void FluidG3Viscous(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
 void FluidG2Pressure(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
 void FluidG1Continuity(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void FluidF1PressureStabilization(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void FluidG3PressureStabilization(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
 #endif

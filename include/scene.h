@@ -29,4 +29,5 @@ PetscErrorCode SceneCreate_MMSStokes(Scene *);
 PetscErrorCode SceneCreate_MMSNS(Scene *);
 PetscErrorCode SceneCreate_GCL(Scene *);
 PetscErrorCode SceneCreate_Channel2D(Scene *);
+PetscErrorCode SceneCreate_Tube3D(Scene *);
 #endif

@@ -77,6 +77,13 @@ def _():
     return check_rates(errs, {"u_L2": 2.8, "u_H1": 1.8, "p_L2": 1.8})
 
 
+@test("fluid (Q1,Q1) + pressure stabilization spatial rates")
+def _():
+    errs = [solve(FLUID_SPACE + ["-refine", str(r), "-fluid_velocity_degree", "1", "-fluid_pressure_degree", "1",
+                                 "-fluid_pressure_stabilization", "0.1"])["errors"] for r in (1, 2, 3)]
+    return check_rates(errs, {"u_L2": 1.8, "u_H1": 0.9, "p_L2": 1.3})
+
+
 @test("stokes (Q2,Q1) spatial rates, one factorization")
 def _():
     runs = [solve(FLUID_SPACE + ["-refine", str(r), "-fluid_model", "stokes"]) for r in range(3)]
@@ -370,6 +377,27 @@ def _():
         worst[m] = max(abs(x - y) / max(abs(x), 1e-300) for ra, rb in zip(a, b) for x, y in zip(ra[1:], rb[1:]) if x != 0)
         assert worst[m] <= 1e-8, "%s: 2 ranks differ by %.2e relative" % (m, worst[m])
     return "max relative difference: " + ", ".join("%s %.1e" % kv for kv in worst.items())
+
+
+@test("tube3d: 2 ranks (fluid | structure) = 1 rank, the wave enters")
+def _():
+    args = ["-options_file", "options/tube3d.yaml", "-t_final", "0.0002", "-coupling_explicit_jacobian", "0"]
+    outs = [os.path.join(WORK, "tube1"), os.path.join(WORK, "tube2")]
+    one = solve(args, out=outs[0])
+    two = solve(args + ["-structure_ranks", "1"], nproc=2, out=outs[1])
+    assert one["ranks"] == {"fluid": 1, "structure": 1}, "ranks %s" % one["ranks"]
+    assert two["ranks"] == {"fluid": 1, "structure": 1}, "ranks %s" % two["ranks"]
+    assert one["dim"] == 3 and one["max_interface_jump"] <= 1e-4, "dim %s, jump %s" % (one["dim"], one["max_interface_jump"])
+    head, a = read_probes(os.path.join(outs[0], "probes.csv"))
+    _, b = read_probes(os.path.join(outs[1], "probes.csv"))
+    scale = max(abs(x) for r in a for x in r[1:])
+    worst = max(abs(x - y) for ra, rb in zip(a, b) for x, y in zip(ra[1:], rb[1:])) / scale
+    assert worst <= 1e-8, "2 ranks differ by %.2e relative" % worst
+    radial = head.index("dx(0.5;0.;1.25)")
+    assert a[-1][radial] > 0 and a[-1][radial] >= 10 * abs(a[-1][head.index("dx(0.5;0.;3.75)")]), \
+        "the wall near the inlet should bulge first: %s" % a[-1]
+    return "%d dofs, %.2f GN its/step, radial displacement at z = 1.25: %.2e, 2 ranks within %.1e" % (
+        one["fluid_dofs"] + one["structure_dofs"], one["avg_coupling_iterations"], a[-1][radial], worst)
 
 
 @test("fields: HDF5 + XDMF consistent, fluid mesh follows the wall")

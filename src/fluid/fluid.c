@@ -39,6 +39,7 @@ PetscErrorCode FluidSetFromOptions(Fluid f)
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-fluid_viscosity", "fluid dynamic viscosity mu", &f->mu));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-fluid_velocity_degree", "polynomial degree of the velocity", 1, 4, &f->velocity_degree));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-fluid_pressure_degree", "polynomial degree of the pressure", 1, 3, &f->pressure_degree));
+  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-fluid_pressure_stabilization", "alpha of the pressure stabilization -tau (grad p, grad q), tau = alpha h^2 / (rho h^2/dt + mu), h the mean cell size (Brezzi-Pitkaranta; needed by equal-order pairs)", &f->pressure_stabilization));
   PetscCall(PetscOptionsBool("-fluid_backflow_stabilization", "Add -1/2 rho ((u-z).n)_- (u, v) on the traction boundaries, against backflow instabilities", NULL, f->backflow, &f->backflow, NULL));
   f->n_backflow_faces = FSIOPT_MAX_BOUNDARIES;
   PetscCall(PetscOptionsIntArray("-fluid_backflow_faces", "Face sets that get the backflow stabilization (default: every traction face)", NULL, f->backflow_faces, &f->n_backflow_faces, &f->backflow_faces_given));
@@ -46,7 +47,7 @@ PetscErrorCode FluidSetFromOptions(Fluid f)
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-fluid_rhs_rtol", "nonlinear solves also stop when ||F|| <= rhs_rtol ||rhs||, a relative accuracy of the state that does not depend on how good the initial guess was", &f->rhs_rtol));
   PetscCall(PetscOptionsBool("-fluid_initial_projection", "Start from the Stokes projection of the scene's exact solution (discretely divergence free) instead of its interpolant", NULL, f->initial_projection, &f->initial_projection, NULL));
   PetscOptionsEnd();
-  PetscCheck(f->pressure_degree < f->velocity_degree, f->comm, PETSC_ERR_ARG_INCOMP, "option -fluid_pressure_degree: expected a degree below -fluid_velocity_degree (%" PetscInt_FMT ") for an inf-sup stable Taylor-Hood pair, got %" PetscInt_FMT, f->velocity_degree, f->pressure_degree);
+  PetscCheck(f->pressure_degree < f->velocity_degree || (f->pressure_degree == f->velocity_degree && f->pressure_stabilization > 0), f->comm, PETSC_ERR_ARG_INCOMP, "option -fluid_pressure_degree: expected a degree below -fluid_velocity_degree (%" PetscInt_FMT ") for an inf-sup stable Taylor-Hood pair, or equal to it with -fluid_pressure_stabilization > 0, got %" PetscInt_FMT, f->velocity_degree, f->pressure_degree);
   PetscFunctionReturn(0);
 }
 
@@ -74,6 +75,7 @@ static PetscErrorCode FluidSetConstantsFull(Fluid f, PetscReal mass, PetscReal o
   c[FLUID_DT]       = f->dt;
   c[FLUID_CONVECTION] = convection;
   c[FLUID_PROJECTION] = projection;
+  c[FLUID_PRESSURE_STABILIZATION] = f->pressure_tau;
   for (PetscInt i = 0; i < f->data.n_extra; ++i) c[FLUID_NUM_CONSTANTS + i] = f->data.extra[i];
   PetscCall(DMGetDS(f->dm, &ds));
   PetscCall(PetscDSSetConstants(ds, FLUID_NUM_CONSTANTS + f->data.n_extra, c));
@@ -99,7 +101,8 @@ static PetscErrorCode FluidSetUpWeakForm(Fluid f)
     PetscCall(PetscDSSetResidual(ds, 0, FluidF0MassStokes, FluidF1Stress));
     PetscCall(PetscDSSetJacobian(ds, 0, 0, FluidG0MassStokes, NULL, NULL, FluidG3Viscous));
   }
-  PetscCall(PetscDSSetResidual(ds, 1, FluidF0Continuity, NULL));
+  PetscCall(PetscDSSetResidual(ds, 1, FluidF0Continuity, f->pressure_stabilization > 0 ? FluidF1PressureStabilization : NULL));
+  if (f->pressure_stabilization > 0) PetscCall(PetscDSSetJacobian(ds, 1, 1, NULL, NULL, NULL, FluidG3PressureStabilization));
   PetscCall(PetscDSSetJacobian(ds, 0, 1, NULL, NULL, FluidG2Pressure, NULL));
   PetscCall(PetscDSSetJacobian(ds, 1, 0, NULL, FluidG1Continuity, NULL, NULL));
   PetscCall(PetscDSGetWeakForm(ds, &wf));
@@ -187,6 +190,25 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
   f->time = t0;
   f->dt   = dt;
   PetscCall(PetscObjectReference((PetscObject)mesh));
+  if (f->pressure_stabilization > 0) {
+    PetscReal volume = 0, size;
+    PetscInt  cStart, cEnd, dim, ncells;
+
+    PetscCall(DMGetDimension(mesh, &dim));
+    PetscCall(DMGetCoordinatesLocalSetUp(mesh));
+    PetscCall(DMPlexGetHeightStratum(mesh, 0, &cStart, &cEnd));
+    for (PetscInt c = cStart; c < cEnd; ++c) {
+      PetscReal v;
+      PetscCall(DMPlexComputeCellGeometryFVM(mesh, c, &v, NULL, NULL));
+      volume += v;
+    }
+    ncells = cEnd - cStart;
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &volume, 1, MPIU_REAL, MPIU_SUM, f->comm));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &ncells, 1, MPIU_INT, MPI_SUM, f->comm));
+    size            = PetscPowReal(volume / ncells, 1.0 / dim);
+    /* of the size of the Schur complement B (rho/dt M + mu K)^{-1} B^T at the mesh scale */
+    f->pressure_tau = f->pressure_stabilization * size * size / (f->rho * size * size / dt + f->mu);
+  }
   PetscCall(FluidSetUpWeakForm(f));
   if (f->model == FLUID_STOKES) policy = FEM_JACOBIAN_CONSTANT;
   else if (f->interface_face) policy = FEM_JACOBIAN_ON_REQUEST;

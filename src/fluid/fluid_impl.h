@@ -11,6 +11,7 @@ struct _p_Fluid {
   FluidModel     model;
   PetscReal      rho, mu;
   PetscInt       velocity_degree, pressure_degree;
+  PetscReal      pressure_stabilization, pressure_tau; /* alpha and tau of -tau (grad p, grad q) */
   PetscReal      time, dt;
   PetscInt       step;
   Vec            x;          /* (u, p) at `time` */

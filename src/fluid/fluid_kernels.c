@@ -5,7 +5,8 @@
 
    with m = rho/dt. The right-hand side is the same form evaluated with op = load = 0
    on the previous state; the body force f and the traction h are the scene's kernels.
-   The continuity row carries the minus sign so that the Stokes matrix is symmetric. */
+   The continuity row carries the minus sign so that the Stokes matrix is symmetric; an
+   equal-order pair adds -op tau (grad p, grad q) to it (Brezzi-Pitkaranta). */
 #include "fluid.h"
 
 /* The mesh velocity z, an auxiliary field on moving meshes (absent on fixed ones). */
@@ -135,4 +136,18 @@ void FluidG0Backflow(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt u
   if (PetscRealPart(un) >= 0) return;
   for (PetscInt c = 0; c < dim; ++c)
     for (PetscInt d = 0; d < dim; ++d) g0[c * dim + d] -= half_rho * (u[uOff[0] + c] * n[d] + (c == d ? un : 0.0));
+}
+
+void FluidF1PressureStabilization(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f1[])
+{
+  const PetscScalar tau = constants[FLUID_OPERATOR] * constants[FLUID_PRESSURE_STABILIZATION];
+
+  for (PetscInt d = 0; d < dim; ++d) f1[d] = -tau * u_x[uOff_x[1] + d];
+}
+
+void FluidG3PressureStabilization(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g3[])
+{
+  const PetscScalar tau = constants[FLUID_OPERATOR] * constants[FLUID_PRESSURE_STABILIZATION];
+
+  for (PetscInt d = 0; d < dim; ++d) g3[d * dim + d] = -tau;
 }

@@ -124,11 +124,14 @@ static PetscErrorCode PartSetUp(FieldWriter w, Part *P, DM dm)
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, info, 2, MPIU_INT, MPI_MAX, w->comm));
   P->dim = info[0];
   P->nv  = info[1];
-  PetscCheck((P->dim == 2 && (P->nv == 3 || P->nv == 4)) || (P->dim == 3 && P->nv == 4), w->comm, PETSC_ERR_SUP, "option -write_fields: the %s mesh has cells of %" PetscInt_FMT " vertices in %" PetscInt_FMT "D; only triangles, quadrilaterals and tetrahedra are written", P->name, P->nv, P->dim);
+  PetscCheck((P->dim == 2 && (P->nv == 3 || P->nv == 4)) || (P->dim == 3 && (P->nv == 4 || P->nv == 8)), w->comm, PETSC_ERR_SUP, "option -write_fields: the %s mesh has cells of %" PetscInt_FMT " vertices in %" PetscInt_FMT "D; only triangles, quadrilaterals, tetrahedra and hexahedra are written", P->name, P->nv, P->dim);
   for (PetscInt f = 0; f < P->nfields; ++f)
     if (P->nc[f] < 0) P->nc[f] = P->dim;
-  for (PetscInt c = 0; c < ncells; ++c)
+  for (PetscInt c = 0; c < ncells; ++c) {
     for (PetscInt i = 0; i < P->nv; ++i) cells[c * P->nv + i] = cells[c * MAX_CELL_VERTICES + i];
+    /* DMPlex lists a hexahedron's bottom face with its normal outward, XDMF (VTK) inward */
+    if (P->nv == 8) PetscCall(DMPlexInvertCell(DM_POLYTOPE_HEXAHEDRON, &cells[c * P->nv]));
+  }
   PetscCall(GatherOnRoot(w->comm, ncells * P->nv, MPIU_INT, cells, (void **)&gathered, &total));
   P->ncells = total / P->nv;
   if (!w->rank) {
@@ -317,7 +320,7 @@ static PetscErrorCode XdmfItem(MPI_Comm comm, FILE *fp, const char *indent, Pets
 
 static PetscErrorCode XdmfGrid(MPI_Comm comm, FILE *fp, const Part *P, PetscInt step)
 {
-  const char *topology = P->dim == 3 ? "Tetrahedron" : P->nv == 3 ? "Triangle" : "Quadrilateral";
+  const char *topology = P->dim == 3 ? (P->nv == 8 ? "Hexahedron" : "Tetrahedron") : P->nv == 3 ? "Triangle" : "Quadrilateral";
   char        path[128];
 
   PetscFunctionBeginUser;

@@ -33,10 +33,10 @@ PetscErrorCode ProbesCreate(MPI_Comm comm, Interface itf, PetscInt n, const Pets
     for (PetscInt i = 0; i < nlocal && found < 0; ++i) {
       PetscReal dist = 0;
       for (PetscInt d = 0; d < dim; ++d) dist = PetscMax(dist, PetscAbsReal(coords[i * dim + d] - points[p][d]));
-      if (dist < 1e-10) found = start + i * dim;
+      if (dist < 1e-6) found = start + i * dim; /* gmsh places nodes on arcs to about 1e-9 */
     }
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &found, 1, MPIU_INT, MPI_MAX, comm));
-    PetscCheck(found >= 0, comm, PETSC_ERR_ARG_WRONG, "probe (%g, %g): not a node of the fluid-structure interface", (double)points[p][0], (double)points[p][1]);
+    PetscCheck(found >= 0, comm, PETSC_ERR_ARG_WRONG, "probe (%g, %g, %g): not a node of the fluid-structure interface", (double)points[p][0], (double)points[p][1], (double)(dim == 3 ? points[p][2] : 0));
     for (PetscInt d = 0; d < dim; ++d) index[p * dim + d] = found + d;
   }
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
@@ -49,7 +49,10 @@ PetscErrorCode ProbesCreate(MPI_Comm comm, Interface itf, PetscInt n, const Pets
   PetscCall(PartialFileOpen(comm, dir, "probes.csv", &P->file));
   PetscCall(PetscFPrintf(comm, P->file.fp, "t"));
   for (PetscInt p = 0; p < n; ++p)
-    for (PetscInt d = 0; d < dim; ++d) PetscCall(PetscFPrintf(comm, P->file.fp, ",d%c(%g;%g)", "xyz"[d], (double)points[p][0], (double)points[p][1]));
+    for (PetscInt d = 0; d < dim; ++d) {
+      if (dim == 3) PetscCall(PetscFPrintf(comm, P->file.fp, ",d%c(%g;%g;%g)", "xyz"[d], (double)points[p][0], (double)points[p][1], (double)points[p][2]));
+      else PetscCall(PetscFPrintf(comm, P->file.fp, ",d%c(%g;%g)", "xyz"[d], (double)points[p][0], (double)points[p][1]));
+    }
   PetscCall(PetscFPrintf(comm, P->file.fp, "\n"));
   *probes = P;
   PetscFunctionReturn(0);
