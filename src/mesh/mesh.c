@@ -46,8 +46,14 @@ PetscErrorCode MeshCreate(MPI_Comm comm, const char prefix[], PetscInt refine, P
   PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCall(DMPlexIsDistributed(dm, &distributed));
   if (size > 1 && !distributed) {
-    DM parallel = NULL;
+    DM               parallel = NULL;
+    PetscPartitioner partitioner;
 
+    /* PT-Scotch unless -<prefix>petscpartitioner_type says otherwise (Debian's PETSc has
+       no ParMETIS) */
+    PetscCall(DMPlexGetPartitioner(dm, &partitioner));
+    PetscCall(PetscPartitionerSetType(partitioner, PETSCPARTITIONERPTSCOTCH));
+    PetscCall(PetscPartitionerSetFromOptions(partitioner));
     PetscCall(DMPlexDistribute(dm, 0, NULL, &parallel));
     if (parallel) {
       PetscCall(DMDestroy(&dm));

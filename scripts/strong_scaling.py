@@ -1,0 +1,260 @@
+#!/usr/bin/python3
+"""Strong scaling of fsiopt on the 3D pressure-wave tube (scene tube3d): one mesh level, one
+short horizon, several rank layouts.
+
+A layout is P:K = MPI ranks : structure ranks (-structure_ranks K: the wall on the last K
+ranks, the fluid on the other P - K; K = 0: both on all P ranks, one after the other; "P"
+alone means P:0). --layouts takes a comma-separated list (default "1:0,2:1,2:0"); every
+layout runs
+
+  MPIEXEC -n P bin/fsiopt -options_file options/tube3d.yaml -t_final T
+          -fluid_dm_plex_filename F -structure_dm_plex_filename W [-structure_ranks K]
+          -log_view [--extra]
+
+with the meshes of level n (--level, default 2, ~46k unknowns; generated with gmsh into
+out/meshes/ as by scripts/tube3d_table.py) over --t-final (default 0.0005 = 5 steps).
+MPIEXEC is --mpiexec (default "mpiexec"; split like a shell command line, so
+--mpiexec srun or --mpiexec "srun --cpu-bind=cores" or --mpiexec "mpiexec --bind-to core"
+work). The one-rank layout goes through the launcher as well, so every layout starts the
+same way (inside a SLURM job, srun places and binds it like the others).
+
+Tabulated per layout: fluid and structure ranks, wall time (summary.json wall_time_s,
+set-up included), speed-up and parallel efficiency against the first layout (S = T1/T,
+E = S P1/P), time per step (wall / steps), the speed-up of the time stepping alone (wall
+time minus the Setup stage), Gauss-Newton iterations per step and CG iterations per
+Gauss-Newton iteration (the same algorithm on every layout: these should barely move), and
+the -log_view stage split in s per step (as in tube3d_table.py: with K > 0, Fluid and
+MeshMotion averaged over the fluid's ranks, Structure over the structure's).
+
+Outputs under out/scaling/ (--out): scaling.csv, scaling.md and scaling.png (speed-up
+against ranks, log-log, with the ideal line P/P1; shared and split layouts as separate
+series; open markers: the time stepping alone). Runs go to <out>/runs/<run>/ (--runs-dir),
+one at a time, re-used while complete, with the same command line and newer than their
+meshes (--force: run again). A failing layout is reported in the tables with its error and
+the script exits non-zero at the end.
+
+When running as root, the runs get OMPI_ALLOW_RUN_AS_ROOT=1 and
+OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 (Open MPI refuses root otherwise).
+
+Examples (build first: make all):
+  scripts/strong_scaling.py --level 1 --t-final 0.0003 --layouts 1:0,2:1
+  scripts/strong_scaling.py                                  # n = 2, 1:0,2:1,2:0
+  scripts/strong_scaling.py --level 3 --mpiexec srun --layouts "8:0,16:0,16:4,32:8"   # in a SLURM job"""
+import argparse, math, os, shlex, sys
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+
+sys.dont_write_bytecode = True   # no scripts/__pycache__ next to the sources
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import bench as B   # noqa: E402
+import tube3d_table as T   # noqa: E402
+from fsiopt_runs import ROOT, rel, say   # noqa: E402
+
+DEFAULT_LAYOUTS = "1:0,2:1,2:0"
+
+
+def parse_layouts(text):
+    """'1:0,2:1,8' -> [(1, 0), (2, 1), (8, 0)]; 0 <= K < P."""
+    layouts = []
+    for part in text.split(","):
+        part = part.strip()
+        if not part:
+            continue
+        p, _, k = part.partition(":")
+        try:
+            p, k = int(p), int(k or 0)
+        except ValueError:
+            raise ValueError("bad layout %r: expected P:K (integers)" % part)
+        if p < 1 or not 0 <= k < p:
+            raise ValueError("bad layout %r: expected P >= 1 and 0 <= K < P" % part)
+        layouts.append((p, k))
+    if len(set(layouts)) != len(layouts):
+        raise ValueError("a layout is listed twice")
+    return layouts
+
+
+def number(x):
+    try:
+        v = float(x)
+    except (TypeError, ValueError):
+        return None
+    return v if math.isfinite(v) else None
+
+
+def stepping_time(row):
+    """wall time minus the Setup stage (s), or None."""
+    wall, setup = number(row.get("wall_time_s")), number(row.get(B.stage_key("Setup")))
+    return wall - setup if wall is not None and setup is not None else None
+
+
+def add_speedups(rows):
+    """speed-up and efficiency of every row against the first row (blank when either failed)."""
+    base = rows[0]
+    t0, s0, p0 = number(base["wall_time_s"]), stepping_time(base), base["np"]
+    for row in rows:
+        t, s = number(row["wall_time_s"]), stepping_time(row)
+        row["stepping_s"] = s if s is not None else ""
+        row["speedup"] = t0 / t if t0 and t else ""
+        row["efficiency"] = row["speedup"] * p0 / row["np"] if row["speedup"] != "" else ""
+        row["stepping_speedup"] = s0 / s if s0 and s else ""
+        row["stepping_efficiency"] = row["stepping_speedup"] * p0 / row["np"] if row["stepping_speedup"] != "" else ""
+
+
+def plot(path, rows, title):
+    fig, ax = plt.subplots(figsize=(7, 5))
+    ok = [r for r in rows if number(r["speedup"]) is not None]
+    if ok:
+        p0 = rows[0]["np"]
+        ps = sorted({r["np"] for r in rows})
+        lo, hi = min(ps + [p0]), max(ps + [p0])
+        ax.plot([lo, hi], [lo / p0, hi / p0], "--", color="grey", lw=1, label="ideal (P/%d)" % p0)
+        colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+        for i, (label, pick) in enumerate((("shared: -structure_ranks 0", lambda r: r["structure_ranks_option"] == 0),
+                                           ("split: -structure_ranks K > 0", lambda r: r["structure_ranks_option"] > 0))):
+            series = sorted((r for r in ok if pick(r)), key=lambda r: (r["np"], r["structure_ranks_option"]))
+            if not series:
+                continue
+            c = colours[i % len(colours)]
+            xs = [r["np"] for r in series]
+            ax.plot(xs, [r["speedup"] for r in series], "-o", color=c, label=label + ", wall time")
+            st = [(r["np"], r["stepping_speedup"]) for r in series if number(r["stepping_speedup"]) is not None]
+            if st:
+                ax.plot([x for x, _ in st], [y for _, y in st], ":o", color=c, mfc="white",
+                        label=label + ", time stepping")
+            for r in series:
+                ax.annotate(r["layout"], (r["np"], r["speedup"]), textcoords="offset points", xytext=(5, -10),
+                            fontsize=8, color=c)
+        ax.set_xscale("log", base=2)
+        ax.set_yscale("log", base=2)
+        ax.set_xticks(ps)
+        ax.set_xticklabels([str(p) for p in ps])
+        ax.legend(fontsize="small", loc="upper left")
+    else:
+        ax.text(0.5, 0.5, "no speed-up: the first layout or all others failed", ha="center", va="center",
+                transform=ax.transAxes)
+    ax.set_xlabel("MPI ranks P")
+    ax.set_ylabel("speed-up against layout %s" % rows[0]["layout"])
+    ax.grid(True, which="both", alpha=0.3)
+    ax.set_title(title, fontsize=10)
+    fig.tight_layout()
+    fig.savefig(path, dpi=130)
+    plt.close(fig)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--level", type=int, default=2, help="mesh refinement level n (default 2)")
+    ap.add_argument("--t-final", type=float, default=0.0005, help="end time of every run (default 0.0005 = 5 steps)")
+    ap.add_argument("--layouts", default=DEFAULT_LAYOUTS, help='comma-separated P:K, MPI ranks : structure ranks; '
+                                                               'the first is the speed-up\'s base (default "%s")'
+                                                               % DEFAULT_LAYOUTS)
+    ap.add_argument("--mpiexec", default="mpiexec", help='launcher, called as LAUNCHER -n P bin/fsiopt ... '
+                                                         '(default "mpiexec"; e.g. "srun")')
+    ap.add_argument("--extra", default="", help='options passed to every run, e.g. --extra="-coupling_tol 1e-5"')
+    ap.add_argument("--gmsh", default="gmsh", help="gmsh binary (default gmsh)")
+    ap.add_argument("--mesh-dir", default=os.path.join(ROOT, "out", "meshes"), help="where the meshes go "
+                                                                                    "(default out/meshes)")
+    ap.add_argument("--out", default=os.path.join(ROOT, "out", "scaling"), help="output directory "
+                                                                                "(default out/scaling)")
+    ap.add_argument("--runs-dir", default=None, help="where the runs go (default <out>/runs)")
+    ap.add_argument("--bin", default=T.FSIOPT, help="fsiopt binary (default bin/fsiopt)")
+    ap.add_argument("--force", action="store_true", help="run again even when a complete matching run exists")
+    ap.add_argument("--retries", type=int, default=2, help="retries of a run that dies without an fsiopt error "
+                                                           "(default 2)")
+    args = ap.parse_args()
+    try:
+        layouts = parse_layouts(args.layouts)
+    except ValueError as e:
+        ap.error("--layouts: %s" % e)
+    if not layouts:
+        ap.error("--layouts: no layout")
+    if args.level < 1:
+        ap.error("--level: at least 1")
+    if args.t_final <= 0:
+        ap.error("--t-final: positive expected")
+    launcher = shlex.split(args.mpiexec)
+    if not launcher:
+        ap.error("--mpiexec: empty")
+    args.out = os.path.abspath(args.out)
+    args.mesh_dir = os.path.abspath(args.mesh_dir)
+    args.runs_dir = os.path.abspath(args.runs_dir or os.path.join(args.out, "runs"))
+    extra = shlex.split(args.extra)
+    if not os.path.isfile(args.bin):
+        say("strong_scaling: %s not found (build first: make all)" % rel(args.bin), err=True)
+
+    say("meshes in %s" % rel(args.mesh_dir))
+    runs = []
+    try:
+        meshes = T.ensure_meshes(args.level, args.mesh_dir, args.gmsh)
+    except T.MeshError as e:
+        say("  mesh n=%d FAILED: %s" % (args.level, e), err=True)
+        runs = [T.failed_run("np%d-k%d" % (p, k), T.layout_text(p, k), "mesh: %s" % e, np=p, structure_ranks=k)
+                for p, k in layouts]
+    else:
+        runs = [T.tube3d_run(args.level, args.t_final, meshes, extra, p, k, launcher) for p, k in layouts]
+    T.run_runs(runs, args.bin, args.runs_dir, args.force, args.retries)
+
+    rows = []
+    for (p, k), r in zip(layouts, runs):
+        row = T.result_row(r)
+        row["layout"] = "%d:%d" % (p, k)
+        rows.append(row)
+    add_speedups(rows)
+    step_keys = [T.per_step_key(s) for s in T.STEP_STAGES]
+    fields = ["layout", "status", "error", "np", "structure_ranks_option", "fluid_ranks", "structure_ranks",
+              "wall_time_s", "speedup", "efficiency", "time_per_step_s", "stepping_s", "stepping_speedup",
+              "stepping_efficiency"] + step_keys + \
+             ["fluid_dofs", "structure_dofs", "steps", "avg_coupling_iterations", "inner_per_coupling_iteration",
+              "coupling_iterations", "inner_iterations", "work_factor", "fluid_solves", "fluid_linear_solves",
+              "max_interface_jump", "stalled_steps", "converged", "elapsed_s"] + \
+             [B.stage_key(s) for s in B.STAGES] + ["run_dir", "command"]
+    os.makedirs(args.out, exist_ok=True)
+    base = os.path.join(args.out, "scaling")
+    B.write_csv(base + ".csv", rows, fields)
+    tf = B.fmt_time(args.t_final)
+    dofs = next(((r["fluid_dofs"], r["structure_dofs"]) for r in rows if r["fluid_dofs"] != ""), None)
+    plot(base + ".png", rows, "fsiopt strong scaling, tube3d n = %d%s, t_final = %s" % (
+        args.level, " (%d + %d unknowns)" % dofs if dofs else "", tf))
+
+    fmt = T.fmt
+    md = ["# fsiopt strong scaling: tube3d", "",
+          "Scene: `-options_file %s -t_final %s`%s, level n = %d (`%s/tube3d-{fluid,wall}-n%d.msh`%s); launcher "
+          "`%s -n P`; runs in `%s`, one at a time." % (
+              T.OPTIONS_FILE, tf, ", extra options `%s`" % " ".join(extra) if extra else "", args.level,
+              rel(args.mesh_dir), args.level, ", %d fluid + %d structure unknowns" % dofs if dofs else "",
+              args.mpiexec, rel(args.runs_dir)), "",
+          "Layout P:K = MPI ranks : structure ranks (K = 0: fluid and structure share all P ranks). Speed-up S and "
+          "efficiency E = S P1/P against the first layout (%s). Wall: fsiopt's own (summary.json, set-up "
+          "included); s/step = wall / steps; stepping = wall minus the Setup stage." % rows[0]["layout"], "",
+          "| layout | fluid / structure ranks | wall s | speed-up | efficiency | s/step | stepping speed-up | "
+          "GN its/step | CG its/GN it | status |", "|" + "---|" * 10]
+    for r, row in zip(runs, rows):
+        md.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
+            row["layout"], "%s / %s" % (row["fluid_ranks"], row["structure_ranks"]) if row["fluid_ranks"] != "" else "",
+            fmt(row["wall_time_s"], "%.3g"), fmt(row["speedup"], "%.2f"), fmt(100 * row["efficiency"] if row["efficiency"] != "" else "", "%.0f%%"),
+            fmt(row["time_per_step_s"], "%.3g"), fmt(row["stepping_speedup"], "%.2f"),
+            fmt(row["avg_coupling_iterations"], "%.3g"), fmt(row["inner_per_coupling_iteration"], "%.3g"),
+            T.status_text(r)))
+    md += ["", "## -log_view stage split (s per step)", "",
+           "| layout | " + " | ".join(T.STEP_STAGES) + " |", "|" + "---|" * (1 + len(T.STEP_STAGES))]
+    for row in rows:
+        md.append("| %s | %s |" % (row["layout"], " | ".join(fmt(row[k], "%.3g") for k in step_keys)))
+    md += ["", T.STAGE_NOTE]
+    failed = [(row["layout"], r) for row, r in zip(rows, runs) if not r.ok]
+    if failed:
+        md += ["", "## Failures", ""] + ["- %s: %s%s" % (layout, B.md_escape(r.error),
+                                                         " (%s)" % rel(r.run_dir) if r.run_dir else "")
+                                         for layout, r in failed]
+    with open(base + ".md", "w") as f:
+        f.write("\n".join(md) + "\n")
+    print("\n".join(md))
+    print("written: %s.csv, %s.md, %s.png" % ((rel(base),) * 3))
+    if failed:
+        say("strong_scaling: %d of %d layout(s) failed" % (len(failed), len(runs)), err=True)
+        sys.exit(1)
+
+
+if __name__ == "__main__":
+    main()
