@@ -9,6 +9,8 @@ PetscErrorCode FEMCreateField(DM dm, PetscInt field, const char name[], PetscInt
 /* Registers the essential and natural boundaries of `data` on field `field`.
    `datums` must live as long as the DM; `time` is the solver's current time. */
 PetscErrorCode FEMAddBoundaries(DM dm, PetscInt field, const PhysicsData *data, DirichletDatum datums[], const PetscReal *time);
+/* The zero field: homogeneous Dirichlet data. */
+PetscErrorCode FEMZero(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *u, void *ctx);
 /* Residual of the DM's weak form at the local state xlocal (boundary values already in it). */
 PetscErrorCode FEMResidual(DM dm, Vec xlocal, Vec fglobal);
 /* Global state to local state with the boundary values of the current time. */

@@ -14,7 +14,7 @@ typedef struct {
   PetscReal        work_factor, max_interface_jump;
   PetscBool        converged, has_fluid, has_structure;
   ErrorTable       errors;
-  PetscMPIInt      fluid_ranks, structure_ranks;
+  PetscMPIInt      fluid_ranks, structure_ranks, total_ranks;
 } RunSummary;
 
 /* Writes <dir>/summary.json atomically (a temporary file renamed into place). */

@@ -31,7 +31,9 @@ against ranks, log-log, with the ideal line P/P1; shared and split layouts as se
 series; open markers: the time stepping alone). Runs go to <out>/runs/<run>/ (--runs-dir),
 one at a time, re-used while complete, with the same command line and newer than their
 meshes (--force: run again). A failing layout is reported in the tables with its error and
-the script exits non-zero at the end.
+the script exits non-zero at the end; so is a run whose summary.json reports other rank
+counts than its layout (a launcher that started P separate one-rank runs, e.g. srun with an
+MPI built without SLURM's PMI support).
 
 When running as root, the runs get OMPI_ALLOW_RUN_AS_ROOT=1 and
 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 (Open MPI refuses root otherwise).
@@ -45,6 +47,7 @@ import argparse, math, os, shlex, sys
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
+from matplotlib.ticker import FuncFormatter
 
 sys.dont_write_bytecode = True   # no scripts/__pycache__ next to the sources
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -118,11 +121,11 @@ def plot(path, rows, title):
                 continue
             c = colours[i % len(colours)]
             xs = [r["np"] for r in series]
-            ax.plot(xs, [r["speedup"] for r in series], "-o", color=c, label=label + ", wall time")
+            ax.plot(xs, [r["speedup"] for r in series], "-o", color=c, zorder=3, label=label + ", wall time")
             st = [(r["np"], r["stepping_speedup"]) for r in series if number(r["stepping_speedup"]) is not None]
-            if st:
-                ax.plot([x for x, _ in st], [y for _, y in st], ":o", color=c, mfc="white",
-                        label=label + ", time stepping")
+            if st:   # larger open markers behind the filled ones, so that both show where they meet
+                ax.plot([x for x, _ in st], [y for _, y in st], ":o", color=c, mfc="white", ms=10, zorder=2,
+                        label=label + ", time stepping (wall - Setup)")
             for r in series:
                 ax.annotate(r["layout"], (r["np"], r["speedup"]), textcoords="offset points", xytext=(5, -10),
                             fontsize=8, color=c)
@@ -130,6 +133,7 @@ def plot(path, rows, title):
         ax.set_yscale("log", base=2)
         ax.set_xticks(ps)
         ax.set_xticklabels([str(p) for p in ps])
+        ax.yaxis.set_major_formatter(FuncFormatter(lambda y, _: "%g" % y))
         ax.legend(fontsize="small", loc="upper left")
     else:
         ax.text(0.5, 0.5, "no speed-up: the first layout or all others failed", ha="center", va="center",

@@ -24,8 +24,10 @@ the fluid on the others (-structure_ranks K; 0: both on all P ranks). PETSc's "S
 Stages" averages a stage's time over all P ranks, counting 0 on a rank that never enters it;
 with K > 0 the Fluid and MeshMotion stages run on the P - K fluid ranks only and Structure
 on the K wall ranks only, so the stage split here is scaled back to the average over the
-ranks that run the stage (x P/(P-K), x P/K; the CSV keeps PETSc's numbers as well). When
-running as root, the runs get OMPI_ALLOW_RUN_AS_ROOT=1 and OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1.
+ranks that run the stage (x P/(P-K), x P/K; the CSV keeps PETSc's numbers as well). A run
+whose summary.json reports other rank counts than asked for counts as failed (the launcher
+started P one-rank runs). When running as root, the runs get OMPI_ALLOW_RUN_AS_ROOT=1 and
+OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1.
 
 Outputs under out/tube3d/ (--out): table6_1.csv and table6_1.md. Runs go to <out>/runs/<run>/
 (--runs-dir) with stdout.log (the -log_view), stderr.log and cmd.txt (written after a
@@ -182,7 +184,26 @@ def run_runs(runs, fsiopt, runs_dir, force=False, retries=2):
     for r in runs:
         if r.run_dir and (r.ok or os.path.isfile(os.path.join(r.run_dir, "stdout.log"))):
             r.stages = B.read_stages(r.run_dir)
+        error = layout_error(r) if r.ok else ""
+        if error:
+            say("  %-28s FAILED: %s" % (r.name, error), err=True)
+            r.status, r.error = "failed", error
     return runs
+
+
+def layout_error(r):
+    """'' when summary.json's ranks are the layout's, else why not: a launcher that starts P
+    separate one-rank runs (e.g. srun with an MPI built without SLURM's PMI) would otherwise
+    pass for a P-rank run."""
+    np, k = r.params.get("np", 1), r.params.get("structure_ranks", 0)
+    ranks = r.summary.get("ranks") or {}
+    want = (np - k, k) if k else (np, np)
+    got = (ranks.get("fluid"), ranks.get("structure"))
+    if got == want:
+        return ""
+    return ("summary.json has %s fluid / %s structure ranks, the layout %d:%d means %d / %d: the launcher did not "
+            "start one %d-rank MPI job (srun with an MPI built without SLURM's PMI? try --mpiexec mpirun)"
+            % (got[0], got[1], np, k, want[0], want[1], np))
 
 
 # ---------------------------------------------------------------------------- rows

@@ -134,6 +134,7 @@ static PetscErrorCode Run(void)
   PetscCall(SceneCreate(params.scene, &scene));
   coupled = scene.has_fluid && scene.has_structure;
   PetscCall(SplitRanks(coupled, &fluid_comm, &structure_comm, &summary.fluid_ranks, &summary.structure_ranks));
+  PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &summary.total_ranks));
   if (scene.has_fluid && fluid_comm != MPI_COMM_NULL) {
     PetscInt nfaces, faces[2 * FSIOPT_MAX_BOUNDARIES];
 

@@ -101,6 +101,16 @@ static PetscErrorCode CountedJacobian(DM dm, Vec xlocal, Mat J, Mat P, void *ctx
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode FEMZero(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *u, void *ctx)
+{
+  (void)dim;
+  (void)t;
+  (void)x;
+  (void)ctx;
+  for (PetscInt c = 0; c < Nc; ++c) u[c] = 0;
+  return 0;
+}
+
 PetscErrorCode FEMCreateSNES(DM dm, const char prefix[], FEMJacobianPolicy policy, PetscInt *jacobian_assemblies, SNES *snes)
 {
   KSP ksp;

@@ -24,5 +24,11 @@ PetscErrorCode FsioptLogRegister(void)
   PetscCall(PetscLogEventRegister("SensitivityProd", classid, &FSIOPT_EVENT_SENSITIVITY));
   PetscCall(PetscLogEventRegister("AdjointProd", classid, &FSIOPT_EVENT_ADJOINT));
   PetscCall(PetscLogEventRegister("InterfaceSetUp", classid, &FSIOPT_EVENT_INTERFACE));
+  /* -log_view names a stage after rank 0's record of it: with -structure_ranks, rank 0
+     (a fluid rank) would otherwise never enter Structure, and the line would be nameless */
+  for (PetscLogStage stage = FSIOPT_STAGE_SETUP; stage <= FSIOPT_STAGE_MESH_MOTION; ++stage) {
+    PetscCall(PetscLogStagePush(stage));
+    PetscCall(PetscLogStagePop());
+  }
   PetscFunctionReturn(0);
 }

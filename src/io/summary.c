@@ -82,7 +82,7 @@ PetscErrorCode SummaryWrite(MPI_Comm comm, const char dir[], const RunSummary *s
   for (PetscInt i = 0; i < s->errors.n; ++i) fprintf(fp, "%s\"%s\": %.10e", i ? ", " : "", s->errors.name[i], (double)s->errors.value[i]);
   fprintf(fp, "},\n");
   fprintf(fp, "  \"quantities\": {},\n");
-  fprintf(fp, "  \"ranks\": {\"fluid\": %d, \"structure\": %d}\n", (int)s->fluid_ranks, (int)s->structure_ranks);
+  fprintf(fp, "  \"ranks\": {\"fluid\": %d, \"structure\": %d, \"total\": %d}\n", (int)s->fluid_ranks, (int)s->structure_ranks, (int)s->total_ranks);
   fprintf(fp, "}\n");
   PetscCheck(fclose(fp) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "option -output_dir %s: writing %s failed", dir, tmp);
   PetscCheck(rename(tmp, path) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "option -output_dir %s: cannot rename %s to %s", dir, tmp, path);

@@ -41,12 +41,6 @@ static void G3Elastic(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt 
     }
 }
 
-static PetscErrorCode Zero(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *u, void *ctx)
-{
-  for (PetscInt c = 0; c < Nc; ++c) u[c] = 0;
-  return 0;
-}
-
 PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfixed, const PetscInt fixed_faces[], MeshMotion *motion)
 {
   MeshMotion  mm;
@@ -81,7 +75,7 @@ PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfix
   data.n_dirichlet = nfixed + 1;
   for (PetscInt b = 0; b < nfixed; ++b) data.dirichlet_faces[b] = fixed_faces[b];
   data.dirichlet_faces[nfixed] = interface_face;
-  for (PetscInt b = 0; b <= nfixed; ++b) data.dirichlet_fn[b] = Zero;
+  for (PetscInt b = 0; b <= nfixed; ++b) data.dirichlet_fn[b] = FEMZero;
   PetscCall(DMCreateDS(mm->dm));
   PetscCall(FEMAddBoundaries(mm->dm, 0, &data, mm->datums, &mm->time));
   PetscCall(FEMFreeDofs(mm->dm, mm->dm_all, &mm->free_in_all));

@@ -8,16 +8,11 @@
 #include "scene.h"
 #include "fluid.h"
 #include "options.h"
+#include "fem.h"
 
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 
 enum { INLET_PRESSURE = FLUID_NUM_CONSTANTS, INLET_DURATION };
-
-static PetscErrorCode Zero(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *u, void *ctx)
-{
-  for (PetscInt c = 0; c < Nc; ++c) u[c] = 0;
-  return 0;
-}
 
 /* the overpressure on the inlet disc: the traction -P n = P e_z there */
 static void InletTraction(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], const PetscReal n[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
@@ -62,8 +57,8 @@ PetscErrorCode SceneCreate_Tube3D(Scene *scene)
   structure->n_dirichlet        = 2;
   structure->dirichlet_faces[0] = FACE_LEFT;
   structure->dirichlet_faces[1] = FACE_RIGHT;
-  structure->dirichlet_fn[0]    = Zero;
-  structure->dirichlet_fn[1]    = Zero;
+  structure->dirichlet_fn[0]    = FEMZero;
+  structure->dirichlet_fn[1]    = FEMZero;
   structure->n_traction         = 1;
   structure->traction_faces[0]  = FACE_TOP;    /* r = 0.6, traction-free */
   structure->interface_face     = FACE_BOTTOM; /* r = 0.5 */
