@@ -34,6 +34,7 @@ struct _p_Structure {
   Vec            eta_old_local, etadot_old_local; /* the previous step's, during a step */
   Vec            work_local, history, work, rhs;
   Vec            load, load_old; /* interface load B_s g of this and of the previous step */
+  Vec            tangent_at;     /* St. Venant-Kirchhoff: the local state of the factored tangent */
   PhysicsData    data;
   DirichletDatum datums[FSIOPT_MAX_BOUNDARIES];
   SolverCounts   counts;
@@ -176,6 +177,23 @@ static PetscErrorCode StructureProjectExact(Structure s)
   PetscFunctionReturn(0);
 }
 
+/* The tangent factored after a solve is the first Newton Jacobian of the next solve, which
+   starts from that solution: assembled and factored once, not twice. */
+static PetscErrorCode TangentJacobian(DM dm, Vec xlocal, Mat J, Mat P, void *ctx)
+{
+  Structure s    = (Structure)ctx;
+  PetscBool same = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  if (s->tangent_at) PetscCall(VecEqual(xlocal, s->tangent_at, &same));
+  if (same) PetscFunctionReturn(0);
+  PetscCall(DMPlexSNESComputeJacobianFEM(dm, xlocal, J, P, NULL));
+  ++s->counts.factorizations;
+  if (!s->tangent_at) PetscCall(VecDuplicate(xlocal, &s->tangent_at));
+  PetscCall(VecCopy(xlocal, s->tangent_at));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode StructureSetUp(Structure s, DM mesh, const PhysicsData *data, PetscReal t0, PetscReal dt)
 {
   PetscFunctionBeginUser;
@@ -193,6 +211,7 @@ PetscErrorCode StructureSetUp(Structure s, DM mesh, const PhysicsData *data, Pet
        the displacement leaves an error at the floor. */
     PetscCall(SNESSetTolerances(s->snes, 1e-12, 1e-10, 1e-8, 50, PETSC_DEFAULT));
     PetscCall(SNESSetFromOptions(s->snes));
+    PetscCall(DMSNESSetJacobianLocal(s->dm, TangentJacobian, s));
   }
   PetscCall(DMCreateGlobalVector(s->dm, &s->eta));
   PetscCall(PetscObjectSetName((PetscObject)s->eta, "displacement"));
@@ -397,6 +416,7 @@ PetscErrorCode StructureDestroy(Structure *structure)
   PetscCall(VecDestroy(&s->rhs));
   PetscCall(VecDestroy(&s->load));
   PetscCall(VecDestroy(&s->load_old));
+  PetscCall(VecDestroy(&s->tangent_at));
   PetscCall(VecDestroy(&s->eta_old_local));
   PetscCall(VecDestroy(&s->etadot_old_local));
   PetscCall(SNESDestroy(&s->snes));
