@@ -21,6 +21,9 @@ PetscErrorCode SceneCreate(const char name[], Scene *);
 PetscErrorCode SceneListNames(char names[], size_t len);
 PetscErrorCode SceneRequiredFaces(const PhysicsData *, PetscInt *n, PetscInt faces[]);
 PetscErrorCode SceneFinalize(void);
+/* A wall clamped on its LEFT and RIGHT face sets (its ends), traction-free on TOP, on the
+   fluid along BOTTOM: channel2d's and tube3d's. */
+PetscErrorCode SceneClampedWall(Scene *);
 
 /* The scenes (src/scenes/), one file each. */
 PetscErrorCode SceneCreate_MMSFluid(Scene *);

@@ -25,7 +25,7 @@ static void InletTraction(PetscInt dim, PetscInt Nf, PetscInt NfAux, const Petsc
 
 PetscErrorCode SceneCreate_Channel2D(Scene *scene)
 {
-  PhysicsData *fluid = &scene->fluid, *structure = &scene->structure;
+  PhysicsData *fluid = &scene->fluid;
   PetscReal    amplitude = 1e3, duration = 0.025;
 
   PetscFunctionBeginUser;
@@ -64,15 +64,8 @@ PetscErrorCode SceneCreate_Channel2D(Scene *scene)
   fluid->extra[0]              = amplitude;
   fluid->extra[1]              = duration;
 
-  scene->has_structure          = PETSC_TRUE;
-  structure->n_dirichlet        = 2;
-  structure->dirichlet_faces[0] = FACE_LEFT;
-  structure->dirichlet_faces[1] = FACE_RIGHT;
-  structure->dirichlet_fn[0]    = FEMZero;
-  structure->dirichlet_fn[1]    = FEMZero;
-  structure->n_traction         = 1;
-  structure->traction_faces[0]  = FACE_TOP; /* traction-free */
-  structure->interface_face     = FACE_BOTTOM;
+  /* the wall: ends clamped, top traction-free, bottom on the fluid */
+  PetscCall(SceneClampedWall(scene));
 
   /* the vertical displacement of the seed's three interface points */
   scene->n_probes = 3;

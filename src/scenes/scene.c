@@ -1,4 +1,5 @@
 #include "scene.h"
+#include "fem.h"
 
 static PetscFunctionList scene_list = NULL;
 
@@ -63,5 +64,22 @@ PetscErrorCode SceneFinalize(void)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscFunctionListDestroy(&scene_list));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SceneClampedWall(Scene *scene)
+{
+  PhysicsData *structure = &scene->structure;
+
+  PetscFunctionBeginUser;
+  scene->has_structure          = PETSC_TRUE;
+  structure->n_dirichlet        = 2;
+  structure->dirichlet_faces[0] = FACE_LEFT;
+  structure->dirichlet_faces[1] = FACE_RIGHT;
+  structure->dirichlet_fn[0]    = FEMZero;
+  structure->dirichlet_fn[1]    = FEMZero;
+  structure->n_traction         = 1;
+  structure->traction_faces[0]  = FACE_TOP; /* traction-free */
+  structure->interface_face     = FACE_BOTTOM;
   PetscFunctionReturn(0);
 }

@@ -8,7 +8,6 @@
 #include "scene.h"
 #include "fluid.h"
 #include "options.h"
-#include "fem.h"
 
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 
@@ -24,7 +23,7 @@ static void InletTraction(PetscInt dim, PetscInt Nf, PetscInt NfAux, const Petsc
 
 PetscErrorCode SceneCreate_Tube3D(Scene *scene)
 {
-  PhysicsData *fluid = &scene->fluid, *structure = &scene->structure;
+  PhysicsData *fluid = &scene->fluid;
   PetscReal    pressure = 1.333e4, duration = 0.003;
 
   PetscFunctionBeginUser;
@@ -53,15 +52,8 @@ PetscErrorCode SceneCreate_Tube3D(Scene *scene)
   fluid->extra[0]            = pressure;
   fluid->extra[1]            = duration;
 
-  scene->has_structure          = PETSC_TRUE;
-  structure->n_dirichlet        = 2;
-  structure->dirichlet_faces[0] = FACE_LEFT;
-  structure->dirichlet_faces[1] = FACE_RIGHT;
-  structure->dirichlet_fn[0]    = FEMZero;
-  structure->dirichlet_fn[1]    = FEMZero;
-  structure->n_traction         = 1;
-  structure->traction_faces[0]  = FACE_TOP;    /* r = 0.6, traction-free */
-  structure->interface_face     = FACE_BOTTOM; /* r = 0.5 */
+  /* the wall: ends clamped, outside (r = 0.6) traction-free, inside (r = 0.5) on the fluid */
+  PetscCall(SceneClampedWall(scene));
 
   /* the wall's displacement at (0.5, 0) a quarter, half and three quarters down the tube */
   scene->n_probes = 3;
