@@ -356,20 +356,7 @@ def write_table(run_dir, times, name, out):
 # ---------------------------------------------------------------------------- pressure
 def run_time_grid(args):
     """(t_start, dt) of our runs: -t_start / -dt in --extra, else the options file's."""
-    grid = {"t_start": 0.0, "dt": 1e-4}
-    try:
-        with open(os.path.join(ROOT, OPTIONS_FILE["linear"])) as f:
-            for line in f:
-                m = re.match(r"(t_start|dt):\s*([-+0-9.eE]+)\s*(#.*)?$", line)
-                if m:
-                    grid[m.group(1)] = float(m.group(2))
-    except OSError:
-        pass
-    extra = shlex.split(args.extra)
-    for i, opt in enumerate(extra[:-1]):
-        if opt in ("-t_start", "-dt"):
-            grid[opt[1:]] = float(extra[i + 1])
-    return grid["t_start"], grid["dt"]
+    return fr.run_time_grid(OPTIONS_FILE["linear"], shlex.split(args.extra))
 
 
 def default_times(t_start, t_final):
@@ -377,18 +364,7 @@ def default_times(t_start, t_final):
 
 
 def fields_interval(args, times):
-    """K of -write_fields_interval for the requested times: the gcd of their steps, leaving
-    out step 0 and the last step (always written); sys.exit on a time outside the run."""
-    t_start, dt = run_time_grid(args)
-    last = int(math.floor((args.t_final - t_start) / dt + 0.5))
-    steps = []
-    for t in times:
-        n = int(math.floor((t - t_start) / dt + 0.5))
-        if not 0 <= n <= last:
-            sys.exit("channel2d_figures: pressure: t = %g is outside the run [%g, %g]" % (t, t_start, args.t_final))
-        if 0 < n < last:
-            steps.append(n)
-    return math.gcd(*steps) if steps else last
+    return fr.fields_interval(*run_time_grid(args), args.t_final, times, "channel2d_figures: pressure")
 
 
 def pressure_variant(args):
@@ -413,11 +389,7 @@ def read_fields(run_dir, times):
     fluid x (current), fluid x0 (first written step: the reference when the run starts at
     rest), p, wall x, wall displacement."""
     import h5py   # only this subcommand needs it
-    path = os.path.join(run_dir, "fields.h5")
-    if not os.path.isfile(path):
-        extra = " (only fields.h5.partial: the run is unfinished or failed)" if os.path.isfile(path + ".partial") else \
-            " (a run without -write_fields?)"
-        raise FileNotFoundError("%s: no such file%s" % (fr.rel(path), extra))
+    path = fr.fields_file(run_dir)
     with h5py.File(path, "r") as f:
         if "fluid" not in f:
             raise ValueError("%s: no /fluid group" % fr.rel(path))
@@ -500,15 +472,9 @@ def write_pressure(run_dir, times, name, out, scale=1.0, color_scale="shared", c
         if color_scale != "shared":
             fig.colorbar(im, ax=ax, label="pressure (dyn/cm^2)", fraction=0.035, pad=0.015)
     axes[-1, 0].set_xlabel("Length (cm)")
-    if color_scale == "shared":
-        fig.colorbar(im, ax=axes[:, 0].tolist(), label="pressure (dyn/cm^2)", fraction=0.035, pad=0.015, aspect=30)
-    fig.suptitle("channel2d: fluid pressure on the deformed mesh, wall in grey (dashed: at rest)\n%s colour scale, "
-                 "displacement %s; %s" % ("shared" if color_scale == "shared" else "per-panel",
-                                          "true size" if scale == 1 else "x %g" % scale, fr.rel(run_dir)),
-                 fontsize="medium")
     base = os.path.join(out, name)
-    fig.savefig(base + ".png", dpi=150, bbox_inches="tight")
-    plt.close(fig)
+    finish_pressure_figure(fig, axes, im, color_scale, "channel2d: fluid pressure on the deformed mesh", scale, run_dir,
+                           base + ".png")
     with open(base + ".csv", "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["requested_t", "t", "step", "p_min", "p_max", "x_p_max", "max_wall_displacement", "max_wall_dy",
@@ -527,6 +493,18 @@ def write_pressure(run_dir, times, name, out, scale=1.0, color_scale="shared", c
         print(f.read().rstrip())
     print("written: %s, %s" % (fr.rel(base + ".png"), fr.rel(base + ".csv")))
     return notes
+
+
+def finish_pressure_figure(fig, axes, im, color_scale, heading, scale, run_dir, png):
+    """The shared colour bar (color_scale "shared"; per-panel bars are the caller's), the
+    title, and the PNG of a column of pressure panels."""
+    if color_scale == "shared":
+        fig.colorbar(im, ax=axes[:, 0].tolist(), label="pressure (dyn/cm$^2$)", fraction=0.035, pad=0.015, aspect=30)
+    fig.suptitle("%s, wall in grey (dashed: at rest)\n%s colour scale, displacement %s; %s"
+                 % (heading, "shared" if color_scale == "shared" else "per-panel",
+                    "true size" if scale == 1 else "x %g" % scale, fr.rel(run_dir)), fontsize="medium")
+    fig.savefig(png, dpi=150, bbox_inches="tight")
+    plt.close(fig)
 
 
 def pressure_figure(args, run_dir, name, times):

@@ -11,7 +11,7 @@ interrupted run is never taken for a complete one.
 A run that exits with the one-line `fsiopt: error: ...` message has failed for good; a run
 that dies otherwise (killed by a signal, binary missing or busy while being rebuilt, a
 crash without that message) is retried a few times after a short wait."""
-import csv, json, os, shlex, subprocess, sys, threading, time
+import csv, json, math, os, re, shlex, subprocess, sys, threading, time
 from concurrent.futures import ThreadPoolExecutor
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -207,3 +207,50 @@ def read_table(path):
     data = [[float(x) for x in r] for r in rows[1:] if r]
     cols = [[r[i] for r in data] for i in range(len(names))]
     return names, cols
+
+
+def run_time_grid(options_file, extra):
+    """(t_start, dt) of runs of options_file (relative to ROOT) with the extra options (a
+    list): -t_start / -dt among them, else the options file's, else 0 and 1e-4."""
+    grid = {"t_start": 0.0, "dt": 1e-4}
+    try:
+        with open(os.path.join(ROOT, options_file)) as f:
+            for line in f:
+                m = re.match(r"(t_start|dt):\s*([-+0-9.eE]+)\s*(#.*)?$", line)
+                if m:
+                    grid[m.group(1)] = float(m.group(2))
+    except OSError:
+        pass
+    for i, opt in enumerate(extra[:-1]):
+        if opt in ("-t_start", "-dt"):
+            grid[opt[1:]] = float(extra[i + 1])
+    return grid["t_start"], grid["dt"]
+
+
+def fields_interval(t_start, dt, t_final, times, who):
+    """K of -write_fields_interval that writes the steps of the given times: the gcd of their
+    steps, leaving out step 0 and the last step (always written). sys.exit on a time outside
+    the run; a note on stderr for a time off the step grid (its nearest step is written)."""
+    last = int(math.floor((t_final - t_start) / dt + 0.5))
+    steps = []
+    for t in times:
+        n = int(math.floor((t - t_start) / dt + 0.5))
+        if not 0 <= n <= last:
+            sys.exit("%s: t = %g is outside the run [%g, %g]" % (who, t, t_start, t_final))
+        if abs(t_start + n * dt - t) > 1e-6 * dt:
+            print("%s: note: t = %g is not a multiple of dt = %g from t_start = %g; step %d is drawn"
+                  % (who, t, dt, t_start, n), file=sys.stderr)
+        if 0 < n < last:
+            steps.append(n)
+    return math.gcd(*steps) if steps else max(last, 1)
+
+
+def fields_file(run_dir):
+    """run_dir/fields.h5, or FileNotFoundError saying why it is missing."""
+    path = os.path.join(run_dir, "fields.h5")
+    if not os.path.isfile(path):
+        extra = " (only fields.h5.partial: the run is unfinished or failed)" if os.path.isfile(path + ".partial") else \
+            " (a run without -write_fields?)"
+        raise FileNotFoundError("%s: no such file%s" % (rel(path), extra))
+    return path
+

@@ -51,6 +51,7 @@ import numpy as np
 
 sys.dont_write_bytecode = True   # no scripts/__pycache__ next to the sources
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import channel2d_figures as C   # noqa: E402
 import fsiopt_runs as fr   # noqa: E402
 
 ROOT = fr.ROOT
@@ -65,19 +66,7 @@ REL_TOL = 1e-6
 # ---------------------------------------------------------------------------- the run
 def run_time_grid(extra):
     """(t_start, dt) of our runs: -t_start / -dt in the extra options, else the options file's."""
-    grid = {"t_start": 0.0, "dt": 1e-4}
-    try:
-        with open(os.path.join(ROOT, OPTIONS_FILE)) as f:
-            for line in f:
-                m = re.match(r"(t_start|dt):\s*([-+0-9.eE]+)\s*(#.*)?$", line)
-                if m:
-                    grid[m.group(1)] = float(m.group(2))
-    except OSError:
-        pass
-    for i, opt in enumerate(extra[:-1]):
-        if opt in ("-t_start", "-dt"):
-            grid[opt[1:]] = float(extra[i + 1])
-    return grid["t_start"], grid["dt"]
+    return fr.run_time_grid(OPTIONS_FILE, extra)
 
 
 def run_times(args):
@@ -93,19 +82,7 @@ def run_times(args):
 
 
 def fields_interval(args, times):
-    """K of -write_fields_interval: the gcd of the times' steps, leaving out step 0 and the last
-    step (always written)."""
-    t_start, dt = run_time_grid(shlex.split(args.extra))
-    last = int(math.floor((args.t_final - t_start) / dt + 0.5))
-    steps = []
-    for t in times:
-        n = int(math.floor((t - t_start) / dt + 0.5))
-        if abs(t_start + n * dt - t) > 1e-6 * dt:
-            print("tube3d_figures: note: t = %g is not a multiple of dt = %g from t_start = %g; step %d is drawn"
-                  % (t, dt, t_start, n), file=sys.stderr)
-        if 0 < n < last:
-            steps.append(n)
-    return math.gcd(*steps) if steps else max(last, 1)
+    return fr.fields_interval(*run_time_grid(shlex.split(args.extra)), args.t_final, times, "tube3d_figures")
 
 
 def tube_variant(args, times):
@@ -136,11 +113,7 @@ def read_fields(run_dir, times):
     and displacement. The fluid's reference is its first written step (the run starts at rest),
     the wall's is geometry - displacement."""
     import h5py
-    path = os.path.join(run_dir, "fields.h5")
-    if not os.path.isfile(path):
-        extra = " (only fields.h5.partial: the run is unfinished or failed)" if os.path.isfile(path + ".partial") else \
-            " (a run without -write_fields?)"
-        raise FileNotFoundError("%s: no such file%s" % (fr.rel(path), extra))
+    path = fr.fields_file(run_dir)
     with h5py.File(path, "r") as f:
         for part in ("fluid", "structure"):
             if part not in f:
@@ -357,14 +330,7 @@ def plot_snapshots(snaps, topo, wall_topo, x_ref, wall_ref, tol, run_dir, png, s
         if color_scale != "shared":
             fig.colorbar(im, ax=ax, label="pressure (dyn/cm$^2$)", fraction=0.03, pad=0.015)
     axes[-1, 0].set_xlabel("z (cm)")
-    if color_scale == "shared":
-        fig.colorbar(im, ax=axes[:, 0].tolist(), label="pressure (dyn/cm$^2$)", fraction=0.03, pad=0.015, aspect=30)
-    fig.suptitle("tube3d: fluid pressure on the cut y = 0, wall in grey (dashed: at rest)\n%s colour scale, "
-                 "displacement %s; %s" % ("shared" if color_scale == "shared" else "per-panel",
-                                          "true size" if scale == 1 else "x %g" % scale, fr.rel(run_dir)),
-                 fontsize="medium")
-    fig.savefig(png, dpi=150, bbox_inches="tight")
-    plt.close(fig)
+    C.finish_pressure_figure(fig, axes, im, color_scale, "tube3d: fluid pressure on the cut y = 0", scale, run_dir, png)
 
 
 def write_wave_csv(path, snaps, waves, tol):
