@@ -202,7 +202,7 @@ PetscErrorCode FluidALEBeginStep(Fluid f)
 static PetscErrorCode CellCornersSetUp(Fluid f)
 {
   PetscSection section;
-  PetscInt     cStart, cEnd, vStart, vEnd, eStart, eEnd, dim, n = 0, cap = 0;
+  PetscInt     cStart, cEnd, vStart, vEnd, eStart, eEnd, dim, n = 0;
 
   PetscFunctionBeginUser;
   PetscCall(DMGetDimension(f->dm, &dim));
@@ -210,6 +210,7 @@ static PetscErrorCode CellCornersSetUp(Fluid f)
   PetscCall(DMPlexGetHeightStratum(f->dm, 0, &cStart, &cEnd));
   PetscCall(DMPlexGetDepthStratum(f->dm, 0, &vStart, &vEnd));
   PetscCall(DMPlexGetDepthStratum(f->dm, 1, &eStart, &eEnd));
+  PetscCall(PetscMalloc1((cEnd - cStart) * 8 * 5, &f->corners)); /* at most 8 corners a cell */
   for (PetscInt c = cStart; c < cEnd; ++c) {
     PetscInt *closure = NULL, nclosure, verts[8], edges[12][2], nv = 0, ne = 0;
 
@@ -226,14 +227,6 @@ static PetscErrorCode CellCornersSetUp(Fluid f)
       }
     }
     PetscCall(DMPlexRestoreTransitiveClosure(f->dm, c, PETSC_TRUE, &nclosure, &closure));
-    if (n + nv > cap) {
-      PetscInt *grown;
-      cap = PetscMax(2 * cap, n + 8 * (cEnd - cStart) + 8);
-      PetscCall(PetscMalloc1(cap * 5, &grown));
-      if (n) PetscCall(PetscArraycpy(grown, f->corners, n * 5));
-      PetscCall(PetscFree(f->corners));
-      f->corners = grown;
-    }
     for (PetscInt i = 0; i < nv; ++i) {
       PetscInt *corner = &f->corners[n * 5], k = 0;
       corner[0]        = c;

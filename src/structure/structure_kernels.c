@@ -30,6 +30,22 @@ void StructureF1LinearStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const Pe
 }
 
 
+/* F = I + G and the second Piola stress S = lambda tr(E) I + 2 mu_s E, E = (F^T F - I)/2 */
+static void SVKDeformation(PetscInt dim, PetscScalar mu, PetscScalar lambda, const PetscScalar G[], PetscScalar F[], PetscScalar S[])
+{
+  PetscScalar trace = 0;
+
+  for (PetscInt i = 0; i < dim * dim; ++i) F[i] = G[i] + (i % (dim + 1) == 0 ? 1.0 : 0.0);
+  for (PetscInt k = 0; k < dim; ++k) /* S = 2 mu E for now */
+    for (PetscInt d = 0; d < dim; ++d) {
+      PetscScalar ftf = 0;
+      for (PetscInt a = 0; a < dim; ++a) ftf += F[a * dim + k] * F[a * dim + d];
+      S[k * dim + d] = mu * (ftf - (k == d ? 1.0 : 0.0));
+    }
+  for (PetscInt d = 0; d < dim; ++d) trace += S[d * dim + d] / (2 * mu);
+  for (PetscInt d = 0; d < dim; ++d) S[d * dim + d] += lambda * trace;
+}
+
 void StructureStress(StructureModel model, PetscInt dim, PetscReal mu, PetscReal lambda, const PetscScalar G[], PetscScalar P[])
 {
   PetscScalar F[9], S[9], trace = 0;
@@ -40,15 +56,7 @@ void StructureStress(StructureModel model, PetscInt dim, PetscReal mu, PetscReal
       for (PetscInt d = 0; d < dim; ++d) P[c * dim + d] = mu * (G[c * dim + d] + G[d * dim + c]) + (c == d ? lambda * trace : 0.0);
     return;
   }
-  for (PetscInt i = 0; i < dim * dim; ++i) F[i] = G[i] + (i % (dim + 1) == 0 ? 1.0 : 0.0);
-  for (PetscInt k = 0; k < dim; ++k) /* S = 2 mu E for now, E = (F^T F - I)/2 */
-    for (PetscInt d = 0; d < dim; ++d) {
-      PetscScalar ftf = 0;
-      for (PetscInt a = 0; a < dim; ++a) ftf += F[a * dim + k] * F[a * dim + d];
-      S[k * dim + d] = mu * (ftf - (k == d ? 1.0 : 0.0));
-    }
-  for (PetscInt d = 0; d < dim; ++d) trace += S[d * dim + d] / (2 * mu);
-  for (PetscInt d = 0; d < dim; ++d) S[d * dim + d] += lambda * trace;
+  SVKDeformation(dim, mu, lambda, G, F, S);
   for (PetscInt c = 0; c < dim; ++c)
     for (PetscInt d = 0; d < dim; ++d) {
       P[c * dim + d] = 0;
@@ -88,21 +96,14 @@ void StructureG3SVK(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uO
 {
   const PetscScalar  op = constants[STRUCTURE_OPERATOR], mu = constants[STRUCTURE_MU], lambda = constants[STRUCTURE_LAMBDA];
   const PetscScalar *G  = &u_x[uOff_x[0]];
-  PetscScalar        F[9], S[9], FFt[9], trace = 0;
+  PetscScalar        F[9], S[9], FFt[9];
 
-  for (PetscInt i = 0; i < dim * dim; ++i) F[i] = G[i] + (i % (dim + 1) == 0 ? 1.0 : 0.0);
+  SVKDeformation(dim, mu, lambda, G, F, S);
   for (PetscInt k = 0; k < dim; ++k)
     for (PetscInt d = 0; d < dim; ++d) {
-      PetscScalar ftf = 0, fft = 0;
-      for (PetscInt a = 0; a < dim; ++a) {
-        ftf += F[a * dim + k] * F[a * dim + d];
-        fft += F[k * dim + a] * F[d * dim + a];
-      }
-      S[k * dim + d]   = mu * (ftf - (k == d ? 1.0 : 0.0));
-      FFt[k * dim + d] = fft;
+      FFt[k * dim + d] = 0;
+      for (PetscInt a = 0; a < dim; ++a) FFt[k * dim + d] += F[k * dim + a] * F[d * dim + a];
     }
-  for (PetscInt d = 0; d < dim; ++d) trace += S[d * dim + d] / (2 * mu);
-  for (PetscInt d = 0; d < dim; ++d) S[d * dim + d] += lambda * trace;
   for (PetscInt c = 0; c < dim; ++c)
     for (PetscInt e = 0; e < dim; ++e)
       for (PetscInt d = 0; d < dim; ++d)
