@@ -41,6 +41,9 @@ PetscErrorCode FluidGetMeshDisplacement(Fluid, Vec *displacement);
 PetscErrorCode FluidErrors(Fluid, ErrorTable *);
 PetscErrorCode FluidGetCounts(Fluid, SolverCounts *);
 PetscErrorCode FluidGetInfo(Fluid, PetscInt *dim, PetscInt *ndofs);
+/* The force of the fluid on the scene's body faces (PhysicsData.force_faces) at the current
+   state, on every fluid rank (fluid_forces.c). */
+PetscErrorCode FluidBodyForce(Fluid, PetscReal force[3]);
 PetscErrorCode FluidDestroy(Fluid *);
 
 /* Pointwise kernels (fluid_kernels.c). */

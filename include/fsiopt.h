@@ -44,6 +44,8 @@ typedef struct {
   FieldFn        mesh_displacement;                       /* fluid: a prescribed mesh motion d(X, t), NULL: none */
   PetscInt       n_fixed_mesh_faces;                      /* fluid: > 0 makes the mesh follow the interface, */
   PetscInt       fixed_mesh_faces[FSIOPT_MAX_BOUNDARIES];  /* these face sets staying put */
+  PetscInt       n_force_faces;                           /* fluid: face sets of the body whose force (drag, lift) */
+  PetscInt       force_faces[FSIOPT_MAX_BOUNDARIES];      /* is recorded each step */
   PetscInt       n_extra;                                 /* scene constants appended after the solver's */
   PetscScalar    extra[FSIOPT_MAX_EXTRA];
 } PhysicsData;

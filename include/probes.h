@@ -1,13 +1,31 @@
 #ifndef FSIOPT_PROBES_H
 #define FSIOPT_PROBES_H
 #include "fsiopt.h"
-#include "interface.h"
 
-/* probes.csv: t, then the structure displacement (each component) at interface points,
-   a PartialFile until ProbesClose(complete). */
+/* probes.csv: t, the displacement (each component) at mesh nodes, then scalar columns the
+   caller computes (a body's drag and lift); a PartialFile until ProbesClose(complete).
+   Rank 0 keeps the series for the quantities of summary.json. */
 typedef struct _p_Probes *Probes;
 
-PetscErrorCode ProbesCreate(MPI_Comm, Interface, PetscInt n, const PetscReal points[][3], const char dir[], Probes *);
-PetscErrorCode ProbesRecord(Probes, PetscReal t, Vec interface_displacement);
+#define FSIOPT_MAX_QUANTITIES 16
+/* Over the window of the run's last `window` seconds: the final value, and mean = (max +
+   min)/2, amplitude = (max - min)/2 and the frequency of the upward crossings of the mean
+   (Turek & Hron's definitions for periodic signals; negative: does not apply). */
+typedef struct {
+  PetscInt  n;
+  PetscReal window;
+  char      name[FSIOPT_MAX_QUANTITIES][32];
+  PetscReal final[FSIOPT_MAX_QUANTITIES], mean[FSIOPT_MAX_QUANTITIES], amplitude[FSIOPT_MAX_QUANTITIES], frequency[FSIOPT_MAX_QUANTITIES];
+} QuantityTable;
+
+/* `nodes` local nodes with coordinates coords[nodes*dim], whose displacements are the blocks
+   of size dim of the vectors ProbesRecord gets (NULL when there are no points). */
+PetscErrorCode ProbesCreate(MPI_Comm, PetscInt dim, PetscInt nodes, const PetscReal coords[], PetscInt npoints, const PetscReal points[][3], PetscInt nextra, const char *const extra_names[], const char dir[], Probes *);
+PetscErrorCode ProbesRecord(Probes, PetscReal t, Vec displacement, const PetscReal extra[]);
+/* The quantities of every column, on rank 0 (window from -quantities_window). */
+PetscErrorCode ProbesQuantities(Probes, QuantityTable *);
 PetscErrorCode ProbesClose(Probes *, PetscBool complete);
+
+/* quantities.c: the analysis of one series */
+PetscErrorCode QuantityAnalyze(PetscInt n, const PetscReal t[], const PetscReal v[], PetscReal window, PetscReal *final, PetscReal *mean, PetscReal *amplitude, PetscReal *frequency);
 #endif

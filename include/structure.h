@@ -28,6 +28,10 @@ PetscErrorCode StructureVelocityLocal(Structure, StructureVelocityMeasure, Vec v
 PetscReal      StructureVelocityCoefficient(Structure, StructureVelocityMeasure);
 PetscErrorCode StructureLinearSolve(Structure, Vec rhs, Vec x, PetscBool transpose);
 PetscErrorCode StructureGetDM(Structure, DM *);
+/* Probes on a structure alone: a vector of the displacement at every owned node (blocks of
+   dim) and the coordinates of those nodes that are mesh vertices (others: PETSC_MAX_REAL). */
+PetscErrorCode StructureCreateNodeVector(Structure, Vec *, PetscInt *nnodes, PetscReal **coords);
+PetscErrorCode StructureGetNodeDisplacement(Structure, Vec);
 /* Access to the velocity (all dofs, local) for changing it; Restore updates the ghosts. */
 PetscErrorCode StructureGetVelocityLocal(Structure, Vec *);
 PetscErrorCode StructureGetDisplacementLocal(Structure, Vec *); /* eta^n with its boundary values; do not modify */

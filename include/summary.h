@@ -1,6 +1,7 @@
 #ifndef FSIOPT_SUMMARY_H
 #define FSIOPT_SUMMARY_H
 #include "fsiopt.h"
+#include "probes.h"
 
 /* Everything summary.json reports (DESIGN §6). Negative values mean "does not apply"
    and are written as null. */
@@ -14,6 +15,7 @@ typedef struct {
   PetscReal        work_factor, max_interface_jump;
   PetscBool        converged, has_fluid, has_structure;
   ErrorTable       errors;
+  QuantityTable    quantities;
   PetscMPIInt      fluid_ranks, structure_ranks, total_ranks;
 } RunSummary;
 

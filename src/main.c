@@ -22,7 +22,7 @@ static const char help[] = "fsiopt: fluid-structure interaction by optimization-
 
 static const char *const coupling_methods[] = {"opt", "dn", "aitken", "iqnils"};
 
-static PetscErrorCode RunParamsSetFromOptions(RunParams *p, PetscBool *scene_given)
+static PetscErrorCode RunParamsSetFromOptions(RunParams *p)
 {
   char     names[256];
   PetscInt coupling = 0;
@@ -34,7 +34,7 @@ static PetscErrorCode RunParamsSetFromOptions(RunParams *p, PetscBool *scene_giv
   p->t_start = 0.0;
   p->t_final = 0.1;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "fsiopt run options", "fsiopt");
-  PetscCall(PetscOptionsString("-scene", names, NULL, p->scene, p->scene, sizeof(p->scene), scene_given));
+  PetscCall(PetscOptionsString("-scene", names, NULL, p->scene, p->scene, sizeof(p->scene), NULL));
   PetscCall(PetscOptionsEList("-coupling", "Coupling method (for scenes with fluid and structure)", NULL, coupling_methods, 4, coupling_methods[0], &coupling, NULL));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-refine", "uniform refinements of every mesh", 0, 10, &p->refine));
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-dt", "time step", &p->dt));
@@ -92,6 +92,46 @@ static PetscErrorCode ShareWithAll(void *buffer, size_t bytes, PetscMPIInt root)
   PetscFunctionReturn(0);
 }
 
+/* probes.csv: the displacement at the scene's probe points (on the interface of a coupled
+   run, in the structure of a structure alone) and the force on the fluid's body faces. */
+static PetscErrorCode ProbesSetUp(const Scene *scene, PetscInt dim, Structure structure, Interface itf, const char dir[], Probes *probes, Vec *displacement)
+{
+  const char *force_names[] = {"drag", "lift", "force_z"};
+  PetscInt    nforce = scene->has_fluid && scene->fluid.n_force_faces ? dim : 0, nodes = 0;
+  PetscReal  *coords = NULL;
+
+  PetscFunctionBeginUser;
+  *probes       = NULL;
+  *displacement = NULL;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &dim, 1, MPIU_INT, MPI_MAX, PETSC_COMM_WORLD));
+  if (!scene->n_probes && !nforce) PetscFunctionReturn(0);
+  if (scene->n_probes && itf) {
+    const PetscReal *interface_coords;
+    PetscCall(InterfaceCreateVector(itf, displacement));
+    PetscCall(InterfaceGetFluidNodes(itf, &nodes, NULL, &interface_coords));
+    PetscCall(PetscMalloc1(nodes * dim, &coords));
+    PetscCall(PetscArraycpy(coords, interface_coords, nodes * dim));
+  } else if (scene->n_probes && structure && !scene->has_fluid) PetscCall(StructureCreateNodeVector(structure, displacement, &nodes, &coords));
+  PetscCall(ProbesCreate(PETSC_COMM_WORLD, dim, nodes, coords, *displacement ? scene->n_probes : 0, scene->probes, nforce, force_names, dir, probes));
+  PetscCall(PetscFree(coords));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode RecordProbes(Probes probes, PetscReal t, const Scene *scene, Fluid fluid, Structure structure, CouplingProblem problem, Vec displacement)
+{
+  PetscReal force[3] = {0, 0, 0};
+
+  PetscFunctionBeginUser;
+  if (!probes) PetscFunctionReturn(0);
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_PROBES, 0, 0, 0, 0));
+  if (fluid && scene->fluid.n_force_faces) PetscCall(FluidBodyForce(fluid, force));
+  if (displacement && problem) PetscCall(CouplingProblemInterfaceDisplacement(problem, displacement));
+  else if (displacement) PetscCall(StructureGetNodeDisplacement(structure, displacement));
+  PetscCall(ProbesRecord(probes, t, displacement, force));
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_PROBES, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode Run(void)
 {
   RunParams       params;
@@ -104,7 +144,7 @@ static PetscErrorCode Run(void)
   Coupling        coupling  = NULL;
   Probes          probes    = NULL;
   FieldWriter     fields    = NULL;
-  Vec             interface_displacement = NULL;
+  Vec             probed_displacement = NULL;
   PetscBool       scene_given, help, coupled;
   PetscLogDouble  start, end;
   PetscMPIInt     size;
@@ -121,7 +161,7 @@ static PetscErrorCode Run(void)
   PetscCall(PetscMemzero(&fluid_errors, sizeof(fluid_errors)));
   PetscCall(PetscMemzero(&structure_errors, sizeof(structure_errors)));
   PetscCall(PetscOptionsHasHelp(NULL, &help));
-  PetscCall(RunParamsSetFromOptions(&params, &scene_given));
+  PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", params.scene, sizeof(params.scene), &scene_given));
   if (!scene_given) {
     char names[256];
     PetscCall(SceneListNames(names, sizeof(names)));
@@ -131,7 +171,9 @@ static PetscErrorCode Run(void)
   }
 
   PetscCall(PetscLogStagePush(FSIOPT_STAGE_SETUP));
+  /* the scene first: it sets its defaults, -dt and -t_final among them */
   PetscCall(SceneCreate(params.scene, &scene));
+  PetscCall(RunParamsSetFromOptions(&params));
   coupled = scene.has_fluid && scene.has_structure;
   PetscCall(SplitRanks(coupled, &fluid_comm, &structure_comm, &summary.fluid_ranks, &summary.structure_ranks));
   PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &summary.total_ranks));
@@ -166,14 +208,10 @@ static PetscErrorCode Run(void)
     PetscCall(InterfaceCreate(PETSC_COMM_WORLD, fluid_mesh, scene.fluid.interface_face, structure_mesh, scene.structure.interface_face, &itf));
     PetscCall(CouplingProblemCreate(PETSC_COMM_WORLD, fluid, structure, itf, &scene.fluid, &problem));
     PetscCall(CouplingCreate(params.coupling, problem, params.output_dir, params.t_start, &coupling));
-    if (scene.n_probes) {
-      PetscCall(ProbesCreate(PETSC_COMM_WORLD, itf, scene.n_probes, scene.probes, params.output_dir, &probes));
-      PetscCall(InterfaceCreateVector(itf, &interface_displacement));
-      PetscCall(CouplingProblemInterfaceDisplacement(problem, interface_displacement));
-      PetscCall(ProbesRecord(probes, params.t_start, interface_displacement));
-    }
     PetscCall(PetscLogEventEnd(FSIOPT_EVENT_INTERFACE, 0, 0, 0, 0));
   }
+  PetscCall(ProbesSetUp(&scene, summary.dim, structure, itf, params.output_dir, &probes, &probed_displacement));
+  PetscCall(RecordProbes(probes, params.t_start, &scene, fluid, structure, problem, probed_displacement));
   PetscCall(FieldWriterCreate(PETSC_COMM_WORLD, &params, fluid, structure, &fields));
   PetscCall(FieldWriterWrite(fields, 0));
   PetscCall(DMDestroy(&fluid_mesh));
@@ -188,23 +226,19 @@ static PetscErrorCode Run(void)
   for (PetscInt step = 1; step <= params.steps; ++step) {
     if (coupling) {
       PetscCall(CouplingStep(coupling, step));
-      if (probes) {
-        PetscCall(CouplingProblemInterfaceDisplacement(problem, interface_displacement));
-        PetscCall(ProbesRecord(probes, params.t_start + step * params.dt, interface_displacement));
+    } else {
+      if (fluid) {
+        PetscCall(PetscLogStagePush(FSIOPT_STAGE_FLUID));
+        PetscCall(FluidStep(fluid, step));
+        PetscCall(PetscLogStagePop());
       }
-      PetscCall(FieldWriterWrite(fields, step));
-      continue;
+      if (structure) {
+        PetscCall(PetscLogStagePush(FSIOPT_STAGE_STRUCTURE));
+        PetscCall(StructureStep(structure, step));
+        PetscCall(PetscLogStagePop());
+      }
     }
-    if (fluid) {
-      PetscCall(PetscLogStagePush(FSIOPT_STAGE_FLUID));
-      PetscCall(FluidStep(fluid, step));
-      PetscCall(PetscLogStagePop());
-    }
-    if (structure) {
-      PetscCall(PetscLogStagePush(FSIOPT_STAGE_STRUCTURE));
-      PetscCall(StructureStep(structure, step));
-      PetscCall(PetscLogStagePop());
-    }
+    PetscCall(RecordProbes(probes, params.t_start + step * params.dt, &scene, fluid, structure, problem, probed_displacement));
     PetscCall(FieldWriterWrite(fields, step));
   }
 
@@ -234,7 +268,6 @@ static PetscErrorCode Run(void)
     PetscInt      fluid_solves = summary.fluid.nonlinear_solves;
 
     PetscCall(CouplingFinish(coupling));
-    PetscCall(ProbesClose(&probes, PETSC_TRUE));
     PetscCall(CouplingGetStats(coupling, &stats));
     PetscCall(CouplingGetOptimizer(coupling, &summary.optimizer));
     PetscCall(ShareWithAll(&fluid_solves, sizeof(fluid_solves), 0));
@@ -244,6 +277,10 @@ static PetscErrorCode Run(void)
     summary.stalled_steps       = stats.stalled_steps;
     /* seed eq. 6.5: a forward run with the traction known needs one fluid solve per step */
     summary.work_factor = (PetscReal)(fluid_solves + 2 * stats.linearized_pairs) / params.steps;
+  }
+  if (probes) {
+    PetscCall(ProbesQuantities(probes, &summary.quantities));
+    PetscCall(ProbesClose(&probes, PETSC_TRUE));
   }
   PetscCall(PetscTime(&end));
   summary.params        = &params;
@@ -265,7 +302,7 @@ cleanup:
   PetscCall(CouplingDestroy(&coupling));
   PetscCall(ProbesClose(&probes, PETSC_FALSE));
   PetscCall(FieldWriterDestroy(&fields));
-  PetscCall(VecDestroy(&interface_displacement));
+  PetscCall(VecDestroy(&probed_displacement));
   PetscCall(CouplingProblemDestroy(&problem));
   PetscCall(InterfaceDestroy(&itf));
   PetscCall(FluidDestroy(&fluid));

@@ -43,6 +43,7 @@ PetscErrorCode FluidSetFromOptions(Fluid f)
   PetscCall(PetscOptionsBool("-fluid_backflow_stabilization", "Add -1/2 rho ((u-z).n)_- (u, v) on the traction boundaries, against backflow instabilities", NULL, f->backflow, &f->backflow, NULL));
   f->n_backflow_faces = FSIOPT_MAX_BOUNDARIES;
   PetscCall(PetscOptionsIntArray("-fluid_backflow_faces", "Face sets that get the backflow stabilization (default: every traction face)", NULL, f->backflow_faces, &f->n_backflow_faces, &f->backflow_faces_given));
+  PetscCall(PetscOptionsBool("-fluid_steady", "Drop the time derivative: every step solves the steady equations with the data of its time (a continuation in the data)", NULL, f->steady, &f->steady, NULL));
   PetscCall(PetscOptionsBool("-fluid_extrapolate", "start each step's nonlinear solve from 2 u^{n-1} - u^{n-2} instead of u^{n-1}", NULL, f->extrapolate, &f->extrapolate, NULL));
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-fluid_rhs_rtol", "nonlinear solves also stop when ||F|| <= rhs_rtol ||rhs||, a relative accuracy of the state that does not depend on how good the initial guess was", &f->rhs_rtol));
   PetscCall(PetscOptionsBool("-fluid_initial_projection", "Start from the Stokes projection of the scene's exact solution (discretely divergence free) instead of its interpolant", NULL, f->initial_projection, &f->initial_projection, NULL));
@@ -82,18 +83,19 @@ static PetscErrorCode FluidSetConstantsFull(Fluid f, PetscReal mass, PetscReal o
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode FluidSetUpWeakForm(Fluid f)
+/* Fields and volume kernels on dm (the solver's DM, or an unconstrained copy of it). */
+PetscErrorCode FluidSetVolumeWeakForm(Fluid f, DM dm)
 {
   PetscDS       ds;
   PetscWeakForm wf;
   PetscFE       velocity;
 
   PetscFunctionBeginUser;
-  PetscCall(FEMCreateField(f->dm, 0, "velocity", -1, f->velocity_degree, NULL));
-  PetscCall(DMGetField(f->dm, 0, NULL, (PetscObject *)&velocity));
-  PetscCall(FEMCreateField(f->dm, 1, "pressure", 1, f->pressure_degree, velocity));
-  PetscCall(DMCreateDS(f->dm));
-  PetscCall(DMGetDS(f->dm, &ds));
+  PetscCall(FEMCreateField(dm, 0, "velocity", -1, f->velocity_degree, NULL));
+  PetscCall(DMGetField(dm, 0, NULL, (PetscObject *)&velocity));
+  PetscCall(FEMCreateField(dm, 1, "pressure", 1, f->pressure_degree, velocity));
+  PetscCall(DMCreateDS(dm));
+  PetscCall(DMGetDS(dm, &ds));
   if (f->model == FLUID_NAVIER_STOKES) {
     PetscCall(PetscDSSetResidual(ds, 0, FluidF0MassConvection, FluidF1Stress));
     PetscCall(PetscDSSetJacobian(ds, 0, 0, FluidG0MassConvection, FluidG1Convection, NULL, FluidG3Viscous));
@@ -107,6 +109,16 @@ static PetscErrorCode FluidSetUpWeakForm(Fluid f)
   PetscCall(PetscDSSetJacobian(ds, 1, 0, NULL, FluidG1Continuity, NULL, NULL));
   PetscCall(PetscDSGetWeakForm(ds, &wf));
   if (f->data.load_value_kernel || f->data.load_stress_kernel) PetscCall(PetscWeakFormAddResidual(wf, NULL, 0, 0, 0, f->data.load_value_kernel, f->data.load_stress_kernel));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode FluidSetUpWeakForm(Fluid f)
+{
+  PetscDS ds;
+
+  PetscFunctionBeginUser;
+  PetscCall(FluidSetVolumeWeakForm(f, f->dm));
+  PetscCall(DMGetDS(f->dm, &ds));
   PetscCall(FEMAddBoundaries(f->dm, 0, &f->data, f->datums, &f->time));
   if (f->backflow && f->model == FLUID_NAVIER_STOKES) {
     DMLabel label;
@@ -223,7 +235,9 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
   PetscCall(VecDuplicate(f->x, &f->x_start));
   PetscCall(VecDuplicate(f->x, &f->x_before));
   PetscCall(DMCreateLocalVector(f->dm, &f->xlocal_old));
+  PetscCheck(!(f->steady && f->moving), f->comm, PETSC_ERR_ARG_INCOMP, "option -fluid_steady: a moving mesh needs the time derivative; expected a fixed fluid domain");
   if (f->moving) PetscCall(FluidALESetUp(f));
+  PetscCall(FluidForcesSetUp(f));
   if (data->exact[0] && data->exact[1]) {
     FieldFn exact[2] = {data->exact[0], data->exact[1]};
     PetscCall(DMProjectFunction(f->dm, t0, exact, NULL, INSERT_ALL_VALUES, f->x));
@@ -251,6 +265,7 @@ PetscErrorCode FluidBeginStep(Fluid f)
   /* Old-domain mass term, evaluated before the time and the mesh move on. */
   PetscCall(FEMGlobalToLocal(f->dm, f->x, f->xlocal_old));
   if (f->moving) PetscCall(FluidALEBeginStep(f));
+  else if (f->steady) PetscCall(VecZeroEntries(f->history));
   else {
     PetscCall(FluidSetConstants(f, f->rho / f->dt, 0.0, 0.0));
     PetscCall(FEMResidual(f->dm, f->xlocal_old, f->history));
@@ -272,7 +287,7 @@ PetscErrorCode FluidBeginStep(Fluid f)
     PetscCall(VecDestroy(&d));
   }
   /* on a moving mesh the mass acts through M(Omega^{n-1}) (fluid_ale.c) */
-  PetscCall(FluidSetConstants(f, f->moving ? 0.0 : f->rho / f->dt, 1.0, 1.0));
+  PetscCall(FluidSetConstants(f, f->moving || f->steady ? 0.0 : f->rho / f->dt, 1.0, 1.0));
   PetscFunctionReturn(0);
 }
 
@@ -418,6 +433,7 @@ PetscErrorCode FluidDestroy(Fluid *fluid)
   PetscCall(VecDestroy(&f->x_start));
   PetscCall(VecDestroy(&f->x_before));
   PetscCall(FluidALEDestroy(f));
+  PetscCall(FluidForcesDestroy(f));
   PetscCall(FluidDirichletDestroy(f));
   PetscCall(VecDestroy(&f->xlocal_old));
   PetscCall(SNESDestroy(&f->snes));

@@ -153,25 +153,12 @@ PetscErrorCode FluidALESetUp(Fluid f)
   PetscCall(VecZeroEntries(f->displacement));
   PetscCall(VecZeroEntries(f->displacement_old));
   /* the old-domain mass on every dof, boundary values included */
-  PetscCall(DMClone(f->dm, &f->dm_all));
-  /* elements of its own: PETSc 3.18 caches cell geometry by quadrature on the cell IS
-     that clones share, and this copy lives on the previous domain */
-  PetscCall(FEMCreateField(f->dm_all, 0, "velocity", -1, f->velocity_degree, NULL));
-  {
-    PetscObject v;
-    PetscCall(DMGetField(f->dm_all, 0, NULL, &v));
-    PetscCall(FEMCreateField(f->dm_all, 1, "pressure", 1, f->pressure_degree, (PetscFE)v));
-  }
-  PetscCall(DMCreateDS(f->dm_all));
+  PetscCall(FluidUnconstrainedSetUp(f));
   PetscCall(DMCreateMatrix(f->dm_all, &f->mass_old_all));
   PetscCall(MatAssemblyBegin(f->mass_old_all, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(f->mass_old_all, MAT_FINAL_ASSEMBLY));
   PetscCall(FEMFreeDofs(f->dm, f->dm_all, &f->free_in_all));
   PetscCall(MatCreateSubMatrix(f->mass_old_all, f->free_in_all, f->free_in_all, MAT_INITIAL_MATRIX, &f->mass_old));
-  PetscCall(DMCreateGlobalVector(f->dm_all, &f->all_x));
-  PetscCall(VecDuplicate(f->all_x, &f->all_y));
-  PetscCall(DMCreateLocalVector(f->dm_all, &f->all_local));
-  PetscCall(DMCreateLocalVector(f->dm, &f->xlocal_work));
   PetscCall(DMCreateGlobalVector(f->dm, &f->work));
   PetscCall(SNESSetFunction(f->snes, NULL, ResidualALE, f));
   PetscCall(SNESSetJacobian(f->snes, NULL, NULL, JacobianALE, f));
@@ -353,12 +340,7 @@ PetscErrorCode FluidALEDestroy(Fluid f)
   PetscCall(MatDestroy(&f->mass_old));
   PetscCall(ISDestroy(&f->free_in_all));
   PetscCall(MatDestroy(&f->mass_old_all));
-  PetscCall(VecDestroy(&f->all_x));
-  PetscCall(VecDestroy(&f->all_y));
-  PetscCall(VecDestroy(&f->all_local));
-  PetscCall(VecDestroy(&f->xlocal_work));
   PetscCall(VecDestroy(&f->work));
   PetscCall(DMDestroy(&f->dm_aux));
-  PetscCall(DMDestroy(&f->dm_all));
   PetscFunctionReturn(0);
 }

@@ -20,6 +20,7 @@ struct _p_Fluid {
   Vec            rhs, x_start;
   Vec            x_before;    /* u^{n-2} while a step starts, for the extrapolated first guess */
   PetscBool      extrapolate;
+  PetscBool      steady;     /* no time derivative: each step is a steady solve at its time */
   PetscBool      chord;          /* nonlinear solves on factors from another state */
   PetscInt       chord_restarts; /* solves that needed fresh factors */
   PetscInt       interface_face;            /* 0: no interface */
@@ -35,10 +36,12 @@ struct _p_Fluid {
   Vec            z_local;
   Vec            coordinates_reference, displacement, displacement_old; /* coordinate layout */
   PetscInt      *corners, ncorners; /* per cell corner: cell, its vertex's and its dim edge neighbours' coordinate offsets */
-  DM             dm_all;                                   /* the same fields without constraints */
+  DM             dm_all;                                   /* the same fields and volume terms without constraints (fluid_forces.c) */
   Mat            mass_old, mass_old_all;                   /* rho/dt M(Omega^{n-1}): free rows, all rows */
   IS             free_in_all;
   Vec            all_x, all_y, all_local, xlocal_work, work;
+  /* the force on a body (fluid_forces.c) */
+  PetscInt       n_force_rows, *force_rows;                /* the body's velocity dofs, first component, in dm_all's owned range */
   /* the interface velocity prescribed (fluid_dirichlet.c) */
   SNES           snes_dirichlet;
   Mat            dirichlet_jacobian;
@@ -54,6 +57,12 @@ struct _p_Fluid {
 
 
 PetscErrorCode FluidSetConstants(Fluid, PetscReal mass, PetscReal op, PetscReal load);
+PetscErrorCode FluidSetVolumeWeakForm(Fluid, DM);
+
+/* fluid_forces.c */
+PetscErrorCode FluidUnconstrainedSetUp(Fluid);
+PetscErrorCode FluidForcesSetUp(Fluid);
+PetscErrorCode FluidForcesDestroy(Fluid);
 
 PetscErrorCode FluidNonlinearSolve(Fluid, SNES, Vec rhs, PetscBool chord, PetscInt step, const char what[]);
 PetscErrorCode FluidDirichletDestroy(Fluid);

@@ -1,78 +1,136 @@
 #include "probes.h"
 #include "output.h"
+#include "options.h"
 
 struct _p_Probes {
-  MPI_Comm   comm;
-  PetscInt   n, dim;
-  VecScatter to_zero;
-  Vec        values; /* on rank 0: n * dim */
+  MPI_Comm    comm;
+  PetscInt    npoints, dim, nextra, ncolumns;
+  char      (*names)[32];
+  VecScatter  to_zero;
+  Vec         values; /* on rank 0: npoints * dim */
   PartialFile file;
+  PetscInt    nrecords, capacity; /* rank 0: the series, one row of ncolumns per record */
+  PetscReal  *t, *series;
+  PetscReal   window;
 };
 
-PetscErrorCode ProbesCreate(MPI_Comm comm, Interface itf, PetscInt n, const PetscReal points[][3], const char dir[], Probes *probes)
+/* The global index of the first component at each point, found among the nodes. */
+static PetscErrorCode FindPoints(Probes P, Vec layout, PetscInt nodes, const PetscReal coords[], const PetscReal points[][3], PetscInt index[])
 {
-  Probes           P;
-  PetscInt         nlocal, dim, start, *index;
-  const PetscReal *coords;
-  Vec              all;
-  IS               from;
-  PetscMPIInt      rank;
+  PetscInt start;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetOwnershipRange(layout, &start, NULL));
+  for (PetscInt p = 0; p < P->npoints; ++p) {
+    PetscInt found = -1;
+    for (PetscInt i = 0; i < nodes && found < 0; ++i) {
+      PetscReal dist = 0;
+      for (PetscInt d = 0; d < P->dim; ++d) dist = PetscMax(dist, PetscAbsReal(coords[i * P->dim + d] - points[p][d]));
+      if (dist < 1e-6) found = start + i * P->dim; /* gmsh places nodes on arcs to about 1e-9 */
+    }
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &found, 1, MPIU_INT, MPI_MAX, P->comm));
+    PetscCheck(found >= 0, P->comm, PETSC_ERR_ARG_WRONG, "probe (%g, %g, %g): not a vertex of the mesh it watches (the fluid-structure interface, or the structure)", (double)points[p][0], (double)points[p][1], (double)(P->dim == 3 ? points[p][2] : 0));
+    for (PetscInt d = 0; d < P->dim; ++d) index[p * P->dim + d] = found + d;
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ProbesCreate(MPI_Comm comm, PetscInt dim, PetscInt nodes, const PetscReal coords[], PetscInt npoints, const PetscReal points[][3], PetscInt nextra, const char *const extra_names[], const char dir[], Probes *probes)
+{
+  Probes      P;
+  PetscMPIInt rank;
+  PetscInt    column = 0;
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&P));
-  P->comm = comm;
-  P->n    = n;
-  PetscCall(InterfaceCreateVector(itf, &all));
-  PetscCall(VecGetBlockSize(all, &dim));
-  P->dim = dim;
-  PetscCall(VecGetOwnershipRange(all, &start, NULL));
-  PetscCall(InterfaceGetFluidNodes(itf, &nlocal, NULL, &coords));
-  PetscCall(PetscMalloc1(n * dim, &index));
-  for (PetscInt p = 0; p < n; ++p) {
-    PetscInt found = -1;
-    for (PetscInt i = 0; i < nlocal && found < 0; ++i) {
-      PetscReal dist = 0;
-      for (PetscInt d = 0; d < dim; ++d) dist = PetscMax(dist, PetscAbsReal(coords[i * dim + d] - points[p][d]));
-      if (dist < 1e-6) found = start + i * dim; /* gmsh places nodes on arcs to about 1e-9 */
-    }
-    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &found, 1, MPIU_INT, MPI_MAX, comm));
-    PetscCheck(found >= 0, comm, PETSC_ERR_ARG_WRONG, "probe (%g, %g, %g): not a node of the fluid-structure interface", (double)points[p][0], (double)points[p][1], (double)(dim == 3 ? points[p][2] : 0));
-    for (PetscInt d = 0; d < dim; ++d) index[p * dim + d] = found + d;
-  }
+  P->comm     = comm;
+  P->npoints  = npoints;
+  P->dim      = dim;
+  P->nextra   = nextra;
+  P->ncolumns = npoints * dim + nextra;
+  PetscCheck(P->ncolumns <= FSIOPT_MAX_QUANTITIES, comm, PETSC_ERR_ARG_OUTOFRANGE, "at most %d probe columns, asked for %" PetscInt_FMT, FSIOPT_MAX_QUANTITIES, P->ncolumns);
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCall(VecCreateSeq(PETSC_COMM_SELF, rank ? 0 : n * dim, &P->values));
-  PetscCall(ISCreateGeneral(comm, rank ? 0 : n * dim, index, PETSC_COPY_VALUES, &from));
-  PetscCall(VecScatterCreate(all, from, P->values, NULL, &P->to_zero));
-  PetscCall(ISDestroy(&from));
-  PetscCall(PetscFree(index));
-  PetscCall(VecDestroy(&all));
+  PetscOptionsBegin(comm, NULL, "Probes and the quantities of summary.json", "probes");
+  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-quantities_window", "report mean, amplitude and frequency of every probe column over the run's last T seconds (0: final values only)", &P->window));
+  PetscOptionsEnd();
+  PetscCall(PetscMalloc1(P->ncolumns, &P->names));
+  for (PetscInt p = 0; p < npoints; ++p)
+    for (PetscInt d = 0; d < dim; ++d, ++column) {
+      if (dim == 3) PetscCall(PetscSNPrintf(P->names[column], 32, "d%c(%g;%g;%g)", "xyz"[d], (double)points[p][0], (double)points[p][1], (double)points[p][2]));
+      else PetscCall(PetscSNPrintf(P->names[column], 32, "d%c(%g;%g)", "xyz"[d], (double)points[p][0], (double)points[p][1]));
+    }
+  for (PetscInt e = 0; e < nextra; ++e, ++column) PetscCall(PetscStrncpy(P->names[column], extra_names[e], 32));
+  if (npoints) {
+    PetscInt *index;
+    IS        from;
+    Vec       layout;
+
+    /* a vector of the layout the displacements come in: nodes blocks of dim on this rank */
+    PetscCall(VecCreateMPIWithArray(comm, 1, nodes * dim, PETSC_DECIDE, NULL, &layout));
+    PetscCall(PetscMalloc1(npoints * dim, &index));
+    PetscCall(FindPoints(P, layout, nodes, coords, points, index));
+    PetscCall(VecCreateSeq(PETSC_COMM_SELF, rank ? 0 : npoints * dim, &P->values));
+    PetscCall(ISCreateGeneral(comm, rank ? 0 : npoints * dim, index, PETSC_COPY_VALUES, &from));
+    PetscCall(VecScatterCreate(layout, from, P->values, NULL, &P->to_zero));
+    PetscCall(ISDestroy(&from));
+    PetscCall(PetscFree(index));
+    PetscCall(VecDestroy(&layout));
+  }
   PetscCall(PartialFileOpen(comm, dir, "probes.csv", &P->file));
   PetscCall(PetscFPrintf(comm, P->file.fp, "t"));
-  for (PetscInt p = 0; p < n; ++p)
-    for (PetscInt d = 0; d < dim; ++d) {
-      if (dim == 3) PetscCall(PetscFPrintf(comm, P->file.fp, ",d%c(%g;%g;%g)", "xyz"[d], (double)points[p][0], (double)points[p][1], (double)points[p][2]));
-      else PetscCall(PetscFPrintf(comm, P->file.fp, ",d%c(%g;%g)", "xyz"[d], (double)points[p][0], (double)points[p][1]));
-    }
+  for (PetscInt c = 0; c < P->ncolumns; ++c) PetscCall(PetscFPrintf(comm, P->file.fp, ",%s", P->names[c]));
   PetscCall(PetscFPrintf(comm, P->file.fp, "\n"));
   *probes = P;
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ProbesRecord(Probes P, PetscReal t, Vec displacement)
+PetscErrorCode ProbesRecord(Probes P, PetscReal t, Vec displacement, const PetscReal extra[])
 {
-  const PetscScalar *v;
-  PetscMPIInt        rank;
+  PetscMPIInt rank;
+  PetscReal  *row;
 
   PetscFunctionBeginUser;
-  PetscCall(VecScatterBegin(P->to_zero, displacement, P->values, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(P->to_zero, displacement, P->values, INSERT_VALUES, SCATTER_FORWARD));
+  if (P->npoints) {
+    PetscCall(VecScatterBegin(P->to_zero, displacement, P->values, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(P->to_zero, displacement, P->values, INSERT_VALUES, SCATTER_FORWARD));
+  }
   PetscCallMPI(MPI_Comm_rank(P->comm, &rank));
-  PetscCall(PetscFPrintf(P->comm, P->file.fp, "%.10g", (double)t));
-  PetscCall(VecGetArrayRead(P->values, &v));
-  if (!rank)
-    for (PetscInt i = 0; i < P->n * P->dim; ++i) PetscCall(PetscFPrintf(PETSC_COMM_SELF, P->file.fp, ",%.12e", (double)PetscRealPart(v[i])));
-  PetscCall(VecRestoreArrayRead(P->values, &v));
-  PetscCall(PetscFPrintf(P->comm, P->file.fp, "\n"));
+  if (rank) PetscFunctionReturn(0);
+  if (P->nrecords == P->capacity) {
+    P->capacity = PetscMax(64, 2 * P->capacity);
+    PetscCall(PetscRealloc(sizeof(PetscReal) * P->capacity, &P->t));
+    PetscCall(PetscRealloc(sizeof(PetscReal) * P->capacity * P->ncolumns, &P->series));
+  }
+  P->t[P->nrecords] = t;
+  row               = &P->series[P->nrecords * P->ncolumns];
+  if (P->npoints) {
+    const PetscScalar *v;
+    PetscCall(VecGetArrayRead(P->values, &v));
+    for (PetscInt i = 0; i < P->npoints * P->dim; ++i) row[i] = PetscRealPart(v[i]);
+    PetscCall(VecRestoreArrayRead(P->values, &v));
+  }
+  for (PetscInt e = 0; e < P->nextra; ++e) row[P->npoints * P->dim + e] = extra[e];
+  P->nrecords++;
+  PetscCall(PetscFPrintf(PETSC_COMM_SELF, P->file.fp, "%.10g", (double)t));
+  for (PetscInt c = 0; c < P->ncolumns; ++c) PetscCall(PetscFPrintf(PETSC_COMM_SELF, P->file.fp, ",%.12e", (double)row[c]));
+  PetscCall(PetscFPrintf(PETSC_COMM_SELF, P->file.fp, "\n"));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ProbesQuantities(Probes P, QuantityTable *table)
+{
+  PetscReal *column;
+
+  PetscFunctionBeginUser;
+  table->n      = P->ncolumns;
+  table->window = P->window;
+  PetscCall(PetscMalloc1(P->nrecords + 1, &column));
+  for (PetscInt c = 0; c < P->ncolumns; ++c) {
+    for (PetscInt r = 0; r < P->nrecords; ++r) column[r] = P->series[r * P->ncolumns + c];
+    PetscCall(PetscStrncpy(table->name[c], P->names[c], sizeof(table->name[c])));
+    PetscCall(QuantityAnalyze(P->nrecords, P->t, column, P->window, &table->final[c], &table->mean[c], &table->amplitude[c], &table->frequency[c]));
+  }
+  PetscCall(PetscFree(column));
   PetscFunctionReturn(0);
 }
 
@@ -85,6 +143,9 @@ PetscErrorCode ProbesClose(Probes *probes, PetscBool complete)
   PetscCall(PartialFileClose(&P->file, complete));
   PetscCall(VecScatterDestroy(&P->to_zero));
   PetscCall(VecDestroy(&P->values));
+  PetscCall(PetscFree(P->names));
+  PetscCall(PetscFree(P->t));
+  PetscCall(PetscFree(P->series));
   PetscCall(PetscFree(*probes));
   PetscFunctionReturn(0);
 }

@@ -17,6 +17,22 @@ static void WriteNumberOrNull(FILE *fp, const char key[], PetscReal value, const
   else fprintf(fp, "  \"%s\": %.10g%s\n", key, (double)value, sep);
 }
 
+/* "quantities": {"window_s": T, "<column>": {"final": v[, "mean": m, "amplitude": a, "frequency": f]}, ...} */
+static void WriteQuantities(FILE *fp, const QuantityTable *q)
+{
+  fprintf(fp, "  \"quantities\": {");
+  if (q->n) fprintf(fp, "\"window_s\": %.10g", (double)q->window);
+  for (PetscInt i = 0; i < q->n; ++i) {
+    fprintf(fp, ",\n    \"%s\": {\"final\": %.10e", q->name[i], (double)q->final[i]);
+    if (q->window > 0) {
+      fprintf(fp, ", \"mean\": %.10e, \"amplitude\": %.10e, \"frequency\": ", (double)q->mean[i], (double)q->amplitude[i]);
+      if (q->frequency[i] > 0) fprintf(fp, "%.10e}", (double)q->frequency[i]);
+      else fprintf(fp, "null}");
+    } else fprintf(fp, "}");
+  }
+  fprintf(fp, "},\n");
+}
+
 PetscErrorCode OutputMakeDirectories(const char dir[])
 {
   char      path[PETSC_MAX_PATH_LEN];
@@ -81,7 +97,7 @@ PetscErrorCode SummaryWrite(MPI_Comm comm, const char dir[], const RunSummary *s
   fprintf(fp, "  \"errors\": {");
   for (PetscInt i = 0; i < s->errors.n; ++i) fprintf(fp, "%s\"%s\": %.10e", i ? ", " : "", s->errors.name[i], (double)s->errors.value[i]);
   fprintf(fp, "},\n");
-  fprintf(fp, "  \"quantities\": {},\n");
+  WriteQuantities(fp, &s->quantities);
   fprintf(fp, "  \"ranks\": {\"fluid\": %d, \"structure\": %d, \"total\": %d}\n", (int)s->fluid_ranks, (int)s->structure_ranks, (int)s->total_ranks);
   fprintf(fp, "}\n");
   PetscCheck(fclose(fp) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "option -output_dir %s: writing %s failed", dir, tmp);

@@ -70,7 +70,7 @@ PetscErrorCode StructureSetFromOptions(Structure s)
   PetscCall(OptionsRealInRange(PetscOptionsObject, "-structure_poisson_ratio", "Poisson ratio nu_s", -1.0, 0.5, &s->poisson_ratio));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-structure_degree", "polynomial degree of the displacement", 1, 4, &s->degree));
   PetscCall(PetscOptionsBool("-structure_initial_projection", "Start from the elastic (Ritz) projection of the scene's exact displacement instead of its interpolant", NULL, s->initial_projection, &s->initial_projection, NULL));
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-structure_time_order", "1: first order (seed eq. 2.42), 2: midpoint (seed eqs. 2.40-2.41)", 1, 2, &s->time_order));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-structure_time_order", "0: static (no inertia: each step is the equilibrium under the data of its time), 1: first order (seed eq. 2.42), 2: midpoint (seed eqs. 2.40-2.41)", 0, 2, &s->time_order));
   PetscOptionsEnd();
   s->mu     = s->youngs_modulus / (2.0 * (1.0 + s->poisson_ratio));
   s->lambda = s->youngs_modulus * s->poisson_ratio / ((1.0 + s->poisson_ratio) * (1.0 - 2.0 * s->poisson_ratio));
@@ -79,7 +79,8 @@ PetscErrorCode StructureSetFromOptions(Structure s)
 
 static PetscReal StructureMassCoefficient(Structure s)
 {
-  return (s->time_order == 1 ? 1.0 : 4.0) * s->rho / (s->dt * s->dt);
+  const PetscReal factor[] = {0.0, 1.0, 4.0};
+  return factor[s->time_order] * s->rho / (s->dt * s->dt);
 }
 
 static PetscErrorCode StructureSetConstantsFull(Structure, PetscReal, PetscReal, PetscReal, PetscReal, PetscReal);
@@ -243,9 +244,12 @@ PetscErrorCode StructureBeginStep(Structure s)
   PetscCall(VecCopy(s->eta_local, s->eta_old_local));
   PetscCall(VecCopy(s->etadot_local, s->etadot_old_local));
   /* history = m M (eta^{n-1} + dt etadot^{n-1}) [- K eta^{n-1} + L^{n-1} - B_s g^{n-1}] */
-  PetscCall(VecWAXPY(s->work_local, s->dt, s->etadot_local, s->eta_local));
-  PetscCall(StructureSetConstants(s, mass, 0.0, 0.0, t_old));
-  PetscCall(FEMResidual(s->dm, s->work_local, s->history));
+  if (s->time_order == 0) PetscCall(VecZeroEntries(s->history));
+  else {
+    PetscCall(VecWAXPY(s->work_local, s->dt, s->etadot_local, s->eta_local));
+    PetscCall(StructureSetConstants(s, mass, 0.0, 0.0, t_old));
+    PetscCall(FEMResidual(s->dm, s->work_local, s->history));
+  }
   if (s->time_order == 2) {
     PetscCall(StructureSetConstants(s, 0.0, 1.0, 1.0, t_old));
     PetscCall(FEMResidual(s->dm, s->eta_local, s->work));
@@ -354,6 +358,45 @@ PetscErrorCode StructureRestoreVelocityLocal(Structure s, Vec *etadot_local)
   PetscCall(DMGlobalToLocal(s->dm_free, global, INSERT_VALUES, s->etadot_local));
   PetscCall(DMRestoreGlobalVector(s->dm_free, &global));
   *etadot_local = NULL;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StructureCreateNodeVector(Structure s, Vec *v, PetscInt *nnodes, PetscReal **coords)
+{
+  PetscSection       global;
+  PetscInt           dim, vStart, vEnd, rstart, n;
+  Vec                coordinates;
+  const PetscScalar *x;
+  PetscSection       cs;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetDimension(s->dm_free, &dim));
+  PetscCall(DMCreateGlobalVector(s->dm_free, v));
+  PetscCall(VecGetOwnershipRange(*v, &rstart, NULL));
+  PetscCall(VecGetLocalSize(*v, &n));
+  *nnodes = n / dim;
+  PetscCall(PetscMalloc1(n, coords));
+  for (PetscInt i = 0; i < n; ++i) (*coords)[i] = PETSC_MAX_REAL; /* a node inside an edge or a cell: no probe finds it */
+  PetscCall(DMGetGlobalSection(s->dm_free, &global));
+  PetscCall(DMPlexGetDepthStratum(s->dm_free, 0, &vStart, &vEnd));
+  PetscCall(DMGetCoordinateSection(s->dm_free, &cs));
+  PetscCall(DMGetCoordinatesLocal(s->dm_free, &coordinates));
+  PetscCall(VecGetArrayRead(coordinates, &x));
+  for (PetscInt v = vStart; v < vEnd; ++v) {
+    PetscInt goff, coff;
+    PetscCall(PetscSectionGetOffset(global, v, &goff));
+    if (goff < 0) continue;
+    PetscCall(PetscSectionGetOffset(cs, v, &coff));
+    for (PetscInt d = 0; d < dim; ++d) (*coords)[goff - rstart + d] = PetscRealPart(x[coff + d]);
+  }
+  PetscCall(VecRestoreArrayRead(coordinates, &x));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StructureGetNodeDisplacement(Structure s, Vec v)
+{
+  PetscFunctionBeginUser;
+  PetscCall(DMLocalToGlobal(s->dm_free, s->eta_local, INSERT_VALUES, v));
   PetscFunctionReturn(0);
 }
 
