@@ -48,6 +48,9 @@ meshes/%.msh: meshes/%.geo
 meshes/tube3d-%.msh: meshes/tube3d-%.geo meshes/tube3d-section.geoinc
 	gmsh -3 -format msh22 -v 2 -o $@ $< >/dev/null
 
+meshes/turek-hron-%.msh: meshes/turek-hron-%.geo meshes/turek-hron.geoinc
+	gmsh -2 -format msh22 -v 2 -o $@ $< >/dev/null
+
 # the seed's haemodynamic channel, 1000 steps; then its probe plot
 run: deps
 	$(MAKE) all

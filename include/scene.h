@@ -33,4 +33,5 @@ PetscErrorCode SceneCreate_MMSNS(Scene *);
 PetscErrorCode SceneCreate_GCL(Scene *);
 PetscErrorCode SceneCreate_Channel2D(Scene *);
 PetscErrorCode SceneCreate_Tube3D(Scene *);
+PetscErrorCode SceneCreate_TurekHron(Scene *);
 #endif

@@ -459,6 +459,59 @@ def _():
     return "sweeps per step: iqnils %.2f, aitken %.2f, opt %.2f GN" % (q, a, runs["opt"][0]["avg_coupling_iterations"])
 
 
+TUREK = ["-options_file", "options/turek-hron.yaml"]
+
+
+def turek_mesh(part, level):
+    """The Turek-Hron mesh of a refinement level: meshes/ has level 1, finer ones go to WORK."""
+    if level == 1:
+        return "meshes/turek-hron-%s.msh" % part
+    path = os.path.join(WORK, "turek-hron-%s-n%d.msh" % (part, level))
+    if not os.path.exists(path):
+        subprocess.run(["gmsh", "-2", "-format", "msh22", "-v", "2", "-setnumber", "n", str(level), "-o", path,
+                        "meshes/turek-hron-%s.geo" % part], cwd=ROOT, check=True, capture_output=True, timeout=300)
+    return path
+
+
+def turek_levels(case, option, part, columns):
+    """Final values of `columns` on mesh levels 1 and 2: the largest relative change, and a description."""
+    runs = []
+    for level in (1, 2):
+        s = solve(TUREK + ["-turek_case", case, option, turek_mesh(part, level)])
+        runs.append((s["wall_time_s"], [s["quantities"][c]["final"] for c in columns]))
+    changes = [abs(a - b) / abs(b) for a, b in zip(runs[0][1], runs[1][1])]
+    assert max(changes) < 0.05, "%s: level 1 %s against level 2 %s" % (case, runs[0][1], runs[1][1])
+    return "coarse %.1fs: %s; change to level 2 %s" % (
+        runs[0][0], ", ".join("%s %.4e" % (c, v) for c, v in zip(columns, runs[0][1])),
+        " ".join("%.2f%%" % (100 * c) for c in changes))
+
+
+@test("turek-hron CSM1: coarse flag within 5% of the next level")
+def _():
+    return turek_levels("csm1", "-structure_dm_plex_filename", "flag", ["dx(0.6;0.2)", "dy(0.6;0.2)"])
+
+
+@test("turek-hron CFD1: coarse drag, lift within 5% of the next level")
+def _():
+    return turek_levels("cfd1", "-fluid_dm_plex_filename", "fluid", ["drag", "lift"])
+
+
+@test("turek-hron FSI1 coarse: A moves < 1e-7 m over the last 0.5 s")
+def _():
+    out = os.path.join(WORK, "fsi1")
+    s = solve(TUREK + ["-turek_case", "fsi1"], out=out)
+    head, rows = read_probes(os.path.join(out, "probes.csv"))
+    t_end = rows[-1][0]
+    last = [r for r in rows if r[0] >= t_end - 0.5 - 1e-9]
+    drift = max(max(r[c] for r in last) - min(r[c] for r in last) for c in (1, 2))
+    assert drift < 1e-7, "A still moves by %.2e m over the last 0.5 s" % drift
+    assert all(abs(r[3]) > 0 for r in last), "no drag recorded"
+    q = s["quantities"]
+    return "%.1fs, %.2f GN/step; A (%.4e, %.4e) m, drift %.1e m; drag %.4f, lift %.4f N/m" % (
+        s["wall_time_s"], s["avg_coupling_iterations"], q["dx(0.6;0.2)"]["final"], q["dy(0.6;0.2)"]["final"], drift,
+        q["drag"]["final"], q["lift"]["final"])
+
+
 @test("summary.json has every DESIGN key")
 def _():
     s = solve(FLUID_SPACE)

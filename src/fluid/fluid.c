@@ -222,6 +222,7 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
     f->pressure_tau = f->pressure_stabilization * size * size / (f->rho * size * size / dt + f->mu);
   }
   PetscCall(FluidSetUpWeakForm(f));
+  PetscCall(FluidSetConstants(f, 0.0, 1.0, 1.0));
   if (f->model == FLUID_STOKES) policy = FEM_JACOBIAN_CONSTANT;
   else if (f->interface_face) policy = FEM_JACOBIAN_ON_REQUEST;
   f->chord = policy == FEM_JACOBIAN_ON_REQUEST ? PETSC_TRUE : PETSC_FALSE;

@@ -90,8 +90,8 @@ PetscErrorCode FluidForcesSetUp(Fluid f)
   PetscFunctionReturn(0);
 }
 
-/* The constants of the fluid's weak form, with op and load set as asked (< 0: unchanged). */
-static PetscErrorCode CopyConstants(Fluid f, PetscReal op, PetscReal load)
+/* The constants of the fluid's weak form, with mass, op and load set as asked (< 0: unchanged). */
+static PetscErrorCode CopyConstants(Fluid f, PetscReal mass, PetscReal op, PetscReal load)
 {
   PetscDS            ds, ds_all;
   const PetscScalar *constants;
@@ -103,6 +103,7 @@ static PetscErrorCode CopyConstants(Fluid f, PetscReal op, PetscReal load)
   PetscCall(DMGetDS(f->dm_all, &ds_all));
   PetscCall(PetscDSGetConstants(ds, &n, &constants));
   PetscCall(PetscArraycpy(copy, constants, n));
+  if (mass >= 0) copy[FLUID_MASS] = mass;
   if (op >= 0) copy[FLUID_OPERATOR] = op;
   if (load >= 0) copy[FLUID_LOAD] = load;
   PetscCall(PetscDSSetConstants(ds_all, n, copy));
@@ -126,10 +127,12 @@ PetscErrorCode FluidBodyForce(Fluid f, PetscReal force[3])
     PetscCall(FEMInvalidateGeometry(f->dm_all));
   }
   PetscCall(FEMGlobalToLocal(f->dm, f->x, f->xlocal_work));
-  PetscCall(CopyConstants(f, -1, -1));
+  /* the initial state has no time derivative to go with it: its force is the steady one */
+  PetscCall(CopyConstants(f, f->step == 0 ? 0.0 : -1, -1, -1));
   PetscCall(FEMResidual(f->dm_all, f->xlocal_work, residual));
   PetscCall(DMGetGlobalVector(f->dm_all, &old));
-  if (f->moving) {
+  if (f->step == 0) { /* nothing to add */
+  } else if (f->moving) {
     /* rho/dt M(Omega^{n-1}) (u^n - u^{n-1}): the mass term of a moving mesh */
     PetscCall(DMLocalToGlobal(f->dm_all, f->xlocal_work, INSERT_VALUES, f->all_x));
     PetscCall(DMLocalToGlobal(f->dm_all, f->xlocal_old, INSERT_VALUES, old));
@@ -137,7 +140,7 @@ PetscErrorCode FluidBodyForce(Fluid f, PetscReal force[3])
     PetscCall(MatMultAdd(f->mass_old_all, f->all_x, residual, residual));
   } else if (!f->steady) {
     /* minus the history term rho/dt (u^{n-1}, w) */
-    PetscCall(CopyConstants(f, 0.0, 0.0));
+    PetscCall(CopyConstants(f, -1, 0.0, 0.0));
     PetscCall(FEMResidual(f->dm_all, f->xlocal_old, old));
     PetscCall(VecAXPY(residual, -1.0, old));
   }

@@ -13,7 +13,7 @@ static PetscErrorCode MeshCheckFaceSets(DM dm, const char prefix[], const char s
 
     if (label) PetscCall(DMLabelGetStratumSize(label, required[i], &local));
     PetscCallMPI(MPI_Allreduce(&local, &global, 1, MPIU_INT, MPI_SUM, PetscObjectComm((PetscObject)dm)));
-    PetscCheck(global > 0, PetscObjectComm((PetscObject)dm), PETSC_ERR_ARG_WRONG, "%s mesh %s: expected a 'Face Sets' label with value %" PetscInt_FMT " (1 bottom, 2 right, 3 top, 4 left), which the scene needs; it is missing", prefix, source, required[i]);
+    PetscCheck(global > 0, PetscObjectComm((PetscObject)dm), PETSC_ERR_ARG_WRONG, "%s mesh %s: expected a 'Face Sets' label with value %" PetscInt_FMT " (1 bottom, 2 right, 3 top, 4 left, higher values the scene's own), which the scene needs; it is missing", prefix, source, required[i]);
   }
   PetscFunctionReturn(0);
 }

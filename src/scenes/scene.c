@@ -14,6 +14,7 @@ PetscErrorCode SceneRegisterAll(void)
   PetscCall(PetscFunctionListAdd(&scene_list, "gcl", SceneCreate_GCL));
   PetscCall(PetscFunctionListAdd(&scene_list, "channel2d", SceneCreate_Channel2D));
   PetscCall(PetscFunctionListAdd(&scene_list, "tube3d", SceneCreate_Tube3D));
+  PetscCall(PetscFunctionListAdd(&scene_list, "turek-hron", SceneCreate_TurekHron));
   PetscFunctionReturn(0);
 }
 

@@ -211,6 +211,14 @@ PetscErrorCode StructureSetUp(Structure s, DM mesh, const PhysicsData *data, Pet
        relative to it never ends; Newton converges quadratically, so a step below 1e-8 of
        the displacement leaves an error at the floor. */
     PetscCall(SNESSetTolerances(s->snes, 1e-12, 1e-10, 1e-8, 50, PETSC_DEFAULT));
+    if (s->time_order == 0) {
+      /* Full Newton steps: from rest a thin wall's first step raises the residual norm
+         a thousandfold (membrane forces of the bending rotation) and converges after it,
+         where a backtracking line search stalls. */
+      SNESLineSearch ls;
+      PetscCall(SNESGetLineSearch(s->snes, &ls));
+      PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
+    }
     PetscCall(SNESSetFromOptions(s->snes));
     PetscCall(DMSNESSetJacobianLocal(s->dm, TangentJacobian, s));
   }
