@@ -512,6 +512,29 @@ def _():
         q["drag"]["final"], q["lift"]["final"])
 
 
+@test("turek-hron CSM3: summary quantities = the probe series' own")
+def _():
+    out = os.path.join(WORK, "csm3")
+    s = solve(TUREK + ["-turek_case", "csm3", "-dt", "0.01", "-t_final", "4", "-quantities_window", "2"], out=out)
+    head, rows = read_probes(os.path.join(out, "probes.csv"))
+    last = [r for r in rows if r[0] >= rows[-1][0] - 2 - 1e-9]
+    y = [r[2] for r in last]
+    q = s["quantities"]["dy(0.6;0.2)"]
+    mean, amplitude = 0.5 * (max(y) + min(y)), 0.5 * (max(y) - min(y))
+    # the period from the parabola through each local minimum (the C code counts crossings of the mean)
+    troughs = []
+    for i in range(1, len(y) - 1):
+        if y[i] < y[i - 1] and y[i] <= y[i + 1]:
+            a, b, c = y[i - 1], y[i], y[i + 1]
+            troughs.append(last[i][0] + 0.5 * (a - c) / (a - 2 * b + c) * (last[i][0] - last[i - 1][0]))
+    assert len(troughs) >= 2, "fewer than two oscillations in the window"
+    frequency = (len(troughs) - 1) / (troughs[-1] - troughs[0])
+    assert abs(q["mean"] - mean) <= 1e-12 and abs(q["amplitude"] - amplitude) <= 1e-12, "mean/amplitude %s against %g, %g" % (q, mean, amplitude)
+    assert abs(q["frequency"] - frequency) <= 0.02 * frequency, "frequency %.4f against %.4f from the troughs" % (q["frequency"], frequency)
+    assert amplitude > 0.1 * abs(mean), "no oscillation: amplitude %.3e, mean %.3e" % (amplitude, mean)
+    return "uy(A) %.4e +- %.4e m [%.4f Hz; troughs %.4f Hz]" % (q["mean"], q["amplitude"], q["frequency"], frequency)
+
+
 @test("summary.json has every DESIGN key")
 def _():
     s = solve(FLUID_SPACE)
@@ -578,6 +601,10 @@ def bad_input_cases():
                                                          "-channel_inlet_amplitude", "1e6", "-structure_youngs_modulus", "3e3",
                                                          "-structure_density", "10"], "inverted or degenerate at step"),
         ("mesh motion inverting cells", ["-scene", "gcl", "-dt", "0.01", "-t_final", "0.1", "-gcl_amplitude", "0.6"], "inverted or degenerate at step"),
+        ("unknown Turek-Hron case", TUREK + ["-turek_case", "fsi4"], "-turek_case"),
+        ("negative inflow velocity", TUREK + ["-turek_case", "cfd1", "-turek_mean_velocity", "-1"], "-turek_mean_velocity"),
+        ("steady fluid on a moving mesh", TUREK + ["-turek_case", "fsi1", "-fluid_steady"], "-fluid_steady"),
+        ("negative quantities window", TUREK + ["-turek_case", "csm1", "-quantities_window", "-1"], "-quantities_window"),
         ("diverging coupling says where", ["-options_file", "options/mms-stokes.yaml", "-t_final", "0.6", "-tao_type", "sdrelaxed",
                                            "-coupling_tikhonov", "1e-4", "-tao_sdrelaxed_alpha", "0.5"], "step 1, iteration"),
     ]

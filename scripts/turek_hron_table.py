@@ -1,0 +1,633 @@
+#!/usr/bin/python3
+"""The Turek-Hron benchmarks (scene turek-hron) over mesh refinements: our values in a table.
+
+For every case (--cases, default all nine: csm1,csm2,csm3,cfd1,cfd2,cfd3,fsi1,fsi2,fsi3) and
+refinement level n (--levels, default 1,2) generates the meshes the case needs with gmsh
+(-setnumber n N: meshes/turek-hron-fluid.geo and meshes/turek-hron-flag.geo, which share
+meshes/turek-hron.geoinc, so the two meshes of a level conform on the flag) into
+out/meshes/turek-hron-{fluid,flag}-n<N>.msh (--mesh-dir; re-used while newer than the .geo
+and .geoinc files), runs
+
+  bin/fsiopt -options_file options/turek-hron.yaml -turek_case CASE
+             [-fluid_dm_plex_filename F] [-structure_dm_plex_filename S]
+             [-dt DT] [-t_final T] [--extra]
+
+(csm*: the flag alone, only S; cfd*: the fluid around a rigid flag, only F; fsi*: both) and
+tabulates per (case, level): unknowns (fluid + structure), dt, T and the quantities window
+the run reports (summary.json), the displacement of the flag's tip A = (0.6, 0.2) ux(A),
+uy(A) in m, the force of the fluid on cylinder and flag, drag and lift in N/m (SI
+throughout), Gauss-Newton iterations per step (coupled runs only) and the wall time. A
+steady case (csm1, csm2, cfd1, fsi1), or any run with window 0, shows the final value; a
+periodic case (csm3, cfd2, cfd3, fsi2, fsi3) shows "mean ± amplitude [frequency Hz]" over the
+window (summary.json quantities; "—" Hz when no period was found in it). A second table
+gives, per case, the relative change (%) of each shown value from the case's previous level
+that ran. Values are ours, as measured; the script writes no reference values.
+
+dt, T and the window are the scene's per-case defaults (the cases[] table of
+src/scenes/turek_hron.c) unless changed here:
+  --dt-scale S   passes -dt (the case's default dt) x S; the default is the one the binary
+                 reports with -help (which runs no step; it is what a run without -dt would
+                 use, so a binary older than the source is no trap), else the one parsed
+                 from the cases[] table of src/scenes/turek_hron.c (a difference between
+                 the two is reported; the script stops with a message if neither answers,
+                 and refuses -dt in --extra as well);
+  --t-final T    passes -t_final T to every case (quick checks: a T shorter than a periodic
+                 case's window makes the window the whole run, flagged with * in the table);
+  --extra "..."  options passed to every run (e.g. --extra="-coupling_tol 1e-8").
+
+Run times: csm1, csm2, cfd1 and short checks take seconds to a minute a run on n = 1, 2; the periodic
+cases run thousands of steps, and the periodic FSI cases (fsi2, fsi3) take hours already on
+the coarse level n = 1 (measured times: see README). --jobs J runs J runs at a time (one core
+each); the default 1 gives undisturbed wall times.
+
+Outputs under out/turek-hron/ (--out): table.md (preamble: what was run and when; the value
+table; the change table; failures) and table.csv (one row per run: the raw final, mean,
+amplitude and frequency of every quantity, dofs, steps, iterations, times, status, error,
+run directory and command). Runs go to <out>/runs/<case>-n<N>[-dts<S>][-T<T>][-x<hash of
+--extra>]/ (--runs-dir) with summary.json, probes.csv (the time series), history.csv
+(coupled runs), stdout.log, stderr.log and cmd.txt (the command line, written after a
+successful run); a complete run whose command line is the one we would run now, and which is
+newer than its meshes, is re-used (--force: run again). A run or mesh that fails is reported
+in the table with its error, the others go on, and the script exits non-zero at the end.
+
+Examples (from anywhere; build first: make all):
+  scripts/turek_hron_table.py --cases csm1,csm2,cfd1 --levels 1,2
+  scripts/turek_hron_table.py --cases csm3,fsi1 --levels 1 --t-final 0.1 --out /tmp/th
+  scripts/turek_hron_table.py --cases cfd2,cfd3 --levels 1,2,3 --jobs 2
+  scripts/turek_hron_table.py                  # all nine cases on n = 1, 2: hours"""
+import argparse, csv, datetime, hashlib, math, os, re, shlex, subprocess, sys, tempfile, time
+from concurrent.futures import ThreadPoolExecutor, as_completed
+
+sys.dont_write_bytecode = True   # no scripts/__pycache__ next to the sources
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import fsiopt_runs as fr   # noqa: E402
+from fsiopt_runs import ROOT, rel, say   # noqa: E402
+
+FSIOPT = os.path.join(ROOT, "bin", "fsiopt")
+OPTIONS_FILE = "options/turek-hron.yaml"
+SCENE_SOURCE = "src/scenes/turek_hron.c"
+GEO = {"fluid": "meshes/turek-hron-fluid.geo", "flag": "meshes/turek-hron-flag.geo"}
+GEO_INCLUDES = ["meshes/turek-hron.geoinc"]
+# the benchmark's cases: which parts they have, and whether they are periodic (the scene's cases[] agrees,
+# checked when that table is parsed)
+CASES = {"csm1": ("csm", False), "csm2": ("csm", False), "csm3": ("csm", True),
+         "cfd1": ("cfd", False), "cfd2": ("cfd", True), "cfd3": ("cfd", True),
+         "fsi1": ("fsi", False), "fsi2": ("fsi", True), "fsi3": ("fsi", True)}
+PARTS = {"csm": ("flag",), "cfd": ("fluid",), "fsi": ("fluid", "flag")}
+MESH_OPTION = {"fluid": "-fluid_dm_plex_filename", "flag": "-structure_dm_plex_filename"}
+# (key, summary.json quantities column, markdown header, applies to kinds)
+QUANTITIES = [("ux", "dx(0.6;0.2)", "ux(A) [m]", ("csm", "fsi")),
+              ("uy", "dy(0.6;0.2)", "uy(A) [m]", ("csm", "fsi")),
+              ("drag", "drag", "drag [N/m]", ("cfd", "fsi")),
+              ("lift", "lift", "lift [N/m]", ("cfd", "fsi"))]
+STATS = ("final", "mean", "amplitude", "frequency")
+DASH = "—"
+
+
+def ints(text):
+    return [int(x) for x in text.split(",") if x.strip()]
+
+
+def fmt_num(t):
+    """-dt / -t_final text: exact enough, no float noise."""
+    return "%.10g" % t
+
+
+def extra_tag(extra):
+    """run-name suffix for --extra options (a short hash; empty without)."""
+    return "-x" + hashlib.sha1(" ".join(extra).encode()).hexdigest()[:8] if extra else ""
+
+
+def md_escape(text):
+    return str(text).replace("|", "\\|").replace("\n", " ")
+
+
+def number(x):
+    """float of x, or None for a missing / non-numeric / non-finite value."""
+    if isinstance(x, bool):
+        return None
+    try:
+        v = float(x)
+    except (TypeError, ValueError):
+        return None
+    return v if math.isfinite(v) else None
+
+
+# ---------------------------------------------------------------------------- the scene's defaults
+class DefaultsError(Exception):
+    pass
+
+
+def scene_defaults(path=os.path.join(ROOT, SCENE_SOURCE)):
+    """{case: {'kind', 'periodic', 'dt', 't_final', 'window'}} from the cases[] table of the
+    scene's source, e.g. {"csm3", CSM, PETSC_TRUE, 0.0, 1000, 0.5e6, 2.0, "0.005", "10", "4"}.
+    Raises DefaultsError when the table is not found, misses a case or disagrees with CASES."""
+    try:
+        with open(path) as f:
+            text = f.read()
+    except OSError as e:
+        raise DefaultsError("cannot read %s: %s" % (rel(path), e.strerror))
+    m = re.search(r"\bcases\s*\[\s*\]\s*=\s*\{(.*?)\n\};", text, re.S)
+    if not m:
+        raise DefaultsError("%s: no `cases[] = {...};` table found" % rel(path))
+    entry = re.compile(r'\{\s*"(\w+)"\s*,\s*(CSM|CFD|FSI)\s*,\s*PETSC_(TRUE|FALSE)\s*,'
+                       r'(?:[^,{}"]*,){4}\s*"([^"]+)"\s*,\s*"([^"]+)"\s*,\s*"([^"]+)"\s*\}')
+    found = {}
+    for e in entry.finditer(m.group(1)):
+        name, kind, periodic = e.group(1), e.group(2).lower(), e.group(3) == "TRUE"
+        try:
+            dt, tf, window = (float(e.group(i)) for i in (4, 5, 6))
+        except ValueError:
+            raise DefaultsError("%s: case %s: dt, T or window is not a number: %s" % (rel(path), name, e.group(0)))
+        found[name] = {"kind": kind, "periodic": periodic, "dt": dt, "t_final": tf, "window": window}
+    missing = [c for c in CASES if c not in found]
+    if missing:
+        raise DefaultsError("%s: cases[] has no parsable entry for %s (its layout changed? expected "
+                            '{"name", KIND, PETSC_BOOL, U, rho_s, mu_s, g, "dt", "T", "window"})'
+                            % (rel(path), ", ".join(missing)))
+    for c, (kind, periodic) in CASES.items():
+        if (found[c]["kind"], found[c]["periodic"]) != (kind, periodic):
+            raise DefaultsError("%s: case %s is %s%s there, %s%s here (update CASES in %s)" % (
+                rel(path), c, found[c]["kind"], " periodic" if found[c]["periodic"] else "", kind,
+                " periodic" if periodic else "", rel(__file__)))
+    return found
+
+
+def binary_defaults(fsiopt, options):
+    """{'dt', 't_final', 'window'} that a run of fsiopt with these options would use: its
+    -help (which runs no step) prints them as `-dt <now : default>`. Raises DefaultsError."""
+    with tempfile.TemporaryDirectory(prefix="turek-hron-help-") as tmp:
+        cmd = [fsiopt] + options + ["-help", "-output_dir", tmp]
+        try:
+            p = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, errors="replace", timeout=300)
+        except (OSError, subprocess.TimeoutExpired) as e:
+            raise DefaultsError("%s -help: %s" % (rel(fsiopt), getattr(e, "strerror", None) or e))
+    found = {}
+    for key, opt in (("dt", "dt"), ("t_final", "t_final"), ("window", "quantities_window")):
+        m = re.search(r"^\s*-%s <(?:now )?([-+0-9.eE]+)" % opt, p.stdout, re.M)
+        if m:
+            found[key] = float(m.group(1))
+    if p.returncode or len(found) < 3:
+        msg, _ = fr.error_line(p.stderr, p.returncode)
+        raise DefaultsError("%s: %s" % (shlex.join([rel(fsiopt)] + options + ["-help"]),
+                                        msg if p.returncode else "no -dt/-t_final/-quantities_window in its -help"))
+    return found
+
+
+# ---------------------------------------------------------------------------- meshes
+class MeshError(Exception):
+    pass
+
+
+def mesh_path(part, level, mesh_dir):
+    return os.path.join(mesh_dir, "turek-hron-%s-n%d.msh" % (part, level))
+
+
+def ensure_mesh(part, level, mesh_dir, gmsh="gmsh"):
+    """Path of the part's mesh of level n; generated unless present and newer than its .geo
+    and the shared .geoinc (written to a temporary name, then renamed, so that an interrupted
+    gmsh never leaves a mesh that looks complete). Raises MeshError."""
+    os.makedirs(mesh_dir, exist_ok=True)
+    geo, out = GEO[part], mesh_path(part, level, mesh_dir)
+    try:
+        newest = max(os.path.getmtime(os.path.join(ROOT, g)) for g in [geo] + GEO_INCLUDES)
+    except OSError as e:
+        raise MeshError("%s: %s" % (e.filename and rel(e.filename), e.strerror))
+    what = "%s n=%d" % (part, level)
+    if os.path.isfile(out) and os.path.getmtime(out) > newest:
+        say("  mesh %-23s re-used %s" % (what, rel(out)))
+        return out
+    tmp = "%s.tmp%d.msh" % (out[:-len(".msh")], os.getpid())
+    cmd = [gmsh, "-2", "-format", "msh22", "-v", "2", "-setnumber", "n", str(level), "-o", tmp, geo]
+    say("  mesh %-23s running: %s" % (what, shlex.join(cmd)))
+    try:
+        p = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
+        if not (p.returncode == 0 and os.path.isfile(tmp) and os.path.getsize(tmp) > 0):
+            lines = [l.strip() for l in (p.stderr + p.stdout).splitlines() if l.strip()]
+            raise MeshError("gmsh %s n=%d: exit status %d%s" % (geo, level, p.returncode,
+                                                               ": " + lines[-1][:300] if lines else ""))
+        os.replace(tmp, out)
+    except OSError as e:
+        raise MeshError("cannot run %s: %s" % (gmsh, e.strerror or e))
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+    return out
+
+
+# ---------------------------------------------------------------------------- runs
+def outputs_of(kind):
+    """The files of a complete run: coupled runs also write history.csv."""
+    return ("summary.json", "probes.csv") + (("history.csv",) if kind == "fsi" else ())
+
+
+def case_run(case, level, meshes, dt, t_final, extra, dt_scale):
+    """The fsiopt run of a case on level n; dt, t_final: None for the scene's default."""
+    kind = CASES[case][0]
+    options = ["-options_file", OPTIONS_FILE, "-turek_case", case]
+    for part in PARTS[kind]:
+        options += [MESH_OPTION[part], rel(meshes[part])]
+    name = "%s-n%d" % (case, level)
+    if dt is not None:
+        options += ["-dt", fmt_num(dt)]
+        name += "-dts%s" % fmt_num(dt_scale)
+    if t_final is not None:
+        options += ["-t_final", fmt_num(t_final)]
+        name += "-T%s" % fmt_num(t_final)
+    options += extra
+    name += extra_tag(extra)
+    return fr.Variant(name, "%s n = %d" % (case, level), options, outputs=outputs_of(kind), case=case, level=level,
+                      meshes=[meshes[p] for p in PARTS[kind]])
+
+
+def failed_run(case, level, error):
+    v = fr.Variant("%s-n%d" % (case, level), "%s n = %d" % (case, level), [], case=case, level=level, meshes=[])
+    v.status, v.error = "failed", error
+    return v
+
+
+def forget_if_older(v, runs_dir):
+    """A run older than a mesh it reads is run again: its cmd.txt goes."""
+    cmd_txt = os.path.join(runs_dir, v.name, "cmd.txt")
+    try:
+        t = os.path.getmtime(cmd_txt)
+    except OSError:
+        return
+    if any(os.path.getmtime(f) > t for f in v.params["meshes"] if os.path.isfile(f)):
+        say("  %-28s older than its meshes: will run again" % v.name)
+        os.remove(cmd_txt)
+
+
+def run_runs(runs, fsiopt, runs_dir, jobs=1, force=False, retries=2):
+    """Runs (or re-uses) the runs not failed already, jobs at a time, with a progress line
+    after each."""
+    todo = [v for v in runs if v.status == "pending"]
+    for v in todo:
+        forget_if_older(v, runs_dir)
+    env = dict(os.environ)
+    if jobs > 1:   # one core per run
+        for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+            env.setdefault(k, "1")
+    say("%d run(s) in %s, %d at a time" % (len(todo), rel(runs_dir), jobs))
+    t0, done = time.time(), 0
+    with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
+        futures = [pool.submit(fr.run_variant, v, fsiopt, runs_dir, force, retries, env=env) for v in todo]
+        for fut in as_completed(futures):
+            v = fut.result()
+            done += 1
+            what = {"ok": "done in %s", "reused": "re-used (it ran in %s)"}.get(v.status, "FAILED after %s")
+            say("  [%d/%d] %s %s; %s elapsed in all" % (done, len(todo), v.name, what % (duration(v.elapsed_s) or "?"),
+                                                      duration(time.time() - t0)))
+    return runs
+
+
+# ---------------------------------------------------------------------------- rows
+def duration(s):
+    s = number(s)
+    if s is None:
+        return ""
+    if s < 120:
+        return "%.3g s" % s
+    if s < 7200:
+        return "%.1f min" % (s / 60)
+    return "%.2f h" % (s / 3600)
+
+
+def result_row(v):
+    s = v.summary if v.ok else {}
+    case, level = v.params["case"], v.params["level"]
+    kind, periodic = CASES[case]
+    q = s.get("quantities") or {}
+    row = {"case": case, "level": level, "kind": kind, "periodic": str(periodic).lower(), "status": v.status,
+           "error": v.error, "fluid_dofs": s.get("fluid_dofs", ""), "structure_dofs": s.get("structure_dofs", ""),
+           "dt": s.get("dt", ""), "steps": s.get("steps", ""), "t_start": s.get("t_start", ""),
+           "t_final": s.get("t_final", ""), "window_s": q.get("window_s", "")}
+    nf, ns = number(s.get("fluid_dofs")), number(s.get("structure_dofs"))
+    row["unknowns"] = int((nf or 0) + (ns or 0)) if s else ""
+    for key, column, _, _ in QUANTITIES:
+        for st in STATS:
+            val = (q.get(column) or {}).get(st, "")
+            row["%s_%s" % (key, st)] = "" if val is None else val
+    for k in ("avg_coupling_iterations", "coupling_iterations", "work_factor", "stalled_steps", "max_interface_jump",
+              "wall_time_s"):
+        val = s.get(k, "")
+        row[k] = "" if val is None else val
+    row["converged"] = str(s["converged"]).lower() if "converged" in s else ""
+    row["elapsed_s"] = v.elapsed_s if math.isfinite(v.elapsed_s) else ""
+    cmd_txt = os.path.join(v.run_dir, "cmd.txt") if v.run_dir else ""
+    row["run_date"] = datetime.datetime.fromtimestamp(os.path.getmtime(cmd_txt)).strftime("%Y-%m-%d %H:%M") \
+        if v.ok and os.path.isfile(cmd_txt) else ""
+    row["meshes"] = " ".join(rel(m) for m in v.params.get("meshes", []))
+    row["run_dir"] = rel(v.run_dir) if v.run_dir else ""
+    row["command"] = v.cmdline
+    return row
+
+
+def shows_period(row):
+    """A periodic case with a window: mean ± amplitude [frequency]; else the final value."""
+    return row["periodic"] == "true" and (number(row["window_s"]) or 0) > 0
+
+
+def shown_values(row, key):
+    """The shown numbers of a quantity: (final,) or (mean, amplitude, frequency); None when
+    the quantity does not apply or the run failed."""
+    if row["kind"] not in dict((k, kinds) for k, _, _, kinds in QUANTITIES)[key] or row["status"] == "failed":
+        return None
+    if shows_period(row):
+        return tuple(number(row["%s_%s" % (key, st)]) for st in ("mean", "amplitude", "frequency"))
+    return (number(row["%s_final" % key]),)
+
+
+def g(x, f="%.5g"):
+    return DASH if x is None else f % x
+
+
+def value_cell(row, key):
+    vals = shown_values(row, key)
+    if vals is None:
+        return DASH if row["status"] != "failed" else ""
+    if len(vals) == 1:
+        return g(vals[0])
+    return "%s ± %s [%s Hz]" % (g(vals[0]), g(vals[1]), g(vals[2], "%.4g"))
+
+
+def change(new, old):
+    if new is None or old is None or old == 0:
+        return None
+    return 100.0 * (new - old) / abs(old)
+
+
+def pct(x):
+    return DASH if x is None else "%+.3g%%" % x
+
+
+def change_cell(row, prev, key):
+    a, b = shown_values(row, key), shown_values(prev, key)
+    if a is None or b is None:
+        return DASH
+    if len(a) != len(b):   # e.g. one of the two runs without a window
+        return DASH
+    c = [change(x, y) for x, y in zip(a, b)]
+    if len(c) == 1:
+        return pct(c[0])
+    return "%s ± %s [%s]" % tuple(pct(x) for x in c)
+
+
+def window_cell(row):
+    w, t0, tf = number(row["window_s"]), number(row["t_start"]) or 0.0, number(row["t_final"])
+    if w is None:
+        return ""
+    text = g(w, "%.4g")
+    return text + "*" if shows_period(row) and tf is not None and w >= tf - t0 - 1e-12 else text
+
+
+def unknowns_cell(row):
+    nf, ns = number(row["fluid_dofs"]), number(row["structure_dofs"])
+    if nf is None and ns is None:
+        return ""
+    if row["kind"] == "fsi":
+        return "%d (%d + %d)" % ((nf or 0) + (ns or 0), nf or 0, ns or 0)
+    return "%d" % ((nf or 0) + (ns or 0))
+
+
+def status_cell(v, row):
+    if v.status == "failed":
+        err = v.error if len(v.error) <= 100 else v.error[:97] + "..."
+        return "FAILED: " + md_escape(err)
+    text = {"ok": "ok", "reused": "ok (re-used)"}.get(v.status, v.status)
+    stalled = number(row["stalled_steps"]) or 0
+    if row["converged"] == "false" or stalled:
+        text += ", not converged (%d stalled steps)" % stalled
+    return text
+
+
+def write_csv(path, rows, fields):
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=fields, extrasaction="ignore")
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: ("%.10g" % v if isinstance(v, float) else v) for k, v in r.items()})
+
+
+def git_state():
+    """'commit abc1234' (+ ', with uncommitted changes'), or '' outside a git checkout."""
+    try:
+        head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True)
+        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], cwd=ROOT,
+                               capture_output=True, text=True)
+    except OSError:
+        return ""
+    if head.returncode:
+        return ""
+    return "commit %s%s" % (head.stdout.strip(), ", with uncommitted changes" if dirty.stdout.strip() else "")
+
+
+def case_defaults(cases, args, meshes, extra):
+    """{case: {'dt', 't_final', 'window'}}: the defaults the runs would use, for --dt-scale.
+    Asked of the binary (its -help), as it may be older or newer than the source; the cases[]
+    table of src/scenes/turek_hron.c when that fails or a case has no mesh. A difference
+    between the two is reported; sys.exit when neither answers."""
+    try:
+        source, source_error = scene_defaults(), ""
+    except DefaultsError as e:
+        source, source_error = {}, str(e)
+    found = {}
+    for c in cases:
+        parts = PARTS[CASES[c][0]]
+        level = next((n for n in args.levels if all((p, n) in meshes for p in parts)), None)
+        asked = None
+        if level is not None:
+            options = ["-options_file", OPTIONS_FILE, "-turek_case", c]
+            for p in parts:
+                options += [MESH_OPTION[p], rel(meshes[p, level])]
+            try:
+                asked = binary_defaults(args.fsiopt, options + extra)
+            except DefaultsError as e:
+                say("turek_hron_table: note: cannot ask the binary for %s's default dt: %s" % (c, e), err=True)
+        if asked:
+            found[c] = asked
+            if c in source and source[c]["dt"] != asked["dt"]:
+                say("turek_hron_table: note: %s: %s says dt = %s, %s has %s (binary not rebuilt?); using the binary's"
+                    % (c, rel(args.fsiopt), fmt_num(asked["dt"]), SCENE_SOURCE, fmt_num(source[c]["dt"])), err=True)
+        elif c in source:
+            found[c] = source[c]
+            say("turek_hron_table: note: %s: default dt %s from %s" % (c, fmt_num(source[c]["dt"]), SCENE_SOURCE),
+                err=True)
+        else:
+            sys.exit("turek_hron_table: --dt-scale needs %s's default dt, and neither the binary nor the source "
+                     "gave it: %s" % (c, source_error or "%s has no case %s" % (SCENE_SOURCE, c)))
+    return found
+
+
+# ---------------------------------------------------------------------------- main
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--cases", default=",".join(CASES), help="comma-separated cases (default all nine: %s)"
+                                                             % ",".join(CASES))
+    ap.add_argument("--levels", type=ints, default=[1, 2], help="mesh refinement levels n (default 1,2)")
+    ap.add_argument("--dt-scale", type=float, default=1.0, help="run with the case's default dt x S (default 1: "
+                                                                "the scene's dt, -dt not passed)")
+    ap.add_argument("--t-final", type=float, default=None, help="-t_final T for every case (default: the case's)")
+    ap.add_argument("--extra", default="", help='options passed to every run, e.g. --extra="-coupling_tol 1e-8"')
+    ap.add_argument("--jobs", type=int, default=1, help="runs at a time (default 1)")
+    ap.add_argument("--gmsh", default="gmsh", help="gmsh binary (default gmsh)")
+    ap.add_argument("--mesh-dir", default=os.path.join(ROOT, "out", "meshes"), help="where the meshes go "
+                                                                                    "(default out/meshes)")
+    ap.add_argument("--out", default=os.path.join(ROOT, "out", "turek-hron"), help="output directory "
+                                                                                   "(default out/turek-hron)")
+    ap.add_argument("--runs-dir", default=None, help="where the runs go (default <out>/runs)")
+    ap.add_argument("--fsiopt", default=FSIOPT, help="fsiopt binary (default bin/fsiopt)")
+    ap.add_argument("--force", action="store_true", help="run again even when a complete matching run exists")
+    ap.add_argument("--retries", type=int, default=2, help="retries of a run that dies without an fsiopt error "
+                                                           "(default 2)")
+    args = ap.parse_args()
+    cases = [c.strip().lower() for c in args.cases.split(",") if c.strip()]
+    unknown = [c for c in cases if c not in CASES]
+    if not cases or unknown:
+        ap.error("--cases: %s; expected some of %s" % ("unknown " + ", ".join(unknown) if unknown else "empty",
+                                                         ",".join(CASES)))
+    if len(set(cases)) != len(cases):
+        ap.error("--cases: a case is listed twice")
+    if not args.levels or any(n < 1 for n in args.levels):
+        ap.error("--levels: positive integers expected")
+    if len(set(args.levels)) != len(args.levels):
+        ap.error("--levels: a level is listed twice")
+    if not args.dt_scale > 0 or not math.isfinite(args.dt_scale):
+        ap.error("--dt-scale: positive expected")
+    if args.t_final is not None and not args.t_final > 0:
+        ap.error("--t-final: positive expected")
+    if args.jobs < 1:
+        ap.error("--jobs: at least 1")
+    try:
+        extra = shlex.split(args.extra)
+    except ValueError as e:
+        ap.error("--extra: %s" % e)
+    if args.dt_scale != 1 and "-dt" in extra:
+        ap.error("--dt-scale and -dt in --extra: give one of them")
+    args.out = os.path.abspath(args.out)
+    args.mesh_dir = os.path.abspath(args.mesh_dir)
+    args.runs_dir = os.path.abspath(args.runs_dir or os.path.join(args.out, "runs"))
+    args.fsiopt = os.path.abspath(args.fsiopt)
+    if not os.path.isfile(args.fsiopt):
+        say("turek_hron_table: %s not found (build first: make all)" % rel(args.fsiopt), err=True)
+
+    say("meshes in %s" % rel(args.mesh_dir))
+    mesh_errors = {}
+    meshes = {}
+    for n in args.levels:
+        for part in ("fluid", "flag"):
+            if any(part in PARTS[CASES[c][0]] for c in cases):
+                try:
+                    meshes[part, n] = ensure_mesh(part, n, args.mesh_dir, args.gmsh)
+                except MeshError as e:
+                    say("  mesh %s n=%d FAILED: %s" % (part, n, e), err=True)
+                    mesh_errors[part, n] = str(e)
+
+    defaults = {}
+    if args.dt_scale != 1:
+        defaults = case_defaults(cases, args, meshes, extra)
+
+    runs = []
+    say("plan:")
+    for c in cases:
+        kind = CASES[c][0]
+        dt = defaults[c]["dt"] * args.dt_scale if args.dt_scale != 1 else None
+        for n in args.levels:
+            errs = [mesh_errors[p, n] for p in PARTS[kind] if (p, n) in mesh_errors]
+            if errs:
+                runs.append(failed_run(c, n, "mesh: " + "; ".join(errs)))
+                say("  %-28s not run: mesh failed" % runs[-1].name)
+                continue
+            v = case_run(c, n, {p: meshes[p, n] for p in PARTS[kind]}, dt, args.t_final, extra, args.dt_scale)
+            runs.append(v)
+            if c in defaults:
+                tf = args.t_final if args.t_final is not None else defaults[c]["t_final"]
+                say("  %-28s dt %s, T %s: %d step(s)" % (v.name, fmt_num(dt), fmt_num(tf),
+                                                       int(math.floor(tf / dt + 0.5))))
+            else:
+                say("  %s" % v.name)
+    run_runs(runs, args.fsiopt, args.runs_dir, args.jobs, args.force, args.retries)
+
+    rows = [result_row(v) for v in runs]
+    fields = ["case", "level", "status", "error", "kind", "periodic", "unknowns", "fluid_dofs", "structure_dofs",
+              "dt", "steps", "t_start", "t_final", "window_s"] + \
+             ["%s_%s" % (k, st) for k, _, _, _ in QUANTITIES for st in STATS] + \
+             ["avg_coupling_iterations", "coupling_iterations", "work_factor", "max_interface_jump", "stalled_steps",
+              "converged", "wall_time_s", "elapsed_s", "run_date", "meshes", "run_dir", "command"]
+    os.makedirs(args.out, exist_ok=True)
+    csv_path, md_path = os.path.join(args.out, "table.csv"), os.path.join(args.out, "table.md")
+    write_csv(csv_path, rows, fields)
+
+    now = datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")
+    changes = []
+    if args.dt_scale != 1:
+        changes.append("dt = the case's default x %s" % fmt_num(args.dt_scale))
+    if args.t_final is not None:
+        changes.append("T = %s s for every case" % fmt_num(args.t_final))
+    if extra:
+        changes.append("extra options `%s`" % " ".join(extra))
+    state = git_state()
+    md = ["# Turek-Hron benchmarks: our values over mesh refinements", "",
+          "Written %s by `scripts/turek_hron_table.py`%s. Binary `%s`. Scene `-options_file %s -turek_case CASE`, "
+          "cases %s, "
+          "levels n = %s; %s. Meshes `%s/turek-hron-{fluid,flag}-n<n>.msh` (`-setnumber n <n>` of "
+          "`meshes/turek-hron-{fluid,flag}.geo`; every mesh size halves from n to n + 1). Runs in `%s`, "
+          "each with its exact command line in `cmd.txt`, its time series in `probes.csv`." % (
+              now, " (source tree at %s)" % state if state else "", rel(args.fsiopt), OPTIONS_FILE, ", ".join(cases),
+              ", ".join(str(n) for n in args.levels),
+              "; ".join(changes) if changes else "dt, T and window: the scene's per-case defaults",
+              rel(args.mesh_dir), rel(args.runs_dir)), "",
+          "The values are ours, as measured; no reference values are given here. SI units: displacement of the "
+          "flag's tip A = (0.6, 0.2) in m, force of the fluid on cylinder and flag per unit depth in N/m. Steady "
+          "cases (csm1, csm2, cfd1, fsi1) and runs with window 0: the final value. Periodic cases (csm3, cfd2, "
+          "cfd3, fsi2, fsi3): mean ± amplitude [frequency] over the last `window` seconds of the run (%s Hz: "
+          "no period found in the window); window*: the window covers the whole run (T too short for it), so "
+          "these are not the periodic state's. %s: does not apply. GN its/step: Gauss-Newton "
+          "iterations per step of the coupled cases. Wall time: fsiopt's own (summary.json). Re-used runs keep "
+          "their own dates (table.csv: run_date)." % (DASH, DASH), "",
+          "| case | n | unknowns | dt [s] | T [s] | window [s] | " +
+          " | ".join(h for _, _, h, _ in QUANTITIES) + " | GN its/step | wall time | status |",
+          "|" + "---|" * (7 + len(QUANTITIES) + 2)]
+    for v, row in zip(runs, rows):
+        ok = v.ok
+        md.append("| %s | %d | %s | %s | %s | %s | %s | %s | %s | %s |" % (
+            row["case"], row["level"], unknowns_cell(row), g(number(row["dt"]), "%.4g") if ok else "",
+            g(number(row["t_final"]), "%.4g") if ok else "", window_cell(row),
+            " | ".join(value_cell(row, k) for k, _, _, _ in QUANTITIES),
+            (g(number(row["avg_coupling_iterations"]), "%.3g") if row["kind"] == "fsi" else DASH) if ok else "",
+            duration(row["wall_time_s"]), status_cell(v, row)))
+
+    md += ["", "## Change from the previous level", "",
+           "Relative change (%) of each value above from the same case's previous level that ran "
+           "(periodic: of mean, amplitude and frequency).", "",
+           "| case | levels | " + " | ".join(h for _, _, h, _ in QUANTITIES) + " |",
+           "|" + "---|" * (2 + len(QUANTITIES))]
+    n_changes = 0
+    for c in cases:
+        prev = None
+        for row in sorted((r for r in rows if r["case"] == c), key=lambda r: r["level"]):
+            if row["status"] == "failed":
+                continue
+            if prev is not None:
+                md.append("| %s | %d → %d | %s |" % (c, prev["level"], row["level"],
+                                                      " | ".join(change_cell(row, prev, k) for k, _, _, _ in QUANTITIES)))
+                n_changes += 1
+            prev = row
+    if not n_changes:
+        md.append("| (no case ran on two levels) |" + " |" * (1 + len(QUANTITIES)))
+    failed = [v for v in runs if not v.ok]
+    if failed:
+        md += ["", "## Failures", ""] + ["- %s n = %d: %s%s" % (v.params["case"], v.params["level"], md_escape(v.error),
+                                                                 " (`%s`)" % rel(v.run_dir) if v.run_dir else "")
+                                         for v in failed]
+    with open(md_path, "w") as f:
+        f.write("\n".join(md) + "\n")
+    print("\n".join(md))
+    print("written: %s, %s" % (rel(csv_path), rel(md_path)))
+    if failed:
+        say("turek_hron_table: %d of %d run(s) failed" % (len(failed), len(runs)), err=True)
+        sys.exit(1)
+
+
+if __name__ == "__main__":
+    main()
