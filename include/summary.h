@@ -14,6 +14,8 @@ typedef struct {
   PetscInt         coupling_iterations, inner_iterations, stalled_steps;
   PetscReal        work_factor, max_interface_jump;
   PetscBool        converged, has_fluid, has_structure;
+  PetscInt         steps_done;  /* fewer than params->steps when interrupted */
+  const char      *interrupted; /* the signal that ended the run early, NULL: none */
   ErrorTable       errors;
   QuantityTable    quantities;
   PetscMPIInt      fluid_ranks, structure_ranks, total_ranks;

@@ -14,6 +14,7 @@
 #include "coupling.h"
 #include "probes.h"
 #include "fields.h"
+#include "interrupt.h"
 
 static const char help[] = "fsiopt: fluid-structure interaction by optimization-based decoupling.\n"
                            "  fsiopt -options_file options/<scene>.yaml [options]   or   fsiopt -scene <name> [options]\n"
@@ -132,6 +133,9 @@ static PetscErrorCode RecordProbes(Probes probes, PetscReal t, const Scene *scen
   PetscFunctionReturn(0);
 }
 
+/* Set when every rank stops on the same error (an interrupt): no abort is needed to end them. */
+static PetscBool collective_stop = PETSC_FALSE;
+
 static PetscErrorCode Run(void)
 {
   RunParams       params;
@@ -146,6 +150,7 @@ static PetscErrorCode Run(void)
   FieldWriter     fields    = NULL;
   Vec             probed_displacement = NULL;
   PetscBool       scene_given, help, coupled;
+  int             signal_caught = 0;
   PetscLogDouble  start, end;
   PetscMPIInt     size;
   MPI_Comm        fluid_comm, structure_comm;
@@ -223,6 +228,8 @@ static PetscErrorCode Run(void)
     params.steps = 0;
   }
 
+  PetscCall(InterruptInstall());
+  summary.steps_done = params.steps;
   for (PetscInt step = 1; step <= params.steps; ++step) {
     if (coupling) {
       PetscCall(CouplingStep(coupling, step));
@@ -240,6 +247,12 @@ static PetscErrorCode Run(void)
     }
     PetscCall(RecordProbes(probes, params.t_start + step * params.dt, &scene, fluid, structure, problem, probed_displacement));
     PetscCall(FieldWriterWrite(fields, step));
+    PetscCall(InterruptCheck(PETSC_COMM_WORLD, &signal_caught));
+    if (signal_caught) {
+      summary.steps_done  = step;
+      summary.interrupted = InterruptName(signal_caught);
+      break;
+    }
   }
 
   if (help) goto cleanup;
@@ -276,7 +289,7 @@ static PetscErrorCode Run(void)
     summary.max_interface_jump  = stats.max_jump;
     summary.stalled_steps       = stats.stalled_steps;
     /* seed eq. 6.5: a forward run with the traction known needs one fluid solve per step */
-    summary.work_factor = (PetscReal)(fluid_solves + 2 * stats.linearized_pairs) / params.steps;
+    summary.work_factor = (PetscReal)(fluid_solves + 2 * stats.linearized_pairs) / PetscMax(summary.steps_done, 1);
   }
   if (probes) {
     PetscCall(ProbesQuantities(probes, &summary.quantities));
@@ -285,7 +298,7 @@ static PetscErrorCode Run(void)
   PetscCall(PetscTime(&end));
   summary.params        = &params;
   summary.wall_time_s   = end - start;
-  summary.converged     = summary.stalled_steps == 0 ? PETSC_TRUE : PETSC_FALSE;
+  summary.converged     = summary.stalled_steps == 0 && !signal_caught ? PETSC_TRUE : PETSC_FALSE;
   summary.has_fluid     = scene.has_fluid;
   summary.has_structure = scene.has_structure;
   if (!scene.has_fluid) summary.fluid_ranks = 0;
@@ -294,9 +307,11 @@ static PetscErrorCode Run(void)
   PetscCall(SummaryWrite(PETSC_COMM_WORLD, params.output_dir, &summary));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fsiopt: scene %s, %" PetscInt_FMT " steps to t = %g:", params.scene, params.steps, (double)params.t_final));
   for (PetscInt i = 0; i < summary.errors.n; ++i) PetscCall(PetscPrintf(PETSC_COMM_WORLD, " %s %.3e", summary.errors.name[i], (double)summary.errors.value[i]));
-  if (coupling) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\nfsiopt: %" PetscInt_FMT " coupling iterations (%.2f per step), %" PetscInt_FMT " inner, max interface jump %.3e, work factor %.2f", summary.coupling_iterations, (double)summary.coupling_iterations / params.steps, summary.inner_iterations, (double)summary.max_interface_jump, (double)summary.work_factor));
+  if (coupling) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\nfsiopt: %" PetscInt_FMT " coupling iterations (%.2f per step), %" PetscInt_FMT " inner, max interface jump %.3e, work factor %.2f", summary.coupling_iterations, (double)summary.coupling_iterations / PetscMax(summary.steps_done, 1), summary.inner_iterations, (double)summary.max_interface_jump, (double)summary.work_factor));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\nfsiopt: outputs in %s/\n", params.output_dir));
   PetscCall(PetscLogStagePop());
+  collective_stop = signal_caught ? PETSC_TRUE : PETSC_FALSE;
+  PetscCheck(!signal_caught, PETSC_COMM_WORLD, PETSC_ERR_SIG, "interrupted by %s after step %" PetscInt_FMT " of %" PetscInt_FMT " (t = %g); the outputs in %s/ go to that step", summary.interrupted, summary.steps_done, params.steps, (double)(params.t_start + summary.steps_done * params.dt), params.output_dir);
 
 cleanup:
   PetscCall(CouplingDestroy(&coupling));
@@ -349,7 +364,7 @@ int main(int argc, char **argv)
     fflush(stderr);
     /* On one rank finish cleanly; on several, a rank that did not fail may wait in a
        collective call, and only an abort is sure not to hang. */
-    if (size > 1) MPI_Abort(PETSC_COMM_WORLD, 1);
+    if (size > 1 && !collective_stop) MPI_Abort(PETSC_COMM_WORLD, 1);
     PetscFinalize();
     return 1;
   }

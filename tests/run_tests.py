@@ -535,6 +535,39 @@ def _():
     return "uy(A) %.4e +- %.4e m [%.4f Hz; troughs %.4f Hz]" % (q["mean"], q["amplitude"], q["frequency"], frequency)
 
 
+def interrupted_run(signum, nproc):
+    """channel2d stopped by a signal once its probes have a few rows: (returncode, stderr, outputs dir)."""
+    import signal
+    out = os.path.join(WORK, "signal-%d-%d" % (signum, nproc))
+    cmd = ([FSIOPT] if nproc == 1 else ["mpiexec", "-n", str(nproc), FSIOPT]) + CHANNEL + ["-output_dir", out]
+    p = subprocess.Popen(cmd, cwd=ROOT, env=ENV, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    partial = os.path.join(out, "probes.csv.partial")
+    t0 = time.time()
+    while time.time() - t0 < 120 and not (os.path.exists(partial) and len(open(partial).readlines()) > 6):
+        time.sleep(0.2)
+    p.send_signal(signum)
+    _, err = p.communicate(timeout=120)
+    return p.returncode, err, out
+
+
+@test("SIGINT, SIGTERM: the step ends, outputs complete, converged false, exit != 0")
+def _():
+    import signal
+    details = []
+    for signum, name, nproc in ((signal.SIGINT, "SIGINT", 1), (signal.SIGTERM, "SIGTERM", 2)):
+        rc, err, out = interrupted_run(signum, nproc)
+        lines = [l for l in err.splitlines() if l.strip()]
+        assert rc != 0, "%s: exit 0" % name
+        assert len(lines) == 1 and lines[0].startswith("fsiopt: error: interrupted by " + name), "%s: stderr %s" % (name, lines)
+        s = json.load(open(os.path.join(out, "summary.json")))
+        assert s["converged"] is False and s["interrupted"] == name, "%s: summary %s" % (name, s)
+        head, rows = read_probes(os.path.join(out, "probes.csv"))  # complete, not .partial
+        assert len(rows) == s["steps_done"] + 1 and 5 < s["steps_done"] < s["steps"], "%s: %d probe rows for %d steps" % (name, len(rows), s["steps_done"])
+        assert abs(rows[-1][0] - s["steps_done"] * s["dt"]) < 1e-12, "%s: last probe time %g" % (name, rows[-1][0])
+        details.append("%s on %d rank%s after step %d" % (name, nproc, "s" if nproc > 1 else "", s["steps_done"]))
+    return ", ".join(details)
+
+
 @test("summary.json has every DESIGN key")
 def _():
     s = solve(FLUID_SPACE)
