@@ -12,7 +12,7 @@ CC      := mpicc
 CFLAGS  ?= -O2 -g
 # petscviewerhdf5.h includes hdf5.h, which Debian keeps under the MPI flavour's directory
 CFLAGS  += -Wall -Wextra -std=c11 -D_POSIX_C_SOURCE=200809L -Iinclude -Isrc/scenes $(shell pkg-config --cflags PETSc 2>/dev/null) $(shell pkg-config --cflags hdf5-openmpi 2>/dev/null)
-LDLIBS  += $(shell pkg-config --libs PETSc 2>/dev/null) -lm
+LDLIBS  += $(shell pkg-config --libs PETSc 2>/dev/null) $(shell pkg-config --libs hdf5-openmpi 2>/dev/null) -lm
 
 SRC  := $(wildcard src/*.c src/*/*.c)
 OBJ  := $(SRC:%.c=build/%.o)

@@ -4,6 +4,7 @@
 #include "fluid.h"
 #include "structure.h"
 #include "interface.h"
+#include <petscviewer.h>
 
 /* The control problem of one time step (DESIGN §3), on the parent communicator.
 
@@ -27,6 +28,7 @@ typedef struct _p_CouplingProblem *CouplingProblem;
 
 PetscErrorCode CouplingProblemCreate(MPI_Comm, Fluid, Structure, Interface, const PhysicsData *fluid_data, CouplingProblem *);
 PetscErrorCode CouplingProblemDestroy(CouplingProblem *);
+PetscErrorCode CouplingProblemCheckpoint(CouplingProblem, PetscViewer, PetscBool load); /* checkpoint.h */
 PetscErrorCode CouplingProblemGetControlVariant(ControlVariant *); /* -coupling_control, readable before the solvers exist */
 PetscErrorCode CouplingProblemCreateControl(CouplingProblem, Vec *);
 PetscErrorCode CouplingProblemCreateJacobian(CouplingProblem, Mat *);
@@ -80,5 +82,8 @@ PetscErrorCode CouplingStep(Coupling, PetscInt step);
 PetscErrorCode CouplingGetStats(Coupling, CouplingStats *);
 PetscErrorCode CouplingGetOptimizer(Coupling, const char **);
 PetscErrorCode CouplingFinish(Coupling); /* closes the history */
+/* The control and its past values (checkpoint.h); opt only: the partitioned methods keep
+   past iterates (IQN-ILS, Aitken) that are not saved. */
+PetscErrorCode CouplingCheckpoint(Coupling, PetscViewer, PetscBool load);
 PetscErrorCode CouplingDestroy(Coupling *);
 #endif

@@ -1,6 +1,7 @@
 #ifndef FSIOPT_PROBES_H
 #define FSIOPT_PROBES_H
 #include "fsiopt.h"
+#include <petscviewer.h>
 
 /* probes.csv: t, the displacement (each component) at mesh nodes, then scalar columns the
    caller computes (a body's drag and lift); a PartialFile until ProbesClose(complete).
@@ -25,6 +26,7 @@ PetscErrorCode ProbesRecord(Probes, PetscReal t, Vec displacement, const PetscRe
 /* The quantities of every column, on rank 0 (window from -quantities_window). */
 PetscErrorCode ProbesQuantities(Probes, QuantityTable *);
 PetscErrorCode ProbesClose(Probes *, PetscBool complete);
+PetscErrorCode ProbesCheckpoint(Probes, PetscViewer, PetscBool load); /* checkpoint.h */
 
 /* quantities.c: the analysis of one series */
 PetscErrorCode QuantityAnalyze(PetscInt n, const PetscReal t[], const PetscReal v[], PetscReal window, PetscReal *final, PetscReal *mean, PetscReal *amplitude, PetscReal *frequency);

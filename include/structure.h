@@ -39,6 +39,7 @@ PetscErrorCode StructureRestoreVelocityLocal(Structure, Vec *);
 PetscErrorCode StructureErrors(Structure, ErrorTable *);
 PetscErrorCode StructureGetCounts(Structure, SolverCounts *);
 PetscErrorCode StructureGetInfo(Structure, PetscInt *dim, PetscInt *ndofs);
+PetscErrorCode StructureCheckpoint(Structure, PetscViewer, PetscBool load); /* checkpoint.h */
 PetscErrorCode StructureDestroy(Structure *);
 
 /* The stress paired with grad xi for the displacement gradient grad_eta (row-major,

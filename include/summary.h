@@ -15,6 +15,7 @@ typedef struct {
   PetscReal        work_factor, max_interface_jump;
   PetscBool        converged, has_fluid, has_structure;
   PetscInt         steps_done;  /* fewer than params->steps when interrupted */
+  PetscInt         first_step;  /* 1, or the step after the checkpoint of a restart: the counts are this run's */
   const char      *interrupted; /* the signal that ended the run early, NULL: none */
   ErrorTable       errors;
   QuantityTable    quantities;

@@ -15,6 +15,7 @@
 #include "probes.h"
 #include "fields.h"
 #include "interrupt.h"
+#include "checkpoint.h"
 
 static const char help[] = "fsiopt: fluid-structure interaction by optimization-based decoupling.\n"
                            "  fsiopt -options_file options/<scene>.yaml [options]   or   fsiopt -scene <name> [options]\n"
@@ -133,6 +134,58 @@ static PetscErrorCode RecordProbes(Probes probes, PetscReal t, const Scene *scen
   PetscFunctionReturn(0);
 }
 
+typedef struct {
+  PetscInt  every;                          /* -checkpoint_every K, 0: none */
+  char      file[PETSC_MAX_PATH_LEN];       /* -checkpoint_file */
+  char      restart[PETSC_MAX_PATH_LEN];    /* -restart */
+  PetscBool restarting;
+} CheckpointParams;
+
+static PetscErrorCode CheckpointSetFromOptions(const RunParams *params, PetscBool separate_ranks, PetscBool fields, CheckpointParams *cp)
+{
+  PetscFunctionBeginUser;
+  cp->every = 0;
+  PetscCall(PetscSNPrintf(cp->file, sizeof(cp->file), "%s/checkpoint.h5", params->output_dir));
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Checkpoints and restarts", "fsiopt");
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-checkpoint_every", "write the state every K steps (0: never)", 0, PETSC_MAX_INT, &cp->every));
+  PetscCall(PetscOptionsString("-checkpoint_file", "where (HDF5; written to FILE.tmp, then renamed)", NULL, cp->file, cp->file, sizeof(cp->file), NULL));
+  PetscCall(PetscOptionsString("-restart", "continue from this checkpoint", NULL, cp->restart, cp->restart, sizeof(cp->restart), &cp->restarting));
+  PetscOptionsEnd();
+  PetscCheck(!(cp->every || cp->restarting) || !separate_ranks, PETSC_COMM_WORLD, PETSC_ERR_SUP, "option %s: checkpoints need fluid and structure on the same ranks (-structure_ranks 0)", cp->restarting ? "-restart" : "-checkpoint_every");
+  PetscCheck(!cp->restarting || !fields, PETSC_COMM_WORLD, PETSC_ERR_SUP, "option -restart: not with -write_fields (the fields file of a run is written from its start)");
+  PetscFunctionReturn(0);
+}
+
+/* What the next step needs, to or from `path`; `step` is the step the state ends. */
+static PetscErrorCode CheckpointSaveOrLoad(const char path[], PetscBool load, PetscInt *step, const RunParams *params, const RunSummary *summary, Fluid fluid, Structure structure, Coupling coupling, Probes probes)
+{
+  PetscViewer viewer;
+  PetscReal   dt = params->dt;
+  PetscInt    fluid_dofs = summary->fluid_dofs, structure_dofs = summary->structure_dofs, ranks = summary->total_ranks;
+
+  PetscFunctionBeginUser;
+  PetscCall(CheckpointOpen(PETSC_COMM_WORLD, path, load, &viewer));
+  PetscCall(PetscViewerHDF5PushGroup(viewer, "/run"));
+  PetscCall(CheckpointInt(viewer, "step", step, load));
+  PetscCall(CheckpointReal(viewer, "dt", &dt, load));
+  PetscCall(CheckpointInt(viewer, "fluid_dofs", &fluid_dofs, load));
+  PetscCall(CheckpointInt(viewer, "structure_dofs", &structure_dofs, load));
+  PetscCall(CheckpointInt(viewer, "ranks", &ranks, load));
+  PetscCall(PetscViewerHDF5PopGroup(viewer));
+  if (load) {
+    PetscCheck(PetscAbsReal(dt - params->dt) <= 1e-12 * params->dt, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP, "option -restart %s: written with dt = %g, this run has -dt %g", path, (double)dt, (double)params->dt);
+    PetscCheck(fluid_dofs == summary->fluid_dofs && structure_dofs == summary->structure_dofs, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP, "option -restart %s: written for %" PetscInt_FMT " fluid and %" PetscInt_FMT " structure unknowns, this run has %" PetscInt_FMT " and %" PetscInt_FMT " (another scene or mesh)", path, fluid_dofs, structure_dofs, summary->fluid_dofs, summary->structure_dofs);
+    PetscCheck(ranks == summary->total_ranks, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP, "option -restart %s: written on %" PetscInt_FMT " ranks, this run has %d (the meshes' distribution must be the same)", path, ranks, (int)summary->total_ranks);
+    PetscCheck(*step >= 0 && *step < params->steps, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP, "option -restart %s: it ends step %" PetscInt_FMT ", expected a step before this run's last (%" PetscInt_FMT ")", path, *step, params->steps);
+  }
+  if (fluid) PetscCall(FluidCheckpoint(fluid, viewer, load));
+  if (structure) PetscCall(StructureCheckpoint(structure, viewer, load));
+  if (coupling) PetscCall(CouplingCheckpoint(coupling, viewer, load));
+  if (probes) PetscCall(ProbesCheckpoint(probes, viewer, load));
+  PetscCall(CheckpointClose(PETSC_COMM_WORLD, path, load, &viewer));
+  PetscFunctionReturn(0);
+}
+
 /* Set when every rank stops on the same error (an interrupt): no abort is needed to end them. */
 static PetscBool collective_stop = PETSC_FALSE;
 
@@ -151,6 +204,8 @@ static PetscErrorCode Run(void)
   Vec             probed_displacement = NULL;
   PetscBool       scene_given, help, coupled;
   int             signal_caught = 0;
+  CheckpointParams checkpoint;
+  PetscInt         first_step = 1;
   PetscLogDouble  start, end;
   PetscMPIInt     size;
   MPI_Comm        fluid_comm, structure_comm;
@@ -216,9 +271,17 @@ static PetscErrorCode Run(void)
     PetscCall(PetscLogEventEnd(FSIOPT_EVENT_INTERFACE, 0, 0, 0, 0));
   }
   PetscCall(ProbesSetUp(&scene, summary.dim, structure, itf, params.output_dir, &probes, &probed_displacement));
-  PetscCall(RecordProbes(probes, params.t_start, &scene, fluid, structure, problem, probed_displacement));
   PetscCall(FieldWriterCreate(PETSC_COMM_WORLD, &params, fluid, structure, &fields));
-  PetscCall(FieldWriterWrite(fields, 0));
+  PetscCall(CheckpointSetFromOptions(&params, coupled && (fluid_comm != PETSC_COMM_WORLD || structure_comm != PETSC_COMM_WORLD), fields ? PETSC_TRUE : PETSC_FALSE, &checkpoint));
+  if (checkpoint.restarting && !help) {
+    PetscInt restart_step = 0;
+    PetscCall(CheckpointSaveOrLoad(checkpoint.restart, PETSC_TRUE, &restart_step, &params, &summary, fluid, structure, coupling, probes));
+    first_step         = restart_step + 1;
+    summary.first_step = first_step;
+  } else {
+    PetscCall(RecordProbes(probes, params.t_start, &scene, fluid, structure, problem, probed_displacement));
+    PetscCall(FieldWriterWrite(fields, 0));
+  }
   PetscCall(DMDestroy(&fluid_mesh));
   PetscCall(DMDestroy(&structure_mesh));
   PetscCall(PetscLogStagePop());
@@ -230,7 +293,8 @@ static PetscErrorCode Run(void)
 
   PetscCall(InterruptInstall());
   summary.steps_done = params.steps;
-  for (PetscInt step = 1; step <= params.steps; ++step) {
+  summary.first_step = first_step;
+  for (PetscInt step = first_step; step <= params.steps; ++step) {
     if (coupling) {
       PetscCall(CouplingStep(coupling, step));
     } else {
@@ -247,6 +311,12 @@ static PetscErrorCode Run(void)
     }
     PetscCall(RecordProbes(probes, params.t_start + step * params.dt, &scene, fluid, structure, problem, probed_displacement));
     PetscCall(FieldWriterWrite(fields, step));
+    if (checkpoint.every && step % checkpoint.every == 0) {
+      PetscInt saved = step;
+      PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CHECKPOINT, 0, 0, 0, 0));
+      PetscCall(CheckpointSaveOrLoad(checkpoint.file, PETSC_FALSE, &saved, &params, &summary, fluid, structure, coupling, probes));
+      PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CHECKPOINT, 0, 0, 0, 0));
+    }
     PetscCall(InterruptCheck(PETSC_COMM_WORLD, &signal_caught));
     if (signal_caught) {
       summary.steps_done  = step;
@@ -289,7 +359,7 @@ static PetscErrorCode Run(void)
     summary.max_interface_jump  = stats.max_jump;
     summary.stalled_steps       = stats.stalled_steps;
     /* seed eq. 6.5: a forward run with the traction known needs one fluid solve per step */
-    summary.work_factor = (PetscReal)(fluid_solves + 2 * stats.linearized_pairs) / PetscMax(summary.steps_done, 1);
+    summary.work_factor = (PetscReal)(fluid_solves + 2 * stats.linearized_pairs) / PetscMax(summary.steps_done - first_step + 1, 1);
   }
   if (probes) {
     PetscCall(ProbesQuantities(probes, &summary.quantities));
@@ -307,7 +377,7 @@ static PetscErrorCode Run(void)
   PetscCall(SummaryWrite(PETSC_COMM_WORLD, params.output_dir, &summary));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fsiopt: scene %s, %" PetscInt_FMT " steps to t = %g:", params.scene, params.steps, (double)params.t_final));
   for (PetscInt i = 0; i < summary.errors.n; ++i) PetscCall(PetscPrintf(PETSC_COMM_WORLD, " %s %.3e", summary.errors.name[i], (double)summary.errors.value[i]));
-  if (coupling) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\nfsiopt: %" PetscInt_FMT " coupling iterations (%.2f per step), %" PetscInt_FMT " inner, max interface jump %.3e, work factor %.2f", summary.coupling_iterations, (double)summary.coupling_iterations / PetscMax(summary.steps_done, 1), summary.inner_iterations, (double)summary.max_interface_jump, (double)summary.work_factor));
+  if (coupling) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\nfsiopt: %" PetscInt_FMT " coupling iterations (%.2f per step), %" PetscInt_FMT " inner, max interface jump %.3e, work factor %.2f", summary.coupling_iterations, (double)summary.coupling_iterations / PetscMax(summary.steps_done - first_step + 1, 1), summary.inner_iterations, (double)summary.max_interface_jump, (double)summary.work_factor));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\nfsiopt: outputs in %s/\n", params.output_dir));
   PetscCall(PetscLogStagePop());
   collective_stop = signal_caught ? PETSC_TRUE : PETSC_FALSE;

@@ -568,6 +568,32 @@ def _():
     return ", ".join(details)
 
 
+@test("restart from a checkpoint continues exactly, also after SIGKILL")
+def _():
+    import signal
+    every = ["-t_final", "0.01", "-checkpoint_every", "5"]
+    full = os.path.join(WORK, "ck-full")
+    solve(CHANNEL + every, out=full)
+    # killed outright, probably between checkpoints, maybe while writing one
+    killed = os.path.join(WORK, "ck-killed")
+    p = subprocess.Popen([FSIOPT] + CHANNEL + every + ["-output_dir", killed], cwd=ROOT, env=ENV,
+                         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    ck = os.path.join(killed, "checkpoint.h5")
+    t0 = time.time()
+    while time.time() - t0 < 120 and not (os.path.exists(ck) and os.path.getsize(ck) > 0 and
+                                          os.path.exists(os.path.join(killed, "probes.csv.partial")) and
+                                          len(open(os.path.join(killed, "probes.csv.partial")).readlines()) > 33):
+        time.sleep(0.05)
+    p.send_signal(signal.SIGKILL)
+    p.wait()
+    restarted = os.path.join(WORK, "ck-restarted")
+    s = solve(CHANNEL + every + ["-restart", ck], out=restarted)
+    a, b = open(os.path.join(full, "probes.csv")).read(), open(os.path.join(restarted, "probes.csv")).read()
+    assert a == b, "the restarted run's probes.csv differs from the uninterrupted run's"
+    assert 1 < s["first_step"] <= 100 and s["steps_done"] == 100, "restart at step %s, done %s" % (s["first_step"], s["steps_done"])
+    return "killed after step >= 32, restarted at step %d: probes.csv byte for byte the uninterrupted run's" % s["first_step"]
+
+
 @test("summary.json has every DESIGN key")
 def _():
     s = solve(FLUID_SPACE)
@@ -593,6 +619,9 @@ def bad_input_cases():
     nolabel = os.path.join(d, "nolabels.msh")
     subprocess.run(["gmsh", "-2", "-format", "msh22", "-v", "0", "-o", nolabel, nolabel_geo], check=True, capture_output=True)
     F, S = ["-scene", "mms-fluid"], ["-scene", "mms-structure"]
+    empty_h5 = os.path.join(d, "junk.h5"); open(empty_h5, "w").write("not hdf5\n")
+    solve(CHANNEL + ["-t_final", "0.0002", "-checkpoint_every", "1"], out=os.path.join(d, "ck"))
+    checkpoint = os.path.join(d, "ck", "checkpoint.h5")
     return [
         ("unknown scene", ["-scene", "nosuchscene"], "-scene"),
         ("no scene", ["-dt", "0.1"], "-scene"),
@@ -634,6 +663,12 @@ def bad_input_cases():
                                                          "-channel_inlet_amplitude", "1e6", "-structure_youngs_modulus", "3e3",
                                                          "-structure_density", "10"], "inverted or degenerate at step"),
         ("mesh motion inverting cells", ["-scene", "gcl", "-dt", "0.01", "-t_final", "0.1", "-gcl_amplitude", "0.6"], "inverted or degenerate at step"),
+        ("restart from a file that is not HDF5", CHANNEL + ["-restart", empty_h5], "not an HDF5 file"),
+        ("restart from a missing file", CHANNEL + ["-restart", os.path.join(d, "nosuch.h5")], "-restart"),
+        ("restart with another dt", CHANNEL + ["-t_final", "0.001", "-dt", "5e-5", "-restart", checkpoint], "dt"),
+        ("restart of another mesh", CHANNEL + ["-t_final", "0.002", "-refine", "1", "-restart", checkpoint], "-restart"),
+        ("restart with a partitioned method", CHANNEL + ["-t_final", "0.002", "-coupling", "iqnils", "-restart", checkpoint], "-coupling opt"),
+        ("restart past the end", CHANNEL + ["-t_final", "0.0001", "-restart", checkpoint], "-restart"),
         ("unknown Turek-Hron case", TUREK + ["-turek_case", "fsi4"], "-turek_case"),
         ("negative inflow velocity", TUREK + ["-turek_case", "cfd1", "-turek_mean_velocity", "-1"], "-turek_mean_velocity"),
         ("steady fluid on a moving mesh", TUREK + ["-turek_case", "fsi1", "-fluid_steady"], "-fluid_steady"),

@@ -1,6 +1,7 @@
 /* The coupling-method interface: create by name, advance one step, report. */
 #include "coupling_impl.h"
 #include "options.h"
+#include "checkpoint.h"
 
 PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, const char output_dir[], PetscReal t0, Coupling *coupling)
 {
@@ -112,6 +113,25 @@ PetscErrorCode CouplingStep(Coupling C, PetscInt step)
   PetscCall(ExtrapolationRecord(&C->start, C->x));
   PetscCall(ExtrapolationPredict(&C->start, C->x));
   PetscCall((*C->ops.step)(C, step));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingCheckpoint(Coupling C, PetscViewer viewer, PetscBool load)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(C->ops.resynchronize, PETSC_COMM_WORLD, PETSC_ERR_SUP, "option %s: checkpoints are supported for -coupling opt, not %s (its past iterates are not saved)", load ? "-restart" : "-checkpoint_every", C->method);
+  PetscCall(PetscViewerHDF5PushGroup(viewer, "/coupling"));
+  PetscCall(CheckpointVec(viewer, "control", C->x, load));
+  PetscCall(CheckpointInt(viewer, "past_controls", &C->start.npast, load));
+  PetscCheck(C->start.npast <= C->start.points, PETSC_COMM_WORLD, PETSC_ERR_FILE_UNEXPECTED, "option -restart: the checkpoint keeps %" PetscInt_FMT " past controls, -coupling_extrapolation_points is %" PetscInt_FMT, C->start.npast, C->start.points);
+  for (PetscInt i = 0; i < C->start.npast; ++i) {
+    char name[32];
+    PetscCall(PetscSNPrintf(name, sizeof(name), "past_control_%" PetscInt_FMT, i));
+    PetscCall(CheckpointVec(viewer, name, C->start.past[i], load));
+  }
+  PetscCall(CouplingProblemCheckpoint(C->problem, viewer, load));
+  PetscCall(PetscViewerHDF5PopGroup(viewer));
+  PetscCall((*C->ops.resynchronize)(C));
   PetscFunctionReturn(0);
 }
 

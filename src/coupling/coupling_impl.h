@@ -30,6 +30,7 @@ struct _p_Coupling {
     PetscErrorCode (*step)(Coupling, PetscInt);
     PetscErrorCode (*destroy)(Coupling);
     const char *(*optimizer)(Coupling);
+    PetscErrorCode (*resynchronize)(Coupling); /* after a checkpoint; NULL: the method cannot restart */
   } ops;
   void *data;
 };

@@ -110,6 +110,17 @@ static PetscErrorCode ConvergenceTest(Tao tao, void *ctx)
   PetscFunctionReturn(0);
 }
 
+/* After a checkpoint the explicit Jacobian is rebuilt at the next step, as a restarted run
+   (which starts without one) builds it. */
+static PetscErrorCode OptResynchronize(Coupling C)
+{
+  Opt *opt = (Opt *)C->data;
+
+  PetscFunctionBeginUser;
+  if (opt->explicit_jacobian) PetscCall(ExplicitJacobianRequestRebuild(opt->explicit_jacobian));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode OptStep(Coupling C, PetscInt step)
 {
   Opt               *opt = (Opt *)C->data;
@@ -175,6 +186,7 @@ PetscErrorCode CouplingCreate_Opt(Coupling C)
   C->ops.step      = OptStep;
   C->ops.destroy   = OptDestroy;
   C->ops.optimizer = OptOptimizer;
+  C->ops.resynchronize = OptResynchronize;
   opt->stall_its   = 5;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Optimization-based coupling", "coupling");
   opt->rebuild_every = 0;

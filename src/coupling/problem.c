@@ -1,6 +1,7 @@
 /* The control problem of one time step: F(x), J h and J^T rho with the factorizations
    of the last nonlinear solves (see coupling.h for the algebra and the signs). */
 #include "coupling.h"
+#include "checkpoint.h"
 #include "fem.h"
 #include "options.h"
 #include "logging.h"
@@ -153,6 +154,20 @@ PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure struc
   }
   PetscCall(MatchInitialVelocity(P));
   *problem = P;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemCheckpoint(CouplingProblem P, PetscViewer viewer, PetscBool load)
+{
+  PetscFunctionBeginUser;
+  if (P->motion) {
+    DM dm, cdm;
+    PetscCall(FluidGetDM(P->fluid, &dm));
+    PetscCall(DMGetCoordinateDM(dm, &cdm));
+    PetscCall(CheckpointLocalVec(viewer, "mesh_displacement", cdm, P->mesh_displacement, load));
+    PetscCall(CheckpointLocalVec(viewer, "mesh_displacement_before", cdm, P->mesh_displacement_before, load));
+  }
+  P->jacobian_age = 0; /* the fluid refactors at the next step (FluidCheckpoint) */
   PetscFunctionReturn(0);
 }
 

@@ -4,6 +4,7 @@
 #include "fem.h"
 #include "options.h"
 #include "logging.h"
+#include "checkpoint.h"
 
 /* PETSc fixes the signatures of pointwise kernels; the projection kernel uses a few of their arguments. */
 #pragma GCC diagnostic ignored "-Wunused-parameter"
@@ -370,6 +371,29 @@ PetscErrorCode FluidLinearSolve(Fluid f, Vec rhs, Vec x, PetscBool transpose)
   PetscFunctionBeginUser;
   PetscCall(FEMLinearSolve(f->snes, rhs, x, transpose));
   f->counts.linear_solves += 1;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidCheckpoint(Fluid f, PetscViewer viewer, PetscBool load)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerHDF5PushGroup(viewer, "/fluid"));
+  PetscCall(CheckpointReal(viewer, "time", &f->time, load));
+  PetscCall(CheckpointInt(viewer, "step", &f->step, load));
+  PetscCall(CheckpointVec(viewer, "state", f->x, load));
+  PetscCall(CheckpointVec(viewer, "state_before", f->x_before, load));
+  if (f->moving) {
+    DM cdm;
+    PetscCall(DMGetCoordinateDM(f->dm, &cdm));
+    PetscCall(CheckpointLocalVec(viewer, "mesh_displacement", cdm, f->displacement, load));
+    if (load) {
+      PetscCall(VecCopy(f->displacement, f->displacement_old));
+      PetscCall(FluidSetMeshDisplacement(f, f->displacement));
+    }
+  }
+  PetscCall(PetscViewerHDF5PopGroup(viewer));
+  /* a resynchronization point: chord factors from before it are not in the checkpoint */
+  if (f->chord) PetscCall(SNESSetLagJacobian(f->snes, -2));
   PetscFunctionReturn(0);
 }
 

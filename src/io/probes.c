@@ -1,6 +1,7 @@
 #include "probes.h"
 #include "output.h"
 #include "options.h"
+#include "checkpoint.h"
 
 struct _p_Probes {
   MPI_Comm    comm;
@@ -84,10 +85,28 @@ PetscErrorCode ProbesCreate(MPI_Comm comm, PetscInt dim, PetscInt nodes, const P
   PetscFunctionReturn(0);
 }
 
+/* Rank 0: one row of every column, kept and written. */
+static PetscErrorCode AppendRow(Probes P, PetscReal t, const PetscReal row[])
+{
+  PetscFunctionBeginUser;
+  if (P->nrecords == P->capacity) {
+    P->capacity = PetscMax(64, 2 * P->capacity);
+    PetscCall(PetscRealloc(sizeof(PetscReal) * P->capacity, &P->t));
+    PetscCall(PetscRealloc(sizeof(PetscReal) * P->capacity * P->ncolumns, &P->series));
+  }
+  P->t[P->nrecords] = t;
+  PetscCall(PetscArraycpy(&P->series[P->nrecords * P->ncolumns], row, P->ncolumns));
+  P->nrecords++;
+  PetscCall(PetscFPrintf(PETSC_COMM_SELF, P->file.fp, "%.10g", (double)t));
+  for (PetscInt c = 0; c < P->ncolumns; ++c) PetscCall(PetscFPrintf(PETSC_COMM_SELF, P->file.fp, ",%.12e", (double)row[c]));
+  PetscCall(PetscFPrintf(PETSC_COMM_SELF, P->file.fp, "\n"));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode ProbesRecord(Probes P, PetscReal t, Vec displacement, const PetscReal extra[])
 {
   PetscMPIInt rank;
-  PetscReal  *row;
+  PetscReal   row[FSIOPT_MAX_QUANTITIES];
 
   PetscFunctionBeginUser;
   if (P->npoints) {
@@ -96,13 +115,6 @@ PetscErrorCode ProbesRecord(Probes P, PetscReal t, Vec displacement, const Petsc
   }
   PetscCallMPI(MPI_Comm_rank(P->comm, &rank));
   if (rank) PetscFunctionReturn(0);
-  if (P->nrecords == P->capacity) {
-    P->capacity = PetscMax(64, 2 * P->capacity);
-    PetscCall(PetscRealloc(sizeof(PetscReal) * P->capacity, &P->t));
-    PetscCall(PetscRealloc(sizeof(PetscReal) * P->capacity * P->ncolumns, &P->series));
-  }
-  P->t[P->nrecords] = t;
-  row               = &P->series[P->nrecords * P->ncolumns];
   if (P->npoints) {
     const PetscScalar *v;
     PetscCall(VecGetArrayRead(P->values, &v));
@@ -110,10 +122,49 @@ PetscErrorCode ProbesRecord(Probes P, PetscReal t, Vec displacement, const Petsc
     PetscCall(VecRestoreArrayRead(P->values, &v));
   }
   for (PetscInt e = 0; e < P->nextra; ++e) row[P->npoints * P->dim + e] = extra[e];
-  P->nrecords++;
-  PetscCall(PetscFPrintf(PETSC_COMM_SELF, P->file.fp, "%.10g", (double)t));
-  for (PetscInt c = 0; c < P->ncolumns; ++c) PetscCall(PetscFPrintf(PETSC_COMM_SELF, P->file.fp, ",%.12e", (double)row[c]));
-  PetscCall(PetscFPrintf(PETSC_COMM_SELF, P->file.fp, "\n"));
+  PetscCall(AppendRow(P, t, row));
+  PetscFunctionReturn(0);
+}
+
+/* The series so far: one vector on rank 0, rows of (t, columns). Loading writes its rows
+   to this run's probes.csv, which then starts at the beginning of the run. */
+PetscErrorCode ProbesCheckpoint(Probes P, PetscViewer viewer, PetscBool load)
+{
+  PetscMPIInt  rank;
+  PetscInt     records = P->nrecords, columns = P->ncolumns;
+  Vec          series;
+  PetscScalar *a;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(P->comm, &rank));
+  PetscCall(PetscViewerHDF5PushGroup(viewer, "/probes"));
+  PetscCallMPI(MPI_Bcast(&records, 1, MPIU_INT, 0, P->comm));
+  PetscCall(CheckpointInt(viewer, "records", &records, load));
+  PetscCall(CheckpointInt(viewer, "columns", &columns, load));
+  PetscCheck(columns == P->ncolumns, P->comm, PETSC_ERR_FILE_UNEXPECTED, "option -restart: the checkpoint's probes have %" PetscInt_FMT " columns, this run's %" PetscInt_FMT, columns, P->ncolumns);
+  PetscCall(VecCreateMPI(P->comm, rank ? 0 : records * (columns + 1), PETSC_DETERMINE, &series));
+  if (!load) {
+    PetscCall(VecGetArray(series, &a));
+    for (PetscInt r = 0; r < records && !rank; ++r) {
+      a[r * (columns + 1)] = P->t[r];
+      for (PetscInt c = 0; c < columns; ++c) a[r * (columns + 1) + 1 + c] = P->series[r * columns + c];
+    }
+    PetscCall(VecRestoreArray(series, &a));
+  }
+  PetscCall(CheckpointVec(viewer, "series", series, load));
+  PetscCall(PetscViewerHDF5PopGroup(viewer));
+  if (load && !rank) {
+    const PetscScalar *b;
+    PetscReal          row[FSIOPT_MAX_QUANTITIES];
+
+    PetscCall(VecGetArrayRead(series, &b));
+    for (PetscInt r = 0; r < records; ++r) {
+      for (PetscInt c = 0; c < columns; ++c) row[c] = PetscRealPart(b[r * (columns + 1) + 1 + c]);
+      PetscCall(AppendRow(P, PetscRealPart(b[r * (columns + 1)]), row));
+    }
+    PetscCall(VecRestoreArrayRead(series, &b));
+  }
+  PetscCall(VecDestroy(&series));
   PetscFunctionReturn(0);
 }
 

@@ -68,7 +68,7 @@ PetscErrorCode SummaryWrite(MPI_Comm comm, const char dir[], const RunSummary *s
   PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s/.summary.json.tmp", dir));
   fp = fopen(tmp, "w");
   PetscCheck(fp, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "option -output_dir %s: cannot write %s", dir, tmp);
-  avg = s->steps_done > 0 ? (PetscReal)s->coupling_iterations / s->steps_done : 0;
+  avg = s->steps_done >= s->first_step ? (PetscReal)s->coupling_iterations / (s->steps_done - s->first_step + 1) : 0;
   fprintf(fp, "{\n");
   fprintf(fp, "  \"scene\": \"%s\",\n", p->scene);
   fprintf(fp, "  \"coupling\": \"%s\",\n", (s->has_fluid && s->has_structure) ? p->coupling : "none");
@@ -78,6 +78,7 @@ PetscErrorCode SummaryWrite(MPI_Comm comm, const char dir[], const RunSummary *s
   fprintf(fp, "  \"refine\": %d,\n", (int)p->refine);
   fprintf(fp, "  \"steps\": %d,\n", (int)p->steps);
   fprintf(fp, "  \"steps_done\": %d,\n", (int)s->steps_done);
+  fprintf(fp, "  \"first_step\": %d,\n", (int)s->first_step);
   if (s->interrupted) fprintf(fp, "  \"interrupted\": \"%s\",\n", s->interrupted);
   else fprintf(fp, "  \"interrupted\": null,\n");
   fprintf(fp, "  \"dt\": %.17g,\n", (double)p->dt);

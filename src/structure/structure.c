@@ -14,6 +14,7 @@
 #include "fem.h"
 #include "options.h"
 #include "logging.h"
+#include "checkpoint.h"
 
 /* PETSc fixes the signatures of pointwise kernels; the projection kernel uses a few of their arguments. */
 #pragma GCC diagnostic ignored "-Wunused-parameter"
@@ -405,6 +406,19 @@ PetscErrorCode StructureGetNodeDisplacement(Structure s, Vec v)
 {
   PetscFunctionBeginUser;
   PetscCall(DMLocalToGlobal(s->dm_free, s->eta_local, INSERT_VALUES, v));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StructureCheckpoint(Structure s, PetscViewer viewer, PetscBool load)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerHDF5PushGroup(viewer, "/structure"));
+  PetscCall(CheckpointReal(viewer, "time", &s->time, load));
+  PetscCall(CheckpointVec(viewer, "displacement", s->eta, load));
+  PetscCall(CheckpointLocalVec(viewer, "velocity", s->dm_free, s->etadot_local, load));
+  PetscCall(CheckpointVec(viewer, "load_old", s->load_old, load));
+  if (load) PetscCall(FEMGlobalToLocal(s->dm, s->eta, s->eta_local));
+  PetscCall(PetscViewerHDF5PopGroup(viewer));
   PetscFunctionReturn(0);
 }
 
