@@ -24,6 +24,9 @@ PetscErrorCode SceneFinalize(void);
 /* A wall clamped on its LEFT and RIGHT face sets (its ends), traction-free on TOP, on the
    fluid along BOTTOM: channel2d's and tube3d's. */
 PetscErrorCode SceneClampedWall(Scene *);
+/* The default of a mesh option: meshes/<name> of the working directory when it is there,
+   else of the repository the binary was built in (FSIOPT_ROOT). */
+PetscErrorCode SceneSetDefaultMesh(const char option[], const char name[]);
 
 /* The scenes (src/scenes/), one file each. */
 PetscErrorCode SceneCreate_MMSFluid(Scene *);

@@ -438,6 +438,7 @@ int main(int argc, char **argv)
     PetscFinalize();
     return 1;
   }
-  ierr = PetscFinalize();
+  ierr = PetscPopErrorHandler();
+  if (!ierr) ierr = PetscFinalize();
   return ierr ? 1 : 0;
 }

@@ -716,6 +716,11 @@ def _():
                 "-coupling_omega", "-coupling_rtol", "-coupling_atol", "-coupling_iqn_reuse", "-mesh_motion",
                 "-channel_inlet_amplitude", "-fluid_backflow_stabilization", "-structure_model"]:
         assert opt in p.stdout, "%s not in -help of channel2d with -coupling iqnils" % opt
+    p = subprocess.run([FSIOPT, "-help"] + TUREK, cwd=ROOT, env=ENV, capture_output=True, text=True, errors="replace", timeout=60)
+    assert p.returncode == 0, "exit %d" % p.returncode
+    for opt in ["-turek_case", "-turek_mean_velocity", "-turek_ramp_time", "-turek_gravity", "-turek_gravity_ramp",
+                "-quantities_window", "-checkpoint_every", "-checkpoint_file", "-restart", "-fluid_steady"]:
+        assert opt in p.stdout, "%s not in -help of turek-hron" % opt
     return ""
 
 

@@ -1,5 +1,6 @@
 #include "scene.h"
 #include "fem.h"
+#include "options.h"
 
 static PetscFunctionList scene_list = NULL;
 
@@ -65,6 +66,18 @@ PetscErrorCode SceneFinalize(void)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscFunctionListDestroy(&scene_list));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SceneSetDefaultMesh(const char option[], const char name[])
+{
+  char path[PETSC_MAX_PATH_LEN];
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(path, sizeof(path), "meshes/%s", name));
+  /* from the repository root as the tests and scripts run; from elsewhere, the build's meshes */
+  if (FileProblem(path)) PetscCall(PetscSNPrintf(path, sizeof(path), "%s/meshes/%s", FSIOPT_ROOT, name));
+  PetscCall(OptionsSetDefault(option, path));
   PetscFunctionReturn(0);
 }
 

@@ -31,8 +31,8 @@ PetscErrorCode SceneCreate_Tube3D(Scene *scene)
   PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-tube_inlet_pressure", "overpressure P on the inlet, dyn/cm^2", &pressure));
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-tube_inlet_duration", "how long the overpressure acts, s", &duration));
   PetscOptionsEnd();
-  PetscCall(OptionsSetDefault("-fluid_dm_plex_filename", "meshes/tube3d-fluid.msh"));
-  PetscCall(OptionsSetDefault("-structure_dm_plex_filename", "meshes/tube3d-wall.msh"));
+  PetscCall(SceneSetDefaultMesh("-fluid_dm_plex_filename", "tube3d-fluid.msh"));
+  PetscCall(SceneSetDefaultMesh("-structure_dm_plex_filename", "tube3d-wall.msh"));
   PetscCall(OptionsSetDefault("-fluid_density", "1.0"));
   PetscCall(OptionsSetDefault("-fluid_viscosity", "0.03"));
   PetscCall(OptionsSetDefault("-structure_density", "1.2"));

@@ -111,8 +111,8 @@ PetscErrorCode SceneCreate_TurekHron(Scene *scene)
   PetscCall(OptionsSetDefault("-dt", c->dt));
   PetscCall(OptionsSetDefault("-t_final", c->t_final));
   PetscCall(OptionsSetDefault("-quantities_window", c->window));
-  PetscCall(OptionsSetDefault("-fluid_dm_plex_filename", "meshes/turek-hron-fluid.msh"));
-  PetscCall(OptionsSetDefault("-structure_dm_plex_filename", "meshes/turek-hron-flag.msh"));
+  PetscCall(SceneSetDefaultMesh("-fluid_dm_plex_filename", "turek-hron-fluid.msh"));
+  PetscCall(SceneSetDefaultMesh("-structure_dm_plex_filename", "turek-hron-flag.msh"));
   PetscCall(OptionsSetDefault("-fluid_density", "1000"));
   PetscCall(OptionsSetDefault("-fluid_viscosity", "1")); /* rho nu_f = 1000 * 1e-3 */
   PetscCall(OptionsSetDefault("-structure_model", "svk"));

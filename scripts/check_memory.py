@@ -1,0 +1,114 @@
+#!/usr/bin/python3
+"""make check-memory: a fast subset of fsiopt runs under valgrind memcheck.
+
+Each run goes through `valgrind --leak-check=full`, and once more without valgrind under
+PETSc's own allocation tracing (-malloc_debug -malloc_dump: every PetscMalloc not freed by
+PetscFinalize; the two together would take an hour). A run fails
+when valgrind reports an error (invalid read or write, use of uninitialised values, bad
+free) or a definitely/indirectly lost block with one of our functions in its stack, or
+when PETSc lists a block allocated in our sources that was never freed. Frames of Debian's
+libraries carry no file and line (no debug information), ours do (bin/fsiopt is built with
+-g), so "a frame with (file.c:line)" is how our code is recognised; errors and leaks that
+only touch Open MPI, HDF5 or PETSc internals are counted and shown, not failed on.
+
+Last line: 'N passed, M failed'; exit status non-zero on any failure. Takes a few minutes.
+"""
+import os, re, subprocess, sys, tempfile, time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+FSIOPT = os.path.join(ROOT, "bin", "fsiopt")
+ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1")
+WORK = tempfile.mkdtemp(prefix="fsiopt-memory-")
+CHANNEL = ["-options_file", "options/channel2d.yaml"]
+TUREK = ["-options_file", "options/turek-hron.yaml"]
+
+RUNS = [
+    ("fluid alone (Navier-Stokes, Q2/Q1)", ["-scene", "mms-fluid", "-dt", "0.1", "-t_start", "0.5", "-t_final", "0.6"]),
+    ("structure alone (St. Venant-Kirchhoff)", ["-scene", "mms-structure", "-structure_model", "svk", "-dt", "0.01", "-t_final", "0.02"]),
+    ("coupled Stokes, Gauss-Newton", ["-options_file", "options/mms-stokes.yaml", "-t_final", "0.6"]),
+    ("channel2d: moving mesh, explicit Jacobian, checkpoints", CHANNEL + ["-t_final", "0.0003", "-checkpoint_every", "2"]),
+    ("channel2d: restart", CHANNEL + ["-t_final", "0.0004", "-restart", "@checkpoint"]),
+    ("channel2d: IQN-ILS", CHANNEL + ["-t_final", "0.0003", "-coupling", "iqnils"]),
+    ("turek-hron cfd1: steady fluid, body forces", TUREK + ["-turek_case", "cfd1", "-dt", "1.25"]),
+    ("turek-hron csm1: static flag, probes on the structure", TUREK + ["-turek_case", "csm1"]),
+    ("bad input: an unknown scene", ["-scene", "nosuchscene"]),
+]
+
+FRAME = re.compile(r"^==\d+==\s+(?:at|by) 0x[0-9A-F]+: (.*)$")
+OURS = re.compile(r"\([A-Za-z0-9_]+\.c:\d+\)")
+
+
+def blocks(log):
+    """valgrind's reports: lists of lines separated by blank '==pid==' lines."""
+    out, cur = [], []
+    for line in log.splitlines():
+        if re.match(r"^==\d+==\s*$", line):
+            if cur:
+                out.append(cur)
+            cur = []
+        elif line.startswith("=="):
+            cur.append(line)
+    if cur:
+        out.append(cur)
+    return out
+
+
+def classify(block):
+    head = re.sub(r"^==\d+==\s*", "", block[0])
+    frames = [FRAME.match(l).group(1) for l in block[1:] if FRAME.match(l)]
+    ours = any(OURS.search(f) for f in frames)
+    if "definitely lost" in head or "indirectly lost" in head:
+        kind = "leak"
+    elif any(k in head for k in ("Invalid", "uninitialised", "Uninitialised", "Mismatched", "free()", "overlap", "Syscall param")):
+        kind = "error"
+    else:
+        kind = None
+    return kind, ours, head, frames
+
+
+def main():
+    passed = failed = 0
+    checkpoint = os.path.join(WORK, "run-3", "checkpoint.h5")
+    t_all = time.time()
+    for i, (name, args) in enumerate(RUNS):
+        out = os.path.join(WORK, "run-%d" % i)
+        args = [checkpoint if a == "@checkpoint" else a for a in args]
+        cmd = ["valgrind", "--leak-check=full", "--show-leak-kinds=definite,indirect", "--num-callers=30",
+               "--log-file=" + os.path.join(WORK, "valgrind-%d.log" % i), FSIOPT] + args + \
+              ["-output_dir", out, "-no_signal_handler"]
+        t0 = time.time()
+        p = subprocess.run(cmd, cwd=ROOT, env=ENV, capture_output=True, text=True, errors="replace", timeout=3000)
+        traced = subprocess.run([FSIOPT] + args + ["-output_dir", out + "-traced", "-malloc_debug", "-malloc_dump"], cwd=ROOT,
+                                env=ENV, capture_output=True, text=True, errors="replace", timeout=3000)
+        log = open(os.path.join(WORK, "valgrind-%d.log" % i), errors="replace").read()
+        problems, foreign = [], 0
+        for b in blocks(log):
+            kind, ours, head, frames = classify(b)
+            if not kind:
+                continue
+            if ours:
+                problems.append("%s: %s" % (head, " <- ".join(f for f in frames if OURS.search(f))[:300]))
+            else:
+                foreign += 1
+        # PETSc's list of PetscMalloc blocks never freed: "[ 0]32 bytes Func() at file.c:line"
+        for line in (traced.stdout + traced.stderr).splitlines():
+            m = re.match(r"^\[\s*\d+\]\s*\d+ bytes (\S+) at (\S+)", line)
+            if m and m.group(2).startswith("src/"):
+                problems.append("PetscMalloc never freed: %s" % line.strip())
+        expect_fail = name.startswith("bad input")
+        for q, how in ((p, "under valgrind"), (traced, "traced")):
+            if (q.returncode != 0) != expect_fail:
+                problems.append("exit status %d %s: %s" % (q.returncode, how, (q.stderr.strip().splitlines() or [""])[-1][:200]))
+        status = "PASS" if not problems else "FAIL"
+        passed += not problems
+        failed += bool(problems)
+        print("%s %-55s %6.1fs  %d reports outside our code" % (status, name, time.time() - t0, foreign), flush=True)
+        for pr in problems[:10]:
+            print("     " + pr)
+    print("total time %.0fs (logs in %s)" % (time.time() - t_all, WORK))
+    print("%d passed, %d failed" % (passed, failed))
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
