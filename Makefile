@@ -5,7 +5,7 @@ export OMPI_MCA_rmaps_base_oversubscribe := 1
 
 # libopenblas0-serial: MUMPS's dense kernels; with Debian's reference BLAS the 3D tube's
 # fluid factorization took 28 s instead of 5 s (46k unknowns). Serial: one thread per MPI rank.
-DEB_PACKAGES := petsc-dev libhdf5-openmpi-dev gmsh pkg-config make python3-numpy python3-matplotlib python3-h5py libopenblas0-serial
+DEB_PACKAGES := petsc-dev libhdf5-openmpi-dev gmsh pkg-config make python3-numpy python3-matplotlib python3-h5py libopenblas0-serial valgrind
 PYTHON := /usr/bin/python3
 
 CC      := mpicc
@@ -20,7 +20,7 @@ OBJ  := $(SRC:%.c=build/%.o)
 GEO  := $(wildcard meshes/*.geo)
 MSH  := $(GEO:.geo=.msh)
 
-.PHONY: all deps run test clean
+.PHONY: all deps run test check-memory clean
 
 all: bin/fsiopt $(MSH)
 
@@ -62,6 +62,11 @@ run: deps
 test: deps
 	$(MAKE) all
 	$(PYTHON) tests/run_tests.py
+
+# a fast subset of runs under valgrind memcheck and PETSc's malloc trace (a few minutes)
+check-memory: deps
+	$(MAKE) all
+	$(PYTHON) scripts/check_memory.py
 
 clean:
 	rm -rf build bin out meshes/*.msh

@@ -459,6 +459,23 @@ def _():
     return "sweeps per step: iqnils %.2f, aitken %.2f, opt %.2f GN" % (q, a, runs["opt"][0]["avg_coupling_iterations"])
 
 
+def force_errors(args):
+    """|drag| and |lift| of mms-fluid's bottom side: the discrete force minus the exact one."""
+    out = os.path.join(WORK, "force-%d" % len(os.listdir(WORK)))
+    solve(["-scene", "mms-fluid"] + args, out=out)
+    head, rows = read_probes(os.path.join(out, "probes.csv"))
+    return {"drag": abs(rows[-1][head.index("drag")]), "lift": abs(rows[-1][head.index("lift")])}
+
+
+@test("body force: volume-weighted drag, lift converge (space, time, moving mesh)")
+def _():
+    space = [force_errors(FLUID_SPACE[2:] + ["-refine", str(r)]) for r in range(1, 4)]
+    time_args = ["-t_start", "0.5", "-t_final", "0.6", "-refine", "2", "-mms_mesh_motion", "0.1"]
+    moving = [force_errors(time_args + ["-dt", dt]) for dt in ("0.02", "0.01", "0.005")]
+    return "space " + check_rates(space, {"drag": 2.5, "lift": 2.5}) + "; dt on a moving mesh " + \
+        check_rates(moving, {"drag": 0.7, "lift": 0.9})
+
+
 TUREK = ["-options_file", "options/turek-hron.yaml"]
 
 

@@ -93,6 +93,10 @@ PetscErrorCode SceneCreate_MMSFluid(Scene *scene)
   fluid->exact[1]           = Pressure;
   fluid->exact_gradient[0]  = VelocityGradient;
   fluid->mesh_displacement  = motion_amplitude > 0 ? Motion : NULL;
+  /* The force on the bottom side: with the exact traction inside the volume-form data, the
+     recorded drag and lift are those of the discrete solution minus the exact ones. */
+  fluid->n_force_faces  = 1;
+  fluid->force_faces[0] = FACE_BOTTOM;
   fluid->n_extra            = 1;
   fluid->extra[0]           = discrete_time ? 1.0 : 0.0;
   PetscFunctionReturn(0);
