@@ -51,7 +51,9 @@ import numpy as np
 
 sys.dont_write_bytecode = True   # no scripts/__pycache__ next to the sources
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from fsiopt_runs import ROOT, error_line, execute, read_json, rel, say   # noqa: E402
+import fsiopt_runs as fr   # noqa: E402
+from fsiopt_runs import (ROOT, error_line, execute, extra_tag, floats, fmt_num, ints, md_escape,   # noqa: E402
+                         read_json, rel, say)
 
 FSIOPT = os.path.join(ROOT, "bin", "fsiopt")
 OPTIONS_FILE = "options/channel2d.yaml"
@@ -61,22 +63,6 @@ DEFAULT_METHODS = "opt,dn:-coupling_omega 0.05,aitken,iqnils"
 REFERENCE_OPTIONS = ["-coupling", "opt", "-coupling_tol", "1e-7", "-fluid_snes_rtol", "1e-10", "-fluid_rhs_rtol", "1e-12"]
 OPT_TOLS = [1e-2, 1e-3, 1e-4, 1e-5]
 RTOLS = [1e-3, 1e-4, 1e-5, 1e-6]
-def floats(text):
-    return [float(x) for x in text.split(",") if x.strip()]
-
-
-def ints(text):
-    return [int(x) for x in text.split(",") if x.strip()]
-
-
-def fmt_time(t):
-    """-t_final / -dt text: exact enough, no float noise (3*1e-5 -> 3e-05)."""
-    return "%.10g" % t
-
-
-def extra_tag(extra):
-    """run-name suffix for --extra options (a short hash; empty without)."""
-    return "-x" + hashlib.sha1(" ".join(extra).encode()).hexdigest()[:8] if extra else ""
 
 
 # ---------------------------------------------------------------------------- methods
@@ -344,11 +330,9 @@ def bench_row(label, r, ref):
 
 
 def number(x):
-    try:
-        v = float(x)
-    except (TypeError, ValueError):
-        return None
-    return v if math.isfinite(v) and v >= 0 else None
+    """fr.number(x) when it is >= 0 (the measured columns), else None."""
+    v = fr.number(x)
+    return v if v is not None and v >= 0 else None
 
 
 def add_ratios(rows, keys):
@@ -391,10 +375,6 @@ def status_cell(row):
     return text
 
 
-def md_escape(text):
-    return str(text).replace("|", "\\|").replace("\n", " ")
-
-
 def write_csv(path, rows, fields):
     with open(path, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=fields, extrasaction="ignore")
@@ -404,7 +384,7 @@ def write_csv(path, rows, fields):
 
 
 def bench(args, methods, extra):
-    tf = fmt_time(args.t_final)
+    tf = fmt_num(args.t_final)
     base = ["-options_file", args.options_file, "-t_final", tf]
     tag = "-T%s%s" % (tf, extra_tag(extra))
     ref = Run("reference" + tag, "reference (opt, tight tolerances)", base + REFERENCE_OPTIONS + extra)
@@ -456,15 +436,12 @@ def bench(args, methods, extra):
     if any(row["max_interface_jump"] == 0 for row in rows):
         md += ["", "Max jump 0: the partitioned methods impose the structure's velocity on the fluid as a Dirichlet "
                "condition, so the interface velocity jump vanishes by construction."]
-    with open(md_path, "w") as f:
-        f.write("\n".join(md) + "\n")
-    print("\n".join(md))
-    print("written: %s, %s" % (rel(csv_path), rel(md_path)))
+    fr.write_report(md, md_path, [csv_path, md_path])
     return ref.ok
 
 
 def work_precision(args, methods, extra):
-    tf = fmt_time(args.t_final)
+    tf = fmt_num(args.t_final)
     refs, points = {}, []   # points: (method, level, tol, run)
     for level in args.refine_levels:
         lev = ["-refine", str(level)] if level else []
@@ -549,10 +526,7 @@ def work_precision(args, methods, extra):
             status_cell(row),
             cell(row, "wall_time_s", "%.3g") or ("(%.3g)" % float(row["elapsed_s"])), cell(row, "probe_error", "%.2e"),
             cell(row, "its_per_step", "%.3g"), cell(row, "fluid_solves", "%d"), cell(row, "work_factor", "%.3g")))
-    with open(base_path + ".md", "w") as f:
-        f.write("\n".join(md) + "\n")
-    print("\n".join(md))
-    print("written: %s.png, %s.csv, %s.md" % ((rel(base_path),) * 3))
+    fr.write_report(md, base_path + ".md", [base_path + e for e in (".png", ".csv", ".md")])
     return all(r.ok for r in refs.values())
 
 

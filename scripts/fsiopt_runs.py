@@ -11,7 +11,7 @@ interrupted run is never taken for a complete one.
 A run that exits with the one-line `fsiopt: error: ...` message has failed for good; a run
 that dies otherwise (killed by a signal, binary missing or busy while being rebuilt, a
 crash without that message) is retried a few times after a short wait."""
-import csv, json, math, os, re, shlex, subprocess, sys, threading, time
+import csv, hashlib, json, math, os, re, shlex, subprocess, sys, threading, time
 from concurrent.futures import ThreadPoolExecutor
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -254,3 +254,61 @@ def fields_file(run_dir):
         raise FileNotFoundError("%s: no such file%s" % (rel(path), extra))
     return path
 
+
+# ---------------------------------------------------------------------------- option values, table text, reports
+def floats(text):
+    return [float(x) for x in text.split(",") if x.strip()]
+
+
+def ints(text):
+    return [int(x) for x in text.split(",") if x.strip()]
+
+
+def fmt_num(t):
+    """-dt / -t_final text: exact enough, no float noise (3*1e-5 -> 3e-05)."""
+    return "%.10g" % t
+
+
+def extra_tag(extra):
+    """run-name suffix for --extra options (a short hash; empty without)."""
+    return "-x" + hashlib.sha1(" ".join(extra).encode()).hexdigest()[:8] if extra else ""
+
+
+def md_escape(text):
+    return str(text).replace("|", "\\|").replace("\n", " ")
+
+
+def number(x):
+    """float of x, or None for a missing / non-numeric / non-finite value."""
+    if isinstance(x, bool):
+        return None
+    try:
+        v = float(x)
+    except (TypeError, ValueError):
+        return None
+    return v if math.isfinite(v) else None
+
+
+def write_report(md, md_path, written):
+    """Writes md (markdown lines) to md_path, prints it, then `written: ` and the paths in
+    written (relative to the repository root when inside it)."""
+    with open(md_path, "w") as f:
+        f.write("\n".join(md) + "\n")
+    print("\n".join(md))
+    print("written: %s" % ", ".join(rel(p) for p in written))
+
+
+def finish_report(md, md_path, written, failed, total, script, what, dir_quote=""):
+    """The end of a table script: md (markdown lines) gets a "## Failures" section with a line
+    `- LABEL: ERROR (RUN DIR)` per (label, run) of failed (run: .error, .run_dir; the run
+    directory in dir_quote, e.g. "`"), then write_report(md, md_path, written); when a run
+    failed, `SCRIPT: N of TOTAL WHAT failed` on stderr and exit status 1."""
+    if failed:
+        md = md + ["", "## Failures", ""] + [
+            "- %s: %s%s" % (label, md_escape(r.error), " (%s%s%s)" % (dir_quote, rel(r.run_dir), dir_quote)
+                            if r.run_dir else "")
+            for label, r in failed]
+    write_report(md, md_path, written)
+    if failed:
+        say("%s: %d of %d %s failed" % (script, len(failed), total, what), err=True)
+        sys.exit(1)

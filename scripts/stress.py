@@ -96,7 +96,7 @@ def cell_runs(args, methods, extra):
         for ratio in args.ratios:
             for dt in args.dts:
                 opts = ["-options_file", args.options_file, "-structure_density", "%g" % ratio,
-                        "-dt", B.fmt_time(dt), "-t_final", B.fmt_time(args.steps * dt)]
+                        "-dt", B.fmt_num(dt), "-t_final", B.fmt_num(args.steps * dt)]
                 name = "%s-rho%g-dt%g-n%d%s" % (m.slug, ratio, dt, args.steps, B.extra_tag(extra))
                 grid[m.slug, ratio, dt] = B.Run(name, "%s, rho_s/rho_f %g, dt %g" % (m.spec, ratio, dt),
                                                 opts + m.coupling_options() + extra, ratio=ratio, dt=dt)

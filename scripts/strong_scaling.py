@@ -42,7 +42,7 @@ Examples (build first: make all):
   scripts/strong_scaling.py --level 1 --t-final 0.0003 --layouts 1:0,2:1
   scripts/strong_scaling.py                                  # n = 2, 1:0,2:1,2:0
   scripts/strong_scaling.py --level 3 --mpiexec srun --layouts "8:0,16:0,16:4,32:8"   # in a SLURM job"""
-import argparse, math, os, shlex, sys
+import argparse, os, shlex, sys
 
 import matplotlib
 matplotlib.use("Agg")
@@ -53,7 +53,8 @@ sys.dont_write_bytecode = True   # no scripts/__pycache__ next to the sources
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import bench as B   # noqa: E402
 import tube3d_table as T   # noqa: E402
-from fsiopt_runs import ROOT, rel, say   # noqa: E402
+import fsiopt_runs as fr   # noqa: E402
+from fsiopt_runs import ROOT, number, rel, say   # noqa: E402
 
 DEFAULT_LAYOUTS = "1:0,2:1,2:0"
 
@@ -76,14 +77,6 @@ def parse_layouts(text):
     if len(set(layouts)) != len(layouts):
         raise ValueError("a layout is listed twice")
     return layouts
-
-
-def number(x):
-    try:
-        v = float(x)
-    except (TypeError, ValueError):
-        return None
-    return v if math.isfinite(v) else None
 
 
 def stepping_time(row):
@@ -217,7 +210,7 @@ def main():
     os.makedirs(args.out, exist_ok=True)
     base = os.path.join(args.out, "scaling")
     B.write_csv(base + ".csv", rows, fields)
-    tf = B.fmt_time(args.t_final)
+    tf = fr.fmt_num(args.t_final)
     dofs = next(((r["fluid_dofs"], r["structure_dofs"]) for r in rows if r["fluid_dofs"] != ""), None)
     plot(base + ".png", rows, "fsiopt strong scaling, tube3d n = %d%s, t_final = %s" % (
         args.level, " (%d + %d unknowns)" % dofs if dofs else "", tf))
@@ -246,18 +239,9 @@ def main():
     for row in rows:
         md.append("| %s | %s |" % (row["layout"], " | ".join(fmt(row[k], "%.3g") for k in step_keys)))
     md += ["", T.STAGE_NOTE]
-    failed = [(row["layout"], r) for row, r in zip(rows, runs) if not r.ok]
-    if failed:
-        md += ["", "## Failures", ""] + ["- %s: %s%s" % (layout, B.md_escape(r.error),
-                                                         " (%s)" % rel(r.run_dir) if r.run_dir else "")
-                                         for layout, r in failed]
-    with open(base + ".md", "w") as f:
-        f.write("\n".join(md) + "\n")
-    print("\n".join(md))
-    print("written: %s.csv, %s.md, %s.png" % ((rel(base),) * 3))
-    if failed:
-        say("strong_scaling: %d of %d layout(s) failed" % (len(failed), len(runs)), err=True)
-        sys.exit(1)
+    fr.finish_report(md, base + ".md", [base + e for e in (".csv", ".md", ".png")],
+                     [(row["layout"], r) for row, r in zip(rows, runs) if not r.ok], len(runs), "strong_scaling",
+                     "layout(s)")
 
 
 if __name__ == "__main__":

@@ -59,10 +59,6 @@ FLUID_STAGES = ("Fluid", "MeshMotion")    # entered on the fluid's ranks only
 STRUCTURE_STAGES = ("Structure",)         # entered on the structure's ranks only
 
 
-def ints(text):
-    return [int(x) for x in text.split(",") if x.strip()]
-
-
 def per_step_key(stage):
     return re.sub(r"\W+", "_", stage).strip("_").lower() + "_s_per_step"
 
@@ -126,14 +122,14 @@ class Run(fr.Variant):
 
 
 def tube3d_run(level, t_final, meshes, extra, np=1, structure_ranks=0, launcher=None):
-    tf = B.fmt_time(t_final)
+    tf = fr.fmt_num(t_final)
     options = ["-options_file", OPTIONS_FILE, "-t_final", tf, "-fluid_dm_plex_filename", rel(meshes["fluid"]),
                "-structure_dm_plex_filename", rel(meshes["wall"])]
     if structure_ranks:
         options += ["-structure_ranks", str(structure_ranks)]
     options += ["-log_view"] + extra
     name = "n%d-T%s-np%d%s%s" % (level, tf, np, "-k%d" % structure_ranks if structure_ranks else "",
-                                 B.extra_tag(extra))
+                                 fr.extra_tag(extra))
     label = "n = %d, %s" % (level, layout_text(np, structure_ranks))
     return Run(name, label, options, launcher=launcher, np=np, structure_ranks=structure_ranks, level=level,
                meshes=meshes)
@@ -272,7 +268,7 @@ STAGE_NOTE = ("Stage split: -log_view stage times per step. PETSc averages a sta
 # ---------------------------------------------------------------------------- main
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--levels", type=ints, default=[1, 2, 3], help="refinement levels n (default 1,2,3)")
+    ap.add_argument("--levels", type=fr.ints, default=[1, 2, 3], help="refinement levels n (default 1,2,3)")
     ap.add_argument("--t-final", type=float, default=0.003, help="end time of every run (default 0.003 = 30 steps, "
                                                                  "the inlet pulse)")
     ap.add_argument("--extra", default="", help='options passed to every run, e.g. --extra="-coupling_tol 1e-5"')
@@ -339,7 +335,7 @@ def main():
     csv_path, md_path = os.path.join(args.out, "table6_1.csv"), os.path.join(args.out, "table6_1.md")
     B.write_csv(csv_path, rows, fields)
 
-    tf = B.fmt_time(args.t_final)
+    tf = fr.fmt_num(args.t_final)
     md = ["# Table 6.1: the 3D pressure-wave tube over mesh refinements", "",
           "Scene: `-options_file %s -t_final %s`%s, meshes `%s/tube3d-{fluid,wall}-n<n>.msh`; %s%s; runs in `%s`." % (
               OPTIONS_FILE, tf, ", extra options `%s`" % " ".join(extra) if extra else "", rel(args.mesh_dir),
@@ -360,18 +356,9 @@ def main():
     for row in rows:
         md.append("| %d | %s |" % (row["level"], " | ".join(fmt(row[per_step_key(s)], "%.3g") for s in STEP_STAGES)))
     md += ["", STAGE_NOTE]
-    failed = [r for r in runs if not r.ok]
-    if failed:
-        md += ["", "## Failures", ""] + ["- n = %d: %s%s" % (r.params["level"], B.md_escape(r.error),
-                                                              " (%s)" % rel(r.run_dir) if r.run_dir else "")
-                                         for r in failed]
-    with open(md_path, "w") as f:
-        f.write("\n".join(md) + "\n")
-    print("\n".join(md))
-    print("written: %s, %s" % (rel(csv_path), rel(md_path)))
-    if failed:
-        say("tube3d_table: %d of %d level(s) failed" % (len(failed), len(runs)), err=True)
-        sys.exit(1)
+    fr.finish_report(md, md_path, [csv_path, md_path],
+                     [("n = %d" % r.params["level"], r) for r in runs if not r.ok], len(runs), "tube3d_table",
+                     "level(s)")
 
 
 if __name__ == "__main__":

@@ -55,13 +55,13 @@ Examples (from anywhere; build first: make all):
   scripts/turek_hron_table.py --cases csm3,fsi1 --levels 1 --t-final 0.1 --out /tmp/th
   scripts/turek_hron_table.py --cases cfd2,cfd3 --levels 1,2,3 --jobs 2
   scripts/turek_hron_table.py                  # all nine cases on n = 1, 2: hours"""
-import argparse, csv, datetime, hashlib, math, os, re, shlex, subprocess, sys, tempfile, time
+import argparse, csv, datetime, math, os, re, shlex, subprocess, sys, tempfile, time
 from concurrent.futures import ThreadPoolExecutor, as_completed
 
 sys.dont_write_bytecode = True   # no scripts/__pycache__ next to the sources
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import fsiopt_runs as fr   # noqa: E402
-from fsiopt_runs import ROOT, rel, say   # noqa: E402
+from fsiopt_runs import ROOT, extra_tag, fmt_num, ints, md_escape, number, rel, say   # noqa: E402
 
 FSIOPT = os.path.join(ROOT, "bin", "fsiopt")
 OPTIONS_FILE = "options/turek-hron.yaml"
@@ -82,35 +82,6 @@ QUANTITIES = [("ux", "dx(0.6;0.2)", "ux(A) [m]", ("csm", "fsi")),
               ("lift", "lift", "lift [N/m]", ("cfd", "fsi"))]
 STATS = ("final", "mean", "amplitude", "frequency")
 DASH = "—"
-
-
-def ints(text):
-    return [int(x) for x in text.split(",") if x.strip()]
-
-
-def fmt_num(t):
-    """-dt / -t_final text: exact enough, no float noise."""
-    return "%.10g" % t
-
-
-def extra_tag(extra):
-    """run-name suffix for --extra options (a short hash; empty without)."""
-    return "-x" + hashlib.sha1(" ".join(extra).encode()).hexdigest()[:8] if extra else ""
-
-
-def md_escape(text):
-    return str(text).replace("|", "\\|").replace("\n", " ")
-
-
-def number(x):
-    """float of x, or None for a missing / non-numeric / non-finite value."""
-    if isinstance(x, bool):
-        return None
-    try:
-        v = float(x)
-    except (TypeError, ValueError):
-        return None
-    return v if math.isfinite(v) else None
 
 
 # ---------------------------------------------------------------------------- the scene's defaults
@@ -615,18 +586,9 @@ def main():
             prev = row
     if not n_changes:
         md.append("| (no case ran on two levels) |" + " |" * (1 + len(QUANTITIES)))
-    failed = [v for v in runs if not v.ok]
-    if failed:
-        md += ["", "## Failures", ""] + ["- %s n = %d: %s%s" % (v.params["case"], v.params["level"], md_escape(v.error),
-                                                                 " (`%s`)" % rel(v.run_dir) if v.run_dir else "")
-                                         for v in failed]
-    with open(md_path, "w") as f:
-        f.write("\n".join(md) + "\n")
-    print("\n".join(md))
-    print("written: %s, %s" % (rel(csv_path), rel(md_path)))
-    if failed:
-        say("turek_hron_table: %d of %d run(s) failed" % (len(failed), len(runs)), err=True)
-        sys.exit(1)
+    fr.finish_report(md, md_path, [csv_path, md_path],
+                     [("%s n = %d" % (v.params["case"], v.params["level"]), v) for v in runs if not v.ok],
+                     len(runs), "turek_hron_table", "run(s)", dir_quote="`")
 
 
 if __name__ == "__main__":
