@@ -15,7 +15,7 @@
 #include "probes.h"
 #include "fields.h"
 #include "interrupt.h"
-#include "checkpoint.h"
+#include "run_checkpoint.h"
 
 static const char help[] = "fsiopt: fluid-structure interaction by optimization-based decoupling.\n"
                            "  fsiopt -options_file options/<scene>.yaml [options]   or   fsiopt -scene <name> [options]\n"
@@ -134,58 +134,6 @@ static PetscErrorCode RecordProbes(Probes probes, PetscReal t, const Scene *scen
   PetscFunctionReturn(0);
 }
 
-typedef struct {
-  PetscInt  every;                          /* -checkpoint_every K, 0: none */
-  char      file[PETSC_MAX_PATH_LEN];       /* -checkpoint_file */
-  char      restart[PETSC_MAX_PATH_LEN];    /* -restart */
-  PetscBool restarting;
-} CheckpointParams;
-
-static PetscErrorCode CheckpointSetFromOptions(const RunParams *params, PetscBool separate_ranks, PetscBool fields, CheckpointParams *cp)
-{
-  PetscFunctionBeginUser;
-  cp->every = 0;
-  PetscCall(PetscSNPrintf(cp->file, sizeof(cp->file), "%s/checkpoint.h5", params->output_dir));
-  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Checkpoints and restarts", "fsiopt");
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-checkpoint_every", "write the state every K steps (0: never)", 0, PETSC_MAX_INT, &cp->every));
-  PetscCall(PetscOptionsString("-checkpoint_file", "where (HDF5; written to FILE.tmp, then renamed)", NULL, cp->file, cp->file, sizeof(cp->file), NULL));
-  PetscCall(PetscOptionsString("-restart", "continue from this checkpoint", NULL, cp->restart, cp->restart, sizeof(cp->restart), &cp->restarting));
-  PetscOptionsEnd();
-  PetscCheck(!(cp->every || cp->restarting) || !separate_ranks, PETSC_COMM_WORLD, PETSC_ERR_SUP, "option %s: checkpoints need fluid and structure on the same ranks (-structure_ranks 0)", cp->restarting ? "-restart" : "-checkpoint_every");
-  PetscCheck(!cp->restarting || !fields, PETSC_COMM_WORLD, PETSC_ERR_SUP, "option -restart: not with -write_fields (the fields file of a run is written from its start)");
-  PetscFunctionReturn(0);
-}
-
-/* What the next step needs, to or from `path`; `step` is the step the state ends. */
-static PetscErrorCode CheckpointSaveOrLoad(const char path[], PetscBool load, PetscInt *step, const RunParams *params, const RunSummary *summary, Fluid fluid, Structure structure, Coupling coupling, Probes probes)
-{
-  PetscViewer viewer;
-  PetscReal   dt = params->dt;
-  PetscInt    fluid_dofs = summary->fluid_dofs, structure_dofs = summary->structure_dofs, ranks = summary->total_ranks;
-
-  PetscFunctionBeginUser;
-  PetscCall(CheckpointOpen(PETSC_COMM_WORLD, path, load, &viewer));
-  PetscCall(PetscViewerHDF5PushGroup(viewer, "/run"));
-  PetscCall(CheckpointInt(viewer, "step", step, load));
-  PetscCall(CheckpointReal(viewer, "dt", &dt, load));
-  PetscCall(CheckpointInt(viewer, "fluid_dofs", &fluid_dofs, load));
-  PetscCall(CheckpointInt(viewer, "structure_dofs", &structure_dofs, load));
-  PetscCall(CheckpointInt(viewer, "ranks", &ranks, load));
-  PetscCall(PetscViewerHDF5PopGroup(viewer));
-  if (load) {
-    PetscCheck(PetscAbsReal(dt - params->dt) <= 1e-12 * params->dt, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP, "option -restart %s: written with dt = %g, this run has -dt %g", path, (double)dt, (double)params->dt);
-    PetscCheck(fluid_dofs == summary->fluid_dofs && structure_dofs == summary->structure_dofs, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP, "option -restart %s: written for %" PetscInt_FMT " fluid and %" PetscInt_FMT " structure unknowns, this run has %" PetscInt_FMT " and %" PetscInt_FMT " (another scene or mesh)", path, fluid_dofs, structure_dofs, summary->fluid_dofs, summary->structure_dofs);
-    PetscCheck(ranks == summary->total_ranks, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP, "option -restart %s: written on %" PetscInt_FMT " ranks, this run has %d (the meshes' distribution must be the same)", path, ranks, (int)summary->total_ranks);
-    PetscCheck(*step >= 0 && *step < params->steps, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP, "option -restart %s: it ends step %" PetscInt_FMT ", expected a step before this run's last (%" PetscInt_FMT ")", path, *step, params->steps);
-  }
-  if (fluid) PetscCall(FluidCheckpoint(fluid, viewer, load));
-  if (structure) PetscCall(StructureCheckpoint(structure, viewer, load));
-  if (coupling) PetscCall(CouplingCheckpoint(coupling, viewer, load));
-  if (probes) PetscCall(ProbesCheckpoint(probes, viewer, load));
-  PetscCall(CheckpointClose(PETSC_COMM_WORLD, path, load, &viewer));
-  PetscFunctionReturn(0);
-}
-
 /* Set when every rank stops on the same error (an interrupt): no abort is needed to end them. */
 static PetscBool collective_stop = PETSC_FALSE;
 
@@ -204,7 +152,7 @@ static PetscErrorCode Run(void)
   Vec             probed_displacement = NULL;
   PetscBool       scene_given, help, coupled;
   int             signal_caught = 0;
-  CheckpointParams checkpoint;
+  RunCheckpointParams checkpoint;
   PetscInt         first_step = 1;
   PetscLogDouble  start, end;
   PetscMPIInt     size;
@@ -272,12 +220,11 @@ static PetscErrorCode Run(void)
   }
   PetscCall(ProbesSetUp(&scene, summary.dim, structure, itf, params.output_dir, &probes, &probed_displacement));
   PetscCall(FieldWriterCreate(PETSC_COMM_WORLD, &params, fluid, structure, &fields));
-  PetscCall(CheckpointSetFromOptions(&params, coupled && (fluid_comm != PETSC_COMM_WORLD || structure_comm != PETSC_COMM_WORLD), fields ? PETSC_TRUE : PETSC_FALSE, &checkpoint));
+  PetscCall(RunCheckpointSetFromOptions(&params, coupled && (fluid_comm != PETSC_COMM_WORLD || structure_comm != PETSC_COMM_WORLD), fields ? PETSC_TRUE : PETSC_FALSE, &checkpoint));
   if (checkpoint.restarting && !help) {
     PetscInt restart_step = 0;
-    PetscCall(CheckpointSaveOrLoad(checkpoint.restart, PETSC_TRUE, &restart_step, &params, &summary, fluid, structure, coupling, probes));
-    first_step         = restart_step + 1;
-    summary.first_step = first_step;
+    PetscCall(RunCheckpoint(checkpoint.restart, PETSC_TRUE, &restart_step, &params, &summary, fluid, structure, coupling, probes));
+    first_step = restart_step + 1;
   } else {
     PetscCall(RecordProbes(probes, params.t_start, &scene, fluid, structure, problem, probed_displacement));
     PetscCall(FieldWriterWrite(fields, 0));
@@ -314,7 +261,7 @@ static PetscErrorCode Run(void)
     if (checkpoint.every && step % checkpoint.every == 0) {
       PetscInt saved = step;
       PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CHECKPOINT, 0, 0, 0, 0));
-      PetscCall(CheckpointSaveOrLoad(checkpoint.file, PETSC_FALSE, &saved, &params, &summary, fluid, structure, coupling, probes));
+      PetscCall(RunCheckpoint(checkpoint.file, PETSC_FALSE, &saved, &params, &summary, fluid, structure, coupling, probes));
       PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CHECKPOINT, 0, 0, 0, 0));
     }
     PetscCall(InterruptCheck(PETSC_COMM_WORLD, &signal_caught));
