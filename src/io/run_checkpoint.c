@@ -6,7 +6,8 @@
 PetscErrorCode RunCheckpointSetFromOptions(const RunParams *params, PetscBool separate_ranks, PetscBool fields, RunCheckpointParams *cp)
 {
   PetscFunctionBeginUser;
-  cp->every = 0;
+  cp->every      = 0;
+  cp->restart[0] = 0;
   PetscCall(PetscSNPrintf(cp->file, sizeof(cp->file), "%s/checkpoint.h5", params->output_dir));
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Checkpoints and restarts", "fsiopt");
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-checkpoint_every", "write the state every K steps (0: never)", 0, PETSC_MAX_INT, &cp->every));
