@@ -306,12 +306,15 @@ def _():
 
 
 # ---- moving meshes (issue 4) ----
-@test("geometric conservation: uniform flow on a moving mesh")
+@test("geometric conservation: uniform flow on a moving mesh, 2D and 3D")
 def _():
-    s = solve(["-scene", "gcl", "-dt", "0.01", "-t_final", "0.1"])
-    e = s["errors"]
-    assert e["u_L2"] <= 1e-12 and e["p_L2"] <= 1e-12, "errors %s" % e
-    return "u_L2 %.1e, p_L2 %.1e after %d steps" % (e["u_L2"], e["p_L2"], s["steps"])
+    details = []
+    for name, box in (("quadrilaterals", []), ("hexahedra", ["-fluid_dm_plex_dim", "3", "-fluid_dm_plex_box_faces", "4,4,2"])):
+        s = solve(["-scene", "gcl", "-dt", "0.01", "-t_final", "0.1"] + box)
+        e = s["errors"]
+        assert e["u_L2"] <= 1e-12 and e["p_L2"] <= 1e-12, "%s: errors %s" % (name, e)
+        details.append("%s u_L2 %.1e, p_L2 %.1e" % (name, e["u_L2"], e["p_L2"]))
+    return ", ".join(details) + " after 10 steps"
 
 
 @test("ALE fluid on a moving mesh: temporal rate")
@@ -680,6 +683,8 @@ def bad_input_cases():
                                                          "-channel_inlet_amplitude", "1e6", "-structure_youngs_modulus", "3e3",
                                                          "-structure_density", "10"], "inverted or degenerate at step"),
         ("mesh motion inverting cells", ["-scene", "gcl", "-dt", "0.01", "-t_final", "0.1", "-gcl_amplitude", "0.6"], "inverted or degenerate at step"),
+        ("mesh motion inverting hexahedra", ["-scene", "gcl", "-dt", "0.01", "-t_final", "0.1", "-gcl_amplitude", "0.6",
+                                             "-fluid_dm_plex_dim", "3", "-fluid_dm_plex_box_faces", "4,4,2"], "inverted or degenerate at step"),
         ("restart from a file that is not HDF5", CHANNEL + ["-restart", empty_h5], "not an HDF5 file"),
         ("restart from a missing file", CHANNEL + ["-restart", os.path.join(d, "nosuch.h5")], "-restart"),
         ("restart with another dt", CHANNEL + ["-t_final", "0.001", "-dt", "5e-5", "-restart", checkpoint], "dt"),

@@ -17,6 +17,7 @@ static PetscErrorCode Velocity(PetscInt dim, PetscReal t, const PetscReal x[], P
 {
   u[0] = 1.0;
   u[1] = 0.5;
+  if (dim == 3) u[2] = 0.0; /* also on a 3D box, for the 3D cell checks */
   return 0;
 }
 
@@ -28,6 +29,7 @@ static PetscErrorCode Pressure(PetscInt dim, PetscReal t, const PetscReal x[], P
 
 static PetscErrorCode Motion(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *d, void *ctx)
 {
+  for (PetscInt c = 0; c < Nc; ++c) d[c] = 0.0;
   PrescribedMotion(gcl.amplitude, gcl.frequency, t, x, d);
   return 0;
 }
