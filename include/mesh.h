@@ -4,7 +4,8 @@
 
 /* Builds one subdomain's mesh from the options under `prefix` (-fluid_dm_plex_*,
    -structure_dm_plex_*: a box, or a gmsh file with -<prefix>dm_plex_filename),
-   refines it `refine` times, distributes it, and checks that every face set in
-   `required` is present. */
-PetscErrorCode MeshCreate(MPI_Comm, const char prefix[], PetscInt refine, PetscInt nrequired, const PetscInt required[], DM *);
+   refines it `refine` times, distributes it, and checks it: the dimension the scene
+   needs (`dim`, 0: any), every face set in `required`, and no inverted or degenerate
+   cell. */
+PetscErrorCode MeshCreate(MPI_Comm, const char prefix[], PetscInt refine, PetscInt dim, PetscInt nrequired, const PetscInt required[], DM *);
 #endif

@@ -9,6 +9,7 @@
 typedef struct {
   char        name[64];
   PetscBool   has_fluid, has_structure;
+  PetscInt    dim;           /* of its meshes; 0: any */
   PhysicsData fluid, structure;
   PetscInt    n_probes;      /* interface points whose structure displacement goes to probes.csv */
   PetscReal   probes[8][3];

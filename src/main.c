@@ -197,7 +197,7 @@ static PetscErrorCode Run(void)
       if (scene.fluid.n_fixed_mesh_faces) PetscCall(FluidEnableMeshMotion(fluid));
     }
     PetscCall(SceneRequiredFaces(&scene.fluid, &nfaces, faces));
-    PetscCall(MeshCreate(fluid_comm, "fluid_", params.refine, nfaces, faces, &fluid_mesh));
+    PetscCall(MeshCreate(fluid_comm, "fluid_", params.refine, scene.dim, nfaces, faces, &fluid_mesh));
     PetscCall(FluidSetUp(fluid, fluid_mesh, &scene.fluid, params.t_start, params.dt));
     PetscCall(FluidGetInfo(fluid, &summary.dim, &summary.fluid_dofs));
   }
@@ -207,7 +207,7 @@ static PetscErrorCode Run(void)
     PetscCall(StructureCreate(structure_comm, &structure));
     PetscCall(StructureSetFromOptions(structure));
     PetscCall(SceneRequiredFaces(&scene.structure, &nfaces, faces));
-    PetscCall(MeshCreate(structure_comm, "structure_", params.refine, nfaces, faces, &structure_mesh));
+    PetscCall(MeshCreate(structure_comm, "structure_", params.refine, scene.dim, nfaces, faces, &structure_mesh));
     PetscCall(StructureSetUp(structure, structure_mesh, &scene.structure, params.t_start, params.dt));
     PetscCall(StructureGetInfo(structure, &summary.dim, &summary.structure_dofs));
   }

@@ -638,6 +638,14 @@ def bad_input_cases():
                                  "Plane Surface(1)={1};Physical Curve(1)={1};Physical Surface(1)={1};\n")
     nolabel = os.path.join(d, "nolabels.msh")
     subprocess.run(["gmsh", "-2", "-format", "msh22", "-v", "0", "-o", nolabel, nolabel_geo], check=True, capture_output=True)
+    # two quadrilaterals on the unit square with the face sets 1-4; the second listed clockwise
+    inverted = os.path.join(d, "inverted.msh")
+    open(inverted, "w").write("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n6\n1 0 0 0\n2 0.5 0 0\n3 1 0 0\n"
+                              "4 1 1 0\n5 0.5 1 0\n6 0 1 0\n$EndNodes\n$Elements\n8\n1 1 2 1 1 1 2\n2 1 2 1 1 2 3\n"
+                              "3 1 2 2 2 3 4\n4 1 2 3 3 4 5\n5 1 2 3 3 5 6\n6 1 2 4 4 6 1\n7 3 2 1 1 1 2 5 6\n"
+                              "8 3 2 1 1 2 5 4 3\n$EndElements\n")
+    truncated = os.path.join(d, "truncated.msh")
+    open(truncated, "w").write(open(os.path.join(ROOT, "meshes", "wall.msh")).read()[:600])
     F, S = ["-scene", "mms-fluid"], ["-scene", "mms-structure"]
     empty_h5 = os.path.join(d, "junk.h5"); open(empty_h5, "w").write("not hdf5\n")
     solve(CHANNEL + ["-t_final", "0.0002", "-checkpoint_every", "1"], out=os.path.join(d, "ck"))
@@ -652,6 +660,9 @@ def bad_input_cases():
         ("missing mesh file", F + ["-fluid_dm_plex_filename", "meshes/nosuch.msh"], "nosuch.msh"),
         ("unreadable mesh file", F + ["-fluid_dm_plex_filename", junk], "junk.msh"),
         ("mesh lacking labels", F + ["-fluid_dm_plex_filename", nolabel], "Face Sets"),
+        ("mesh with an inverted cell", F + ["-fluid_dm_plex_filename", inverted], "inverted or degenerate"),
+        ("truncated mesh file", S + ["-structure_dm_plex_filename", truncated], "truncated.msh"),
+        ("3D mesh for a 2D scene", F + ["-fluid_dm_plex_filename", "meshes/tube3d-fluid.msh"], "expected a 2D mesh"),
         ("zero fluid density", F + ["-fluid_density", "0"], "-fluid_density"),
         ("negative fluid viscosity", F + ["-fluid_viscosity", "-1"], "-fluid_viscosity"),
         ("zero viscosity", F + ["-fluid_viscosity", "0"], "-fluid_viscosity"),

@@ -18,7 +18,43 @@ static PetscErrorCode MeshCheckFaceSets(DM dm, const char prefix[], const char s
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode MeshCreate(MPI_Comm comm, const char prefix[], PetscInt refine, PetscInt nrequired, const PetscInt required[], DM *mesh)
+/* A cell whose Jacobian determinant is not positive at its first corner is inverted (its
+   vertices out of order) or degenerate. */
+static PetscErrorCode MeshCheckCells(DM dm, const char prefix[], const char source[])
+{
+  PetscInt  cStart, cEnd, dim, bad = -1;
+  PetscReal v0[3], J[9], invJ[9], detJ = 1, where[3] = {0, 0, 0}, worst = 1;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetDimension(dm, &dim));
+  PetscCall(DMGetCoordinatesLocalSetUp(dm));
+  PetscCall(DMPlexGetHeightStratum(dm, 0, &cStart, &cEnd));
+  for (PetscInt c = cStart; c < cEnd && bad < 0; ++c) {
+    PetscCall(DMPlexComputeCellGeometryAffineFEM(dm, c, v0, J, invJ, &detJ));
+    if (!(detJ > 0)) {
+      bad   = c;
+      worst = detJ;
+      for (PetscInt d = 0; d < dim; ++d) where[d] = v0[d];
+    }
+  }
+  {
+    /* the first rank with such a cell names it */
+    MPI_Comm    comm = PetscObjectComm((PetscObject)dm);
+    PetscMPIInt rank, size, first;
+    PetscReal   report[5] = {(PetscReal)bad, worst, where[0], where[1], where[2]};
+
+    PetscCallMPI(MPI_Comm_rank(comm, &rank));
+    PetscCallMPI(MPI_Comm_size(comm, &size));
+    first = bad >= 0 ? rank : size;
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, comm));
+    if (first == size) PetscFunctionReturn(0);
+    PetscCallMPI(MPI_Bcast(report, 5, MPIU_REAL, first, comm));
+    SETERRQ(comm, PETSC_ERR_ARG_WRONG, "%s mesh %s: cell %d with its first corner at (%g, %g, %g) is inverted or degenerate (Jacobian determinant %g)", prefix, source, (int)report[0], (double)report[2], (double)report[3], (double)report[4], (double)report[1]);
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode MeshCreate(MPI_Comm comm, const char prefix[], PetscInt refine, PetscInt dim, PetscInt nrequired, const PetscInt required[], DM *mesh)
 {
   DM          dm;
   char        option[256], filename[PETSC_MAX_PATH_LEN] = "";
@@ -41,7 +77,13 @@ PetscErrorCode MeshCreate(MPI_Comm comm, const char prefix[], PetscInt refine, P
       SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "%s mesh %s: cannot build the mesh (expected a gmsh 2.2/4.1 .msh file or -%sdm_plex_box_* options)", prefix, from_file ? filename : "(box)", prefix);
     }
   }
+  {
+    PetscInt got;
+    PetscCall(DMGetDimension(dm, &got));
+    PetscCheck(!dim || got == dim, comm, PETSC_ERR_ARG_WRONG, "%s mesh %s: expected a %" PetscInt_FMT "D mesh for this scene, got a %" PetscInt_FMT "D one", prefix, from_file ? filename : "(box)", dim, got);
+  }
   PetscCall(MeshCheckFaceSets(dm, prefix, from_file ? filename : "(box)", nrequired, required));
+  PetscCall(MeshCheckCells(dm, prefix, from_file ? filename : "(box)"));
 
   PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCall(DMPlexIsDistributed(dm, &distributed));

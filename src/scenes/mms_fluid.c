@@ -69,6 +69,7 @@ PetscErrorCode SceneCreate_MMSFluid(Scene *scene)
   PetscBool    discrete_time = PETSC_FALSE;
 
   PetscFunctionBeginUser;
+  scene->dim = 2;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene mms-fluid: the fluid alone against a manufactured solution", "scene");
   PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-mms_mesh_motion", "amplitude of a prescribed interior mesh motion (ALE check; 0: fixed mesh)", &motion_amplitude));
   PetscCheck(motion_amplitude <= 0.2, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "option -mms_mesh_motion: expected an amplitude of at most 0.2 (cells would invert), got %g", (double)motion_amplitude);

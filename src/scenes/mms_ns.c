@@ -6,6 +6,7 @@
 PetscErrorCode SceneCreate_MMSNS(Scene *scene)
 {
   PetscFunctionBeginUser;
+  scene->dim = 2;
   PetscCall(SceneCreate_MMSFSI(scene, "navier-stokes"));
   PetscFunctionReturn(0);
 }

@@ -5,6 +5,7 @@
 PetscErrorCode SceneCreate_MMSStokes(Scene *scene)
 {
   PetscFunctionBeginUser;
+  scene->dim = 2;
   PetscCall(SceneCreate_MMSFSI(scene, "stokes"));
   PetscFunctionReturn(0);
 }

@@ -66,6 +66,7 @@ PetscErrorCode SceneCreate_MMSStructure(Scene *scene)
   PhysicsData *structure = &scene->structure;
 
   PetscFunctionBeginUser;
+  scene->dim = 2;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene mms-structure: the structure against a manufactured displacement", "scene");
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-mms_amplitude", "factor on the manufactured displacement", &mms.amplitude));
   PetscCall(PetscOptionsBool("-mms_linear_load", "load of linear elasticity whatever -structure_model (the solution is then manufactured for the linear wall only)", NULL, mms.linear_load, &mms.linear_load, NULL));

@@ -94,6 +94,7 @@ PetscErrorCode SceneCreate_TurekHron(Scene *scene)
   PetscReal        gravity, gravity_ramp;
 
   PetscFunctionBeginUser;
+  scene->dim = 2;
   for (PetscInt i = 0; i < ncases; ++i) names[i] = cases[i].name;
   inflow.ramp_time = 2.0;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene turek-hron: the Turek-Hron benchmarks CSM1-3, CFD1-3, FSI1-3", "scene");
