@@ -176,34 +176,44 @@ PetscErrorCode FEMSolveSteady(DM dm, const char prefix[], PetscInt *jacobian_ass
 
 PetscErrorCode FEMInvalidateGeometry(DM dm)
 {
-  PetscDS  ds;
-  PetscInt Nf, depth;
-  IS       cells = NULL;
+  PetscInt Nds, depth;
 
   PetscFunctionBeginUser;
   PetscCall(DMSetCoordinateField(dm, NULL));
   PetscCall(DMPlexGetDepth(dm, &depth));
-  PetscCall(DMGetStratumIS(dm, "dim", depth, &cells));
-  if (!cells) PetscCall(DMGetStratumIS(dm, "depth", depth, &cells));
-  if (!cells) PetscFunctionReturn(0);
-  PetscCall(DMGetDS(dm, &ds));
-  PetscCall(PetscDSGetNumFields(ds, &Nf));
-  for (PetscInt f = 0; f < Nf; ++f) {
-    PetscObject     obj;
-    PetscQuadrature quad;
-    PetscObjectId   id;
-    char            key[64];
+  PetscCall(DMGetNumDS(dm, &Nds));
+  /* every region: the whole mesh, or the cells of a label (value 1) a field is restricted to */
+  for (PetscInt r = 0; r < Nds; ++r) {
+    DMLabel  label;
+    PetscDS  ds;
+    PetscInt Nf;
+    IS       cells = NULL;
 
-    PetscCall(PetscDSGetDiscretization(ds, f, &obj));
-    PetscCall(PetscFEGetQuadrature((PetscFE)obj, &quad));
-    PetscCall(PetscObjectGetId((PetscObject)quad, &id));
-    /* the key of PETSc 3.18's DMSNESGetFEGeom (dmplexsnes.c), in both of its spellings */
-    PetscCall(PetscSNPrintf(key, 33, "DMSNESGetFEGeom_%" PetscInt64_FMT "\n", id));
-    PetscCall(PetscObjectCompose((PetscObject)cells, key, NULL));
-    PetscCall(PetscSNPrintf(key, 33, "DMSNESGetFEGeom_%x\n", (unsigned)id));
-    PetscCall(PetscObjectCompose((PetscObject)cells, key, NULL));
+    PetscCall(DMGetRegionNumDS(dm, r, &label, NULL, &ds));
+    if (label) PetscCall(DMLabelGetStratumIS(label, 1, &cells));
+    else {
+      PetscCall(DMGetStratumIS(dm, "dim", depth, &cells));
+      if (!cells) PetscCall(DMGetStratumIS(dm, "depth", depth, &cells));
+    }
+    if (!cells) continue;
+    PetscCall(PetscDSGetNumFields(ds, &Nf));
+    for (PetscInt f = 0; f < Nf; ++f) {
+      PetscObject     obj;
+      PetscQuadrature quad;
+      PetscObjectId   id;
+      char            key[64];
+
+      PetscCall(PetscDSGetDiscretization(ds, f, &obj));
+      PetscCall(PetscFEGetQuadrature((PetscFE)obj, &quad));
+      PetscCall(PetscObjectGetId((PetscObject)quad, &id));
+      /* the key of PETSc 3.18's DMSNESGetFEGeom (dmplexsnes.c), in both of its spellings */
+      PetscCall(PetscSNPrintf(key, 33, "DMSNESGetFEGeom_%" PetscInt64_FMT "\n", id));
+      PetscCall(PetscObjectCompose((PetscObject)cells, key, NULL));
+      PetscCall(PetscSNPrintf(key, 33, "DMSNESGetFEGeom_%x\n", (unsigned)id));
+      PetscCall(PetscObjectCompose((PetscObject)cells, key, NULL));
+    }
+    PetscCall(ISDestroy(&cells));
   }
-  PetscCall(ISDestroy(&cells));
   PetscFunctionReturn(0);
 }
 

@@ -84,32 +84,49 @@ static PetscErrorCode FluidSetConstantsFull(Fluid f, PetscReal mass, PetscReal o
   PetscFunctionReturn(0);
 }
 
-/* Fields and volume kernels on dm (the solver's DM, or an unconstrained copy of it). */
-PetscErrorCode FluidSetVolumeWeakForm(Fluid f, DM dm)
+/* Fields and volume kernels on dm (the solver's DM, or a copy of it without boundary
+   conditions), on the cells of `region` (value 1) only when given. */
+PetscErrorCode FluidSetVolumeWeakForm(Fluid f, DM dm, DMLabel region)
 {
   PetscDS       ds;
   PetscWeakForm wf;
-  PetscFE       velocity;
+  PetscFE       velocity, pressure;
 
   PetscFunctionBeginUser;
   PetscCall(FEMCreateField(dm, 0, "velocity", -1, f->velocity_degree, NULL));
   PetscCall(DMGetField(dm, 0, NULL, (PetscObject *)&velocity));
   PetscCall(FEMCreateField(dm, 1, "pressure", 1, f->pressure_degree, velocity));
-  PetscCall(DMCreateDS(dm));
-  PetscCall(DMGetDS(dm, &ds));
-  if (f->model == FLUID_NAVIER_STOKES) {
-    PetscCall(PetscDSSetResidual(ds, 0, FluidF0MassConvection, FluidF1Stress));
-    PetscCall(PetscDSSetJacobian(ds, 0, 0, FluidG0MassConvection, FluidG1Convection, NULL, FluidG3Viscous));
-  } else {
-    PetscCall(PetscDSSetResidual(ds, 0, FluidF0MassStokes, FluidF1Stress));
-    PetscCall(PetscDSSetJacobian(ds, 0, 0, FluidG0MassStokes, NULL, NULL, FluidG3Viscous));
+  if (region) {
+    /* held while DMSetField replaces the field by itself on the region */
+    PetscCall(DMGetField(dm, 1, NULL, (PetscObject *)&pressure));
+    PetscCall(PetscObjectReference((PetscObject)velocity));
+    PetscCall(PetscObjectReference((PetscObject)pressure));
+    PetscCall(DMSetField(dm, 0, region, (PetscObject)velocity));
+    PetscCall(DMSetField(dm, 1, region, (PetscObject)pressure));
+    PetscCall(PetscFEDestroy(&velocity));
+    PetscCall(PetscFEDestroy(&pressure));
+    PetscCall(DMGetField(dm, 0, NULL, (PetscObject *)&velocity));
   }
-  PetscCall(PetscDSSetResidual(ds, 1, FluidF0Continuity, f->pressure_stabilization > 0 ? FluidF1PressureStabilization : NULL));
-  if (f->pressure_stabilization > 0) PetscCall(PetscDSSetJacobian(ds, 1, 1, NULL, NULL, NULL, FluidG3PressureStabilization));
-  PetscCall(PetscDSSetJacobian(ds, 0, 1, NULL, NULL, FluidG2Pressure, NULL));
-  PetscCall(PetscDSSetJacobian(ds, 1, 0, NULL, FluidG1Continuity, NULL, NULL));
+  PetscCall(DMCreateDS(dm));
+  if (region) PetscCall(DMGetRegionDS(dm, region, NULL, &ds));
+  else PetscCall(DMGetDS(dm, &ds));
+  /* the kernels under the region's key: PETSc looks a region's kernels up by its label */
   PetscCall(PetscDSGetWeakForm(ds, &wf));
-  if (f->data.load_value_kernel || f->data.load_stress_kernel) PetscCall(PetscWeakFormAddResidual(wf, NULL, 0, 0, 0, f->data.load_value_kernel, f->data.load_stress_kernel));
+  {
+    const PetscInt value = region ? 1 : 0;
+    if (f->model == FLUID_NAVIER_STOKES) {
+      PetscCall(PetscWeakFormAddResidual(wf, region, value, 0, 0, FluidF0MassConvection, FluidF1Stress));
+      PetscCall(PetscWeakFormAddJacobian(wf, region, value, 0, 0, 0, FluidG0MassConvection, FluidG1Convection, NULL, FluidG3Viscous));
+    } else {
+      PetscCall(PetscWeakFormAddResidual(wf, region, value, 0, 0, FluidF0MassStokes, FluidF1Stress));
+      PetscCall(PetscWeakFormAddJacobian(wf, region, value, 0, 0, 0, FluidG0MassStokes, NULL, NULL, FluidG3Viscous));
+    }
+    PetscCall(PetscWeakFormAddResidual(wf, region, value, 1, 0, FluidF0Continuity, f->pressure_stabilization > 0 ? FluidF1PressureStabilization : NULL));
+    if (f->pressure_stabilization > 0) PetscCall(PetscWeakFormAddJacobian(wf, region, value, 1, 1, 0, NULL, NULL, NULL, FluidG3PressureStabilization));
+    PetscCall(PetscWeakFormAddJacobian(wf, region, value, 0, 1, 0, NULL, NULL, FluidG2Pressure, NULL));
+    PetscCall(PetscWeakFormAddJacobian(wf, region, value, 1, 0, 0, NULL, FluidG1Continuity, NULL, NULL));
+    if (f->data.load_value_kernel || f->data.load_stress_kernel) PetscCall(PetscWeakFormAddResidual(wf, region, value, 0, 0, f->data.load_value_kernel, f->data.load_stress_kernel));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -118,7 +135,7 @@ static PetscErrorCode FluidSetUpWeakForm(Fluid f)
   PetscDS ds;
 
   PetscFunctionBeginUser;
-  PetscCall(FluidSetVolumeWeakForm(f, f->dm));
+  PetscCall(FluidSetVolumeWeakForm(f, f->dm, NULL));
   PetscCall(DMGetDS(f->dm, &ds));
   PetscCall(FEMAddBoundaries(f->dm, 0, &f->data, f->datums, &f->time));
   if (f->backflow && f->model == FLUID_NAVIER_STOKES) {
@@ -237,6 +254,7 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
   PetscCall(VecDuplicate(f->x, &f->x_start));
   PetscCall(VecDuplicate(f->x, &f->x_before));
   PetscCall(DMCreateLocalVector(f->dm, &f->xlocal_old));
+  PetscCall(DMCreateLocalVector(f->dm, &f->xlocal_work));
   PetscCheck(!(f->steady && f->moving), f->comm, PETSC_ERR_ARG_INCOMP, "option -fluid_steady: a moving mesh needs the time derivative; expected a fixed fluid domain");
   if (f->moving) PetscCall(FluidALESetUp(f));
   PetscCall(FluidForcesSetUp(f));
@@ -461,6 +479,7 @@ PetscErrorCode FluidDestroy(Fluid *fluid)
   PetscCall(FluidForcesDestroy(f));
   PetscCall(FluidDirichletDestroy(f));
   PetscCall(VecDestroy(&f->xlocal_old));
+  PetscCall(VecDestroy(&f->xlocal_work));
   PetscCall(SNESDestroy(&f->snes));
   PetscCall(DMDestroy(&f->dm));
   PetscCall(PetscFree(*fluid));

@@ -152,8 +152,15 @@ PetscErrorCode FluidALESetUp(Fluid f)
   PetscCall(VecDuplicate(coordinates, &f->displacement_old));
   PetscCall(VecZeroEntries(f->displacement));
   PetscCall(VecZeroEntries(f->displacement_old));
-  /* the old-domain mass on every dof, boundary values included */
-  PetscCall(FluidUnconstrainedSetUp(f));
+  /* the old-domain mass on every dof, boundary values included, on a copy of the DM
+     without constraints; elements of its own: PETSc 3.18 caches cell geometry by
+     quadrature on the cell IS that clones share, and this copy lives on the previous domain */
+  PetscCall(DMClone(f->dm, &f->dm_all));
+  PetscCall(FluidSetVolumeWeakForm(f, f->dm_all, NULL));
+  PetscCall(DMSetAuxiliaryVec(f->dm_all, NULL, 0, 0, f->z_local)); /* for the body force's convection */
+  PetscCall(DMCreateGlobalVector(f->dm_all, &f->all_x));
+  PetscCall(VecDuplicate(f->all_x, &f->all_y));
+  PetscCall(DMCreateLocalVector(f->dm_all, &f->all_local));
   PetscCall(DMCreateMatrix(f->dm_all, &f->mass_old_all));
   PetscCall(MatAssemblyBegin(f->mass_old_all, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(f->mass_old_all, MAT_FINAL_ASSEMBLY));
@@ -340,6 +347,10 @@ PetscErrorCode FluidALEDestroy(Fluid f)
   PetscCall(MatDestroy(&f->mass_old));
   PetscCall(ISDestroy(&f->free_in_all));
   PetscCall(MatDestroy(&f->mass_old_all));
+  PetscCall(VecDestroy(&f->all_x));
+  PetscCall(VecDestroy(&f->all_y));
+  PetscCall(VecDestroy(&f->all_local));
+  PetscCall(DMDestroy(&f->dm_all));
   PetscCall(VecDestroy(&f->work));
   PetscCall(DMDestroy(&f->dm_aux));
   PetscFunctionReturn(0);

@@ -3,166 +3,245 @@
      F_c = -R_volume(u^n, p^n; w) = - int_Omega rho (u_t + ((u - z).grad) u) . w + sigma : grad w,
    which equals the boundary integral of sigma n over the body (n out of the body) for the
    exact solution, and converges faster than the boundary integral of the discrete
-   pressure and velocity gradient traces (it is the flux the discrete equations balance). R_volume
-   is the residual of the volume terms on every dof, constrained ones included: it is
-   evaluated on dm_all, a copy of the fluid's DM without boundary conditions. */
+   pressure and velocity gradient traces (it is the flux the discrete equations balance).
+   w vanishes outside the cells that touch the body, so on a fixed mesh R_volume is
+   evaluated there only: on dm_force, a copy of the fluid's DM whose fields live on those
+   cells and carry no boundary conditions (the body's rows are constrained in the fluid's
+   own DM). On a moving mesh it is evaluated on every cell of dm_all, the ALE's copy without
+   constraints: PETSc 3.18 caches a region's cell geometry on an index set we cannot reach
+   to invalidate when the mesh moves. */
 #include "fluid_impl.h"
 #include "fem.h"
 
-PetscErrorCode FluidUnconstrainedSetUp(Fluid f)
+/* The points in the closure of the body's faces, sorted, each once. */
+static PetscErrorCode BodyPoints(Fluid f, PetscInt *n, PetscInt **points)
 {
+  DMLabel  faces_label;
+  PetscInt count = 0, *list = NULL;
+
   PetscFunctionBeginUser;
-  if (f->dm_all) PetscFunctionReturn(0);
-  PetscCall(DMClone(f->dm, &f->dm_all));
-  /* elements of its own: PETSc 3.18 caches cell geometry by quadrature on the cell IS
-     that clones share, and this copy may live on another domain than the fluid's DM */
-  PetscCall(FluidSetVolumeWeakForm(f, f->dm_all));
-  if (f->z_local) PetscCall(DMSetAuxiliaryVec(f->dm_all, NULL, 0, 0, f->z_local));
-  PetscCall(DMCreateGlobalVector(f->dm_all, &f->all_x));
-  PetscCall(VecDuplicate(f->all_x, &f->all_y));
-  PetscCall(DMCreateLocalVector(f->dm_all, &f->all_local));
-  PetscCall(DMCreateLocalVector(f->dm, &f->xlocal_work));
+  PetscCall(DMGetLabel(f->dm, "Face Sets", &faces_label));
+  for (PetscInt pass = 0; pass < 2; ++pass) {
+    count = 0;
+    for (PetscInt b = 0; b < f->data.n_force_faces; ++b) {
+      IS              faces;
+      const PetscInt *face;
+      PetscInt        nfaces = 0;
+
+      PetscCall(DMLabelGetStratumIS(faces_label, f->data.force_faces[b], &faces));
+      if (!faces) continue;
+      PetscCall(ISGetLocalSize(faces, &nfaces));
+      PetscCall(ISGetIndices(faces, &face));
+      for (PetscInt i = 0; i < nfaces; ++i) {
+        PetscInt *closure = NULL, nclosure;
+        PetscCall(DMPlexGetTransitiveClosure(f->dm, face[i], PETSC_TRUE, &nclosure, &closure));
+        for (PetscInt k = 0; k < nclosure; ++k, ++count)
+          if (pass) list[count] = closure[2 * k];
+        PetscCall(DMPlexRestoreTransitiveClosure(f->dm, face[i], PETSC_TRUE, &nclosure, &closure));
+      }
+      PetscCall(ISRestoreIndices(faces, &face));
+      PetscCall(ISDestroy(&faces));
+    }
+    if (!pass) PetscCall(PetscMalloc1(count, &list));
+  }
+  PetscCall(PetscSortRemoveDupsInt(&count, list));
+  *n      = count;
+  *points = list;
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode FluidForcesSetUp(Fluid f)
 {
-  DMLabel      label;
-  PetscSection local, global;
-  PetscInt     dim, n = 0, capacity = 0;
+  DMLabel      band;
+  PetscSection local, local_force;
+  PetscInt     dim, nbody = 0, *body = NULL, cStart, cEnd, pStart, pEnd;
 
   PetscFunctionBeginUser;
   if (!f->data.n_force_faces) PetscFunctionReturn(0);
-  PetscCall(FluidUnconstrainedSetUp(f));
-  PetscCall(DMGetDimension(f->dm_all, &dim));
-  PetscCall(DMGetLabel(f->dm_all, "Face Sets", &label));
-  PetscCall(DMGetLocalSection(f->dm_all, &local));
-  PetscCall(DMGetGlobalSection(f->dm_all, &global));
-  {
-    /* the points in the closure of the body's faces, each once */
-    PetscInt *list = NULL;
+  PetscCall(DMGetDimension(f->dm, &dim));
+  PetscCall(BodyPoints(f, &nbody, &body));
+  if (f->moving) {
+    PetscSection global_all;
+    PetscInt     rstart;
 
+    /* the owned body nodes in dm_all's global array */
+    PetscCall(DMGetGlobalSection(f->dm_all, &global_all));
+    PetscCall(DMGetLocalSection(f->dm_all, &local));
+    PetscCall(VecGetOwnershipRange(f->all_y, &rstart, NULL));
     for (PetscInt pass = 0; pass < 2; ++pass) {
-      capacity = 0;
-      for (PetscInt b = 0; b < f->data.n_force_faces; ++b) {
-        IS              faces;
-        const PetscInt *face;
-        PetscInt        nfaces = 0;
-
-        PetscCall(DMLabelGetStratumIS(label, f->data.force_faces[b], &faces));
-        if (!faces) continue;
-        PetscCall(ISGetLocalSize(faces, &nfaces));
-        PetscCall(ISGetIndices(faces, &face));
-        for (PetscInt i = 0; i < nfaces; ++i) {
-          PetscInt *closure = NULL, nclosure;
-          PetscCall(DMPlexGetTransitiveClosure(f->dm_all, face[i], PETSC_TRUE, &nclosure, &closure));
-          for (PetscInt k = 0; k < nclosure; ++k, ++capacity)
-            if (pass) list[capacity] = closure[2 * k];
-          PetscCall(DMPlexRestoreTransitiveClosure(f->dm_all, face[i], PETSC_TRUE, &nclosure, &closure));
-        }
-        PetscCall(ISRestoreIndices(faces, &face));
-        PetscCall(ISDestroy(&faces));
+      f->n_force_rows = 0;
+      for (PetscInt i = 0; i < nbody; ++i) {
+        PetscInt ndof, goff;
+        PetscCall(PetscSectionGetOffset(global_all, body[i], &goff));
+        if (goff < 0) continue; /* another rank owns it */
+        PetscCall(PetscSectionGetFieldDof(local, body[i], 0, &ndof));
+        for (PetscInt node = 0; node < ndof / dim; ++node, ++f->n_force_rows)
+          if (pass) f->force_rows[f->n_force_rows] = goff - rstart + node * dim; /* velocity first in a point's dofs */
       }
-      if (!pass) PetscCall(PetscMalloc1(capacity, &list));
+      if (!pass) PetscCall(PetscMalloc1(f->n_force_rows, &f->force_rows));
     }
-    PetscCall(PetscSortRemoveDupsInt(&capacity, list));
-    /* Q_k has at most (k-1)^(d-1) nodes on a face; count the dofs first */
-    for (PetscInt i = 0; i < capacity; ++i) {
-      PetscInt ndof, goff;
-      PetscCall(PetscSectionGetOffset(global, list[i], &goff));
-      if (goff < 0) continue; /* another rank owns it */
-      PetscCall(PetscSectionGetFieldDof(local, list[i], 0, &ndof));
-      n += ndof / dim;
-    }
-    PetscCall(PetscMalloc1(n, &f->force_rows));
-    n = 0;
-    for (PetscInt i = 0; i < capacity; ++i) {
-      PetscInt ndof, loff, goff;
-      PetscCall(PetscSectionGetOffset(global, list[i], &goff));
-      if (goff < 0) continue;
-      PetscCall(PetscSectionGetFieldDof(local, list[i], 0, &ndof));
-      PetscCall(PetscSectionGetFieldOffset(local, list[i], 0, &loff));
-      for (PetscInt node = 0; node < ndof / dim; ++node) f->force_rows[n++] = loff + node * dim;
-    }
-    PetscCall(PetscFree(list));
+    PetscCall(PetscFree(body));
+    PetscFunctionReturn(0);
   }
-  f->n_force_rows = n;
+  /* the band: every cell with a body point in its closure */
+  PetscCall(DMClone(f->dm, &f->dm_force));
+  PetscCall(DMCreateLabel(f->dm_force, "force_band"));
+  PetscCall(DMGetLabel(f->dm_force, "force_band", &band));
+  PetscCall(DMPlexGetHeightStratum(f->dm, 0, &cStart, &cEnd));
+  for (PetscInt i = 0; i < nbody; ++i) {
+    PetscInt *star = NULL, nstar;
+    PetscCall(DMPlexGetTransitiveClosure(f->dm, body[i], PETSC_FALSE, &nstar, &star));
+    for (PetscInt k = 0; k < nstar; ++k)
+      if (star[2 * k] >= cStart && star[2 * k] < cEnd) PetscCall(DMLabelSetValue(band, star[2 * k], 1));
+    PetscCall(DMPlexRestoreTransitiveClosure(f->dm, body[i], PETSC_FALSE, &nstar, &star));
+  }
+  /* fields on a label live on its points: the cells' closures too */
+  PetscCall(DMPlexLabelComplete(f->dm_force, band));
+  PetscCall(FluidSetVolumeWeakForm(f, f->dm_force, band));
+  PetscCall(DMCreateLocalVector(f->dm_force, &f->force_x));
+  PetscCall(VecDuplicate(f->force_x, &f->force_residual));
+  /* the band's dofs in the fluid's local layout: per point the same dofs in the same order */
+  PetscCall(DMGetLocalSection(f->dm, &local));
+  PetscCall(DMGetLocalSection(f->dm_force, &local_force));
+  PetscCall(PetscSectionGetChart(local_force, &pStart, &pEnd));
+  PetscCall(PetscMalloc1(3 * (pEnd - pStart), &f->force_copy));
+  for (PetscInt p = pStart; p < pEnd; ++p) {
+    PetscInt ndof, off_force, off, ndof_fluid;
+    PetscCall(PetscSectionGetDof(local_force, p, &ndof));
+    if (!ndof) continue;
+    PetscCall(PetscSectionGetOffset(local_force, p, &off_force));
+    PetscCall(PetscSectionGetOffset(local, p, &off));
+    PetscCall(PetscSectionGetDof(local, p, &ndof_fluid));
+    PetscCheck(ndof == ndof_fluid, f->comm, PETSC_ERR_PLIB, "fluid forces: point %" PetscInt_FMT " has %" PetscInt_FMT " dofs in the band, %" PetscInt_FMT " in the fluid", p, ndof, ndof_fluid);
+    f->force_copy[3 * f->n_force_copy]     = off_force;
+    f->force_copy[3 * f->n_force_copy + 1] = off;
+    f->force_copy[3 * f->n_force_copy + 2] = ndof;
+    f->n_force_copy++;
+  }
+  /* the body's velocity nodes: every local copy in the band (each rank adds its own cells'
+     contributions) */
+  for (PetscInt pass = 0; pass < 2; ++pass) {
+    f->n_force_rows = 0;
+    for (PetscInt i = 0; i < nbody; ++i) {
+      PetscInt ndof, off;
+      PetscCall(PetscSectionGetFieldDof(local_force, body[i], 0, &ndof));
+      PetscCall(PetscSectionGetFieldOffset(local_force, body[i], 0, &off));
+      for (PetscInt node = 0; node < ndof / dim; ++node, ++f->n_force_rows)
+        if (pass) f->force_rows[f->n_force_rows] = off + node * dim;
+    }
+    if (!pass) PetscCall(PetscMalloc1(f->n_force_rows, &f->force_rows));
+  }
+  PetscCall(PetscFree(body));
   PetscFunctionReturn(0);
 }
 
-/* The constants of the fluid's weak form, with mass, op and load set as asked (< 0: unchanged). */
-static PetscErrorCode CopyConstants(Fluid f, PetscReal mass, PetscReal op, PetscReal load)
+/* The constants of dm (dm_force's band, or dm_all): the fluid's, with mass, op and load set
+   as asked (< 0: unchanged). */
+static PetscErrorCode SetConstants(Fluid f, DM dm, PetscReal mass, PetscReal op, PetscReal load)
 {
-  PetscDS            ds, ds_all;
+  PetscDS            ds, ds_force;
+  DMLabel            band;
   const PetscScalar *constants;
   PetscScalar        copy[FLUID_NUM_CONSTANTS + FSIOPT_MAX_EXTRA];
   PetscInt           n;
 
   PetscFunctionBeginUser;
   PetscCall(DMGetDS(f->dm, &ds));
-  PetscCall(DMGetDS(f->dm_all, &ds_all));
+  PetscCall(DMGetLabel(dm, "force_band", &band));
+  if (band) PetscCall(DMGetRegionDS(dm, band, NULL, &ds_force));
+  else PetscCall(DMGetDS(dm, &ds_force));
   PetscCall(PetscDSGetConstants(ds, &n, &constants));
   PetscCall(PetscArraycpy(copy, constants, n));
   if (mass >= 0) copy[FLUID_MASS] = mass;
   if (op >= 0) copy[FLUID_OPERATOR] = op;
   if (load >= 0) copy[FLUID_LOAD] = load;
-  PetscCall(PetscDSSetConstants(ds_all, n, copy));
+  PetscCall(PetscDSSetConstants(ds_force, n, copy));
+  PetscFunctionReturn(0);
+}
+
+/* The band's residual at the fluid's local state xlocal, summed over the body's rows. */
+static PetscErrorCode BandSum(Fluid f, Vec xlocal, PetscReal sum[3])
+{
+  const PetscScalar *x, *r;
+  PetscScalar       *xb;
+  PetscInt           dim;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetDimension(f->dm, &dim));
+  PetscCall(VecGetArrayRead(xlocal, &x));
+  PetscCall(VecGetArray(f->force_x, &xb));
+  for (PetscInt i = 0; i < f->n_force_copy; ++i) PetscCall(PetscArraycpy(&xb[f->force_copy[3 * i]], &x[f->force_copy[3 * i + 1]], f->force_copy[3 * i + 2]));
+  PetscCall(VecRestoreArray(f->force_x, &xb));
+  PetscCall(VecRestoreArrayRead(xlocal, &x));
+  PetscCall(VecZeroEntries(f->force_residual));
+  PetscCall(DMPlexSNESComputeResidualFEM(f->dm_force, f->force_x, f->force_residual, NULL));
+  PetscCall(VecGetArrayRead(f->force_residual, &r));
+  for (PetscInt i = 0; i < f->n_force_rows; ++i)
+    for (PetscInt c = 0; c < dim; ++c) sum[c] += PetscRealPart(r[f->force_rows[i] + c]);
+  PetscCall(VecRestoreArrayRead(f->force_residual, &r));
+  PetscFunctionReturn(0);
+}
+
+/* On a moving mesh: every cell's volume residual plus rho/dt M(Omega^{n-1}) (u^n - u^{n-1}),
+   summed over the owned body rows. */
+static PetscErrorCode MovingSum(Fluid f, PetscReal sum[3])
+{
+  const PetscScalar *r;
+  Vec                coordinates, old;
+  PetscInt           dim;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetDimension(f->dm, &dim));
+  PetscCall(DMGetCoordinatesLocal(f->dm, &coordinates));
+  PetscCall(DMSetCoordinatesLocal(f->dm_all, coordinates)); /* the next step puts back the old ones */
+  PetscCall(FEMInvalidateGeometry(f->dm_all));
+  PetscCall(FEMResidual(f->dm_all, f->xlocal_work, f->all_y));
+  if (f->step > 0) {
+    PetscCall(DMGetGlobalVector(f->dm_all, &old));
+    PetscCall(DMLocalToGlobal(f->dm_all, f->xlocal_work, INSERT_VALUES, f->all_x));
+    PetscCall(DMLocalToGlobal(f->dm_all, f->xlocal_old, INSERT_VALUES, old));
+    PetscCall(VecAXPY(f->all_x, -1.0, old));
+    PetscCall(DMRestoreGlobalVector(f->dm_all, &old));
+    PetscCall(MatMultAdd(f->mass_old_all, f->all_x, f->all_y, f->all_y));
+  }
+  PetscCall(VecGetArrayRead(f->all_y, &r));
+  for (PetscInt i = 0; i < f->n_force_rows; ++i)
+    for (PetscInt c = 0; c < dim; ++c) sum[c] += PetscRealPart(r[f->force_rows[i] + c]);
+  PetscCall(VecRestoreArrayRead(f->all_y, &r));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode FluidBodyForce(Fluid f, PetscReal force[3])
 {
-  PetscInt           dim;
-  const PetscScalar *r;
-  PetscReal          sum[3] = {0, 0, 0};
-  Vec                residual = f->all_y, old;
+  PetscReal now[3] = {0, 0, 0}, before[3] = {0, 0, 0};
+  DM        dm = f->moving ? f->dm_all : f->dm_force;
 
   PetscFunctionBeginUser;
   PetscCheck(f->data.n_force_faces, f->comm, PETSC_ERR_ARG_WRONGSTATE, "the scene names no body faces for a fluid force");
-  PetscCall(DMGetDimension(f->dm, &dim));
-  if (f->moving) {
-    Vec coordinates;
-    PetscCall(DMGetCoordinatesLocal(f->dm, &coordinates));
-    PetscCall(DMSetCoordinatesLocal(f->dm_all, coordinates));
-    PetscCall(FEMInvalidateGeometry(f->dm_all));
-  }
   PetscCall(FEMGlobalToLocal(f->dm, f->x, f->xlocal_work));
   /* the initial state has no time derivative to go with it: its force is the steady one */
-  PetscCall(CopyConstants(f, f->step == 0 ? 0.0 : -1, -1, -1));
-  PetscCall(FEMResidual(f->dm_all, f->xlocal_work, residual));
-  PetscCall(DMGetGlobalVector(f->dm_all, &old));
-  if (f->step == 0) { /* nothing to add */
-  } else if (f->moving) {
-    /* rho/dt M(Omega^{n-1}) (u^n - u^{n-1}): the mass term of a moving mesh */
-    PetscCall(DMLocalToGlobal(f->dm_all, f->xlocal_work, INSERT_VALUES, f->all_x));
-    PetscCall(DMLocalToGlobal(f->dm_all, f->xlocal_old, INSERT_VALUES, old));
-    PetscCall(VecAXPY(f->all_x, -1.0, old));
-    PetscCall(MatMultAdd(f->mass_old_all, f->all_x, residual, residual));
-  } else if (!f->steady) {
-    /* minus the history term rho/dt (u^{n-1}, w) */
-    PetscCall(CopyConstants(f, -1, 0.0, 0.0));
-    PetscCall(FEMResidual(f->dm_all, f->xlocal_old, old));
-    PetscCall(VecAXPY(residual, -1.0, old));
+  PetscCall(SetConstants(f, dm, f->step == 0 ? 0.0 : -1, -1, -1));
+  if (f->moving) PetscCall(MovingSum(f, now));
+  else {
+    PetscCall(BandSum(f, f->xlocal_work, now));
+    if (f->step > 0 && !f->steady) {
+      /* minus the history term rho/dt (u^{n-1}, w) */
+      PetscCall(SetConstants(f, dm, -1, 0.0, 0.0));
+      PetscCall(BandSum(f, f->xlocal_old, before));
+    }
   }
-  PetscCall(DMRestoreGlobalVector(f->dm_all, &old));
-  PetscCall(DMGlobalToLocal(f->dm_all, residual, INSERT_VALUES, f->all_local));
-  PetscCall(VecGetArrayRead(f->all_local, &r));
-  for (PetscInt i = 0; i < f->n_force_rows; ++i)
-    for (PetscInt c = 0; c < dim; ++c) sum[c] -= PetscRealPart(r[f->force_rows[i] + c]);
-  PetscCall(VecRestoreArrayRead(f->all_local, &r));
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sum, 3, MPIU_REAL, MPIU_SUM, f->comm));
-  for (PetscInt c = 0; c < 3; ++c) force[c] = sum[c];
+  for (PetscInt c = 0; c < 3; ++c) force[c] = -(now[c] - before[c]);
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, force, 3, MPIU_REAL, MPIU_SUM, f->comm));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode FluidForcesDestroy(Fluid f)
 {
   PetscFunctionBeginUser;
+  PetscCall(PetscFree(f->force_copy));
   PetscCall(PetscFree(f->force_rows));
-  PetscCall(VecDestroy(&f->all_x));
-  PetscCall(VecDestroy(&f->all_y));
-  PetscCall(VecDestroy(&f->all_local));
-  PetscCall(VecDestroy(&f->xlocal_work));
-  PetscCall(DMDestroy(&f->dm_all));
+  PetscCall(VecDestroy(&f->force_x));
+  PetscCall(VecDestroy(&f->force_residual));
+  PetscCall(DMDestroy(&f->dm_force));
   PetscFunctionReturn(0);
 }

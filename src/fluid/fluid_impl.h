@@ -41,7 +41,11 @@ struct _p_Fluid {
   IS             free_in_all;
   Vec            all_x, all_y, all_local, xlocal_work, work;
   /* the force on a body (fluid_forces.c) */
-  PetscInt       n_force_rows, *force_rows;                /* the body's velocity dofs, first component, in dm_all's owned range */
+  DM             dm_force;                        /* the fields on the cells that touch the body */
+  Vec            force_x, force_residual;         /* its local vectors */
+  PetscInt       n_force_copy, *force_copy;       /* per point: its offset in dm_force, in dm, its dofs */
+  PetscInt       n_force_rows, *force_rows;       /* the body's velocity nodes (first component): in dm_force's
+                                                    local array; on a moving mesh the owned ones in dm_all's global array */
   /* the interface velocity prescribed (fluid_dirichlet.c) */
   SNES           snes_dirichlet;
   Mat            dirichlet_jacobian;
@@ -57,10 +61,9 @@ struct _p_Fluid {
 
 
 PetscErrorCode FluidSetConstants(Fluid, PetscReal mass, PetscReal op, PetscReal load);
-PetscErrorCode FluidSetVolumeWeakForm(Fluid, DM);
+PetscErrorCode FluidSetVolumeWeakForm(Fluid, DM, DMLabel region);
 
 /* fluid_forces.c */
-PetscErrorCode FluidUnconstrainedSetUp(Fluid);
 PetscErrorCode FluidForcesSetUp(Fluid);
 PetscErrorCode FluidForcesDestroy(Fluid);
 
