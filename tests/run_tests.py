@@ -705,6 +705,7 @@ def bad_input_cases():
         ("unknown Turek-Hron case", TUREK + ["-turek_case", "fsi4"], "-turek_case"),
         ("negative inflow velocity", TUREK + ["-turek_case", "cfd1", "-turek_mean_velocity", "-1"], "-turek_mean_velocity"),
         ("steady fluid on a moving mesh", TUREK + ["-turek_case", "fsi1", "-fluid_steady"], "-fluid_steady"),
+        ("negative mesh stiffening", TUREK + ["-turek_case", "fsi1", "-mesh_motion_stiffening", "-1"], "-mesh_motion_stiffening"),
         ("negative quantities window", TUREK + ["-turek_case", "csm1", "-quantities_window", "-1"], "-quantities_window"),
         ("diverging coupling says where", ["-options_file", "options/mms-stokes.yaml", "-t_final", "0.6", "-tao_type", "sdrelaxed",
                                            "-coupling_tikhonov", "1e-4", "-tao_sdrelaxed_alpha", "0.5"], "step 1, iteration"),
@@ -752,7 +753,8 @@ def _():
     p = subprocess.run([FSIOPT, "-help"] + TUREK, cwd=ROOT, env=ENV, capture_output=True, text=True, errors="replace", timeout=60)
     assert p.returncode == 0, "exit %d" % p.returncode
     for opt in ["-turek_case", "-turek_mean_velocity", "-turek_ramp_time", "-turek_gravity", "-turek_gravity_ramp",
-                "-quantities_window", "-checkpoint_every", "-checkpoint_file", "-restart", "-fluid_steady"]:
+                "-quantities_window", "-checkpoint_every", "-checkpoint_file", "-restart", "-fluid_steady",
+                "-mesh_motion_stiffening"]:
         assert opt in p.stdout, "%s not in -help of turek-hron" % opt
     return ""
 

@@ -2,7 +2,10 @@
    operator A lives on the reference mesh and never changes: it is assembled once on all
    dofs, and each extension is one solve with the factored free block,
      A_ff d_f = -A_fb d_b,
-   with no finite-element evaluation per call. */
+   with no finite-element evaluation per call. -mesh_motion_stiffening chi weights each
+   cell by (|K|_mean / |K|)^chi (Jacobian-based stiffening, Stein, Tezduyar and Benney):
+   the small cells next to a body then move nearly rigidly and the large ones far away
+   absorb the deformation. */
 #include "motion.h"
 #include "fem.h"
 #include "options.h"
@@ -19,15 +22,21 @@ struct _p_MeshMotion {
   KSP            ksp;
   Vec            d, rhs, bc_local, bc_all, operator_bc_all;
   MotionType     type;
+  PetscReal      stiffening;
+  DM             dm_stiffness; /* a P0 field: each cell's weight */
+  Vec            stiffness;
   DirichletDatum datums[FSIOPT_MAX_BOUNDARIES];
   PetscReal      time;
 };
 
 
+/* the cell's weight, an auxiliary P0 field when stiffened */
+#define WEIGHT (NfAux > 0 ? a[aOff[0]] : 1.0)
+
 static void G3Harmonic(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g3[])
 {
   for (PetscInt c = 0; c < dim; ++c)
-    for (PetscInt d = 0; d < dim; ++d) g3[((c * dim + c) * dim + d) * dim + d] = 1.0;
+    for (PetscInt d = 0; d < dim; ++d) g3[((c * dim + c) * dim + d) * dim + d] = WEIGHT;
 }
 
 /* linear elasticity with mu = lambda = 1 */
@@ -35,10 +44,48 @@ static void G3Elastic(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt 
 {
   for (PetscInt c = 0; c < dim; ++c)
     for (PetscInt d = 0; d < dim; ++d) {
-      g3[((c * dim + c) * dim + d) * dim + d] += 1.0;
-      g3[((c * dim + d) * dim + d) * dim + c] += 1.0;
-      g3[((c * dim + d) * dim + c) * dim + d] += 1.0;
+      g3[((c * dim + c) * dim + d) * dim + d] += WEIGHT;
+      g3[((c * dim + d) * dim + d) * dim + c] += WEIGHT;
+      g3[((c * dim + d) * dim + c) * dim + d] += WEIGHT;
     }
+}
+
+/* The cells' weights (|K|_mean / |K|)^chi on the reference mesh, an auxiliary field of the operator's DM. */
+static PetscErrorCode SetStiffness(MeshMotion mm)
+{
+  PetscFE      displacement;
+  PetscSection section;
+  PetscScalar *w;
+  PetscReal    total = 0;
+  PetscInt     cStart, cEnd, ncells;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetField(mm->dm_all, 0, NULL, (PetscObject *)&displacement));
+  PetscCall(DMClone(mm->dm_all, &mm->dm_stiffness));
+  PetscCall(FEMCreateField(mm->dm_stiffness, 0, "stiffness", 1, 0, displacement));
+  PetscCall(DMCreateDS(mm->dm_stiffness));
+  PetscCall(DMCreateLocalVector(mm->dm_stiffness, &mm->stiffness));
+  PetscCall(DMGetLocalSection(mm->dm_stiffness, &section));
+  PetscCall(DMPlexGetHeightStratum(mm->dm_all, 0, &cStart, &cEnd));
+  for (PetscInt c = cStart; c < cEnd; ++c) {
+    PetscReal v;
+    PetscCall(DMPlexComputeCellGeometryFVM(mm->dm_all, c, &v, NULL, NULL));
+    total += v;
+  }
+  ncells = cEnd - cStart;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &total, 1, MPIU_REAL, MPIU_SUM, PetscObjectComm((PetscObject)mm->dm_all)));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &ncells, 1, MPIU_INT, MPI_SUM, PetscObjectComm((PetscObject)mm->dm_all)));
+  PetscCall(VecGetArray(mm->stiffness, &w));
+  for (PetscInt c = cStart; c < cEnd; ++c) {
+    PetscReal v;
+    PetscInt  off;
+    PetscCall(DMPlexComputeCellGeometryFVM(mm->dm_all, c, &v, NULL, NULL));
+    PetscCall(PetscSectionGetOffset(section, c, &off));
+    w[off] = PetscPowReal(total / ncells / v, mm->stiffening);
+  }
+  PetscCall(VecRestoreArray(mm->stiffness, &w));
+  PetscCall(DMSetAuxiliaryVec(mm->dm_all, NULL, 0, 0, mm->stiffness));
+  PetscFunctionReturn(0);
 }
 
 PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfixed, const PetscInt fixed_faces[], MeshMotion *motion)
@@ -51,6 +98,7 @@ PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfix
   PetscCall(PetscNew(&mm));
   PetscOptionsBegin(PetscObjectComm((PetscObject)fluid), NULL, "Mesh motion", "mesh");
   PetscCall(PetscOptionsEnum("-mesh_motion", "Extension of the interface displacement into the fluid mesh", NULL, MotionTypes, (PetscEnum)mm->type, (PetscEnum *)&mm->type, NULL));
+  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-mesh_motion_stiffening", "weight each cell by (mean cell size / its size)^chi: small cells near a body move rigidly (0: none)", &mm->stiffening));
   PetscOptionsEnd();
   /* a quadrature of its own: PETSc 3.18 caches cell geometry by quadrature on the cell
      IS that clones share, and this mesh does not move */
@@ -58,6 +106,7 @@ PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfix
   PetscCall(FEMCreateField(mm->dm_all, 0, "mesh_displacement", -1, 1, NULL));
   PetscCall(DMCreateDS(mm->dm_all));
   PetscCall(DMGetDS(mm->dm_all, &ds));
+  if (mm->stiffening > 0) PetscCall(SetStiffness(mm));
   if (mm->type == MOTION_HARMONIC) PetscCall(PetscDSSetJacobian(ds, 0, 0, NULL, NULL, NULL, G3Harmonic));
   else PetscCall(PetscDSSetJacobian(ds, 0, 0, NULL, NULL, NULL, G3Elastic));
   PetscCall(DMCreateMatrix(mm->dm_all, &mm->operator_all));
@@ -179,6 +228,8 @@ PetscErrorCode MeshMotionDestroy(MeshMotion *motion)
   PetscCall(KSPDestroy(&mm->ksp));
   PetscCall(DMDestroy(&mm->dm));
   PetscCall(DMDestroy(&mm->dm_all));
+  PetscCall(VecDestroy(&mm->stiffness));
+  PetscCall(DMDestroy(&mm->dm_stiffness));
   PetscCall(PetscFree(*motion));
   PetscFunctionReturn(0);
 }
