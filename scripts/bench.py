@@ -375,13 +375,6 @@ def status_cell(row):
     return text
 
 
-def write_csv(path, rows, fields):
-    with open(path, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=fields, extrasaction="ignore")
-        w.writeheader()
-        for r in rows:
-            w.writerow({k: ("%.6g" % v if isinstance(v, float) else v) for k, v in r.items()})
-
 
 def bench(args, methods, extra):
     tf = fmt_num(args.t_final)
@@ -403,7 +396,7 @@ def bench(args, methods, extra):
              [k + "_ratio" for k in stage_keys] + ["run_dir", "command"]
     os.makedirs(args.out, exist_ok=True)
     csv_path, md_path = os.path.join(args.out, "bench.csv"), os.path.join(args.out, "bench.md")
-    write_csv(csv_path, rows + [ref_row], fields)
+    fr.write_csv(csv_path, rows + [ref_row], fields)
 
     present = [s for s in STAGES if any(r.stages.get(s) for _, r in runs + [("", ref)])]
     md = ["# fsiopt coupling methods side by side", "",
@@ -470,7 +463,7 @@ def work_precision(args, methods, extra):
               "wall_time_s", "probe_error", "its_per_step", "fluid_solves", "fluid_linear_solves", "work_factor",
               "max_interface_jump", "converged", "steps"] + [stage_key(s) for s in STAGES] + ["run_dir", "command"]
     base_path = os.path.join(args.out, "work-precision")
-    write_csv(base_path + ".csv", rows, fields)
+    fr.write_csv(base_path + ".csv", rows, fields)
 
     fig, ax = plt.subplots(figsize=(8, 5.5))
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]

@@ -312,3 +312,48 @@ def finish_report(md, md_path, written, failed, total, script, what, dir_quote="
     if failed:
         say("%s: %d of %d %s failed" % (script, len(failed), total, what), err=True)
         sys.exit(1)
+
+
+class MeshError(Exception):
+    pass
+
+
+def ensure_gmsh_mesh(geo, includes, out, level, dim, what, gmsh="gmsh", verbosity=2):
+    """out: the gmsh mesh (msh 2.2, -setnumber n level) of the .geo file `geo` (paths relative
+    to the repository root), generated unless present and newer than `geo` and `includes`;
+    written to a temporary name and renamed, so that an interrupted gmsh never leaves a mesh
+    that looks complete. Raises MeshError."""
+    os.makedirs(os.path.dirname(out) or ".", exist_ok=True)
+    try:
+        newest = max(os.path.getmtime(os.path.join(ROOT, g)) for g in [geo] + list(includes))
+    except OSError as e:
+        raise MeshError("%s: %s" % (e.filename and rel(e.filename), e.strerror))
+    if os.path.isfile(out) and os.path.getmtime(out) > newest:
+        say("  mesh %-23s re-used %s" % (what, rel(out)))
+        return out
+    tmp = "%s.tmp%d.msh" % (out[:-len(".msh")], os.getpid())
+    cmd = [gmsh, "-%d" % dim, "-format", "msh22", "-v", str(verbosity), "-setnumber", "n", str(level), "-o", tmp, geo]
+    say("  mesh %-23s running: %s" % (what, shlex.join(cmd)))
+    try:
+        p = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
+        if not (p.returncode == 0 and os.path.isfile(tmp) and os.path.getsize(tmp) > 0):
+            lines = [l.strip() for l in (p.stderr + p.stdout).splitlines() if l.strip()]
+            raise MeshError("gmsh %s n=%d: exit status %d%s" % (geo, level, p.returncode,
+                                                               ": " + lines[-1][:300] if lines else ""))
+        os.replace(tmp, out)
+    except OSError as e:
+        raise MeshError("cannot run %s: %s" % (gmsh, e.strerror or e))
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+    return out
+
+
+def write_csv(path, rows, fields, float_format="%.6g"):
+    """rows (dicts) as CSV with the columns `fields`; floats in float_format."""
+    with open(path, "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=fields, extrasaction="ignore")
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: (float_format % v if isinstance(v, float) else v) for k, v in r.items()})
+

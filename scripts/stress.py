@@ -41,6 +41,7 @@ import numpy as np
 sys.dont_write_bytecode = True   # no scripts/__pycache__ next to the sources
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import bench as B   # noqa: E402
+import fsiopt_runs as fr   # noqa: E402
 
 ROOT = B.ROOT
 # opt with a tight absolute tolerance: channel2d's 1e-4 is met without any iteration while the
@@ -203,7 +204,7 @@ def main():
                              "run_dir": B.rel(r.run_dir), "command": r.cmdline})
     fields = list(rows[0].keys())
     base = os.path.join(args.out, "stress")
-    B.write_csv(base + ".csv", rows, fields)
+    fr.write_csv(base + ".csv", rows, fields)
 
     its = [r.summary.get("avg_coupling_iterations") for r in grid.values() if r.ok]
     its = [x for x in its if isinstance(x, (int, float)) and math.isfinite(x)]

@@ -185,7 +185,7 @@ def main():
     runs = []
     try:
         meshes = T.ensure_meshes(args.level, args.mesh_dir, args.gmsh)
-    except T.MeshError as e:
+    except fr.MeshError as e:
         say("  mesh n=%d FAILED: %s" % (args.level, e), err=True)
         runs = [T.failed_run("np%d-k%d" % (p, k), T.layout_text(p, k), "mesh: %s" % e, np=p, structure_ranks=k)
                 for p, k in layouts]
@@ -209,7 +209,7 @@ def main():
              [B.stage_key(s) for s in B.STAGES] + ["run_dir", "command"]
     os.makedirs(args.out, exist_ok=True)
     base = os.path.join(args.out, "scaling")
-    B.write_csv(base + ".csv", rows, fields)
+    fr.write_csv(base + ".csv", rows, fields)
     tf = fr.fmt_num(args.t_final)
     dofs = next(((r["fluid_dofs"], r["structure_dofs"]) for r in rows if r["fluid_dofs"] != ""), None)
     plot(base + ".png", rows, "fsiopt strong scaling, tube3d n = %d%s, t_final = %s" % (

@@ -64,45 +64,15 @@ def per_step_key(stage):
 
 
 # ---------------------------------------------------------------------------- meshes
-class MeshError(Exception):
-    pass
-
-
 def mesh_paths(level, mesh_dir):
     return {part: os.path.join(mesh_dir, "tube3d-%s-n%d.msh" % (part, level)) for part in GEO}
 
 
 def ensure_meshes(level, mesh_dir, gmsh="gmsh"):
-    """{'fluid': path, 'wall': path} of level n; each generated unless present and newer than
-    its .geo and the shared .geoinc (written to a temporary name, then renamed, so that an
-    interrupted gmsh never leaves a mesh that looks complete). Raises MeshError."""
-    os.makedirs(mesh_dir, exist_ok=True)
+    """{'fluid': path, 'wall': path} of level n (fsiopt_runs.ensure_gmsh_mesh). Raises MeshError."""
     paths = mesh_paths(level, mesh_dir)
     for part, geo in GEO.items():
-        out = paths[part]
-        try:
-            newest = max(os.path.getmtime(os.path.join(ROOT, g)) for g in [geo] + GEO_INCLUDES)
-        except OSError as e:
-            raise MeshError("%s: %s" % (e.filename and rel(e.filename), e.strerror))
-        if os.path.isfile(out) and os.path.getmtime(out) > newest:
-            say("  mesh %-23s re-used %s" % ("%s n=%d" % (part, level), rel(out)))
-            continue
-        tmp = "%s.tmp%d.msh" % (out[:-len(".msh")], os.getpid())
-        cmd = [gmsh, "-3", "-format", "msh22", "-v", "1", "-setnumber", "n", str(level), "-o", tmp, geo]
-        say("  mesh %-23s running: %s" % ("%s n=%d" % (part, level), shlex.join(cmd)))
-        try:
-            p = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
-            ok = p.returncode == 0 and os.path.isfile(tmp) and os.path.getsize(tmp) > 0
-            if not ok:
-                lines = [l.strip() for l in (p.stderr + p.stdout).splitlines() if l.strip()]
-                raise MeshError("gmsh %s n=%d: exit status %d%s" % (geo, level, p.returncode,
-                                                                   ": " + lines[-1][:300] if lines else ""))
-            os.replace(tmp, out)
-        except OSError as e:
-            raise MeshError("cannot run %s: %s" % (gmsh, e.strerror or e))
-        finally:
-            if os.path.exists(tmp):
-                os.remove(tmp)
+        fr.ensure_gmsh_mesh(geo, GEO_INCLUDES, paths[part], level, 3, "%s n=%d" % (part, level), gmsh=gmsh, verbosity=1)
     return paths
 
 
@@ -312,7 +282,7 @@ def main():
     for n in args.levels:
         try:
             meshes = ensure_meshes(n, args.mesh_dir, args.gmsh)
-        except MeshError as e:
+        except fr.MeshError as e:
             say("  mesh n=%d FAILED: %s" % (n, e), err=True)
             runs.append(failed_run("n%d" % n, "n = %d" % n, "mesh: %s" % e, level=n, np=args.np,
                                    structure_ranks=args.structure_ranks))
@@ -333,7 +303,7 @@ def main():
              [B.stage_key(s) for s in B.STAGES] + ["run_dir", "command"]
     os.makedirs(args.out, exist_ok=True)
     csv_path, md_path = os.path.join(args.out, "table6_1.csv"), os.path.join(args.out, "table6_1.md")
-    B.write_csv(csv_path, rows, fields)
+    fr.write_csv(csv_path, rows, fields)
 
     tf = fr.fmt_num(args.t_final)
     md = ["# Table 6.1: the 3D pressure-wave tube over mesh refinements", "",

@@ -146,44 +146,14 @@ def binary_defaults(fsiopt, options):
 
 
 # ---------------------------------------------------------------------------- meshes
-class MeshError(Exception):
-    pass
-
-
 def mesh_path(part, level, mesh_dir):
     return os.path.join(mesh_dir, "turek-hron-%s-n%d.msh" % (part, level))
 
 
 def ensure_mesh(part, level, mesh_dir, gmsh="gmsh"):
-    """Path of the part's mesh of level n; generated unless present and newer than its .geo
-    and the shared .geoinc (written to a temporary name, then renamed, so that an interrupted
-    gmsh never leaves a mesh that looks complete). Raises MeshError."""
-    os.makedirs(mesh_dir, exist_ok=True)
-    geo, out = GEO[part], mesh_path(part, level, mesh_dir)
-    try:
-        newest = max(os.path.getmtime(os.path.join(ROOT, g)) for g in [geo] + GEO_INCLUDES)
-    except OSError as e:
-        raise MeshError("%s: %s" % (e.filename and rel(e.filename), e.strerror))
-    what = "%s n=%d" % (part, level)
-    if os.path.isfile(out) and os.path.getmtime(out) > newest:
-        say("  mesh %-23s re-used %s" % (what, rel(out)))
-        return out
-    tmp = "%s.tmp%d.msh" % (out[:-len(".msh")], os.getpid())
-    cmd = [gmsh, "-2", "-format", "msh22", "-v", "2", "-setnumber", "n", str(level), "-o", tmp, geo]
-    say("  mesh %-23s running: %s" % (what, shlex.join(cmd)))
-    try:
-        p = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)
-        if not (p.returncode == 0 and os.path.isfile(tmp) and os.path.getsize(tmp) > 0):
-            lines = [l.strip() for l in (p.stderr + p.stdout).splitlines() if l.strip()]
-            raise MeshError("gmsh %s n=%d: exit status %d%s" % (geo, level, p.returncode,
-                                                               ": " + lines[-1][:300] if lines else ""))
-        os.replace(tmp, out)
-    except OSError as e:
-        raise MeshError("cannot run %s: %s" % (gmsh, e.strerror or e))
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-    return out
+    """Path of the part's mesh of level n (fsiopt_runs.ensure_gmsh_mesh). Raises MeshError."""
+    return fr.ensure_gmsh_mesh(GEO[part], GEO_INCLUDES, mesh_path(part, level, mesh_dir), level, 2,
+                               "%s n=%d" % (part, level), gmsh=gmsh, verbosity=2)
 
 
 # ---------------------------------------------------------------------------- runs
@@ -372,13 +342,6 @@ def status_cell(v, row):
     return text
 
 
-def write_csv(path, rows, fields):
-    with open(path, "w", newline="") as f:
-        w = csv.DictWriter(f, fieldnames=fields, extrasaction="ignore")
-        w.writeheader()
-        for r in rows:
-            w.writerow({k: ("%.10g" % v if isinstance(v, float) else v) for k, v in r.items()})
-
 
 def git_state():
     """'commit abc1234' (+ ', with uncommitted changes'), or '' outside a git checkout."""
@@ -490,7 +453,7 @@ def main():
             if any(part in PARTS[CASES[c][0]] for c in cases):
                 try:
                     meshes[part, n] = ensure_mesh(part, n, args.mesh_dir, args.gmsh)
-                except MeshError as e:
+                except fr.MeshError as e:
                     say("  mesh %s n=%d FAILED: %s" % (part, n, e), err=True)
                     mesh_errors[part, n] = str(e)
 
@@ -527,7 +490,7 @@ def main():
               "converged", "wall_time_s", "elapsed_s", "run_date", "meshes", "run_dir", "command"]
     os.makedirs(args.out, exist_ok=True)
     csv_path, md_path = os.path.join(args.out, "table.csv"), os.path.join(args.out, "table.md")
-    write_csv(csv_path, rows, fields)
+    fr.write_csv(csv_path, rows, fields, float_format="%.10g")
 
     now = datetime.datetime.now().astimezone().strftime("%Y-%m-%d %H:%M %Z")
     changes = []
