@@ -1,7 +1,7 @@
 /* What summary.json reports of a time series: the final value, or over the last `window`
    seconds the mean and amplitude as Turek and Hron define them for periodic signals,
    (max + min)/2 and (max - min)/2, and the frequency of the upward crossings of that mean
-   (none when the amplitude is below 1e-6 of the values: a steady signal). */
+   (none when the amplitude is below 1e-5 of the values: a steady signal). */
 #include "probes.h"
 
 PetscErrorCode QuantityAnalyze(PetscInt n, const PetscReal t[], const PetscReal v[], PetscReal window, PetscReal *final, PetscReal *mean, PetscReal *amplitude, PetscReal *frequency)
@@ -23,7 +23,7 @@ PetscErrorCode QuantityAnalyze(PetscInt n, const PetscReal t[], const PetscReal 
   *mean      = 0.5 * (hi + lo);
   *amplitude = 0.5 * (hi - lo);
   /* a steady signal's round-off crosses its mean at random: no frequency */
-  if (*amplitude <= 1e-6 * PetscMax(PetscAbsReal(hi), PetscAbsReal(lo))) PetscFunctionReturn(0);
+  if (*amplitude <= 1e-5 * PetscMax(PetscAbsReal(hi), PetscAbsReal(lo))) PetscFunctionReturn(0);
   for (PetscInt i = first; i + 1 < n; ++i) {
     const PetscReal a = v[i] - *mean, b = v[i + 1] - *mean;
     if (a < 0 && b >= 0) {
