@@ -29,7 +29,7 @@ is a result here, not an error).
 Examples (build first: make all):
   scripts/stress.py --jobs 2
   scripts/stress.py --steps 3 --ratios 1.1,0.1 --dts 1e-4,1e-5 --methods opt,iqnils --out /tmp/s1"""
-import argparse, csv, math, os, re, shlex, sys
+import argparse, math, os, re, shlex, sys
 
 import matplotlib
 matplotlib.use("Agg")

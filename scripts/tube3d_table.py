@@ -40,7 +40,7 @@ Examples (build first: make all; the full pulse at n = 3, ~146k unknowns, takes 
   scripts/tube3d_table.py --levels 1 --t-final 0.0003 --out /tmp/t1
   scripts/tube3d_table.py --levels 1,2 --np 2 --structure-ranks 1
   scripts/tube3d_table.py"""
-import argparse, math, os, re, shlex, subprocess, sys
+import argparse, math, os, re, shlex, sys
 
 sys.dont_write_bytecode = True   # no scripts/__pycache__ next to the sources
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))

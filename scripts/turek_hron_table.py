@@ -27,10 +27,8 @@ dt, T and the window are the scene's per-case defaults (the cases[] table of
 src/scenes/turek_hron.c) unless changed here:
   --dt-scale S   passes -dt (the case's default dt) x S; the default is the one the binary
                  reports with -help (which runs no step; it is what a run without -dt would
-                 use, so a binary older than the source is no trap), else the one parsed
-                 from the cases[] table of src/scenes/turek_hron.c (a difference between
-                 the two is reported; the script stops with a message if neither answers,
-                 and refuses -dt in --extra as well);
+                 use); the script stops with a message if it cannot answer, and refuses -dt
+                 in --extra as well;
   --t-final T    passes -t_final T to every case (quick checks: a T shorter than a periodic
                  case's window makes the window the whole run, flagged with * in the table);
   --extra "..."  options passed to every run (e.g. --extra="-coupling_tol 1e-8").
@@ -55,7 +53,7 @@ Examples (from anywhere; build first: make all):
   scripts/turek_hron_table.py --cases csm3,fsi1 --levels 1 --t-final 0.1 --out /tmp/th
   scripts/turek_hron_table.py --cases cfd2,cfd3 --levels 1,2,3 --jobs 2
   scripts/turek_hron_table.py                  # all nine cases on n = 1, 2: hours"""
-import argparse, csv, datetime, math, os, re, shlex, subprocess, sys, tempfile, time
+import argparse, datetime, math, os, re, shlex, subprocess, sys, tempfile, time
 from concurrent.futures import ThreadPoolExecutor, as_completed
 
 sys.dont_write_bytecode = True   # no scripts/__pycache__ next to the sources
@@ -65,11 +63,9 @@ from fsiopt_runs import ROOT, extra_tag, fmt_num, ints, md_escape, number, rel, 
 
 FSIOPT = os.path.join(ROOT, "bin", "fsiopt")
 OPTIONS_FILE = "options/turek-hron.yaml"
-SCENE_SOURCE = "src/scenes/turek_hron.c"
 GEO = {"fluid": "meshes/turek-hron-fluid.geo", "flag": "meshes/turek-hron-flag.geo"}
 GEO_INCLUDES = ["meshes/turek-hron.geoinc"]
-# the benchmark's cases: which parts they have, and whether they are periodic (the scene's cases[] agrees,
-# checked when that table is parsed)
+# the benchmark's cases: which parts they have, and whether they are periodic (as the scene's cases[])
 CASES = {"csm1": ("csm", False), "csm2": ("csm", False), "csm3": ("csm", True),
          "cfd1": ("cfd", False), "cfd2": ("cfd", True), "cfd3": ("cfd", True),
          "fsi1": ("fsi", False), "fsi2": ("fsi", True), "fsi3": ("fsi", True)}
@@ -87,41 +83,6 @@ DASH = "—"
 # ---------------------------------------------------------------------------- the scene's defaults
 class DefaultsError(Exception):
     pass
-
-
-def scene_defaults(path=os.path.join(ROOT, SCENE_SOURCE)):
-    """{case: {'kind', 'periodic', 'dt', 't_final', 'window'}} from the cases[] table of the
-    scene's source, e.g. {"csm3", CSM, PETSC_TRUE, 0.0, 1000, 0.5e6, 2.0, "0.005", "10", "4"}.
-    Raises DefaultsError when the table is not found, misses a case or disagrees with CASES."""
-    try:
-        with open(path) as f:
-            text = f.read()
-    except OSError as e:
-        raise DefaultsError("cannot read %s: %s" % (rel(path), e.strerror))
-    m = re.search(r"\bcases\s*\[\s*\]\s*=\s*\{(.*?)\n\};", text, re.S)
-    if not m:
-        raise DefaultsError("%s: no `cases[] = {...};` table found" % rel(path))
-    entry = re.compile(r'\{\s*"(\w+)"\s*,\s*(CSM|CFD|FSI)\s*,\s*PETSC_(TRUE|FALSE)\s*,'
-                       r'(?:[^,{}"]*,){4}\s*"([^"]+)"\s*,\s*"([^"]+)"\s*,\s*"([^"]+)"\s*\}')
-    found = {}
-    for e in entry.finditer(m.group(1)):
-        name, kind, periodic = e.group(1), e.group(2).lower(), e.group(3) == "TRUE"
-        try:
-            dt, tf, window = (float(e.group(i)) for i in (4, 5, 6))
-        except ValueError:
-            raise DefaultsError("%s: case %s: dt, T or window is not a number: %s" % (rel(path), name, e.group(0)))
-        found[name] = {"kind": kind, "periodic": periodic, "dt": dt, "t_final": tf, "window": window}
-    missing = [c for c in CASES if c not in found]
-    if missing:
-        raise DefaultsError("%s: cases[] has no parsable entry for %s (its layout changed? expected "
-                            '{"name", KIND, PETSC_BOOL, U, rho_s, mu_s, g, "dt", "T", "window"})'
-                            % (rel(path), ", ".join(missing)))
-    for c, (kind, periodic) in CASES.items():
-        if (found[c]["kind"], found[c]["periodic"]) != (kind, periodic):
-            raise DefaultsError("%s: case %s is %s%s there, %s%s here (update CASES in %s)" % (
-                rel(path), c, found[c]["kind"], " periodic" if found[c]["periodic"] else "", kind,
-                " periodic" if periodic else "", rel(__file__)))
-    return found
 
 
 def binary_defaults(fsiopt, options):
@@ -357,39 +318,21 @@ def git_state():
 
 
 def case_defaults(cases, args, meshes, extra):
-    """{case: {'dt', 't_final', 'window'}}: the defaults the runs would use, for --dt-scale.
-    Asked of the binary (its -help), as it may be older or newer than the source; the cases[]
-    table of src/scenes/turek_hron.c when that fails or a case has no mesh. A difference
-    between the two is reported; sys.exit when neither answers."""
-    try:
-        source, source_error = scene_defaults(), ""
-    except DefaultsError as e:
-        source, source_error = {}, str(e)
+    """{case: {'dt', 't_final', 'window'}}: the defaults the runs would use, for --dt-scale,
+    asked of the binary (its -help), which is what runs; sys.exit when it cannot answer."""
     found = {}
     for c in cases:
         parts = PARTS[CASES[c][0]]
         level = next((n for n in args.levels if all((p, n) in meshes for p in parts)), None)
-        asked = None
-        if level is not None:
-            options = ["-options_file", OPTIONS_FILE, "-turek_case", c]
-            for p in parts:
-                options += [MESH_OPTION[p], rel(meshes[p, level])]
-            try:
-                asked = binary_defaults(args.fsiopt, options + extra)
-            except DefaultsError as e:
-                say("turek_hron_table: note: cannot ask the binary for %s's default dt: %s" % (c, e), err=True)
-        if asked:
-            found[c] = asked
-            if c in source and source[c]["dt"] != asked["dt"]:
-                say("turek_hron_table: note: %s: %s says dt = %s, %s has %s (binary not rebuilt?); using the binary's"
-                    % (c, rel(args.fsiopt), fmt_num(asked["dt"]), SCENE_SOURCE, fmt_num(source[c]["dt"])), err=True)
-        elif c in source:
-            found[c] = source[c]
-            say("turek_hron_table: note: %s: default dt %s from %s" % (c, fmt_num(source[c]["dt"]), SCENE_SOURCE),
-                err=True)
-        else:
-            sys.exit("turek_hron_table: --dt-scale needs %s's default dt, and neither the binary nor the source "
-                     "gave it: %s" % (c, source_error or "%s has no case %s" % (SCENE_SOURCE, c)))
+        if level is None:
+            sys.exit("turek_hron_table: --dt-scale needs %s's default dt, and none of its meshes exists" % c)
+        options = ["-options_file", OPTIONS_FILE, "-turek_case", c]
+        for p in parts:
+            options += [MESH_OPTION[p], rel(meshes[p, level])]
+        try:
+            found[c] = binary_defaults(args.fsiopt, options + extra)
+        except DefaultsError as e:
+            sys.exit("turek_hron_table: --dt-scale needs %s's default dt: %s" % (c, e))
     return found
 
 

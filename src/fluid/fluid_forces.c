@@ -50,6 +50,27 @@ static PetscErrorCode BodyPoints(Fluid f, PetscInt *n, PetscInt **points)
   PetscFunctionReturn(0);
 }
 
+/* The first component of every velocity node of the body points: offset(p) + node * dim,
+   with offset(p) the point's offset in `offsets` less `shift` (velocity comes first among a
+   point's dofs); points with a negative offset (owned by another rank) are left out. */
+static PetscErrorCode VelocityRows(PetscInt nbody, const PetscInt body[], PetscInt dim, PetscSection dofs, PetscSection offsets, PetscInt shift, PetscInt *n, PetscInt **rows)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt pass = 0; pass < 2; ++pass) {
+    *n = 0;
+    for (PetscInt i = 0; i < nbody; ++i) {
+      PetscInt ndof, off;
+      PetscCall(PetscSectionGetOffset(offsets, body[i], &off));
+      if (off < 0) continue;
+      PetscCall(PetscSectionGetFieldDof(dofs, body[i], 0, &ndof));
+      for (PetscInt node = 0; node < ndof / dim; ++node, ++*n)
+        if (pass) (*rows)[*n] = off - shift + node * dim;
+    }
+    if (!pass) PetscCall(PetscMalloc1(*n, rows));
+  }
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FluidForcesSetUp(Fluid f)
 {
   DMLabel      band;
@@ -68,18 +89,7 @@ PetscErrorCode FluidForcesSetUp(Fluid f)
     PetscCall(DMGetGlobalSection(f->dm_all, &global_all));
     PetscCall(DMGetLocalSection(f->dm_all, &local));
     PetscCall(VecGetOwnershipRange(f->all_y, &rstart, NULL));
-    for (PetscInt pass = 0; pass < 2; ++pass) {
-      f->n_force_rows = 0;
-      for (PetscInt i = 0; i < nbody; ++i) {
-        PetscInt ndof, goff;
-        PetscCall(PetscSectionGetOffset(global_all, body[i], &goff));
-        if (goff < 0) continue; /* another rank owns it */
-        PetscCall(PetscSectionGetFieldDof(local, body[i], 0, &ndof));
-        for (PetscInt node = 0; node < ndof / dim; ++node, ++f->n_force_rows)
-          if (pass) f->force_rows[f->n_force_rows] = goff - rstart + node * dim; /* velocity first in a point's dofs */
-      }
-      if (!pass) PetscCall(PetscMalloc1(f->n_force_rows, &f->force_rows));
-    }
+    PetscCall(VelocityRows(nbody, body, dim, local, global_all, rstart, &f->n_force_rows, &f->force_rows));
     PetscCall(PetscFree(body));
     PetscFunctionReturn(0);
   }
@@ -120,17 +130,7 @@ PetscErrorCode FluidForcesSetUp(Fluid f)
   }
   /* the body's velocity nodes: every local copy in the band (each rank adds its own cells'
      contributions) */
-  for (PetscInt pass = 0; pass < 2; ++pass) {
-    f->n_force_rows = 0;
-    for (PetscInt i = 0; i < nbody; ++i) {
-      PetscInt ndof, off;
-      PetscCall(PetscSectionGetFieldDof(local_force, body[i], 0, &ndof));
-      PetscCall(PetscSectionGetFieldOffset(local_force, body[i], 0, &off));
-      for (PetscInt node = 0; node < ndof / dim; ++node, ++f->n_force_rows)
-        if (pass) f->force_rows[f->n_force_rows] = off + node * dim;
-    }
-    if (!pass) PetscCall(PetscMalloc1(f->n_force_rows, &f->force_rows));
-  }
+  PetscCall(VelocityRows(nbody, body, dim, local_force, local_force, 0, &f->n_force_rows, &f->force_rows));
   PetscCall(PetscFree(body));
   PetscFunctionReturn(0);
 }

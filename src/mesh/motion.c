@@ -67,21 +67,22 @@ static PetscErrorCode SetStiffness(MeshMotion mm)
   PetscCall(DMCreateLocalVector(mm->dm_stiffness, &mm->stiffness));
   PetscCall(DMGetLocalSection(mm->dm_stiffness, &section));
   PetscCall(DMPlexGetHeightStratum(mm->dm_all, 0, &cStart, &cEnd));
-  for (PetscInt c = cStart; c < cEnd; ++c) {
+  PetscCall(VecGetArray(mm->stiffness, &w));
+  for (PetscInt c = cStart; c < cEnd; ++c) { /* the volumes first, then their weights */
     PetscReal v;
+    PetscInt  off;
     PetscCall(DMPlexComputeCellGeometryFVM(mm->dm_all, c, &v, NULL, NULL));
+    PetscCall(PetscSectionGetOffset(section, c, &off));
+    w[off] = v;
     total += v;
   }
   ncells = cEnd - cStart;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &total, 1, MPIU_REAL, MPIU_SUM, PetscObjectComm((PetscObject)mm->dm_all)));
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &ncells, 1, MPIU_INT, MPI_SUM, PetscObjectComm((PetscObject)mm->dm_all)));
-  PetscCall(VecGetArray(mm->stiffness, &w));
   for (PetscInt c = cStart; c < cEnd; ++c) {
-    PetscReal v;
-    PetscInt  off;
-    PetscCall(DMPlexComputeCellGeometryFVM(mm->dm_all, c, &v, NULL, NULL));
+    PetscInt off;
     PetscCall(PetscSectionGetOffset(section, c, &off));
-    w[off] = PetscPowReal(total / ncells / v, mm->stiffening);
+    w[off] = PetscPowReal(total / ncells / PetscRealPart(w[off]), mm->stiffening);
   }
   PetscCall(VecRestoreArray(mm->stiffness, &w));
   PetscCall(DMSetAuxiliaryVec(mm->dm_all, NULL, 0, 0, mm->stiffness));
