@@ -3,23 +3,34 @@
 #include <petscviewerhdf5.h>
 #include "fsiopt.h"
 
-/* Checkpoints (HDF5): every -checkpoint_every K steps the state that the next step needs
-   goes to -checkpoint_file (default <output_dir>/checkpoint.h5), written to a temporary
-   file and renamed, so a run killed while writing keeps its last good checkpoint.
-   -restart FILE continues from one. A checkpoint is also a resynchronization point: the
-   fluid's factors and the coupling's explicit Jacobian are rebuilt at the next step, in the
-   run that wrote it as in the run that restarts from it, so the two go on identically. */
+/* The state the next step needs, saved by each module's *Checkpoint function into a store
+   that is either
+   - an HDF5 file: every -checkpoint_every K steps to -checkpoint_file (default
+     <output_dir>/checkpoint.h5), written to a temporary file and renamed, so a run killed
+     while writing keeps its last good checkpoint; -restart FILE continues from one. A file
+     is also a resynchronization point: the fluid's factors and the coupling's explicit
+     Jacobian are rebuilt at the next step, in the run that wrote it as in the run that
+     restarts from it, so the two go on identically;
+   - memory: the state a step starts from, kept while the step may still be retried with a
+     smaller dt (step_retry.c). Saving there rebuilds nothing; loading rebuilds what a new
+     dt invalidates. */
+PetscErrorCode CheckpointOpen(MPI_Comm, const char path[], PetscBool load, Checkpoint *);
+/* Closes; a written file is renamed from its temporary name into place. */
+PetscErrorCode CheckpointClose(MPI_Comm, const char path[], PetscBool load, Checkpoint *);
+PetscErrorCode CheckpointCreateInMemory(Checkpoint *);
+PetscErrorCode CheckpointDestroy(Checkpoint *);
+PetscBool      CheckpointIsFile(Checkpoint);
+/* Whether the solvers rebuild their factors after this save or load (see above). */
+PetscBool      CheckpointResynchronizes(Checkpoint, PetscBool load);
 
-/* Saves (load = PETSC_FALSE) or loads a vector under `name` in the viewer's current group,
-   without renaming the caller's vector. */
-PetscErrorCode CheckpointVec(PetscViewer, const char name[], Vec, PetscBool load);
-/* The same for an integer or a real attribute of the current group. */
-PetscErrorCode CheckpointInt(PetscViewer, const char name[], PetscInt *, PetscBool load);
-PetscErrorCode CheckpointReal(PetscViewer, const char name[], PetscReal *, PetscBool load);
-/* A local vector in a DM's local layout, through its global vector (owners' values). */
-PetscErrorCode CheckpointLocalVec(PetscViewer, const char name[], DM, Vec local, PetscBool load);
-
-PetscErrorCode CheckpointOpen(MPI_Comm, const char path[], PetscBool load, PetscViewer *);
-/* Closes; a written checkpoint is renamed from its temporary name into place. */
-PetscErrorCode CheckpointClose(MPI_Comm, const char path[], PetscBool load, PetscViewer *);
+/* Names below go into the current group. */
+PetscErrorCode CheckpointPushGroup(Checkpoint, const char group[]);
+PetscErrorCode CheckpointPopGroup(Checkpoint);
+/* Saves (load = PETSC_FALSE) or loads a vector, without renaming the caller's vector. */
+PetscErrorCode CheckpointVec(Checkpoint, const char name[], Vec, PetscBool load);
+PetscErrorCode CheckpointInt(Checkpoint, const char name[], PetscInt *, PetscBool load);
+PetscErrorCode CheckpointReal(Checkpoint, const char name[], PetscReal *, PetscBool load);
+/* A local vector in a DM's local layout (in a file through its global vector: the owners'
+   values). */
+PetscErrorCode CheckpointLocalVec(Checkpoint, const char name[], DM, Vec local, PetscBool load);
 #endif

@@ -28,7 +28,7 @@ typedef struct _p_CouplingProblem *CouplingProblem;
 
 PetscErrorCode CouplingProblemCreate(MPI_Comm, Fluid, Structure, Interface, const PhysicsData *fluid_data, CouplingProblem *);
 PetscErrorCode CouplingProblemDestroy(CouplingProblem *);
-PetscErrorCode CouplingProblemCheckpoint(CouplingProblem, PetscViewer, PetscBool load); /* checkpoint.h */
+PetscErrorCode CouplingProblemCheckpoint(CouplingProblem, Checkpoint, PetscBool load); /* checkpoint.h */
 PetscErrorCode CouplingProblemGetControlVariant(ControlVariant *); /* -coupling_control, readable before the solvers exist */
 PetscErrorCode CouplingProblemCreateControl(CouplingProblem, Vec *);
 PetscErrorCode CouplingProblemCreateJacobian(CouplingProblem, Mat *);
@@ -37,6 +37,10 @@ PetscErrorCode CouplingProblemGetTikhonov(CouplingProblem, PetscReal *);
 PetscErrorCode CouplingProblemInitialControl(CouplingProblem, PetscReal t0, Vec x);
 
 PetscErrorCode CouplingProblemBeginStep(CouplingProblem, PetscInt step);
+PetscErrorCode CouplingProblemSetTimeStep(CouplingProblem, PetscReal dt);
+/* Why the step in progress failed (a subproblem's StepFailure, the same on every rank),
+   NULL if it has not. After a failure the evaluations below return F = 0 and J = I. */
+PetscErrorCode CouplingProblemGetFailure(CouplingProblem, const char **reason);
 PetscErrorCode CouplingProblemResidual(CouplingProblem, Vec x, Vec F);
 PetscErrorCode CouplingProblemUpdateJacobian(CouplingProblem, Vec x);
 /* Jumps at or below this need no new Jacobian: the optimizer accepts the point. */
@@ -77,13 +81,19 @@ typedef struct {
   PetscReal max_jump;        /* largest final interface jump (opt) or traction residual (partitioned) of a step */
 } CouplingStats;
 
-PetscErrorCode CouplingCreate(const char method[], CouplingProblem, const char output_dir[], PetscReal t0, Coupling *);
+PetscErrorCode CouplingCreate(const char method[], CouplingProblem, const char output_dir[], PetscReal t0, PetscReal dt, Coupling *);
 PetscErrorCode CouplingStep(Coupling, PetscInt step);
+/* Why the step failed (a subproblem, or the method not converging), NULL if it has not. */
+PetscErrorCode CouplingGetFailure(Coupling, const char **reason);
+/* The next steps' dt (a retried step's, step_retry.c). */
+PetscErrorCode CouplingSetTimeStep(Coupling, PetscReal dt);
+/* A history.csv row for a step's attempt that failed (event: what follows). */
+PetscErrorCode CouplingLogRetry(Coupling, PetscInt step, const char event[]);
 PetscErrorCode CouplingGetStats(Coupling, CouplingStats *);
 PetscErrorCode CouplingGetOptimizer(Coupling, const char **);
 PetscErrorCode CouplingFinish(Coupling); /* closes the history */
-/* The control and its past values (checkpoint.h); opt only: the partitioned methods keep
-   past iterates (IQN-ILS, Aitken) that are not saved. */
-PetscErrorCode CouplingCheckpoint(Coupling, PetscViewer, PetscBool load);
+/* The control and its past values (checkpoint.h). Files for opt only: the partitioned
+   methods keep past iterates (IQN-ILS) that are not saved; memory for every method. */
+PetscErrorCode CouplingCheckpoint(Coupling, Checkpoint, PetscBool load);
 PetscErrorCode CouplingDestroy(Coupling *);
 #endif

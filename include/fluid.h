@@ -14,6 +14,10 @@ PetscErrorCode FluidCreate(MPI_Comm, Fluid *);
 PetscErrorCode FluidSetFromOptions(Fluid);
 PetscErrorCode FluidSetUp(Fluid, DM mesh, const PhysicsData *, PetscReal t0, PetscReal dt);
 PetscErrorCode FluidStep(Fluid, PetscInt step);
+/* The next steps' dt (a retried step's, step_retry.c). */
+PetscErrorCode FluidSetTimeStep(Fluid, PetscReal dt);
+/* The reason the step in progress failed (StepFailure), NULL if it has not. */
+PetscErrorCode FluidGetFailure(Fluid, const char **reason);
 
 /* Coupled use. FluidSetInterface (before FluidSetUp) names the interface face set and
    whether the residual carries the convective boundary term the control absorbs
@@ -21,7 +25,7 @@ PetscErrorCode FluidStep(Fluid, PetscInt step);
    its Jacobian only when asked (FluidUpdateJacobian); its nonlinear solves reuse the
    factorization in hand. */
 PetscErrorCode FluidSetInterface(Fluid, PetscInt face, PetscBool convective_term);
-PetscErrorCode FluidBeginStep(Fluid);                         /* old-domain term, t += dt */
+PetscErrorCode FluidBeginStep(Fluid, PetscInt step);          /* old-domain term, t += dt */
 PetscErrorCode FluidSolve(Fluid, Vec load, PetscInt step);    /* R(x) = history + load */
 PetscErrorCode FluidUpdateJacobian(Fluid);                    /* A = dR/dx at the current state, factored */
 PetscErrorCode FluidLinearSolve(Fluid, Vec rhs, Vec x, PetscBool transpose); /* with the factors in hand */
@@ -46,7 +50,7 @@ PetscErrorCode FluidGetInfo(Fluid, PetscInt *dim, PetscInt *ndofs);
 PetscErrorCode FluidBodyForce(Fluid, PetscReal force[3]);
 /* Saves or loads the state the next step needs (checkpoint.h); either way the next
    coupled step refactors the Jacobian. */
-PetscErrorCode FluidCheckpoint(Fluid, PetscViewer, PetscBool load);
+PetscErrorCode FluidCheckpoint(Fluid, Checkpoint, PetscBool load);
 PetscErrorCode FluidDestroy(Fluid *);
 
 /* Pointwise kernels (fluid_kernels.c). */

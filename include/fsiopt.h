@@ -65,6 +65,23 @@ typedef struct {
 
 PetscErrorCode ErrorTableAdd(ErrorTable *, const char[], PetscReal);
 
+/* A saved state (checkpoint.h): an HDF5 file or memory. */
+typedef struct _p_Checkpoint *Checkpoint;
+
+/* Why a solve inside a time step failed. A failing subproblem (a nonlinear solver that does
+   not converge, a mesh that inverts, an optimizer that gives up) records the reason here
+   and returns normally, like a SNES with a negative converged reason, so that the time
+   loop can retry the step with a smaller dt (step_retry.c). reason[0] == 0: no failure. */
+typedef struct {
+  char reason[512];
+} StepFailure;
+PetscErrorCode StepFailureSet(StepFailure *, const char format[], ...) PETSC_ATTRIBUTE_FORMAT(2, 3);
+#define StepFailed(failure) ((failure)->reason[0] != 0)
+static inline void StepFailureClear(StepFailure *failure)
+{
+  failure->reason[0] = 0;
+}
+
 /* Common run parameters (DESIGN §6). */
 typedef struct {
   char      scene[64];

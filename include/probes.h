@@ -26,7 +26,7 @@ PetscErrorCode ProbesRecord(Probes, PetscReal t, Vec displacement, const PetscRe
 /* The quantities of every column, on rank 0 (window from -quantities_window). */
 PetscErrorCode ProbesQuantities(Probes, QuantityTable *);
 PetscErrorCode ProbesClose(Probes *, PetscBool complete);
-PetscErrorCode ProbesCheckpoint(Probes, PetscViewer, PetscBool load); /* checkpoint.h */
+PetscErrorCode ProbesCheckpoint(Probes, Checkpoint, PetscBool load); /* checkpoint.h */
 
 /* quantities.c: the analysis of one series */
 PetscErrorCode QuantityAnalyze(PetscInt n, const PetscReal t[], const PetscReal v[], PetscReal window, PetscReal *final, PetscReal *mean, PetscReal *amplitude, PetscReal *frequency);

@@ -14,6 +14,10 @@ PetscErrorCode StructureCreate(MPI_Comm, Structure *);
 PetscErrorCode StructureSetFromOptions(Structure);
 PetscErrorCode StructureSetUp(Structure, DM mesh, const PhysicsData *, PetscReal t0, PetscReal dt);
 PetscErrorCode StructureStep(Structure, PetscInt step);
+/* The next steps' dt (a retried step's, step_retry.c). */
+PetscErrorCode StructureSetTimeStep(Structure, PetscReal dt);
+/* The reason the step in progress failed (StepFailure), NULL if it has not. */
+PetscErrorCode StructureGetFailure(Structure, const char **reason);
 
 /* Coupled use: R(eta) + load = history, with load = B_s g from the coupling.
    The interface velocity is measured either by the scheme's own velocity
@@ -39,7 +43,7 @@ PetscErrorCode StructureRestoreVelocityLocal(Structure, Vec *);
 PetscErrorCode StructureErrors(Structure, ErrorTable *);
 PetscErrorCode StructureGetCounts(Structure, SolverCounts *);
 PetscErrorCode StructureGetInfo(Structure, PetscInt *dim, PetscInt *ndofs);
-PetscErrorCode StructureCheckpoint(Structure, PetscViewer, PetscBool load); /* checkpoint.h */
+PetscErrorCode StructureCheckpoint(Structure, Checkpoint, PetscBool load); /* checkpoint.h */
 PetscErrorCode StructureDestroy(Structure *);
 
 /* The stress paired with grad xi for the displacement gradient grad_eta (row-major,

@@ -17,6 +17,9 @@ typedef struct {
   PetscInt         steps_done;  /* fewer than params->steps when interrupted */
   PetscInt         first_step;  /* 1, or the step after the checkpoint of a restart: the counts are this run's */
   const char      *interrupted; /* the signal that ended the run early, NULL: none */
+  const char      *failure;     /* the step that failed with the smallest dt allowed, NULL: none */
+  PetscInt         retried_steps, failed_attempts;
+  PetscReal        smallest_dt;
   ErrorTable       errors;
   QuantityTable    quantities;
   PetscMPIInt      fluid_ranks, structure_ranks, total_ranks;

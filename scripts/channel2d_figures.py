@@ -256,6 +256,8 @@ def read_history(run_dir):
     steps = {}
     with open(path, newline="") as f:
         for r in csv.DictReader(f):
+            if r.get("event"):  # a failed attempt's marker (the step was retried)
+                continue
             steps.setdefault(int(r["step"]), []).append(
                 (int(r["iteration"]), float(r["objective"]), float(r["jump"]), int(r["inner_iterations"])))
     if not steps:

@@ -16,6 +16,7 @@
 #include "fields.h"
 #include "interrupt.h"
 #include "run_checkpoint.h"
+#include "step_retry.h"
 
 static const char help[] = "fsiopt: fluid-structure interaction by optimization-based decoupling.\n"
                            "  fsiopt -options_file options/<scene>.yaml [options]   or   fsiopt -scene <name> [options]\n"
@@ -150,6 +151,9 @@ static PetscErrorCode Run(void)
   Probes          probes    = NULL;
   FieldWriter     fields    = NULL;
   Vec             probed_displacement = NULL;
+  StepRetry       retry = NULL;
+  StepRetryStats  retry_stats;
+  const char     *failure = NULL;
   PetscBool       scene_given, help, coupled;
   int             signal_caught = 0;
   RunCheckpointParams checkpoint;
@@ -215,11 +219,12 @@ static PetscErrorCode Run(void)
     PetscCall(PetscLogEventBegin(FSIOPT_EVENT_INTERFACE, 0, 0, 0, 0));
     PetscCall(InterfaceCreate(PETSC_COMM_WORLD, fluid_mesh, scene.fluid.interface_face, structure_mesh, scene.structure.interface_face, &itf));
     PetscCall(CouplingProblemCreate(PETSC_COMM_WORLD, fluid, structure, itf, &scene.fluid, &problem));
-    PetscCall(CouplingCreate(params.coupling, problem, params.output_dir, params.t_start, &coupling));
+    PetscCall(CouplingCreate(params.coupling, problem, params.output_dir, params.t_start, params.dt, &coupling));
     PetscCall(PetscLogEventEnd(FSIOPT_EVENT_INTERFACE, 0, 0, 0, 0));
   }
   PetscCall(ProbesSetUp(&scene, summary.dim, structure, itf, params.output_dir, &probes, &probed_displacement));
   PetscCall(FieldWriterCreate(PETSC_COMM_WORLD, &params, fluid, structure, &fields));
+  PetscCall(StepRetryCreate(&params, fluid, structure, coupling, &retry));
   PetscCall(RunCheckpointSetFromOptions(&params, coupled && (fluid_comm != PETSC_COMM_WORLD || structure_comm != PETSC_COMM_WORLD), fields ? PETSC_TRUE : PETSC_FALSE, &checkpoint));
   if (checkpoint.restarting && !help) {
     PetscInt restart_step = 0;
@@ -242,19 +247,12 @@ static PetscErrorCode Run(void)
   summary.steps_done = params.steps;
   summary.first_step = first_step;
   for (PetscInt step = first_step; step <= params.steps; ++step) {
-    if (coupling) {
-      PetscCall(CouplingStep(coupling, step));
-    } else {
-      if (fluid) {
-        PetscCall(PetscLogStagePush(FSIOPT_STAGE_FLUID));
-        PetscCall(FluidStep(fluid, step));
-        PetscCall(PetscLogStagePop());
-      }
-      if (structure) {
-        PetscCall(PetscLogStagePush(FSIOPT_STAGE_STRUCTURE));
-        PetscCall(StructureStep(structure, step));
-        PetscCall(PetscLogStagePop());
-      }
+    PetscCall(StepRetryAdvance(retry, step, &failure));
+    if (failure) {
+      /* the outputs end with the last step completed; the last checkpoint stays */
+      summary.steps_done = step - 1;
+      summary.failure    = failure;
+      break;
     }
     PetscCall(RecordProbes(probes, params.t_start + step * params.dt, &scene, fluid, structure, problem, probed_displacement));
     PetscCall(FieldWriterWrite(fields, step));
@@ -273,10 +271,15 @@ static PetscErrorCode Run(void)
   }
 
   if (help) goto cleanup;
+  PetscCall(StepRetryGetStats(retry, &retry_stats));
+  summary.retried_steps   = retry_stats.retried_steps;
+  summary.failed_attempts = retry_stats.failed_attempts;
+  summary.smallest_dt     = retry_stats.smallest_dt;
   PetscCall(PetscLogStagePush(FSIOPT_STAGE_OUTPUT));
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_ERRORS, 0, 0, 0, 0));
-  if (fluid) PetscCall(FluidErrors(fluid, &fluid_errors));
-  if (structure) PetscCall(StructureErrors(structure, &structure_errors));
+  /* a failed step leaves a state between two times: no error to report */
+  if (fluid && !failure) PetscCall(FluidErrors(fluid, &fluid_errors));
+  if (structure && !failure) PetscCall(StructureErrors(structure, &structure_errors));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_ERRORS, 0, 0, 0, 0));
   if (fluid) PetscCall(FluidGetCounts(fluid, &summary.fluid));
   if (structure) PetscCall(StructureGetCounts(structure, &summary.structure));
@@ -315,7 +318,7 @@ static PetscErrorCode Run(void)
   PetscCall(PetscTime(&end));
   summary.params        = &params;
   summary.wall_time_s   = end - start;
-  summary.converged     = summary.stalled_steps == 0 && !signal_caught ? PETSC_TRUE : PETSC_FALSE;
+  summary.converged     = summary.stalled_steps == 0 && !signal_caught && !failure ? PETSC_TRUE : PETSC_FALSE;
   summary.has_fluid     = scene.has_fluid;
   summary.has_structure = scene.has_structure;
   if (!scene.has_fluid) summary.fluid_ranks = 0;
@@ -327,10 +330,12 @@ static PetscErrorCode Run(void)
   if (coupling) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\nfsiopt: %" PetscInt_FMT " coupling iterations (%.2f per step), %" PetscInt_FMT " inner, max interface jump %.3e, work factor %.2f", summary.coupling_iterations, (double)summary.coupling_iterations / PetscMax(summary.steps_done - first_step + 1, 1), summary.inner_iterations, (double)summary.max_interface_jump, (double)summary.work_factor));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\nfsiopt: outputs in %s/\n", params.output_dir));
   PetscCall(PetscLogStagePop());
-  collective_stop = signal_caught ? PETSC_TRUE : PETSC_FALSE;
+  collective_stop = signal_caught || failure ? PETSC_TRUE : PETSC_FALSE;
+  PetscCheck(!failure, PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "%s; the outputs in %s/ go to step %" PetscInt_FMT, failure, params.output_dir, summary.steps_done);
   PetscCheck(!signal_caught, PETSC_COMM_WORLD, PETSC_ERR_SIG, "interrupted by %s after step %" PetscInt_FMT " of %" PetscInt_FMT " (t = %g); the outputs in %s/ go to that step", summary.interrupted, summary.steps_done, params.steps, (double)(params.t_start + summary.steps_done * params.dt), params.output_dir);
 
 cleanup:
+  PetscCall(StepRetryDestroy(&retry));
   PetscCall(CouplingDestroy(&coupling));
   PetscCall(ProbesClose(&probes, PETSC_FALSE));
   PetscCall(FieldWriterDestroy(&fields));

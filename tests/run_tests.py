@@ -614,6 +614,98 @@ def _():
     return "killed after step >= 32, restarted at step %d: probes.csv byte for byte the uninterrupted run's" % s["first_step"]
 
 
+def diverging_cases():
+    return [
+        ("mesh motion inverting cells", ["-scene", "gcl", "-dt", "0.01", "-t_final", "0.1", "-gcl_amplitude", "0.6"], "inverted or degenerate at step 3"),
+        ("mesh motion inverting hexahedra", ["-scene", "gcl", "-dt", "0.01", "-t_final", "0.1", "-gcl_amplitude", "0.6",
+                                             "-fluid_dm_plex_dim", "3", "-fluid_dm_plex_box_faces", "4,4,2"], "inverted or degenerate at step 3"),
+        # a soft, heavy wall: it bends before the fluid's velocities defeat its solver
+        ("over-sized load inverts the channel's cells", CHANNEL + ["-t_final", "0.005", "-channel_inlet_amplitude", "1e6",
+                                                                   "-structure_youngs_modulus", "3e3", "-structure_density", "10"],
+         "inverted or degenerate at step"),
+        ("unrelaxed Dirichlet-Neumann diverges (added mass)", CHANNEL + ["-t_final", "0.001", "-coupling", "dn"], "coupling dn diverged at step 1"),
+        ("diverging relaxed descent", ["-options_file", "options/mms-stokes.yaml", "-t_final", "0.6", "-tao_type", "sdrelaxed",
+                                       "-coupling_tikhonov", "1e-4", "-tao_sdrelaxed_alpha", "0.5"], "at step 1, iteration"),
+        ("structure Newton without retries", ["-options_file", "options/mms-structure.yaml", "-structure_model", "svk", "-dt", "0.05",
+                                              "-structure_snes_max_it", "5", "-dt_min", "0.05"], "structure solve failed at step 1"),
+    ]
+
+
+@test("diverging step past -dt_min: says where, converged false, outputs to the step before")
+def _():
+    problems = []
+    cases = diverging_cases()
+    for name, args, token in cases:
+        out = os.path.join(WORK, "diverging-%d" % len(problems))
+        shutil.rmtree(out, ignore_errors=True)
+        rc, stdout, err, s = run(args, out=out)
+        lines = [l for l in err.splitlines() if l.strip()]
+        why = []
+        if rc == 0: why.append("exit 0")
+        if "PETSC ERROR" in stdout + err: why.append("PETSc traceback")
+        if len(lines) != 1 or not lines[0].startswith("fsiopt: error: ") or token not in lines[0] or "from t = " not in lines[0]:
+            why.append("stderr %s lacks one error line with '%s' and 'from t = '" % (lines, token))
+        if s is None: why.append("no summary.json")
+        else:
+            if s["converged"] is not False or token not in (s["failure"] or ""): why.append("summary converged %s, failure %s" % (s["converged"], s["failure"]))
+            if not 0 <= s["steps_done"] < s["steps"]: why.append("steps_done %s of %s" % (s["steps_done"], s["steps"]))
+            if s["errors"]: why.append("errors of a failed state reported")
+            probes = os.path.join(out, "probes.csv")
+            if os.path.exists(probes) and len(read_probes(probes)[1]) != s["steps_done"] + 1:
+                why.append("probes.csv rows != steps_done + 1")
+            retries = "no retries" not in lines[0] if lines else False
+            if retries and ("-dt_min" not in lines[0] or s["failed_attempts"] < 2): why.append("not retried down to -dt_min")
+        if why: problems.append("%s: %s" % (name, ", ".join(why)))
+    assert not problems, "; ".join(problems)
+    return "%d cases" % len(cases)
+
+
+@test("diverging steps retried with dt/2: = the run at dt/2 (SVK), near the smallest dt's run (channel2d)")
+def _():
+    svk = ["-options_file", "options/mms-structure.yaml", "-structure_model", "svk"]
+    # Newton needs 6-7 iterations per step at dt 0.05, 5 at 0.025: every step fails once
+    retried = solve(svk + ["-dt", "0.05", "-structure_snes_max_it", "5"])
+    half = solve(svk + ["-dt", "0.025", "-structure_snes_max_it", "5"])
+    full = solve(svk + ["-dt", "0.05"])
+    assert retried["retried_steps"] == retried["steps"] == retried["failed_attempts"] and retried["smallest_dt"] == 0.025, \
+        "retried %d of %d steps, %d failed attempts, smallest dt %g" % (retried["retried_steps"], retried["steps"], retried["failed_attempts"], retried["smallest_dt"])
+    assert half["failed_attempts"] == 0 and retried["converged"], "the dt/2 run failed too"
+    for k in retried["errors"]:
+        a, b, c = retried["errors"][k], half["errors"][k], full["errors"][k]
+        assert abs(a - b) <= 1e-8 * b, "%s: retried %.10e, dt/2 %.10e" % (k, a, b)
+        assert c > 2 * b, "%s: dt and dt/2 runs too close to tell apart (%.3e, %.3e)" % (k, c, b)
+    # coupled (opt): one Gauss-Newton iteration allowed; the steps that need two at dt are halved
+    base = CHANNEL + ["-t_final", "0.0015", "-coupling_tol", "1e-6"]
+    out = os.path.join(WORK, "retry-coupled")
+    s = solve(base + ["-dt", "5e-4", "-coupling_max_it", "1"], out=out)
+    assert s["converged"] and s["retried_steps"] >= 1 and s["max_interface_jump"] <= 1e-6, "coupled: %s" % s
+    rows = list(csv.DictReader(open(os.path.join(out, "history.csv"))))
+    retries = [r for r in rows if r["event"] == "retry"]
+    assert len(retries) == s["failed_attempts"] and all(float(r["dt"]) > s["smallest_dt"] for r in retries), "history retry rows"
+    last = {}
+    for r in rows:
+        if r["event"] == "": last[int(r["step"])] = float(r["jump"])
+    assert sorted(last) == [1, 2, 3] and max(last.values()) <= 1e-6, "last jumps %s" % last
+    head, got = read_probes(os.path.join(out, "probes.csv"))
+    assert [r[0] for r in got] == [0, 5e-4, 1e-3, 1.5e-3], "probe times %s" % [r[0] for r in got]
+    split = os.path.join(WORK, "retry-split")
+    solve(base + ["-dt", "5e-4", "-coupling_max_it", "1", "-structure_ranks", "1"], nproc=2, out=split)
+    assert open(os.path.join(split, "probes.csv")).read() == open(os.path.join(out, "probes.csv")).read(), \
+        "fluid | structure ranks retry differently from 1 rank"
+    ends = []
+    for tag, dt in (("fine", repr(s["smallest_dt"])), ("coarse", "5e-4")):
+        solve(base + ["-dt", dt], out=os.path.join(WORK, "retry-" + tag))
+        ends.append(read_probes(os.path.join(WORK, "retry-" + tag, "probes.csv"))[1][-1])
+    fine, coarse = ends
+    # most of the retried run's steps were taken at the smallest dt: its end is near that run's
+    scale = [max(abs(fine[c]), abs(coarse[c])) for c in range(len(head))]
+    to_fine = sum(abs(got[-1][c] - fine[c]) / scale[c] for c in range(1, len(head)))
+    to_coarse = sum(abs(got[-1][c] - coarse[c]) / scale[c] for c in range(1, len(head)))
+    assert to_fine < 0.25 * to_coarse, "retried run's probes: %.3f from the smallest-dt run, %.3f from the dt run" % (to_fine, to_coarse)
+    return "SVK: all %d steps halved = dt/2 run to 1e-8; channel2d: %d steps retried (dt down to %g; 2 ranks identical), probes %.3f from that dt's run, %.3f from dt's" % (
+        retried["steps"], s["retried_steps"], s["smallest_dt"], to_fine, to_coarse)
+
+
 @test("summary.json has every DESIGN key")
 def _():
     s = solve(FLUID_SPACE)
@@ -678,7 +770,6 @@ def bad_input_cases():
         ("negative refine", F + ["-refine", "-1"], "-refine"),
         ("non-conforming interface (counts)", ["-scene", "mms-stokes", "-structure_dm_plex_box_faces", "5,2"], "do not conform"),
         ("non-conforming interface (shifted)", ["-scene", "mms-stokes", "-structure_dm_plex_box_lower", "0.01,1", "-structure_dm_plex_box_upper", "1.01,1.5"], "fluid node (0"),
-        ("unrelaxed Dirichlet-Neumann diverges (added mass)", CHANNEL + ["-t_final", "0.001", "-coupling", "dn"], "coupling dn diverged at step 1"),
         ("Dirichlet-Neumann with the convective control", CHANNEL + ["-coupling", "aitken", "-coupling_control", "convective"], "-coupling_control"),
         ("Dirichlet-Neumann on an enclosed fluid", ["-scene", "mms-stokes", "-coupling", "iqnils"], "incompressibility"),
         ("too few extrapolation points", CHANNEL + ["-coupling_extrapolation", "2", "-coupling_extrapolation_points", "2"], "-coupling_extrapolation_points"),
@@ -689,26 +780,20 @@ def bad_input_cases():
         ("negative Tikhonov weight", ["-scene", "mms-stokes", "-coupling_tikhonov", "-1"], "-coupling_tikhonov"),
         ("zero coupling tolerance", ["-scene", "mms-stokes", "-coupling_tol", "0"], "-coupling_tol"),
         ("relaxed descent without Tikhonov", ["-scene", "mms-stokes", "-tao_type", "sdrelaxed"], "-coupling_tikhonov"),
-        # a soft, heavy wall: it bends before the fluid's velocities defeat its solver
-        ("over-sized load inverts the channel's cells", ["-options_file", "options/channel2d.yaml", "-t_final", "0.005",
-                                                         "-channel_inlet_amplitude", "1e6", "-structure_youngs_modulus", "3e3",
-                                                         "-structure_density", "10"], "inverted or degenerate at step"),
-        ("mesh motion inverting cells", ["-scene", "gcl", "-dt", "0.01", "-t_final", "0.1", "-gcl_amplitude", "0.6"], "inverted or degenerate at step"),
-        ("mesh motion inverting hexahedra", ["-scene", "gcl", "-dt", "0.01", "-t_final", "0.1", "-gcl_amplitude", "0.6",
-                                             "-fluid_dm_plex_dim", "3", "-fluid_dm_plex_box_faces", "4,4,2"], "inverted or degenerate at step"),
         ("restart from a file that is not HDF5", CHANNEL + ["-restart", empty_h5], "not an HDF5 file"),
         ("restart from a missing file", CHANNEL + ["-restart", os.path.join(d, "nosuch.h5")], "-restart"),
         ("restart with another dt", CHANNEL + ["-t_final", "0.001", "-dt", "5e-5", "-restart", checkpoint], "dt"),
         ("restart of another mesh", CHANNEL + ["-t_final", "0.002", "-refine", "1", "-restart", checkpoint], "-restart"),
         ("restart with a partitioned method", CHANNEL + ["-t_final", "0.002", "-coupling", "iqnils", "-restart", checkpoint], "-coupling opt"),
         ("restart past the end", CHANNEL + ["-t_final", "0.0001", "-restart", checkpoint], "-restart"),
+        ("zero -dt_min", F + ["-dt_min", "0"], "-dt_min"),
+        ("negative -dt_min", F + ["-dt_min", "-1e-3"], "-dt_min"),
+        ("-dt_min above -dt", F + ["-dt", "0.1", "-dt_min", "0.2"], "-dt_min"),
         ("unknown Turek-Hron case", TUREK + ["-turek_case", "fsi4"], "-turek_case"),
         ("negative inflow velocity", TUREK + ["-turek_case", "cfd1", "-turek_mean_velocity", "-1"], "-turek_mean_velocity"),
         ("steady fluid on a moving mesh", TUREK + ["-turek_case", "fsi1", "-fluid_steady"], "-fluid_steady"),
         ("negative mesh stiffening", TUREK + ["-turek_case", "fsi1", "-mesh_motion_stiffening", "-1"], "-mesh_motion_stiffening"),
         ("negative quantities window", TUREK + ["-turek_case", "csm1", "-quantities_window", "-1"], "-quantities_window"),
-        ("diverging coupling says where", ["-options_file", "options/mms-stokes.yaml", "-t_final", "0.6", "-tao_type", "sdrelaxed",
-                                           "-coupling_tikhonov", "1e-4", "-tao_sdrelaxed_alpha", "0.5"], "step 1, iteration"),
     ]
 
 
@@ -754,7 +839,7 @@ def _():
     assert p.returncode == 0, "exit %d" % p.returncode
     for opt in ["-turek_case", "-turek_mean_velocity", "-turek_ramp_time", "-turek_gravity", "-turek_gravity_ramp",
                 "-quantities_window", "-checkpoint_every", "-checkpoint_file", "-restart", "-fluid_steady",
-                "-mesh_motion_stiffening"]:
+                "-mesh_motion_stiffening", "-dt_min"]:
         assert opt in p.stdout, "%s not in -help of turek-hron" % opt
     return ""
 

@@ -3,7 +3,7 @@
 #include "options.h"
 #include "checkpoint.h"
 
-PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, const char output_dir[], PetscReal t0, Coupling *coupling)
+PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, const char output_dir[], PetscReal t0, PetscReal dt, Coupling *coupling)
 {
   Coupling  C;
   PetscBool opt, partitioned = PETSC_FALSE;
@@ -16,6 +16,7 @@ PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, cons
   PetscCall(PetscNew(&C));
   PetscCall(PetscStrncpy(C->method, method, sizeof(C->method)));
   C->problem = problem;
+  C->dt      = dt;
   C->tol     = 1e-10;
   C->max_it  = opt ? 50 : 500; /* relaxation methods may need hundreds */
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Coupling options", "coupling");
@@ -32,7 +33,7 @@ PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, cons
   PetscCall(CouplingProblemCreateControl(problem, &C->x));
   PetscCall(CouplingProblemInitialControl(problem, t0, C->x));
   PetscCall(ExtrapolationCreate(C->x, degree, points, &C->start));
-  PetscCall(HistoryOpen(PETSC_COMM_WORLD, output_dir, &C->history));
+  PetscCall(HistoryOpen(PETSC_COMM_WORLD, output_dir, dt, &C->history));
   if (opt) PetscCall(CouplingCreate_Opt(C));
   else PetscCall(CouplingCreate_Partitioned(C));
   *coupling = C;
@@ -110,28 +111,66 @@ PetscErrorCode ExtrapolationDestroy(Extrapolation *e)
 PetscErrorCode CouplingStep(Coupling C, PetscInt step)
 {
   PetscFunctionBeginUser;
+  StepFailureClear(&C->failure);
   PetscCall(ExtrapolationRecord(&C->start, C->x));
   PetscCall(ExtrapolationPredict(&C->start, C->x));
   PetscCall((*C->ops.step)(C, step));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CouplingCheckpoint(Coupling C, PetscViewer viewer, PetscBool load)
+PetscErrorCode CouplingGetFailure(Coupling C, const char **reason)
 {
   PetscFunctionBeginUser;
-  PetscCheck(C->ops.resynchronize, PETSC_COMM_WORLD, PETSC_ERR_SUP, "option %s: checkpoints are supported for -coupling opt, not %s (its past iterates are not saved)", load ? "-restart" : "-checkpoint_every", C->method);
-  PetscCall(PetscViewerHDF5PushGroup(viewer, "/coupling"));
-  PetscCall(CheckpointVec(viewer, "control", C->x, load));
-  PetscCall(CheckpointInt(viewer, "past_controls", &C->start.npast, load));
-  PetscCheck(C->start.npast <= C->start.points, PETSC_COMM_WORLD, PETSC_ERR_FILE_UNEXPECTED, "option -restart: the checkpoint keeps %" PetscInt_FMT " past controls, -coupling_extrapolation_points is %" PetscInt_FMT, C->start.npast, C->start.points);
-  for (PetscInt i = 0; i < C->start.npast; ++i) {
-    char name[32];
-    PetscCall(PetscSNPrintf(name, sizeof(name), "past_control_%" PetscInt_FMT, i));
-    PetscCall(CheckpointVec(viewer, name, C->start.past[i], load));
+  *reason = StepFailed(&C->failure) ? C->failure.reason : NULL;
+  PetscFunctionReturn(0);
+}
+
+/* The past controls were a step of the old dt apart: the next step starts from the last. */
+PetscErrorCode CouplingSetTimeStep(Coupling C, PetscReal dt)
+{
+  PetscFunctionBeginUser;
+  if (dt == C->dt) PetscFunctionReturn(0);
+  C->dt = dt;
+  PetscCall(CouplingProblemSetTimeStep(C->problem, dt));
+  C->start.npast = 0;
+  PetscCall(HistorySetTimeStep(C->history, dt));
+  if (C->ops.resynchronize) PetscCall((*C->ops.resynchronize)(C));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingLogRetry(Coupling C, PetscInt step, const char event[])
+{
+  PetscFunctionBeginUser;
+  PetscCall(HistoryAppendEvent(C->history, step, event));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ExtrapolationCheckpoint(Extrapolation *e, Checkpoint cp, const char name[], PetscBool load)
+{
+  char key[64];
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(key, sizeof(key), "past_%ss", name));
+  PetscCall(CheckpointInt(cp, key, &e->npast, load));
+  PetscCheck(e->npast <= e->points, PETSC_COMM_WORLD, PETSC_ERR_FILE_UNEXPECTED, "option -restart: the checkpoint keeps %" PetscInt_FMT " past %ss, -coupling_extrapolation_points is %" PetscInt_FMT, e->npast, name, e->points);
+  for (PetscInt i = 0; i < e->npast; ++i) {
+    PetscCall(PetscSNPrintf(key, sizeof(key), "past_%s_%" PetscInt_FMT, name, i));
+    PetscCall(CheckpointVec(cp, key, e->past[i], load));
   }
-  PetscCall(CouplingProblemCheckpoint(C->problem, viewer, load));
-  PetscCall(PetscViewerHDF5PopGroup(viewer));
-  PetscCall((*C->ops.resynchronize)(C));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingCheckpoint(Coupling C, Checkpoint cp, PetscBool load)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(C->ops.restartable || !CheckpointIsFile(cp), PETSC_COMM_WORLD, PETSC_ERR_SUP, "option %s: checkpoints are supported for -coupling opt, not %s (its past iterates are not saved)", load ? "-restart" : "-checkpoint_every", C->method);
+  PetscCall(CheckpointPushGroup(cp, "/coupling"));
+  PetscCall(CheckpointVec(cp, "control", C->x, load));
+  PetscCall(ExtrapolationCheckpoint(&C->start, cp, "control", load));
+  if (C->ops.checkpoint) PetscCall((*C->ops.checkpoint)(C, cp, load));
+  PetscCall(CouplingProblemCheckpoint(C->problem, cp, load));
+  PetscCall(CheckpointPopGroup(cp));
+  if (CheckpointResynchronizes(cp, load) && C->ops.resynchronize) PetscCall((*C->ops.resynchronize)(C));
   PetscFunctionReturn(0);
 }
 

@@ -15,6 +15,7 @@ PetscErrorCode ExtrapolationCreate(Vec model, PetscInt degree, PetscInt points, 
 PetscErrorCode ExtrapolationRecord(Extrapolation *, Vec x);  /* x: the newest value */
 PetscErrorCode ExtrapolationPredict(Extrapolation *, Vec x); /* x: the next step's start */
 PetscErrorCode ExtrapolationDestroy(Extrapolation *);
+PetscErrorCode ExtrapolationCheckpoint(Extrapolation *, Checkpoint, const char name[], PetscBool load);
 
 /* What every coupling method shares; a method fills `ops` and keeps its own data. */
 struct _p_Coupling {
@@ -24,13 +25,17 @@ struct _p_Coupling {
   CouplingStats   stats;
   Vec             x; /* the scaled control, carried from step to step */
   Extrapolation   start;   /* the control each step starts from */
-  PetscReal       tol;
+  PetscReal       tol, dt;
   PetscInt        max_it;
+  StepFailure     failure; /* of the step in progress */
   struct {
-    PetscErrorCode (*step)(Coupling, PetscInt);
+    PetscErrorCode (*step)(Coupling, PetscInt); /* a failure goes to C->failure */
     PetscErrorCode (*destroy)(Coupling);
     const char *(*optimizer)(Coupling);
-    PetscErrorCode (*resynchronize)(Coupling); /* after a checkpoint; NULL: the method cannot restart */
+    /* after a checkpoint file or a new dt: drop what was built from the steps before */
+    PetscErrorCode (*resynchronize)(Coupling);
+    PetscErrorCode (*checkpoint)(Coupling, Checkpoint, PetscBool load); /* the method's own state; may be NULL */
+    PetscBool       restartable; /* its state is all in checkpoint files */
   } ops;
   void *data;
 };

@@ -85,18 +85,25 @@ static PetscErrorCode ConvergenceTest(Tao tao, void *ctx)
   TaoConvergedReason reason;
   Vec                x;
 
+  const char        *failure;
+
   PetscFunctionBeginUser;
   PetscCall(TaoGetSolutionStatus(tao, &its, &f, NULL, NULL, NULL, &reason));
   PetscCall(TaoGetSolution(tao, &x));
   PetscCall(PetscLogStagePop());
   PetscCall(CouplingProblemJump(C->problem, x, &jump));
   PetscCall(PetscLogStagePush(FSIOPT_STAGE_OPTIMIZER));
+  opt->last_iteration = its;
+  PetscCall(CouplingProblemGetFailure(C->problem, &failure));
+  if (failure) {
+    PetscCall(TaoSetConvergedReason(tao, TAO_DIVERGED_USER));
+    PetscFunctionReturn(0);
+  }
   PetscCall(TaoGetLinearSolveIterations(tao, &inner_total));
   PetscCall(HistoryAppend(C->history, opt->step, its, f, jump, inner_total - opt->inner_seen));
   C->stats.inner_iterations += inner_total - opt->inner_seen;
   opt->inner_seen     = inner_total;
   opt->last_jump      = jump;
-  opt->last_iteration = its;
   if (its <= C->max_it) opt->objectives[its] = f;
   if (its == 0) opt->first_jump = jump;
   if (jump <= C->tol) reason = TAO_CONVERGED_USER;
@@ -111,7 +118,7 @@ static PetscErrorCode ConvergenceTest(Tao tao, void *ctx)
 }
 
 /* After a checkpoint the explicit Jacobian is rebuilt at the next step, as a restarted run
-   (which starts without one) builds it. */
+   (which starts without one) builds it; after a new dt, because J depends on it. */
 static PetscErrorCode OptResynchronize(Coupling C)
 {
   Opt *opt = (Opt *)C->data;
@@ -125,12 +132,18 @@ static PetscErrorCode OptStep(Coupling C, PetscInt step)
 {
   Opt               *opt = (Opt *)C->data;
   TaoConvergedReason reason;
+  const char        *failure;
 
   PetscFunctionBeginUser;
   opt->step       = step;
   opt->stalled    = PETSC_FALSE;
   opt->inner_seen = 0;
   PetscCall(CouplingProblemBeginStep(C->problem, step));
+  PetscCall(CouplingProblemGetFailure(C->problem, &failure));
+  if (failure) {
+    PetscCall(StepFailureSet(&C->failure, "coupling opt (%s), step %" PetscInt_FMT " before its first iteration: %s", C->ops.optimizer(C), step, failure));
+    PetscFunctionReturn(0);
+  }
   if (step == 1 && opt->test_adjoint) PetscCall(CouplingProblemTestAdjoint(C->problem, C->x));
   if (step == 1 && opt->test_taylor) PetscCall(CouplingProblemTestTaylor(C->problem, C->x));
   opt->inner_seen = 0; /* TaoSolve restarts TAO's count */
@@ -140,10 +153,24 @@ static PetscErrorCode OptStep(Coupling C, PetscInt step)
   PetscCall(TaoSolve(opt->tao));
   PetscCall(PetscLogStagePop());
   PetscCall(TaoGetConvergedReason(opt->tao, &reason));
-  PetscCheck(reason > 0, PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "coupling opt (%s) failed at step %" PetscInt_FMT ", iteration %" PetscInt_FMT ": TAO reason %s, interface jump %.3e > -coupling_tol %.3e%s", C->ops.optimizer(C), step, opt->last_iteration, TaoConvergedReasons[reason], (double)opt->last_jump, (double)C->tol, reason == TAO_DIVERGED_USER ? " (the jump grew 1000-fold: diverging)" : "");
-  PetscCall(CouplingProblemEndStep(C->problem, C->x));
+  /* a failed attempt's work counts too */
   C->stats.iterations += opt->last_iteration;
   C->stats.linearized_pairs += opt->last_iteration;
+  PetscCall(CouplingProblemGetFailure(C->problem, &failure));
+  if (failure) {
+    PetscCall(StepFailureSet(&C->failure, "coupling opt (%s) at step %" PetscInt_FMT ", iteration %" PetscInt_FMT ": %s", C->ops.optimizer(C), step, opt->last_iteration, failure));
+    PetscFunctionReturn(0);
+  }
+  if (reason <= 0) {
+    PetscCall(StepFailureSet(&C->failure, "coupling opt (%s) failed at step %" PetscInt_FMT ", iteration %" PetscInt_FMT ": TAO reason %s, interface jump %.3e > -coupling_tol %.3e%s", C->ops.optimizer(C), step, opt->last_iteration, TaoConvergedReasons[reason], (double)opt->last_jump, (double)C->tol, reason == TAO_DIVERGED_USER ? " (the jump grew 1000-fold: diverging)" : ""));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(CouplingProblemEndStep(C->problem, C->x));
+  PetscCall(CouplingProblemGetFailure(C->problem, &failure));
+  if (failure) {
+    PetscCall(StepFailureSet(&C->failure, "coupling opt (%s) at the end of step %" PetscInt_FMT ": %s", C->ops.optimizer(C), step, failure));
+    PetscFunctionReturn(0);
+  }
   if (opt->stalled && opt->last_jump > C->tol) {
     C->stats.stalled_steps++;
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fsiopt: warning: step %" PetscInt_FMT " stalled after %" PetscInt_FMT " iterations (%s) at interface jump %.3e > -coupling_tol %.3e\n", step, opt->last_iteration, C->ops.optimizer(C), (double)opt->last_jump, (double)C->tol));
@@ -187,6 +214,7 @@ PetscErrorCode CouplingCreate_Opt(Coupling C)
   C->ops.destroy   = OptDestroy;
   C->ops.optimizer = OptOptimizer;
   C->ops.resynchronize = OptResynchronize;
+  C->ops.restartable   = PETSC_TRUE;
   opt->stall_its   = 5;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Optimization-based coupling", "coupling");
   opt->rebuild_every = 0;

@@ -15,10 +15,11 @@
    A step has converged when ||r|| <= max(-coupling_rtol ||S(u)||, -coupling_atol) (for the
    traction: the change in L2(Gamma_I)); iterations past -coupling_max_it or a residual
    1000x its first one (iqnils: after its first four iterations, which build its model)
-   stop the run with a message naming the step and the iteration. */
+   fail the step with a message naming the step and the iteration. */
 #include "coupling_impl.h"
 #include "options.h"
 #include "logging.h"
+#include "checkpoint.h"
 
 typedef enum { PARTITIONED_DN, PARTITIONED_AITKEN, PARTITIONED_IQNILS } PartitionedKind;
 
@@ -129,8 +130,18 @@ static PetscErrorCode PartitionedStep(Coupling C, PetscInt step)
   if (pt->kind == PARTITIONED_IQNILS) PetscCall(TrimColumns(pt, step));
   if (pt->relax_velocity) PetscCall(ExtrapolationPredict(&pt->v_start, pt->v));
   for (k = 0;; ++k) {
-    if (pt->relax_velocity) PetscCall(CouplingProblemSweepVelocity(C->problem, pt->v, C->x, pt->sweep));
-    else PetscCall(CouplingProblemSweep(C->problem, C->x, pt->sweep));
+    const char *failure;
+    PetscCall(CouplingProblemGetFailure(C->problem, &failure));
+    if (!failure) {
+      if (pt->relax_velocity) PetscCall(CouplingProblemSweepVelocity(C->problem, pt->v, C->x, pt->sweep));
+      else PetscCall(CouplingProblemSweep(C->problem, C->x, pt->sweep));
+      PetscCall(CouplingProblemGetFailure(C->problem, &failure));
+    }
+    if (failure) {
+      C->stats.iterations += k;
+      PetscCall(StepFailureSet(&C->failure, "coupling %s at step %" PetscInt_FMT ", iteration %" PetscInt_FMT ": %s", C->method, step, k, failure));
+      PetscFunctionReturn(0);
+    }
     PetscCall(VecWAXPY(pt->r, -1.0, pt->u, pt->sweep));
     PetscCall(VecNorm(pt->r, NORM_2, &rnorm));
     PetscCall(VecNorm(pt->sweep, NORM_2, &xnorm));
@@ -138,8 +149,12 @@ static PetscErrorCode PartitionedStep(Coupling C, PetscInt step)
     PetscCall(HistoryAppend(C->history, step, k, 0.5 * rnorm * rnorm, rnorm, 0));
     if (k == 0) first = rnorm;
     if (rnorm <= PetscMax(pt->rtol * xnorm, pt->atol)) break;
-    PetscCheck(!PetscIsInfOrNanReal(rnorm) && !(k > (pt->kind == PARTITIONED_IQNILS ? 4 : 0) && rnorm > 1e3 * first), PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "coupling %s diverged at step %" PetscInt_FMT ", iteration %" PetscInt_FMT ": residual %.3e, 1000 times its first value %.3e (relaxation -coupling_omega %g)", C->method, step, k, (double)rnorm, (double)first, (double)omega);
-    PetscCheck(k < C->max_it, PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "coupling %s did not converge at step %" PetscInt_FMT " in -coupling_max_it %" PetscInt_FMT " iterations: residual %.3e > -coupling_rtol %.1e times the iterate %.3e and > -coupling_atol %.1e", C->method, step, C->max_it, (double)rnorm, (double)pt->rtol, (double)xnorm, (double)pt->atol);
+    if (PetscIsInfOrNanReal(rnorm) || (k > (pt->kind == PARTITIONED_IQNILS ? 4 : 0) && rnorm > 1e3 * first)) PetscCall(StepFailureSet(&C->failure, "coupling %s diverged at step %" PetscInt_FMT ", iteration %" PetscInt_FMT ": residual %.3e, 1000 times its first value %.3e (relaxation -coupling_omega %g)", C->method, step, k, (double)rnorm, (double)first, (double)omega));
+    else if (k >= C->max_it) PetscCall(StepFailureSet(&C->failure, "coupling %s did not converge at step %" PetscInt_FMT " in -coupling_max_it %" PetscInt_FMT " iterations: residual %.3e > -coupling_rtol %.1e times the iterate %.3e and > -coupling_atol %.1e", C->method, step, C->max_it, (double)rnorm, (double)pt->rtol, (double)xnorm, (double)pt->atol));
+    if (StepFailed(&C->failure)) {
+      C->stats.iterations += k + 1;
+      PetscFunctionReturn(0);
+    }
     PetscCall(PetscLogStagePush(FSIOPT_STAGE_OPTIMIZER)); /* the method's own work */
     switch (pt->kind) {
     case PARTITIONED_DN:
@@ -208,6 +223,28 @@ static PetscErrorCode PartitionedDestroy(Coupling C)
   PetscFunctionReturn(0);
 }
 
+/* The columns of IQN-ILS were built with another dt (or before a checkpoint). */
+static PetscErrorCode PartitionedResynchronize(Coupling C)
+{
+  Partitioned *pt = (Partitioned *)C->data;
+
+  PetscFunctionBeginUser;
+  pt->ncols = 0;
+  PetscFunctionReturn(0);
+}
+
+/* The velocity iterate and its past values: a retried step starts from them again. */
+static PetscErrorCode PartitionedCheckpoint(Coupling C, Checkpoint cp, PetscBool load)
+{
+  Partitioned *pt = (Partitioned *)C->data;
+
+  PetscFunctionBeginUser;
+  if (!pt->relax_velocity) PetscFunctionReturn(0);
+  PetscCall(CheckpointVec(cp, "velocity", pt->v, load));
+  PetscCall(ExtrapolationCheckpoint(&pt->v_start, cp, "velocity", load));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode CouplingCreate_Partitioned(Coupling C)
 {
   Partitioned *pt;
@@ -219,6 +256,8 @@ PetscErrorCode CouplingCreate_Partitioned(Coupling C)
   C->ops.step      = PartitionedStep;
   C->ops.destroy   = PartitionedDestroy;
   C->ops.optimizer = PartitionedName;
+  C->ops.resynchronize = PartitionedResynchronize;
+  C->ops.checkpoint    = PartitionedCheckpoint;
   pt->kind         = PARTITIONED_DN;
   PetscCall(PetscStrcmp(C->method, "aitken", &is));
   if (is) pt->kind = PARTITIONED_AITKEN;

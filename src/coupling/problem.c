@@ -41,7 +41,50 @@ struct _p_CouplingProblem {
   KSP                      control_mass_ksp;
   PetscBool                swept; /* the state is the last sweep's */
   IS                       fluid_interface_rows; /* Dirichlet-Neumann sweeps */
+  PetscBool                spacing_changed;      /* d^{n-2} is not one step of this dt back */
+  StepFailure              failure;              /* of the step in progress, on every rank */
 };
+
+/* A subproblem's failure, made known on every rank (the fluid's and the structure's may
+   be different ones) with the reason of the first failing rank. Collective. */
+static PetscErrorCode CollectFailure(CouplingProblem P, PetscBool *failed)
+{
+  const char *reason = NULL;
+  PetscMPIInt rank, size, mine, first;
+
+  PetscFunctionBeginUser;
+  if (P->fluid) PetscCall(FluidGetFailure(P->fluid, &reason));
+  if (!reason && P->structure) PetscCall(StructureGetFailure(P->structure, &reason));
+  PetscCallMPI(MPI_Comm_rank(P->comm, &rank));
+  PetscCallMPI(MPI_Comm_size(P->comm, &size));
+  mine = reason || StepFailed(&P->failure) ? rank : size;
+  PetscCallMPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, P->comm));
+  *failed = first < size ? PETSC_TRUE : PETSC_FALSE;
+  if (!*failed || StepFailed(&P->failure)) PetscFunctionReturn(0);
+  if (rank == first) PetscCall(PetscStrncpy(P->failure.reason, reason, sizeof(P->failure.reason)));
+  PetscCallMPI(MPI_Bcast(P->failure.reason, sizeof(P->failure.reason), MPI_CHAR, first, P->comm));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemGetFailure(CouplingProblem P, const char **reason)
+{
+  PetscFunctionBeginUser;
+  *reason = StepFailed(&P->failure) ? P->failure.reason : NULL;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemSetTimeStep(CouplingProblem P, PetscReal dt)
+{
+  PetscFunctionBeginUser;
+  if (P->fluid) PetscCall(FluidSetTimeStep(P->fluid, dt));
+  if (P->structure) {
+    PetscCall(StructureSetTimeStep(P->structure, dt));
+    P->velocity_coefficient = StructureVelocityCoefficient(P->structure, P->measure);
+  }
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &P->velocity_coefficient, 1, MPIU_REAL, MPI_MAX, P->comm));
+  P->spacing_changed = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
 
 PetscErrorCode CouplingProblemGetControlVariant(ControlVariant *variant)
 {
@@ -157,17 +200,17 @@ PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure struc
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CouplingProblemCheckpoint(CouplingProblem P, PetscViewer viewer, PetscBool load)
+PetscErrorCode CouplingProblemCheckpoint(CouplingProblem P, Checkpoint cp, PetscBool load)
 {
   PetscFunctionBeginUser;
   if (P->motion) {
     DM dm, cdm;
     PetscCall(FluidGetDM(P->fluid, &dm));
     PetscCall(DMGetCoordinateDM(dm, &cdm));
-    PetscCall(CheckpointLocalVec(viewer, "mesh_displacement", cdm, P->mesh_displacement, load));
-    PetscCall(CheckpointLocalVec(viewer, "mesh_displacement_before", cdm, P->mesh_displacement_before, load));
+    PetscCall(CheckpointLocalVec(cp, "mesh_displacement", cdm, P->mesh_displacement, load));
+    PetscCall(CheckpointLocalVec(cp, "mesh_displacement_before", cdm, P->mesh_displacement_before, load));
   }
-  P->jacobian_age = 0; /* the fluid refactors at the next step (FluidCheckpoint) */
+  if (CheckpointResynchronizes(cp, load)) P->jacobian_age = 0; /* the fluid refactors at the next step (FluidCheckpoint) */
   PetscFunctionReturn(0);
 }
 
@@ -324,17 +367,24 @@ PetscErrorCode CouplingProblemBeginStep(CouplingProblem P, PetscInt step)
   P->state_valid    = PETSC_FALSE;
   P->swept          = PETSC_FALSE;
   P->jacobian_valid = PETSC_FALSE;
-  if (P->fluid) PetscCall(FluidBeginStep(P->fluid));
+  StepFailureClear(&P->failure);
+  if (P->fluid) PetscCall(FluidBeginStep(P->fluid, step));
   if (P->motion && P->extrapolate_mesh && P->domain == DOMAIN_LAGGED) {
     /* the domain lags one iteration (seed Algorithm 3.3): started on Omega^{n-1}, the
        first iteration's step is spent on the domain's own move */
     Vec d;
     PetscCall(FluidGetMeshDisplacement(P->fluid, &d));
+    if (P->spacing_changed) PetscCall(VecCopy(d, P->mesh_displacement_before));
     PetscCall(VecAXPBYPCZ(P->mesh_displacement, 2.0, -1.0, 0.0, d, P->mesh_displacement_before));
     PetscCall(VecCopy(d, P->mesh_displacement_before));
     PetscCall(FluidSetMeshDisplacement(P->fluid, P->mesh_displacement));
   }
+  P->spacing_changed = PETSC_FALSE;
   if (P->structure) PetscCall(StructureBeginStep(P->structure));
+  {
+    PetscBool failed;
+    PetscCall(CollectFailure(P, &failed));
+  }
   PetscCall(VecZeroEntries(P->datum_load));
   if (P->variant == CONTROL_CONVECTIVE && P->fluid_data.convective_interface_datum) {
     PetscReal t = 0;
@@ -380,6 +430,10 @@ static PetscErrorCode MoveMesh(CouplingProblem P)
     PetscCall(MeshMotionSolve(P->motion, P->itf, P->all_a, P->mesh_displacement));
     PetscCall(FluidSetMeshDisplacement(P->fluid, P->mesh_displacement));
     PetscCall(PetscLogStagePop());
+  }
+  {
+    PetscBool failed;
+    PetscCall(CollectFailure(P, &failed));
   }
   PetscFunctionReturn(0);
 }
@@ -444,21 +498,29 @@ static PetscErrorCode FluidUnderVelocity(CouplingProblem P, Vec v, Vec x)
 
 PetscErrorCode CouplingProblemSweep(CouplingProblem P, Vec x, Vec x_new)
 {
+  PetscBool failed;
+
   PetscFunctionBeginUser;
   PetscCall(SweepCheck(P));
   PetscCall(StructureUnderControl(P, x, P->all_b));
-  PetscCall(MoveMesh(P));
-  PetscCall(FluidUnderVelocity(P, P->all_b, x_new));
+  PetscCall(CollectFailure(P, &failed));
+  if (!failed) PetscCall(MoveMesh(P));
+  if (!StepFailed(&P->failure)) PetscCall(FluidUnderVelocity(P, P->all_b, x_new));
+  PetscCall(CollectFailure(P, &failed));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode CouplingProblemSweepVelocity(CouplingProblem P, Vec v, Vec x, Vec v_new)
 {
+  PetscBool failed;
+
   PetscFunctionBeginUser;
   PetscCall(SweepCheck(P));
   PetscCall(MoveMesh(P)); /* the wall of the last structure solve: the domain lags one sweep */
-  PetscCall(FluidUnderVelocity(P, v, x));
-  PetscCall(StructureUnderControl(P, x, v_new));
+  if (!StepFailed(&P->failure)) PetscCall(FluidUnderVelocity(P, v, x));
+  PetscCall(CollectFailure(P, &failed));
+  if (!failed) PetscCall(StructureUnderControl(P, x, v_new));
+  PetscCall(CollectFailure(P, &failed));
   PetscFunctionReturn(0);
 }
 
@@ -477,11 +539,17 @@ PetscErrorCode CouplingProblemSweepJump(CouplingProblem P, PetscReal *jump)
   PetscFunctionReturn(0);
 }
 
+/* After a subproblem failed in this step, every further evaluation is skipped: F = 0,
+   J = I, and the step's caller reads the failure (CouplingProblemGetFailure). */
 PetscErrorCode CouplingProblemResidual(CouplingProblem P, Vec x, Vec F)
 {
-  PetscBool same = PETSC_FALSE;
+  PetscBool same = PETSC_FALSE, failed = StepFailed(&P->failure);
 
   PetscFunctionBeginUser;
+  if (failed) {
+    PetscCall(VecZeroEntries(F));
+    PetscFunctionReturn(0);
+  }
   if (P->state_valid) PetscCall(VecEqual(x, P->state_x, &same));
   if (same) {
     PetscCall(VecCopy(P->state_F, F));
@@ -513,7 +581,12 @@ PetscErrorCode CouplingProblemResidual(CouplingProblem P, Vec x, Vec F)
      one the fluid waits for the structure's displacement. */
   if (P->domain == DOMAIN_CURRENT) {
     PetscCall(SolveStructure(P));
-    PetscCall(MoveMesh(P));
+    PetscCall(CollectFailure(P, &failed));
+    if (!failed) PetscCall(MoveMesh(P));
+    if (StepFailed(&P->failure)) {
+      PetscCall(VecZeroEntries(F));
+      PetscFunctionReturn(0);
+    }
   }
   if (P->fluid) {
     DM  dm;
@@ -526,6 +599,11 @@ PetscErrorCode CouplingProblemResidual(CouplingProblem P, Vec x, Vec F)
     PetscCall(PetscLogStagePop());
   }
   if (P->domain == DOMAIN_LAGGED) PetscCall(SolveStructure(P));
+  PetscCall(CollectFailure(P, &failed));
+  if (failed) {
+    PetscCall(VecZeroEntries(F));
+    PetscFunctionReturn(0);
+  }
   PetscCall(Jump(P, 1.0, P->r, &P->state_jump));
   PetscCall(VecPointwiseMult(F, P->r, P->weight_sqrt));
   PetscCall(VecCopy(x, P->state_x));
@@ -562,11 +640,13 @@ static PetscErrorCode UpdateJacobian(CouplingProblem P, Vec x, PetscBool force)
 
   PetscFunctionBeginUser;
   PetscCall(EnsureState(P, x));
+  if (StepFailed(&P->failure)) PetscFunctionReturn(0);
   /* TAO asks for the gradient at every new point, also at the one its stopping test will
      accept: there the factors in hand serve (the gradient is only reported), and the
      next step's chord iterations start from them. */
   if (!force && P->state_jump <= P->converged_jump) PetscFunctionReturn(0);
   if (P->domain == DOMAIN_LAGGED) PetscCall(MoveMesh(P));
+  if (StepFailed(&P->failure)) PetscFunctionReturn(0);
   if (P->jacobian_valid) PetscCall(VecEqual(x, P->jacobian_x, &same));
   if (same) PetscFunctionReturn(0);
   if (P->fluid && (force || ++P->jacobian_age >= P->jacobian_lag)) {
@@ -618,6 +698,10 @@ static PetscErrorCode SolveAndTrace(CouplingProblem P, PetscBool transpose, Vec 
 PetscErrorCode CouplingProblemJacobianMult(CouplingProblem P, Vec h, Vec y)
 {
   PetscFunctionBeginUser;
+  if (StepFailed(&P->failure)) {
+    PetscCall(VecCopy(h, y));
+    PetscFunctionReturn(0);
+  }
   PetscCall(PetscLogStagePush(FSIOPT_STAGE_SENSITIVITY));
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_SENSITIVITY, 0, 0, 0, 0));
   PetscCall(ControlToLoad(P, h, P->all_q));
@@ -631,6 +715,10 @@ PetscErrorCode CouplingProblemJacobianMult(CouplingProblem P, Vec h, Vec y)
 PetscErrorCode CouplingProblemJacobianMultTranspose(CouplingProblem P, Vec rho, Vec y)
 {
   PetscFunctionBeginUser;
+  if (StepFailed(&P->failure)) {
+    PetscCall(VecCopy(rho, y));
+    PetscFunctionReturn(0);
+  }
   PetscCall(PetscLogStagePush(FSIOPT_STAGE_ADJOINT));
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_ADJOINT, 0, 0, 0, 0));
   PetscCall(VecPointwiseMult(P->g, rho, P->weight_sqrt));
@@ -683,8 +771,9 @@ PetscErrorCode CouplingProblemEndStep(CouplingProblem P, Vec x)
   PetscFunctionBeginUser;
   if (!P->swept) {
     PetscCall(EnsureState(P, x));
-    if (P->domain == DOMAIN_LAGGED) PetscCall(MoveMesh(P));
+    if (P->domain == DOMAIN_LAGGED && !StepFailed(&P->failure)) PetscCall(MoveMesh(P));
   }
+  if (StepFailed(&P->failure)) PetscFunctionReturn(0);
   if (P->structure) PetscCall(StructureEndStep(P->structure));
   PetscFunctionReturn(0);
 }

@@ -210,6 +210,29 @@ static PetscErrorCode FluidProjectExact(Fluid f)
   PetscFunctionReturn(0);
 }
 
+/* tau of the size of the Schur complement B (rho/dt M + mu K)^{-1} B^T at the mesh scale */
+static PetscErrorCode FluidSetPressureStabilization(Fluid f)
+{
+  const PetscReal h = f->cell_size;
+
+  PetscFunctionBeginUser;
+  if (f->pressure_stabilization > 0) f->pressure_tau = f->pressure_stabilization * h * h / (f->rho * h * h / f->dt + f->mu);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidSetTimeStep(Fluid f, PetscReal dt)
+{
+  PetscFunctionBeginUser;
+  if (dt == f->dt) PetscFunctionReturn(0);
+  f->dt              = dt;
+  f->spacing_changed = PETSC_TRUE;
+  f->dirichlet_step  = -1;
+  PetscCall(FluidSetPressureStabilization(f));
+  /* the factors held across steps carry rho/dt: refactor at the next solve */
+  if (f->model == FLUID_STOKES || f->chord) PetscCall(SNESSetLagJacobian(f->snes, -2));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t0, PetscReal dt)
 {
   FEMJacobianPolicy policy = FEM_JACOBIAN_NEWTON;
@@ -221,7 +244,7 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
   f->dt   = dt;
   PetscCall(PetscObjectReference((PetscObject)mesh));
   if (f->pressure_stabilization > 0) {
-    PetscReal volume = 0, size;
+    PetscReal volume = 0;
     PetscInt  cStart, cEnd, dim, ncells;
 
     PetscCall(DMGetDimension(mesh, &dim));
@@ -235,10 +258,10 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
     ncells = cEnd - cStart;
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &volume, 1, MPIU_REAL, MPIU_SUM, f->comm));
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &ncells, 1, MPIU_INT, MPI_SUM, f->comm));
-    size            = PetscPowReal(volume / ncells, 1.0 / dim);
-    /* of the size of the Schur complement B (rho/dt M + mu K)^{-1} B^T at the mesh scale */
-    f->pressure_tau = f->pressure_stabilization * size * size / (f->rho * size * size / dt + f->mu);
+    f->cell_size = PetscPowReal(volume / ncells, 1.0 / dim);
   }
+  f->spacing_changed = PETSC_TRUE;
+  PetscCall(FluidSetPressureStabilization(f));
   PetscCall(FluidSetUpWeakForm(f));
   PetscCall(FluidSetConstants(f, 0.0, 1.0, 1.0));
   if (f->model == FLUID_STOKES) policy = FEM_JACOBIAN_CONSTANT;
@@ -279,9 +302,10 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FluidBeginStep(Fluid f)
+PetscErrorCode FluidBeginStep(Fluid f, PetscInt step)
 {
   PetscFunctionBeginUser;
+  StepFailureClear(&f->failure);
   /* Old-domain mass term, evaluated before the time and the mesh move on. */
   PetscCall(FEMGlobalToLocal(f->dm, f->x, f->xlocal_old));
   if (f->moving) PetscCall(FluidALEBeginStep(f));
@@ -292,13 +316,14 @@ PetscErrorCode FluidBeginStep(Fluid f)
   }
   if (f->extrapolate && f->model == FLUID_NAVIER_STOKES) {
     /* the nonlinear solve starts from 2 u^{n-1} - u^{n-2}: one chord iteration fewer */
-    if (f->step == 0) PetscCall(VecCopy(f->x, f->x_before));
+    if (f->spacing_changed) PetscCall(VecCopy(f->x, f->x_before)); /* no u^{n-2} at this dt */
     PetscCall(VecAXPBY(f->x_before, 1.0, -1.0, f->x)); /* u^{n-1} - u^{n-2} */
     PetscCall(VecAXPY(f->x, 1.0, f->x_before));
     PetscCall(VecAYPX(f->x_before, -1.0, f->x)); /* u^{n-1} again */
   }
+  f->spacing_changed = PETSC_FALSE;
   f->time += f->dt;
-  f->step += 1;
+  f->step = step;
   if (f->moving && f->data.mesh_displacement) {
     Vec d;
     PetscCall(VecDuplicate(f->displacement, &d));
@@ -344,8 +369,8 @@ PetscErrorCode FluidNonlinearSolve(Fluid f, SNES snes, Vec rhs, PetscBool chord,
     PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
     PetscCall(SNESSetLagJacobian(snes, -1)); /* the fresh factors serve from now on */
   }
-  PetscCheck(reason > 0, f->comm, PETSC_ERR_NOT_CONVERGED, "fluid solve%s failed at step %" PetscInt_FMT " (t = %g) after %" PetscInt_FMT " Newton iterations: SNES reason %s", what, step, (double)f->time, its, SNESConvergedReasons[reason]);
   f->counts.nonlinear_solves += 1;
+  if (reason <= 0) PetscCall(StepFailureSet(&f->failure, "fluid solve%s failed at step %" PetscInt_FMT " (t = %g) after %" PetscInt_FMT " Newton iterations: SNES reason %s", what, step, (double)f->time, its, SNESConvergedReasons[reason]));
   f->counts.linear_solves += PetscMax(its, 1);
   PetscFunctionReturn(0);
 }
@@ -371,8 +396,8 @@ PetscErrorCode FluidSolve(Fluid f, Vec load, PetscInt step)
 PetscErrorCode FluidStep(Fluid f, PetscInt step)
 {
   PetscFunctionBeginUser;
-  PetscCall(FluidBeginStep(f));
-  PetscCall(FluidSolve(f, NULL, step));
+  PetscCall(FluidBeginStep(f, step));
+  if (!StepFailed(&f->failure)) PetscCall(FluidSolve(f, NULL, step));
   PetscFunctionReturn(0);
 }
 
@@ -392,26 +417,34 @@ PetscErrorCode FluidLinearSolve(Fluid f, Vec rhs, Vec x, PetscBool transpose)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FluidCheckpoint(Fluid f, PetscViewer viewer, PetscBool load)
+PetscErrorCode FluidCheckpoint(Fluid f, Checkpoint cp, PetscBool load)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscViewerHDF5PushGroup(viewer, "/fluid"));
-  PetscCall(CheckpointReal(viewer, "time", &f->time, load));
-  PetscCall(CheckpointInt(viewer, "step", &f->step, load));
-  PetscCall(CheckpointVec(viewer, "state", f->x, load));
-  PetscCall(CheckpointVec(viewer, "state_before", f->x_before, load));
+  PetscCall(CheckpointPushGroup(cp, "/fluid"));
+  PetscCall(CheckpointReal(cp, "time", &f->time, load));
+  PetscCall(CheckpointInt(cp, "step", &f->step, load));
+  PetscCall(CheckpointVec(cp, "state", f->x, load));
+  PetscCall(CheckpointVec(cp, "state_before", f->x_before, load));
   if (f->moving) {
     DM cdm;
     PetscCall(DMGetCoordinateDM(f->dm, &cdm));
-    PetscCall(CheckpointLocalVec(viewer, "mesh_displacement", cdm, f->displacement, load));
+    PetscCall(CheckpointLocalVec(cp, "mesh_displacement", cdm, f->displacement, load));
     if (load) {
       PetscCall(VecCopy(f->displacement, f->displacement_old));
       PetscCall(FluidSetMeshDisplacement(f, f->displacement));
     }
   }
-  PetscCall(PetscViewerHDF5PopGroup(viewer));
-  /* a resynchronization point: chord factors from before it are not in the checkpoint */
-  if (f->chord) PetscCall(SNESSetLagJacobian(f->snes, -2));
+  PetscCall(CheckpointPopGroup(cp));
+  if (load) f->spacing_changed = PETSC_FALSE; /* state_before is u^{n-2} */
+  /* chord factors from before it are not in the checkpoint */
+  if (f->chord && CheckpointResynchronizes(cp, load)) PetscCall(SNESSetLagJacobian(f->snes, -2));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidGetFailure(Fluid f, const char **reason)
+{
+  PetscFunctionBeginUser;
+  *reason = StepFailed(&f->failure) ? f->failure.reason : NULL;
   PetscFunctionReturn(0);
 }
 

@@ -249,7 +249,7 @@ static PetscReal CornerVolume(PetscInt dim, const PetscScalar *x, const PetscInt
 }
 
 /* Every corner of every cell must keep its orientation and at least 1e-3 of its reference
-   area (volume): otherwise the step cannot go on, and the run stops naming the cell. */
+   area (volume): otherwise the step fails, naming the cell, and the mesh stays as it was. */
 static PetscErrorCode CheckCells(Fluid f, Vec coordinates)
 {
   PetscInt           dim, bad = -1;
@@ -283,7 +283,8 @@ static PetscErrorCode CheckCells(Fluid f, Vec coordinates)
     PetscCallMPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, f->comm));
     if (first == size) PetscFunctionReturn(0);
     PetscCallMPI(MPI_Bcast(where, 4, MPIU_REAL, first, f->comm));
-    SETERRQ(f->comm, PETSC_ERR_NOT_CONVERGED, "fluid mesh inverted or degenerate at step %" PetscInt_FMT " (t = %g): cell %d, corner at (%g, %g, %g), keeps less than 1e-3 of its reference %s: the displacement is too large for this mesh (-mesh_motion elastic or a finer mesh may help)", f->step, (double)f->time, (int)where[0], (double)where[1], (double)where[2], (double)where[3], dim == 2 ? "area" : "volume");
+    PetscCall(StepFailureSet(&f->failure, "fluid mesh inverted or degenerate at step %" PetscInt_FMT " (t = %g): cell %d, corner at (%g, %g, %g), keeps less than 1e-3 of its reference %s: the displacement is too large for this mesh (-mesh_motion elastic or a finer mesh may help)", f->step, (double)f->time, (int)where[0], (double)where[1], (double)where[2], (double)where[3], dim == 2 ? "area" : "volume"));
+    PetscFunctionReturn(0);
   }
 }
 
@@ -293,10 +294,14 @@ PetscErrorCode FluidSetMeshDisplacement(Fluid f, Vec displacement)
 
   PetscFunctionBeginUser;
   PetscCheck(f->moving, f->comm, PETSC_ERR_ORDER, "fluid: the mesh of this fluid does not move (FluidEnableMeshMotion before FluidSetUp)");
-  PetscCall(VecCopy(displacement, f->displacement));
   PetscCall(VecDuplicate(f->coordinates_reference, &coordinates));
   PetscCall(VecWAXPY(coordinates, 1.0, f->coordinates_reference, displacement));
   PetscCall(CheckCells(f, coordinates));
+  if (StepFailed(&f->failure)) {
+    PetscCall(VecDestroy(&coordinates));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(VecCopy(displacement, f->displacement));
   PetscCall(DMSetCoordinatesLocal(f->dm, coordinates));
   PetscCall(FEMInvalidateGeometry(f->dm));
   PetscCall(VecDestroy(&coordinates));

@@ -20,6 +20,8 @@ struct _p_Fluid {
   Vec            rhs, x_start;
   Vec            x_before;    /* u^{n-2} while a step starts, for the extrapolated first guess */
   PetscBool      extrapolate;
+  PetscBool      spacing_changed; /* u^{n-2} is not one step of this dt back: no extrapolation */
+  PetscReal      cell_size;       /* mean, for the pressure stabilization */
   PetscBool      steady;     /* no time derivative: each step is a steady solve at its time */
   PetscBool      chord;          /* nonlinear solves on factors from another state */
   PetscInt       chord_restarts; /* solves that needed fresh factors */
@@ -57,6 +59,7 @@ struct _p_Fluid {
   PhysicsData    data;
   DirichletDatum datums[FSIOPT_MAX_BOUNDARIES];
   SolverCounts   counts;
+  StepFailure    failure; /* of the step in progress */
 };
 
 

@@ -1,17 +1,124 @@
-/* Reading and writing the pieces of a checkpoint; what goes in it is each module's
-   (FluidCheckpoint, StructureCheckpoint, CouplingCheckpoint, ProbesCheckpoint). */
+/* Reading and writing the pieces of a checkpoint, to an HDF5 file or to memory; what goes
+   in it is each module's (FluidCheckpoint, StructureCheckpoint, CouplingCheckpoint,
+   ProbesCheckpoint). */
 #include <stdio.h>
 #include "checkpoint.h"
 #include "options.h"
 
-/* Through a plain vector of the same layout: a vector with a DMPlex would go to the
-   DM's own HDF5 layout (/fields, /vertex_fields), not this group. */
-PetscErrorCode CheckpointVec(PetscViewer viewer, const char name[], Vec v, PetscBool load)
+typedef struct {
+  char     name[128]; /* group/name */
+  Vec      vec;       /* NULL for a number */
+  PetscInt integer;
+  PetscReal real;
+} MemoryEntry;
+
+struct _p_Checkpoint {
+  PetscViewer  viewer; /* NULL: in memory */
+  char         group[64];
+  MemoryEntry *entries;
+  PetscInt     n, max;
+};
+
+PetscBool CheckpointResynchronizes(Checkpoint cp, PetscBool load)
 {
-  Vec      plain;
-  PetscInt n, N;
+  return load || cp->viewer ? PETSC_TRUE : PETSC_FALSE;
+}
+
+PetscBool CheckpointIsFile(Checkpoint cp)
+{
+  return cp->viewer ? PETSC_TRUE : PETSC_FALSE;
+}
+
+PetscErrorCode CheckpointCreateInMemory(Checkpoint *cp)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(cp));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CheckpointDestroy(Checkpoint *cp)
+{
+  PetscFunctionBeginUser;
+  if (!*cp) PetscFunctionReturn(0);
+  for (PetscInt i = 0; i < (*cp)->n; ++i) PetscCall(VecDestroy(&(*cp)->entries[i].vec));
+  PetscCall(PetscFree((*cp)->entries));
+  PetscCall(PetscViewerDestroy(&(*cp)->viewer));
+  PetscCall(PetscFree(*cp));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CheckpointPushGroup(Checkpoint cp, const char group[])
+{
+  PetscFunctionBeginUser;
+  if (cp->viewer) PetscCall(PetscViewerHDF5PushGroup(cp->viewer, group));
+  else PetscCall(PetscStrncpy(cp->group, group, sizeof(cp->group)));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CheckpointPopGroup(Checkpoint cp)
+{
+  PetscFunctionBeginUser;
+  if (cp->viewer) PetscCall(PetscViewerHDF5PopGroup(cp->viewer));
+  else cp->group[0] = 0;
+  PetscFunctionReturn(0);
+}
+
+/* The memory entry of `name` in the current group; a save creates it, a load must find it. */
+static PetscErrorCode MemoryEntryGet(Checkpoint cp, const char name[], PetscBool load, MemoryEntry **entry)
+{
+  char full[128];
 
   PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(full, sizeof(full), "%s/%s", cp->group, name));
+  for (PetscInt i = 0; i < cp->n; ++i) {
+    PetscBool same;
+    PetscCall(PetscStrcmp(cp->entries[i].name, full, &same));
+    if (same) {
+      *entry = &cp->entries[i];
+      PetscFunctionReturn(0);
+    }
+  }
+  PetscCheck(!load, PETSC_COMM_SELF, PETSC_ERR_PLIB, "the in-memory state has no '%s'", full);
+  if (cp->n == cp->max) {
+    MemoryEntry *more;
+    cp->max = PetscMax(2 * cp->max, 16);
+    PetscCall(PetscCalloc1(cp->max, &more));
+    PetscCall(PetscArraycpy(more, cp->entries, cp->n));
+    PetscCall(PetscFree(cp->entries));
+    cp->entries = more;
+  }
+  *entry = &cp->entries[cp->n++];
+  PetscCall(PetscStrncpy((*entry)->name, full, sizeof((*entry)->name)));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode MemoryVec(Checkpoint cp, const char name[], Vec v, PetscBool load)
+{
+  MemoryEntry *e;
+
+  PetscFunctionBeginUser;
+  PetscCall(MemoryEntryGet(cp, name, load, &e));
+  if (load) PetscCall(VecCopy(e->vec, v));
+  else {
+    if (!e->vec) PetscCall(VecDuplicate(v, &e->vec));
+    PetscCall(VecCopy(v, e->vec));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* Through a plain vector of the same layout: a vector with a DMPlex would go to the
+   DM's own HDF5 layout (/fields, /vertex_fields), not this group. */
+PetscErrorCode CheckpointVec(Checkpoint cp, const char name[], Vec v, PetscBool load)
+{
+  PetscViewer viewer = cp->viewer;
+  Vec         plain;
+  PetscInt    n, N;
+
+  PetscFunctionBeginUser;
+  if (!viewer) {
+    PetscCall(MemoryVec(cp, name, v, load));
+    PetscFunctionReturn(0);
+  }
   PetscCall(VecGetLocalSize(v, &n));
   PetscCall(VecGetSize(v, &N));
   PetscCall(VecCreateMPI(PetscObjectComm((PetscObject)v), n, N, &plain));
@@ -30,10 +137,22 @@ PetscErrorCode CheckpointVec(PetscViewer viewer, const char name[], Vec v, Petsc
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode CheckpointAttribute(PetscViewer viewer, const char name[], PetscDataType type, void *value, PetscBool load)
+static PetscErrorCode CheckpointAttribute(Checkpoint cp, const char name[], PetscDataType type, void *value, PetscBool load)
 {
+  PetscViewer viewer = cp->viewer;
+
   PetscFunctionBeginUser;
-  if (load) {
+  if (!viewer) {
+    MemoryEntry *e;
+    PetscCall(MemoryEntryGet(cp, name, load, &e));
+    if (type == PETSC_INT) {
+      if (load) *(PetscInt *)value = e->integer;
+      else e->integer = *(PetscInt *)value;
+    } else {
+      if (load) *(PetscReal *)value = e->real;
+      else e->real = *(PetscReal *)value;
+    }
+  } else if (load) {
     PetscBool has;
     PetscCall(PetscViewerHDF5HasAttribute(viewer, NULL, name, &has));
     PetscCheck(has, PetscObjectComm((PetscObject)viewer), PETSC_ERR_FILE_UNEXPECTED, "option -restart: the checkpoint has no attribute '%s': not an fsiopt checkpoint of this set-up", name);
@@ -42,28 +161,32 @@ static PetscErrorCode CheckpointAttribute(PetscViewer viewer, const char name[],
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CheckpointInt(PetscViewer viewer, const char name[], PetscInt *value, PetscBool load)
+PetscErrorCode CheckpointInt(Checkpoint cp, const char name[], PetscInt *value, PetscBool load)
 {
   PetscFunctionBeginUser;
-  PetscCall(CheckpointAttribute(viewer, name, PETSC_INT, value, load));
+  PetscCall(CheckpointAttribute(cp, name, PETSC_INT, value, load));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CheckpointReal(PetscViewer viewer, const char name[], PetscReal *value, PetscBool load)
+PetscErrorCode CheckpointReal(Checkpoint cp, const char name[], PetscReal *value, PetscBool load)
 {
   PetscFunctionBeginUser;
-  PetscCall(CheckpointAttribute(viewer, name, PETSC_REAL, value, load));
+  PetscCall(CheckpointAttribute(cp, name, PETSC_REAL, value, load));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CheckpointLocalVec(PetscViewer viewer, const char name[], DM dm, Vec local, PetscBool load)
+PetscErrorCode CheckpointLocalVec(Checkpoint cp, const char name[], DM dm, Vec local, PetscBool load)
 {
   Vec global;
 
   PetscFunctionBeginUser;
+  if (!cp->viewer) {
+    PetscCall(MemoryVec(cp, name, local, load));
+    PetscFunctionReturn(0);
+  }
   PetscCall(DMGetGlobalVector(dm, &global));
   if (!load) PetscCall(DMLocalToGlobal(dm, local, INSERT_VALUES, global));
-  PetscCall(CheckpointVec(viewer, name, global, load));
+  PetscCall(CheckpointVec(cp, name, global, load));
   if (load) PetscCall(DMGlobalToLocal(dm, global, INSERT_VALUES, local));
   PetscCall(DMRestoreGlobalVector(dm, &global));
   PetscFunctionReturn(0);
@@ -76,9 +199,10 @@ static PetscErrorCode TemporaryName(const char path[], char tmp[], size_t len)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CheckpointOpen(MPI_Comm comm, const char path[], PetscBool load, PetscViewer *viewer)
+PetscErrorCode CheckpointOpen(MPI_Comm comm, const char path[], PetscBool load, Checkpoint *cp)
 {
-  char tmp[PETSC_MAX_PATH_LEN];
+  char        tmp[PETSC_MAX_PATH_LEN];
+  PetscViewer viewer;
 
   PetscFunctionBeginUser;
   if (load) {
@@ -90,7 +214,7 @@ PetscErrorCode CheckpointOpen(MPI_Comm comm, const char path[], PetscBool load, 
       void       *report_data;
       H5Eget_auto2(H5E_DEFAULT, &report, &report_data);
       H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
-      ierr = PetscViewerHDF5Open(comm, path, FILE_MODE_READ, viewer);
+      ierr = PetscViewerHDF5Open(comm, path, FILE_MODE_READ, &viewer);
       H5Eset_auto2(H5E_DEFAULT, report, report_data);
       if (ierr) {
         PetscCall(ErrorReportingForget());
@@ -99,18 +223,20 @@ PetscErrorCode CheckpointOpen(MPI_Comm comm, const char path[], PetscBool load, 
     }
   } else {
     PetscCall(TemporaryName(path, tmp, sizeof(tmp)));
-    PetscCall(PetscViewerHDF5Open(comm, tmp, FILE_MODE_WRITE, viewer));
+    PetscCall(PetscViewerHDF5Open(comm, tmp, FILE_MODE_WRITE, &viewer));
   }
+  PetscCall(PetscNew(cp));
+  (*cp)->viewer = viewer;
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CheckpointClose(MPI_Comm comm, const char path[], PetscBool load, PetscViewer *viewer)
+PetscErrorCode CheckpointClose(MPI_Comm comm, const char path[], PetscBool load, Checkpoint *cp)
 {
   char        tmp[PETSC_MAX_PATH_LEN];
   PetscMPIInt rank;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscViewerDestroy(viewer));
+  PetscCall(CheckpointDestroy(cp));
   if (load) PetscFunctionReturn(0);
   PetscCall(TemporaryName(path, tmp, sizeof(tmp)));
   PetscCallMPI(MPI_Barrier(comm));

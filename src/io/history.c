@@ -2,16 +2,18 @@
 
 struct _p_History {
   PartialFile file;
+  PetscReal   dt;
 };
 
-PetscErrorCode HistoryOpen(MPI_Comm comm, const char dir[], History *history)
+PetscErrorCode HistoryOpen(MPI_Comm comm, const char dir[], PetscReal dt, History *history)
 {
   History h;
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&h));
+  h->dt = dt;
   PetscCall(PartialFileOpen(comm, dir, "history.csv", &h->file));
-  PetscCall(PetscFPrintf(comm, h->file.fp, "step,iteration,objective,jump,inner_iterations\n"));
+  PetscCall(PetscFPrintf(comm, h->file.fp, "step,iteration,objective,jump,inner_iterations,dt,event\n"));
   *history = h;
   PetscFunctionReturn(0);
 }
@@ -19,7 +21,21 @@ PetscErrorCode HistoryOpen(MPI_Comm comm, const char dir[], History *history)
 PetscErrorCode HistoryAppend(History h, PetscInt step, PetscInt iteration, PetscReal objective, PetscReal jump, PetscInt inner)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscFPrintf(h->file.comm, h->file.fp, "%" PetscInt_FMT ",%" PetscInt_FMT ",%.10e,%.10e,%" PetscInt_FMT "\n", step, iteration, (double)objective, (double)jump, inner));
+  PetscCall(PetscFPrintf(h->file.comm, h->file.fp, "%" PetscInt_FMT ",%" PetscInt_FMT ",%.10e,%.10e,%" PetscInt_FMT ",%.10e,\n", step, iteration, (double)objective, (double)jump, inner, (double)h->dt));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode HistorySetTimeStep(History h, PetscReal dt)
+{
+  PetscFunctionBeginUser;
+  h->dt = dt;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode HistoryAppendEvent(History h, PetscInt step, const char event[])
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFPrintf(h->file.comm, h->file.fp, "%" PetscInt_FMT ",-1,nan,nan,0,%.10e,%s\n", step, (double)h->dt, event));
   PetscFunctionReturn(0);
 }
 

@@ -128,7 +128,7 @@ PetscErrorCode ProbesRecord(Probes P, PetscReal t, Vec displacement, const Petsc
 
 /* The series so far: one vector on rank 0, rows of (t, columns). Loading writes its rows
    to this run's probes.csv, which then starts at the beginning of the run. */
-PetscErrorCode ProbesCheckpoint(Probes P, PetscViewer viewer, PetscBool load)
+PetscErrorCode ProbesCheckpoint(Probes P, Checkpoint cp, PetscBool load)
 {
   PetscMPIInt  rank;
   PetscInt     records = P->nrecords, columns = P->ncolumns;
@@ -137,10 +137,10 @@ PetscErrorCode ProbesCheckpoint(Probes P, PetscViewer viewer, PetscBool load)
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(P->comm, &rank));
-  PetscCall(PetscViewerHDF5PushGroup(viewer, "/probes"));
+  PetscCall(CheckpointPushGroup(cp, "/probes"));
   PetscCallMPI(MPI_Bcast(&records, 1, MPIU_INT, 0, P->comm));
-  PetscCall(CheckpointInt(viewer, "records", &records, load));
-  PetscCall(CheckpointInt(viewer, "columns", &columns, load));
+  PetscCall(CheckpointInt(cp, "records", &records, load));
+  PetscCall(CheckpointInt(cp, "columns", &columns, load));
   PetscCheck(columns == P->ncolumns, P->comm, PETSC_ERR_FILE_UNEXPECTED, "option -restart: the checkpoint's probes have %" PetscInt_FMT " columns, this run's %" PetscInt_FMT, columns, P->ncolumns);
   PetscCall(VecCreateMPI(P->comm, rank ? 0 : records * (columns + 1), PETSC_DETERMINE, &series));
   if (!load) {
@@ -151,8 +151,8 @@ PetscErrorCode ProbesCheckpoint(Probes P, PetscViewer viewer, PetscBool load)
     }
     PetscCall(VecRestoreArray(series, &a));
   }
-  PetscCall(CheckpointVec(viewer, "series", series, load));
-  PetscCall(PetscViewerHDF5PopGroup(viewer));
+  PetscCall(CheckpointVec(cp, "series", series, load));
+  PetscCall(CheckpointPopGroup(cp));
   if (load && !rank) {
     const PetscScalar *b;
     PetscReal          row[FSIOPT_MAX_QUANTITIES];

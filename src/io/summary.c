@@ -11,6 +11,20 @@ PetscErrorCode ErrorTableAdd(ErrorTable *table, const char name[], PetscReal val
   PetscFunctionReturn(0);
 }
 
+static void WriteStringOrNull(FILE *fp, const char key[], const char *value)
+{
+  if (!value) {
+    fprintf(fp, "  \"%s\": null,\n", key);
+    return;
+  }
+  fprintf(fp, "  \"%s\": \"", key);
+  for (const char *c = value; *c; ++c) {
+    if (*c == '"' || *c == '\\') fputc('\\', fp);
+    fputc(*c, fp);
+  }
+  fprintf(fp, "\",\n");
+}
+
 static void WriteNumberOrNull(FILE *fp, const char key[], PetscReal value, const char *sep)
 {
   if (value < 0 || PetscIsInfOrNanReal(value)) fprintf(fp, "  \"%s\": null%s\n", key, sep);
@@ -79,8 +93,11 @@ PetscErrorCode SummaryWrite(MPI_Comm comm, const char dir[], const RunSummary *s
   fprintf(fp, "  \"steps\": %d,\n", (int)p->steps);
   fprintf(fp, "  \"steps_done\": %d,\n", (int)s->steps_done);
   fprintf(fp, "  \"first_step\": %d,\n", (int)s->first_step);
-  if (s->interrupted) fprintf(fp, "  \"interrupted\": \"%s\",\n", s->interrupted);
-  else fprintf(fp, "  \"interrupted\": null,\n");
+  WriteStringOrNull(fp, "interrupted", s->interrupted);
+  WriteStringOrNull(fp, "failure", s->failure);
+  fprintf(fp, "  \"retried_steps\": %d,\n", (int)s->retried_steps);
+  fprintf(fp, "  \"failed_attempts\": %d,\n", (int)s->failed_attempts);
+  fprintf(fp, "  \"smallest_dt\": %.17g,\n", (double)s->smallest_dt);
   fprintf(fp, "  \"dt\": %.17g,\n", (double)p->dt);
   fprintf(fp, "  \"t_start\": %.17g,\n", (double)p->t_start);
   fprintf(fp, "  \"t_final\": %.17g,\n", (double)p->t_final);

@@ -39,6 +39,7 @@ struct _p_Structure {
   PhysicsData    data;
   DirichletDatum datums[FSIOPT_MAX_BOUNDARIES];
   SolverCounts   counts;
+  StepFailure    failure; /* of the step in progress */
 };
 
 PetscErrorCode StructureCreate(MPI_Comm comm, Structure *structure)
@@ -250,6 +251,7 @@ PetscErrorCode StructureBeginStep(Structure s)
   const PetscReal mass = StructureMassCoefficient(s), t_old = s->time;
 
   PetscFunctionBeginUser;
+  StepFailureClear(&s->failure);
   PetscCall(VecCopy(s->eta_local, s->eta_old_local));
   PetscCall(VecCopy(s->etadot_local, s->etadot_old_local));
   /* history = m M (eta^{n-1} + dt etadot^{n-1}) [- K eta^{n-1} + L^{n-1} - B_s g^{n-1}] */
@@ -282,9 +284,14 @@ PetscErrorCode StructureSolve(Structure s, Vec load, PetscInt step)
   PetscCall(VecWAXPY(s->rhs, -1.0, s->load, s->history));
   PetscCall(SNESSolve(s->snes, s->rhs, s->eta));
   PetscCall(SNESGetConvergedReason(s->snes, &reason));
-  PetscCheck(reason > 0, s->comm, PETSC_ERR_NOT_CONVERGED, "structure solve failed at step %" PetscInt_FMT " (t = %g): SNES reason %s", step, (double)s->time, SNESConvergedReasons[reason]);
-  PetscCall(FEMGlobalToLocal(s->dm, s->eta, s->eta_local));
   s->counts.nonlinear_solves += 1;
+  if (reason <= 0) {
+    PetscCall(SNESGetIterationNumber(s->snes, &newton_its));
+    PetscCall(StepFailureSet(&s->failure, "structure solve failed at step %" PetscInt_FMT " (t = %g) after %" PetscInt_FMT " Newton iterations: SNES reason %s", step, (double)s->time, newton_its, SNESConvergedReasons[reason]));
+    PetscCall(PetscLogEventEnd(FSIOPT_EVENT_STRUCTURE_SOLVE, 0, 0, 0, 0));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(FEMGlobalToLocal(s->dm, s->eta, s->eta_local));
   if (s->model == STRUCTURE_SVK) {
     PetscCall(SNESGetIterationNumber(s->snes, &newton_its));
     s->counts.linear_solves += newton_its;
@@ -323,7 +330,24 @@ PetscErrorCode StructureStep(Structure s, PetscInt step)
   PetscFunctionBeginUser;
   PetscCall(StructureBeginStep(s));
   PetscCall(StructureSolve(s, NULL, step));
-  PetscCall(StructureEndStep(s));
+  if (!StepFailed(&s->failure)) PetscCall(StructureEndStep(s));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StructureSetTimeStep(Structure s, PetscReal dt)
+{
+  PetscFunctionBeginUser;
+  if (dt == s->dt) PetscFunctionReturn(0);
+  s->dt = dt;
+  /* the linear wall's single factorization carries rho_s/dt^2 */
+  if (s->model == STRUCTURE_LINEAR) PetscCall(SNESSetLagJacobian(s->snes, -2));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StructureGetFailure(Structure s, const char **reason)
+{
+  PetscFunctionBeginUser;
+  *reason = StepFailed(&s->failure) ? s->failure.reason : NULL;
   PetscFunctionReturn(0);
 }
 
@@ -409,16 +433,16 @@ PetscErrorCode StructureGetNodeDisplacement(Structure s, Vec v)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode StructureCheckpoint(Structure s, PetscViewer viewer, PetscBool load)
+PetscErrorCode StructureCheckpoint(Structure s, Checkpoint cp, PetscBool load)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscViewerHDF5PushGroup(viewer, "/structure"));
-  PetscCall(CheckpointReal(viewer, "time", &s->time, load));
-  PetscCall(CheckpointVec(viewer, "displacement", s->eta, load));
-  PetscCall(CheckpointLocalVec(viewer, "velocity", s->dm_free, s->etadot_local, load));
-  PetscCall(CheckpointVec(viewer, "load_old", s->load_old, load));
+  PetscCall(CheckpointPushGroup(cp, "/structure"));
+  PetscCall(CheckpointReal(cp, "time", &s->time, load));
+  PetscCall(CheckpointVec(cp, "displacement", s->eta, load));
+  PetscCall(CheckpointLocalVec(cp, "velocity", s->dm_free, s->etadot_local, load));
+  PetscCall(CheckpointVec(cp, "load_old", s->load_old, load));
   if (load) PetscCall(FEMGlobalToLocal(s->dm, s->eta, s->eta_local));
-  PetscCall(PetscViewerHDF5PopGroup(viewer));
+  PetscCall(CheckpointPopGroup(cp));
   PetscFunctionReturn(0);
 }
 

@@ -21,30 +21,30 @@ PetscErrorCode RunCheckpointSetFromOptions(const RunParams *params, PetscBool se
 
 PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, const RunParams *params, const RunSummary *summary, Fluid fluid, Structure structure, Coupling coupling, Probes probes)
 {
-  PetscViewer viewer;
+  Checkpoint  cp;
   PetscReal   dt = params->dt;
   PetscInt    fluid_dofs = summary->fluid_dofs, structure_dofs = summary->structure_dofs, ranks = summary->total_ranks;
 
   PetscFunctionBeginUser;
-  PetscCall(CheckpointOpen(PETSC_COMM_WORLD, path, load, &viewer));
-  PetscCall(PetscViewerHDF5PushGroup(viewer, "/run"));
-  PetscCall(CheckpointInt(viewer, "step", step, load));
-  PetscCall(CheckpointReal(viewer, "dt", &dt, load));
-  PetscCall(CheckpointInt(viewer, "fluid_dofs", &fluid_dofs, load));
-  PetscCall(CheckpointInt(viewer, "structure_dofs", &structure_dofs, load));
-  PetscCall(CheckpointInt(viewer, "ranks", &ranks, load));
-  PetscCall(PetscViewerHDF5PopGroup(viewer));
+  PetscCall(CheckpointOpen(PETSC_COMM_WORLD, path, load, &cp));
+  PetscCall(CheckpointPushGroup(cp, "/run"));
+  PetscCall(CheckpointInt(cp, "step", step, load));
+  PetscCall(CheckpointReal(cp, "dt", &dt, load));
+  PetscCall(CheckpointInt(cp, "fluid_dofs", &fluid_dofs, load));
+  PetscCall(CheckpointInt(cp, "structure_dofs", &structure_dofs, load));
+  PetscCall(CheckpointInt(cp, "ranks", &ranks, load));
+  PetscCall(CheckpointPopGroup(cp));
   if (load) {
     PetscCheck(PetscAbsReal(dt - params->dt) <= 1e-12 * params->dt, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP, "option -restart %s: written with dt = %g, this run has -dt %g", path, (double)dt, (double)params->dt);
     PetscCheck(fluid_dofs == summary->fluid_dofs && structure_dofs == summary->structure_dofs, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP, "option -restart %s: written for %" PetscInt_FMT " fluid and %" PetscInt_FMT " structure unknowns, this run has %" PetscInt_FMT " and %" PetscInt_FMT " (another scene or mesh)", path, fluid_dofs, structure_dofs, summary->fluid_dofs, summary->structure_dofs);
     PetscCheck(ranks == summary->total_ranks, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP, "option -restart %s: written on %" PetscInt_FMT " ranks, this run has %d (the meshes' distribution must be the same)", path, ranks, (int)summary->total_ranks);
     PetscCheck(*step >= 0 && *step < params->steps, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP, "option -restart %s: it ends step %" PetscInt_FMT ", expected a step before this run's last (%" PetscInt_FMT ")", path, *step, params->steps);
   }
-  if (fluid) PetscCall(FluidCheckpoint(fluid, viewer, load));
-  if (structure) PetscCall(StructureCheckpoint(structure, viewer, load));
-  if (coupling) PetscCall(CouplingCheckpoint(coupling, viewer, load));
-  if (probes) PetscCall(ProbesCheckpoint(probes, viewer, load));
-  PetscCall(CheckpointClose(PETSC_COMM_WORLD, path, load, &viewer));
+  if (fluid) PetscCall(FluidCheckpoint(fluid, cp, load));
+  if (structure) PetscCall(StructureCheckpoint(structure, cp, load));
+  if (coupling) PetscCall(CouplingCheckpoint(coupling, cp, load));
+  if (probes) PetscCall(ProbesCheckpoint(probes, cp, load));
+  PetscCall(CheckpointClose(PETSC_COMM_WORLD, path, load, &cp));
   PetscFunctionReturn(0);
 }
 

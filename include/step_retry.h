@@ -1,0 +1,28 @@
+#ifndef FSIOPT_STEP_RETRY_H
+#define FSIOPT_STEP_RETRY_H
+#include "fsiopt.h"
+#include "fluid.h"
+#include "structure.h"
+#include "coupling.h"
+
+/* Advancing the run by one step of -dt. A step whose solve fails (StepFailure: a
+   subproblem's Newton solve, a mesh that inverts, the coupling not converging) goes back
+   to the state it started from, kept in memory, and is taken again as two steps of half
+   the dt, each of which may be halved again, down to -dt_min (default dt/16; -dt_min
+   equal to -dt: no retries, and no copy of the state). The steps after it go back to -dt.
+   Each failed attempt is a row of history.csv (coupled runs) and a line on stdout. */
+typedef struct _p_StepRetry *StepRetry;
+typedef struct {
+  PetscInt  retried_steps;   /* steps that needed a smaller dt */
+  PetscInt  failed_attempts; /* attempts that failed, over all steps */
+  PetscReal smallest_dt;     /* the smallest dt a step was completed with */
+} StepRetryStats;
+
+PetscErrorCode StepRetryCreate(const RunParams *, Fluid, Structure, Coupling, StepRetry *);
+/* Takes step `step` (from t_start + (step-1) dt to t_start + step dt). On return *failure
+   is NULL, or the reason the step failed with the smallest dt allowed; the state is then
+   the failed attempt's. Collective. */
+PetscErrorCode StepRetryAdvance(StepRetry, PetscInt step, const char **failure);
+PetscErrorCode StepRetryGetStats(StepRetry, StepRetryStats *);
+PetscErrorCode StepRetryDestroy(StepRetry *);
+#endif
