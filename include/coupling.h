@@ -95,5 +95,6 @@ PetscErrorCode CouplingFinish(Coupling); /* closes the history */
 /* The control and its past values (checkpoint.h). Files for opt only: the partitioned
    methods keep past iterates (IQN-ILS) that are not saved; memory for every method. */
 PetscErrorCode CouplingCheckpoint(Coupling, Checkpoint, PetscBool load);
+PetscErrorCode CouplingIsRestartable(Coupling, PetscBool *);
 PetscErrorCode CouplingDestroy(Coupling *);
 #endif

@@ -154,6 +154,8 @@ static PetscErrorCode Run(void)
   StepRetry       retry = NULL;
   StepRetryStats  retry_stats;
   const char     *failure = NULL;
+  char            stop_reason[2 * PETSC_MAX_PATH_LEN + 1024] = ""; /* the run's last word, after the clean-up */
+  PetscErrorCode  stop_code = PETSC_ERR_NOT_CONVERGED;
   PetscBool       scene_given, help, coupled;
   int             signal_caught = 0;
   RunCheckpointParams checkpoint;
@@ -225,7 +227,11 @@ static PetscErrorCode Run(void)
   PetscCall(ProbesSetUp(&scene, summary.dim, structure, itf, params.output_dir, &probes, &probed_displacement));
   PetscCall(FieldWriterCreate(PETSC_COMM_WORLD, &params, fluid, structure, &fields));
   PetscCall(StepRetryCreate(&params, fluid, structure, coupling, &retry));
-  PetscCall(RunCheckpointSetFromOptions(&params, coupled && (fluid_comm != PETSC_COMM_WORLD || structure_comm != PETSC_COMM_WORLD), fields ? PETSC_TRUE : PETSC_FALSE, &checkpoint));
+  {
+    PetscBool restartable = PETSC_TRUE;
+    if (coupling) PetscCall(CouplingIsRestartable(coupling, &restartable));
+    PetscCall(RunCheckpointSetFromOptions(&params, coupled && (fluid_comm != PETSC_COMM_WORLD || structure_comm != PETSC_COMM_WORLD), fields ? PETSC_TRUE : PETSC_FALSE, restartable, &checkpoint));
+  }
   if (checkpoint.restarting && !help) {
     PetscInt restart_step = 0;
     PetscCall(RunCheckpoint(checkpoint.restart, PETSC_TRUE, &restart_step, &params, &summary, fluid, structure, coupling, probes));
@@ -256,13 +262,15 @@ static PetscErrorCode Run(void)
     }
     PetscCall(RecordProbes(probes, params.t_start + step * params.dt, &scene, fluid, structure, problem, probed_displacement));
     PetscCall(FieldWriterWrite(fields, step));
-    if (checkpoint.every && step % checkpoint.every == 0) {
+    PetscCall(InterruptCheck(PETSC_COMM_WORLD, &signal_caught));
+    /* an interrupted run leaves a checkpoint of its last step when its set-up can */
+    if ((checkpoint.every && step % checkpoint.every == 0) || (signal_caught && checkpoint.possible && step < params.steps)) {
       PetscInt saved = step;
       PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CHECKPOINT, 0, 0, 0, 0));
       PetscCall(RunCheckpoint(checkpoint.file, PETSC_FALSE, &saved, &params, &summary, fluid, structure, coupling, probes));
       PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CHECKPOINT, 0, 0, 0, 0));
+      checkpoint.last = step;
     }
-    PetscCall(InterruptCheck(PETSC_COMM_WORLD, &signal_caught));
     if (signal_caught) {
       summary.steps_done  = step;
       summary.interrupted = InterruptName(signal_caught);
@@ -330,9 +338,18 @@ static PetscErrorCode Run(void)
   if (coupling) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\nfsiopt: %" PetscInt_FMT " coupling iterations (%.2f per step), %" PetscInt_FMT " inner, max interface jump %.3e, work factor %.2f", summary.coupling_iterations, (double)summary.coupling_iterations / PetscMax(summary.steps_done - first_step + 1, 1), summary.inner_iterations, (double)summary.max_interface_jump, (double)summary.work_factor));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\nfsiopt: outputs in %s/\n", params.output_dir));
   PetscCall(PetscLogStagePop());
+  /* the run ends with an error after everything is freed, on every rank at once */
   collective_stop = signal_caught || failure ? PETSC_TRUE : PETSC_FALSE;
-  PetscCheck(!failure, PETSC_COMM_WORLD, PETSC_ERR_NOT_CONVERGED, "%s; the outputs in %s/ go to step %" PetscInt_FMT, failure, params.output_dir, summary.steps_done);
-  PetscCheck(!signal_caught, PETSC_COMM_WORLD, PETSC_ERR_SIG, "interrupted by %s after step %" PetscInt_FMT " of %" PetscInt_FMT " (t = %g); the outputs in %s/ go to that step", summary.interrupted, summary.steps_done, params.steps, (double)(params.t_start + summary.steps_done * params.dt), params.output_dir);
+  if (failure) {
+    char restart[PETSC_MAX_PATH_LEN + 64] = "";
+    if (checkpoint.last >= 0) PetscCall(PetscSNPrintf(restart, sizeof(restart), "; the last checkpoint (step %" PetscInt_FMT ") is %s", checkpoint.last, checkpoint.file));
+    PetscCall(PetscSNPrintf(stop_reason, sizeof(stop_reason), "%s; the outputs in %s/ go to step %" PetscInt_FMT "%s", failure, params.output_dir, summary.steps_done, restart));
+  } else if (signal_caught) {
+    char restart[PETSC_MAX_PATH_LEN + 64] = "";
+    stop_code = PETSC_ERR_SIG;
+    if (checkpoint.last == summary.steps_done) PetscCall(PetscSNPrintf(restart, sizeof(restart), "; go on with -restart %s", checkpoint.file));
+    PetscCall(PetscSNPrintf(stop_reason, sizeof(stop_reason), "interrupted by %s after step %" PetscInt_FMT " of %" PetscInt_FMT " (t = %g); the outputs in %s/ go to that step%s", summary.interrupted, summary.steps_done, params.steps, (double)(params.t_start + summary.steps_done * params.dt), params.output_dir, restart));
+  }
 
 cleanup:
   PetscCall(StepRetryDestroy(&retry));
@@ -347,6 +364,7 @@ cleanup:
   if (fluid_comm != PETSC_COMM_WORLD && fluid_comm != MPI_COMM_NULL) PetscCallMPI(MPI_Comm_free(&fluid_comm));
   if (structure_comm != PETSC_COMM_WORLD && structure_comm != MPI_COMM_NULL) PetscCallMPI(MPI_Comm_free(&structure_comm));
   PetscCall(SceneFinalize());
+  PetscCheck(!stop_reason[0], PETSC_COMM_WORLD, stop_code, "%s", stop_reason);
   PetscFunctionReturn(0);
 }
 

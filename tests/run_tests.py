@@ -160,6 +160,17 @@ def _():
     return check_rates(errs, {"u_L2": 0.9})
 
 
+@test("fluid BDF2 temporal rate; its restart continues exactly")
+def _():
+    base = ["-scene", "mms-fluid", "-t_start", "0.5", "-t_final", "1", "-refine", "2", "-fluid_time_order", "2"]
+    errs = [solve(base + ["-dt", str(dt)])["errors"] for dt in (0.1, 0.05, 0.025)]
+    detail = check_rates(errs, {"u_L2": 1.8, "p_L2": 1.8})
+    full = solve(base + ["-dt", "0.05", "-checkpoint_every", "4"], out=os.path.join(WORK, "bdf2-full"))
+    again = solve(base + ["-dt", "0.05", "-restart", os.path.join(WORK, "bdf2-full", "checkpoint.h5")])
+    assert again["first_step"] == 9 and again["errors"] == full["errors"], "restarted %s, uninterrupted %s" % (again["errors"], full["errors"])
+    return detail + "; restarted at step 9: same errors"
+
+
 @test("structure first-order temporal rate")
 def _():
     runs = [solve(["-scene", "mms-structure", "-structure_time_order", "1", "-t_start", "0.5", "-t_final", "1",
@@ -578,13 +589,16 @@ def _():
         rc, err, out = interrupted_run(signum, nproc)
         lines = [l for l in err.splitlines() if l.strip()]
         assert rc != 0, "%s: exit 0" % name
-        assert len(lines) == 1 and lines[0].startswith("fsiopt: error: interrupted by " + name), "%s: stderr %s" % (name, lines)
+        assert len(lines) == 1 and lines[0].startswith("fsiopt: error: interrupted by " + name) and "-restart" in lines[0], "%s: stderr %s" % (name, lines)
         s = json.load(open(os.path.join(out, "summary.json")))
         assert s["converged"] is False and s["interrupted"] == name, "%s: summary %s" % (name, s)
         head, rows = read_probes(os.path.join(out, "probes.csv"))  # complete, not .partial
         assert len(rows) == s["steps_done"] + 1 and 5 < s["steps_done"] < s["steps"], "%s: %d probe rows for %d steps" % (name, len(rows), s["steps_done"])
         assert abs(rows[-1][0] - s["steps_done"] * s["dt"]) < 1e-12, "%s: last probe time %g" % (name, rows[-1][0])
-        details.append("%s on %d rank%s after step %d" % (name, nproc, "s" if nproc > 1 else "", s["steps_done"]))
+        # the checkpoint it left continues the run
+        more = solve(CHANNEL + ["-t_final", "0.003", "-restart", os.path.join(out, "checkpoint.h5")], nproc=nproc)
+        assert more["first_step"] == s["steps_done"] + 1 and more["steps_done"] == 30, "%s: restart %s" % (name, more)
+        details.append("%s on %d rank%s after step %d, restarted from its checkpoint" % (name, nproc, "s" if nproc > 1 else "", s["steps_done"]))
     return ", ".join(details)
 
 
@@ -786,6 +800,9 @@ def bad_input_cases():
         ("restart of another mesh", CHANNEL + ["-t_final", "0.002", "-refine", "1", "-restart", checkpoint], "-restart"),
         ("restart with a partitioned method", CHANNEL + ["-t_final", "0.002", "-coupling", "iqnils", "-restart", checkpoint], "-coupling opt"),
         ("restart past the end", CHANNEL + ["-t_final", "0.0001", "-restart", checkpoint], "-restart"),
+        ("BDF2 on a moving mesh", ["-scene", "gcl", "-fluid_time_order", "2"], "-fluid_time_order"),
+        ("BDF2 with a backward-Euler forcing", F + ["-mms_discrete_time", "-fluid_time_order", "2"], "-mms_discrete_time"),
+        ("third-order fluid time scheme", F + ["-fluid_time_order", "3"], "-fluid_time_order"),
         ("zero -dt_min", F + ["-dt_min", "0"], "-dt_min"),
         ("negative -dt_min", F + ["-dt_min", "-1e-3"], "-dt_min"),
         ("-dt_min above -dt", F + ["-dt", "0.1", "-dt_min", "0.2"], "-dt_min"),
@@ -839,7 +856,7 @@ def _():
     assert p.returncode == 0, "exit %d" % p.returncode
     for opt in ["-turek_case", "-turek_mean_velocity", "-turek_ramp_time", "-turek_gravity", "-turek_gravity_ramp",
                 "-quantities_window", "-checkpoint_every", "-checkpoint_file", "-restart", "-fluid_steady",
-                "-mesh_motion_stiffening", "-dt_min"]:
+                "-mesh_motion_stiffening", "-dt_min", "-fluid_time_order"]:
         assert opt in p.stdout, "%s not in -help of turek-hron" % opt
     return ""
 

@@ -174,6 +174,13 @@ PetscErrorCode CouplingCheckpoint(Coupling C, Checkpoint cp, PetscBool load)
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode CouplingIsRestartable(Coupling C, PetscBool *restartable)
+{
+  PetscFunctionBeginUser;
+  *restartable = C->ops.restartable;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode CouplingGetStats(Coupling C, CouplingStats *stats)
 {
   PetscFunctionBeginUser;

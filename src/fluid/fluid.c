@@ -26,6 +26,7 @@ PetscErrorCode FluidCreate(MPI_Comm comm, Fluid *fluid)
   f->velocity_degree = 2;
   f->rhs_rtol        = 1e-13;
   f->extrapolate     = PETSC_TRUE;
+  f->time_order      = 1;
   f->pressure_degree = 1;
   *fluid             = f;
   PetscFunctionReturn(0);
@@ -45,6 +46,7 @@ PetscErrorCode FluidSetFromOptions(Fluid f)
   f->n_backflow_faces = FSIOPT_MAX_BOUNDARIES;
   PetscCall(PetscOptionsIntArray("-fluid_backflow_faces", "Face sets that get the backflow stabilization (default: every traction face)", NULL, f->backflow_faces, &f->n_backflow_faces, &f->backflow_faces_given));
   PetscCall(PetscOptionsBool("-fluid_steady", "Drop the time derivative: every step solves the steady equations with the data of its time (a continuation in the data)", NULL, f->steady, &f->steady, NULL));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-fluid_time_order", "1: backward Euler, 2: BDF2 (its first step, and the first after a change of dt, backward Euler; fixed meshes only)", 1, 2, &f->time_order));
   PetscCall(PetscOptionsBool("-fluid_extrapolate", "start each step's nonlinear solve from 2 u^{n-1} - u^{n-2} instead of u^{n-1}", NULL, f->extrapolate, &f->extrapolate, NULL));
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-fluid_rhs_rtol", "nonlinear solves also stop when ||F|| <= rhs_rtol ||rhs||, a relative accuracy of the state that does not depend on how good the initial guess was", &f->rhs_rtol));
   PetscCall(PetscOptionsBool("-fluid_initial_projection", "Start from the Stokes projection of the scene's exact solution (discretely divergence free) instead of its interpolant", NULL, f->initial_projection, &f->initial_projection, NULL));
@@ -226,6 +228,7 @@ PetscErrorCode FluidSetTimeStep(Fluid f, PetscReal dt)
   if (dt == f->dt) PetscFunctionReturn(0);
   f->dt              = dt;
   f->spacing_changed = PETSC_TRUE;
+  f->steps_at_dt     = 0;
   f->dirichlet_step  = -1;
   PetscCall(FluidSetPressureStabilization(f));
   /* the factors held across steps carry rho/dt: refactor at the next solve */
@@ -279,6 +282,8 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
   PetscCall(DMCreateLocalVector(f->dm, &f->xlocal_old));
   PetscCall(DMCreateLocalVector(f->dm, &f->xlocal_work));
   PetscCheck(!(f->steady && f->moving), f->comm, PETSC_ERR_ARG_INCOMP, "option -fluid_steady: a moving mesh needs the time derivative; expected a fixed fluid domain");
+  PetscCheck(f->time_order == 1 || !(f->moving || f->steady), f->comm, PETSC_ERR_ARG_INCOMP, "option -fluid_time_order 2: BDF2 is implemented on fixed meshes with a time derivative; expected 1 for a %s", f->moving ? "moving fluid domain" : "steady fluid (-fluid_steady)");
+  if (f->time_order == 2) PetscCall(DMCreateLocalVector(f->dm, &f->xlocal_previous));
   if (f->moving) PetscCall(FluidALESetUp(f));
   PetscCall(FluidForcesSetUp(f));
   if (data->exact[0] && data->exact[1]) {
@@ -311,9 +316,24 @@ PetscErrorCode FluidBeginStep(Fluid f, PetscInt step)
   if (f->moving) PetscCall(FluidALEBeginStep(f));
   else if (f->steady) PetscCall(VecZeroEntries(f->history));
   else {
-    PetscCall(FluidSetConstants(f, f->rho / f->dt, 0.0, 0.0));
+    PetscReal mass = f->rho / f->dt;
+    if (f->time_order == 2) {
+      if (f->steps_at_dt > 0) {
+        /* rho/dt (3/2 u^n - 2 u^{n-1} + 1/2 u^{n-2}) = 3/2 rho/dt (u^n - h), h = 4/3 u^{n-1} - 1/3 u^{n-2}:
+           the history and the body force see h where backward Euler has u^{n-1} */
+        PetscCall(VecCopy(f->xlocal_old, f->xlocal_work));
+        PetscCall(VecAXPBY(f->xlocal_old, -1.0 / 3.0, 4.0 / 3.0, f->xlocal_previous));
+        PetscCall(VecCopy(f->xlocal_work, f->xlocal_previous));
+        mass *= 1.5;
+      } else PetscCall(VecCopy(f->xlocal_old, f->xlocal_previous));
+    }
+    /* factors kept across steps (Stokes, chord) carry the mass coefficient */
+    if (mass != f->mass_coefficient && f->mass_coefficient > 0 && (f->model == FLUID_STOKES || f->chord)) PetscCall(SNESSetLagJacobian(f->snes, -2));
+    f->mass_coefficient = mass;
+    PetscCall(FluidSetConstants(f, mass, 0.0, 0.0));
     PetscCall(FEMResidual(f->dm, f->xlocal_old, f->history));
   }
+  f->steps_at_dt++;
   if (f->extrapolate && f->model == FLUID_NAVIER_STOKES) {
     /* the nonlinear solve starts from 2 u^{n-1} - u^{n-2}: one chord iteration fewer */
     if (f->spacing_changed) PetscCall(VecCopy(f->x, f->x_before)); /* no u^{n-2} at this dt */
@@ -332,7 +352,7 @@ PetscErrorCode FluidBeginStep(Fluid f, PetscInt step)
     PetscCall(VecDestroy(&d));
   }
   /* on a moving mesh the mass acts through M(Omega^{n-1}) (fluid_ale.c) */
-  PetscCall(FluidSetConstants(f, f->moving || f->steady ? 0.0 : f->rho / f->dt, 1.0, 1.0));
+  PetscCall(FluidSetConstants(f, f->moving || f->steady ? 0.0 : f->mass_coefficient, 1.0, 1.0));
   PetscFunctionReturn(0);
 }
 
@@ -434,6 +454,21 @@ PetscErrorCode FluidCheckpoint(Fluid f, Checkpoint cp, PetscBool load)
       PetscCall(FluidSetMeshDisplacement(f, f->displacement));
     }
   }
+  if (f->time_order == 2) {
+    PetscCall(CheckpointInt(cp, "steps_at_dt", &f->steps_at_dt, load));
+    if (CheckpointIsFile(cp)) {
+      /* a file keeps the free values; the boundary values are those of t - dt */
+      Vec       previous;
+      PetscReal t = f->time;
+      PetscCall(DMGetGlobalVector(f->dm, &previous));
+      if (!load) PetscCall(DMLocalToGlobal(f->dm, f->xlocal_previous, INSERT_VALUES, previous));
+      PetscCall(CheckpointVec(cp, "previous_state", previous, load));
+      f->time = t - f->dt;
+      if (load) PetscCall(FEMGlobalToLocal(f->dm, previous, f->xlocal_previous));
+      f->time = t;
+      PetscCall(DMRestoreGlobalVector(f->dm, &previous));
+    } else PetscCall(CheckpointLocalVec(cp, "previous_state", f->dm, f->xlocal_previous, load));
+  }
   PetscCall(CheckpointPopGroup(cp));
   if (load) f->spacing_changed = PETSC_FALSE; /* state_before is u^{n-2} */
   /* chord factors from before it are not in the checkpoint */
@@ -513,6 +548,7 @@ PetscErrorCode FluidDestroy(Fluid *fluid)
   PetscCall(FluidDirichletDestroy(f));
   PetscCall(VecDestroy(&f->xlocal_old));
   PetscCall(VecDestroy(&f->xlocal_work));
+  PetscCall(VecDestroy(&f->xlocal_previous));
   PetscCall(SNESDestroy(&f->snes));
   PetscCall(DMDestroy(&f->dm));
   PetscCall(PetscFree(*fluid));

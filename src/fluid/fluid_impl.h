@@ -21,6 +21,10 @@ struct _p_Fluid {
   Vec            x_before;    /* u^{n-2} while a step starts, for the extrapolated first guess */
   PetscBool      extrapolate;
   PetscBool      spacing_changed; /* u^{n-2} is not one step of this dt back: no extrapolation */
+  PetscInt       time_order;      /* 1: backward Euler, 2: BDF2 (fixed meshes) */
+  PetscInt       steps_at_dt;     /* steps taken since dt last changed: BDF2 needs one */
+  PetscReal      mass_coefficient; /* of (u^n, v) in this step: rho/dt, or 3/2 rho/dt (BDF2) */
+  Vec            xlocal_previous;  /* BDF2: u^{n-1} with its boundary values, u^{n-2} while a step starts */
   PetscReal      cell_size;       /* mean, for the pressure stabilization */
   PetscBool      steady;     /* no time derivative: each step is a steady solve at its time */
   PetscBool      chord;          /* nonlinear solves on factors from another state */

@@ -3,10 +3,11 @@
 #include "checkpoint.h"
 #include "options.h"
 
-PetscErrorCode RunCheckpointSetFromOptions(const RunParams *params, PetscBool separate_ranks, PetscBool fields, RunCheckpointParams *cp)
+PetscErrorCode RunCheckpointSetFromOptions(const RunParams *params, PetscBool separate_ranks, PetscBool fields, PetscBool restartable, RunCheckpointParams *cp)
 {
   PetscFunctionBeginUser;
   cp->every      = 0;
+  cp->last       = -1;
   cp->restart[0] = 0;
   PetscCall(PetscSNPrintf(cp->file, sizeof(cp->file), "%s/checkpoint.h5", params->output_dir));
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Checkpoints and restarts", "fsiopt");
@@ -15,6 +16,7 @@ PetscErrorCode RunCheckpointSetFromOptions(const RunParams *params, PetscBool se
   PetscCall(PetscOptionsString("-restart", "continue from this checkpoint", NULL, cp->restart, cp->restart, sizeof(cp->restart), &cp->restarting));
   PetscOptionsEnd();
   PetscCheck(!(cp->every || cp->restarting) || !separate_ranks, PETSC_COMM_WORLD, PETSC_ERR_SUP, "option %s: checkpoints need fluid and structure on the same ranks (-structure_ranks 0)", cp->restarting ? "-restart" : "-checkpoint_every");
+  cp->possible = !separate_ranks && !fields && restartable ? PETSC_TRUE : PETSC_FALSE;
   PetscCheck(!cp->restarting || !fields, PETSC_COMM_WORLD, PETSC_ERR_SUP, "option -restart: not with -write_fields (the fields file of a run is written from its start)");
   PetscFunctionReturn(0);
 }
