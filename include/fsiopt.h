@@ -81,6 +81,11 @@ static inline void StepFailureClear(StepFailure *failure)
 {
   failure->reason[0] = 0;
 }
+/* the reason, NULL if there is no failure */
+static inline const char *StepFailureReason(const StepFailure *failure)
+{
+  return failure->reason[0] ? failure->reason : NULL;
+}
 
 /* Common run parameters (DESIGN §6). */
 typedef struct {

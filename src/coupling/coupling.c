@@ -121,7 +121,7 @@ PetscErrorCode CouplingStep(Coupling C, PetscInt step)
 PetscErrorCode CouplingGetFailure(Coupling C, const char **reason)
 {
   PetscFunctionBeginUser;
-  *reason = StepFailed(&C->failure) ? C->failure.reason : NULL;
+  *reason = StepFailureReason(&C->failure);
   PetscFunctionReturn(0);
 }
 

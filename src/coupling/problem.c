@@ -46,11 +46,13 @@ struct _p_CouplingProblem {
 };
 
 /* A subproblem's failure, made known on every rank (the fluid's and the structure's may
-   be different ones) with the reason of the first failing rank. Collective. */
+   be different ones) with the reason of the first failing rank; failed may be NULL.
+   Collective. */
 static PetscErrorCode CollectFailure(CouplingProblem P, PetscBool *failed)
 {
   const char *reason = NULL;
   PetscMPIInt rank, size, mine, first;
+  PetscBool   any;
 
   PetscFunctionBeginUser;
   if (P->fluid) PetscCall(FluidGetFailure(P->fluid, &reason));
@@ -59,8 +61,9 @@ static PetscErrorCode CollectFailure(CouplingProblem P, PetscBool *failed)
   PetscCallMPI(MPI_Comm_size(P->comm, &size));
   mine = reason || StepFailed(&P->failure) ? rank : size;
   PetscCallMPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, P->comm));
-  *failed = first < size ? PETSC_TRUE : PETSC_FALSE;
-  if (!*failed || StepFailed(&P->failure)) PetscFunctionReturn(0);
+  any = first < size ? PETSC_TRUE : PETSC_FALSE;
+  if (failed) *failed = any;
+  if (!any || StepFailed(&P->failure)) PetscFunctionReturn(0);
   if (rank == first) PetscCall(PetscStrncpy(P->failure.reason, reason, sizeof(P->failure.reason)));
   PetscCallMPI(MPI_Bcast(P->failure.reason, sizeof(P->failure.reason), MPI_CHAR, first, P->comm));
   PetscFunctionReturn(0);
@@ -69,7 +72,7 @@ static PetscErrorCode CollectFailure(CouplingProblem P, PetscBool *failed)
 PetscErrorCode CouplingProblemGetFailure(CouplingProblem P, const char **reason)
 {
   PetscFunctionBeginUser;
-  *reason = StepFailed(&P->failure) ? P->failure.reason : NULL;
+  *reason = StepFailureReason(&P->failure);
   PetscFunctionReturn(0);
 }
 
@@ -381,10 +384,7 @@ PetscErrorCode CouplingProblemBeginStep(CouplingProblem P, PetscInt step)
   }
   P->spacing_changed = PETSC_FALSE;
   if (P->structure) PetscCall(StructureBeginStep(P->structure));
-  {
-    PetscBool failed;
-    PetscCall(CollectFailure(P, &failed));
-  }
+  PetscCall(CollectFailure(P, NULL));
   PetscCall(VecZeroEntries(P->datum_load));
   if (P->variant == CONTROL_CONVECTIVE && P->fluid_data.convective_interface_datum) {
     PetscReal t = 0;
@@ -431,10 +431,7 @@ static PetscErrorCode MoveMesh(CouplingProblem P)
     PetscCall(FluidSetMeshDisplacement(P->fluid, P->mesh_displacement));
     PetscCall(PetscLogStagePop());
   }
-  {
-    PetscBool failed;
-    PetscCall(CollectFailure(P, &failed));
-  }
+  PetscCall(CollectFailure(P, NULL));
   PetscFunctionReturn(0);
 }
 

@@ -222,6 +222,21 @@ static PetscErrorCode FluidSetPressureStabilization(Fluid f)
   PetscFunctionReturn(0);
 }
 
+/* The Jacobian in hand carries another mass coefficient: rebuild it at the next solve. A
+   Jacobian rebuilt at every Newton iteration needs nothing; a lagged one (chord steps,
+   -fluid_snes_lag_jacobian K) is rebuilt once, and a user's lag K resumes after that solve. */
+static PetscErrorCode FluidJacobianIsStale(Fluid f)
+{
+  PetscInt lag;
+
+  PetscFunctionBeginUser;
+  PetscCall(SNESGetLagJacobian(f->snes, &lag));
+  if (lag == 1) PetscFunctionReturn(0);
+  if (lag > 1) f->lag_after_rebuild = lag;
+  PetscCall(SNESSetLagJacobian(f->snes, -2));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FluidSetTimeStep(Fluid f, PetscReal dt)
 {
   PetscFunctionBeginUser;
@@ -231,8 +246,7 @@ PetscErrorCode FluidSetTimeStep(Fluid f, PetscReal dt)
   f->steps_at_dt     = 0;
   f->dirichlet_step  = -1;
   PetscCall(FluidSetPressureStabilization(f));
-  /* the factors held across steps carry rho/dt: refactor at the next solve */
-  if (f->model == FLUID_STOKES || f->chord) PetscCall(SNESSetLagJacobian(f->snes, -2));
+  PetscCall(FluidJacobianIsStale(f));
   PetscFunctionReturn(0);
 }
 
@@ -327,8 +341,7 @@ PetscErrorCode FluidBeginStep(Fluid f, PetscInt step)
         mass *= 1.5;
       } else PetscCall(VecCopy(f->xlocal_old, f->xlocal_previous));
     }
-    /* factors kept across steps (Stokes, chord) carry the mass coefficient */
-    if (mass != f->mass_coefficient && f->mass_coefficient > 0 && (f->model == FLUID_STOKES || f->chord)) PetscCall(SNESSetLagJacobian(f->snes, -2));
+    if (mass != f->mass_coefficient && f->mass_coefficient > 0) PetscCall(FluidJacobianIsStale(f));
     f->mass_coefficient = mass;
     PetscCall(FluidSetConstants(f, mass, 0.0, 0.0));
     PetscCall(FEMResidual(f->dm, f->xlocal_old, f->history));
@@ -373,6 +386,10 @@ PetscErrorCode FluidNonlinearSolve(Fluid f, SNES snes, Vec rhs, PetscBool chord,
   PetscFunctionBeginUser;
   if (chord) PetscCall(VecCopy(f->x, f->x_start));
   PetscCall(SNESSolve(snes, rhs, f->x));
+  if (snes == f->snes && f->lag_after_rebuild) {
+    PetscCall(SNESSetLagJacobian(snes, f->lag_after_rebuild));
+    f->lag_after_rebuild = 0;
+  }
   PetscCall(SNESGetConvergedReason(snes, &reason));
   PetscCall(SNESGetIterationNumber(snes, &its));
   if (reason < 0 && chord) {
@@ -479,7 +496,7 @@ PetscErrorCode FluidCheckpoint(Fluid f, Checkpoint cp, PetscBool load)
 PetscErrorCode FluidGetFailure(Fluid f, const char **reason)
 {
   PetscFunctionBeginUser;
-  *reason = StepFailed(&f->failure) ? f->failure.reason : NULL;
+  *reason = StepFailureReason(&f->failure);
   PetscFunctionReturn(0);
 }
 

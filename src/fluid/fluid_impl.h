@@ -24,6 +24,7 @@ struct _p_Fluid {
   PetscInt       time_order;      /* 1: backward Euler, 2: BDF2 (fixed meshes) */
   PetscInt       steps_at_dt;     /* steps taken since dt last changed: BDF2 needs one */
   PetscReal      mass_coefficient; /* of (u^n, v) in this step: rho/dt, or 3/2 rho/dt (BDF2) */
+  PetscInt       lag_after_rebuild; /* the user's Jacobian lag, resumed after a forced rebuild */
   Vec            xlocal_previous;  /* BDF2: u^{n-1} with its boundary values, u^{n-2} while a step starts */
   PetscReal      cell_size;       /* mean, for the pressure stabilization */
   PetscBool      steady;     /* no time derivative: each step is a steady solve at its time */

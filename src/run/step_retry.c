@@ -45,12 +45,15 @@ static PetscErrorCode SetTimeStep(StepRetry R, PetscReal dt)
   PetscFunctionReturn(0);
 }
 
+/* Saves (load = PETSC_FALSE) or restores the state the attempt in progress started from. */
 static PetscErrorCode KeepStart(StepRetry R, PetscBool load)
 {
   PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_STEP_START, 0, 0, 0, 0));
   if (R->fluid) PetscCall(FluidCheckpoint(R->fluid, R->start, load));
   if (R->structure) PetscCall(StructureCheckpoint(R->structure, R->start, load));
   if (R->coupling) PetscCall(CouplingCheckpoint(R->coupling, R->start, load));
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_STEP_START, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
@@ -88,7 +91,6 @@ static PetscErrorCode Attempt(StepRetry R, PetscInt step, PetscReal t, PetscReal
   if (R->start) PetscCall(KeepStart(R, PETSC_FALSE));
   PetscCall(SetTimeStep(R, dt));
   PetscCall(TakeStep(R, step, &reason));
-
   *failed = reason ? PETSC_TRUE : PETSC_FALSE;
   if (!*failed) {
     R->stats.smallest_dt = PetscMin(R->stats.smallest_dt, dt);

@@ -347,7 +347,7 @@ PetscErrorCode StructureSetTimeStep(Structure s, PetscReal dt)
 PetscErrorCode StructureGetFailure(Structure s, const char **reason)
 {
   PetscFunctionBeginUser;
-  *reason = StepFailed(&s->failure) ? s->failure.reason : NULL;
+  *reason = StepFailureReason(&s->failure);
   PetscFunctionReturn(0);
 }
 
