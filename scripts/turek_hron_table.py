@@ -31,20 +31,64 @@ src/scenes/turek_hron.c) unless changed here:
                  in --extra as well;
   --t-final T    passes -t_final T to every case (quick checks: a T shorter than a periodic
                  case's window makes the window the whole run, flagged with * in the table);
-  --extra "..."  options passed to every run (e.g. --extra="-coupling_tol 1e-8").
+  --extra "..."  options passed to every run (e.g. --extra="-coupling_tol 1e-8"; not
+                 -checkpoint_every, -checkpoint_file or -restart: see below).
 
 Run times: csm1, csm2, cfd1 and short checks take seconds to a minute a run on n = 1, 2; the periodic
 cases run thousands of steps, and the periodic FSI cases (fsi2, fsi3) take hours already on
 the coarse level n = 1 (measured times: see README). --jobs J runs J runs at a time (one core
 each); the default 1 gives undisturbed wall times.
 
+Checkpoints and resuming (the long runs):
+  --checkpoint-every K  the periodic cases (csm3, cfd2, cfd3, fsi2, fsi3) run with
+                 -checkpoint_every K (default 500; 0: off), so fsiopt keeps the state of
+                 every K-th step in <run dir>/checkpoint.h5; the steady cases never get it
+                 (they are short), nor fsi runs whose --extra chooses a -coupling other than
+                 opt (fsiopt checkpoints only -coupling opt). -checkpoint_every is NOT part of
+                 the command line recorded in cmd.txt, which decides re-use: a complete run
+                 is re-used whatever K it ran with (runs made before this option existed
+                 too), and changing K never runs a case again. Why: K does not change what a
+                 run computes, only when the coupled runs resynchronize their solvers (the
+                 explicit Jacobian is rebuilt after each checkpoint, as a restarted run
+                 builds it), which moves values by ~1e-8 relative, far below the 5
+                 significant digits of the table; a structure-alone (csm) run is bitwise the
+                 same. The exact command of each process is in <run dir>/attempts.json.
+  resuming       an unfinished run (killed, interrupted by Ctrl-C or SIGTERM, a crash, a
+                 failed step) whose directory has a checkpoint.h5 of the same command line
+                 (cmd.txt's, kept in cmd.pending from its start) continues from it with
+                 -restart <run dir>/checkpoint.h5 (one line `resuming from step N` per run),
+                 in the same invocation when the process died without fsiopt's error line,
+                 else when the script runs again; a checkpoint of another command line, an
+                 unreadable one, or one of a run older than its meshes is deleted and the
+                 run starts over; so does --force. A restart fsiopt refuses (another dt,
+                 other unknowns, the checkpoint at the last step) starts over once with a
+                 note. fsiopt restarts write probes.csv of the whole run, but summary.json
+                 and history.csv of their own steps only: each process is recorded as a part
+                 in <run dir>/attempts.json (steps first_step..last_step it hands on,
+                 coupling iterations over them, its whole wall time), and the table's wall
+                 time is the sum over the parts (including the steps a killed part ran past
+                 its last checkpoint, which the next part ran again; "≈": a part's time
+                 estimated from its files' times when neither fsiopt nor the script timed
+                 it), GN its/step = the parts' coupling iterations / the run's steps (when a
+                 part's count is unknown: the last part's, labelled with its steps). The
+                 other counts of summary.json (work factor, inner iterations, maximal jump,
+                 factorizations) are the last part's (table.csv: parts, its_cover,
+                 last_part_steps); stalled steps are summed over the parts when known (a
+                 killed process leaves no count: the status says which steps it covers,
+                 table.csv: stalled_cover). After a complete run, checkpoint.h5 is deleted.
+  Ctrl-C / SIGTERM  the script starts no new run; the running fsiopt processes get the
+                 signal (Ctrl-C: from the terminal; SIGTERM to the script: forwarded), write
+                 a checkpoint of their last step and stop; the script exits 130 without a
+                 table. A second Ctrl-C kills them (the last K-step checkpoint stays).
+
 Outputs under out/turek-hron/ (--out): table.md (preamble: what was run and when; the value
 table; the change table; failures) and table.csv (one row per run: the raw final, mean,
 amplitude and frequency of every quantity, dofs, steps, iterations, times, status, error,
 run directory and command). Runs go to <out>/runs/<case>-n<N>[-dts<S>][-T<T>][-x<hash of
 --extra>]/ (--runs-dir) with summary.json, probes.csv (the time series), history.csv
-(coupled runs), stdout.log, stderr.log and cmd.txt (the command line, written after a
-successful run); a complete run whose command line is the one we would run now, and which is
+(coupled runs; of the last part only when resumed), stdout.log, stderr.log (the last
+process's), attempts.json (the parts) and cmd.txt (the command line, written after a
+successful run; while a run is unfinished: cmd.pending, checkpoint.h5, current_attempt.json); a complete run whose command line is the one we would run now, and which is
 newer than its meshes, is re-used (--force: run again). A run or mesh that fails is reported
 in the table with its error, the others go on, and the script exits non-zero at the end.
 
@@ -52,8 +96,9 @@ Examples (from anywhere; build first: make all):
   scripts/turek_hron_table.py --cases csm1,csm2,cfd1 --levels 1,2
   scripts/turek_hron_table.py --cases csm3,fsi1 --levels 1 --t-final 0.1 --out /tmp/th
   scripts/turek_hron_table.py --cases cfd2,cfd3 --levels 1,2,3 --jobs 2
+  scripts/turek_hron_table.py --cases fsi2 --levels 1 --checkpoint-every 250   # again after a stop: resumes
   scripts/turek_hron_table.py                  # all nine cases on n = 1, 2: hours"""
-import argparse, datetime, math, os, re, shlex, subprocess, sys, tempfile, time
+import argparse, datetime, math, os, re, shlex, signal, subprocess, sys, tempfile, time
 from concurrent.futures import ThreadPoolExecutor, as_completed
 
 sys.dont_write_bytecode = True   # no scripts/__pycache__ next to the sources
@@ -123,8 +168,9 @@ def outputs_of(kind):
     return ("summary.json", "probes.csv") + (("history.csv",) if kind == "fsi" else ())
 
 
-def case_run(case, level, meshes, dt, t_final, extra, dt_scale):
-    """The fsiopt run of a case on level n; dt, t_final: None for the scene's default."""
+def case_run(case, level, meshes, dt, t_final, extra, dt_scale, checkpoint_every=0):
+    """The fsiopt run of a case on level n; dt, t_final: None for the scene's default;
+    checkpoint_every: -checkpoint_every K (0: none), a run option (not in cmd.txt)."""
     kind = CASES[case][0]
     options = ["-options_file", OPTIONS_FILE, "-turek_case", case]
     for part in PARTS[kind]:
@@ -138,8 +184,9 @@ def case_run(case, level, meshes, dt, t_final, extra, dt_scale):
         name += "-T%s" % fmt_num(t_final)
     options += extra
     name += extra_tag(extra)
-    return fr.Variant(name, "%s n = %d" % (case, level), options, outputs=outputs_of(kind), case=case, level=level,
-                      meshes=[meshes[p] for p in PARTS[kind]])
+    run_options = ["-checkpoint_every", str(checkpoint_every)] if checkpoint_every else []
+    return fr.Variant(name, "%s n = %d" % (case, level), options, outputs=outputs_of(kind), run_options=run_options,
+                      resumable=True, case=case, level=level, meshes=[meshes[p] for p in PARTS[kind]])
 
 
 def failed_run(case, level, error):
@@ -149,15 +196,18 @@ def failed_run(case, level, error):
 
 
 def forget_if_older(v, runs_dir):
-    """A run older than a mesh it reads is run again: its cmd.txt goes."""
-    cmd_txt = os.path.join(runs_dir, v.name, "cmd.txt")
-    try:
-        t = os.path.getmtime(cmd_txt)
-    except OSError:
-        return
-    if any(os.path.getmtime(f) > t for f in v.params["meshes"] if os.path.isfile(f)):
-        say("  %-28s older than its meshes: will run again" % v.name)
-        os.remove(cmd_txt)
+    """A run older than a mesh it reads is run again: its cmd.txt goes; an unfinished run
+    started before a mesh was made is not resumed: its cmd.pending goes (and with it the
+    use of its checkpoint)."""
+    for name, what in (("cmd.txt", "will run again"), (fr.PENDING, "its checkpoint will not be used")):
+        path = os.path.join(runs_dir, v.name, name)
+        try:
+            t = os.path.getmtime(path)
+        except OSError:
+            continue
+        if any(os.path.getmtime(f) > t for f in v.params["meshes"] if os.path.isfile(f)):
+            say("  %-28s older than its meshes: %s" % (v.name, what))
+            os.remove(path)
 
 
 def run_runs(runs, fsiopt, runs_dir, jobs=1, force=False, retries=2):
@@ -172,7 +222,8 @@ def run_runs(runs, fsiopt, runs_dir, jobs=1, force=False, retries=2):
             env.setdefault(k, "1")
     say("%d run(s) in %s, %d at a time" % (len(todo), rel(runs_dir), jobs))
     t0, done = time.time(), 0
-    with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
+    pool = ThreadPoolExecutor(max_workers=max(1, jobs))
+    try:
         futures = [pool.submit(fr.run_variant, v, fsiopt, runs_dir, force, retries, env=env) for v in todo]
         for fut in as_completed(futures):
             v = fut.result()
@@ -180,7 +231,27 @@ def run_runs(runs, fsiopt, runs_dir, jobs=1, force=False, retries=2):
             what = {"ok": "done in %s", "reused": "re-used (it ran in %s)"}.get(v.status, "FAILED after %s")
             say("  [%d/%d] %s %s; %s elapsed in all" % (done, len(todo), v.name, what % (duration(v.elapsed_s) or "?"),
                                                       duration(time.time() - t0)))
+    except KeyboardInterrupt:   # Ctrl-C, or SIGTERM (on_sigterm)
+        fr.stop_runs()
+        say("turek_hron_table: interrupted: no new run; waiting for the running fsiopt process(es) to write a "
+            "checkpoint of their last step (Ctrl-C again: kill them)", err=True)
+        try:
+            pool.shutdown(wait=True, cancel_futures=True)
+        except KeyboardInterrupt:
+            fr.stop_runs(signal.SIGKILL)
+            pool.shutdown(wait=True, cancel_futures=True)
+        say("turek_hron_table: interrupted; the same command resumes the unfinished runs from their checkpoints",
+            err=True)
+        sys.exit(130)
+    pool.shutdown()
     return runs
+
+
+def on_sigterm(signum, frame):
+    """SIGTERM to the script: forwarded to the running fsiopt processes (each stops at a
+    checkpoint of its last step), then handled as a Ctrl-C."""
+    fr.stop_runs(signum)
+    raise KeyboardInterrupt
 
 
 # ---------------------------------------------------------------------------- rows
@@ -215,6 +286,21 @@ def result_row(v):
         val = s.get(k, "")
         row[k] = "" if val is None else val
     row["converged"] = str(s["converged"]).lower() if "converged" in s else ""
+    # a resumed run: the sums over its parts where they can be made (fsiopt_runs.run_totals)
+    t = v.totals if v.ok else {}
+    first, last = s.get("first_step", 1), s.get("steps_done", s.get("steps"))
+    row["parts"] = t.get("parts", 1) if s else ""
+    row["its_cover"] = t.get("its_cover", "whole run") if s else ""
+    row["stalled_cover"] = t.get("stalled_cover", "whole run") if s else ""
+    row["last_part_steps"] = "%s-%s" % (first, last) if s else ""
+    row["wall_time_note"] = t.get("wall_time_note", "")
+    if t:
+        for k in ("coupling_iterations", "avg_coupling_iterations", "wall_time_s"):
+            row[k] = t[k] if t[k] is not None else ""
+        if t["stalled_steps"] is not None:   # else: the last part's (stalled_cover)
+            row["stalled_steps"] = t["stalled_steps"]
+            if t["stalled_steps"]:
+                row["converged"] = "false"
     row["elapsed_s"] = v.elapsed_s if math.isfinite(v.elapsed_s) else ""
     cmd_txt = os.path.join(v.run_dir, "cmd.txt") if v.run_dir else ""
     row["run_date"] = datetime.datetime.fromtimestamp(os.path.getmtime(cmd_txt)).strftime("%Y-%m-%d %H:%M") \
@@ -292,14 +378,36 @@ def unknowns_cell(row):
     return "%d" % ((nf or 0) + (ns or 0))
 
 
+def wall_cell(row):
+    """The wall time (a resumed run's: summed over its parts, "(N parts)")."""
+    text = duration(row["wall_time_s"])
+    if not text:
+        return text
+    text = {"estimated": "≈", "lower bound": "≥ "}.get(row.get("wall_time_note"), "") + text
+    parts = number(row.get("parts"))
+    return text + " (%d parts)" % parts if parts and parts > 1 else text
+
+
+def gn_cell(row):
+    """Gauss-Newton iterations per step (a resumed run's over its parts; when they cannot
+    be summed, the last part's, with its steps)."""
+    text = g(number(row["avg_coupling_iterations"]), "%.3g")
+    cover = row.get("its_cover")
+    return text + " (steps %s)" % cover[len("steps "):] if cover and cover != "whole run" else text
+
+
 def status_cell(v, row):
     if v.status == "failed":
         err = v.error if len(v.error) <= 100 else v.error[:97] + "..."
         return "FAILED: " + md_escape(err)
     text = {"ok": "ok", "reused": "ok (re-used)"}.get(v.status, v.status)
     stalled = number(row["stalled_steps"]) or 0
+    cover = row.get("stalled_cover")
+    cover = " of %s" % cover if cover and cover != "whole run" else ""
     if row["converged"] == "false" or stalled:
-        text += ", not converged (%d stalled steps)" % stalled
+        text += ", not converged (%d stalled steps%s)" % (stalled, cover)
+    elif cover:   # a killed part left no count
+        text += "; stalled steps known only for %s" % cover[len(" of "):]
     return text
 
 
@@ -356,8 +464,12 @@ def main():
     ap.add_argument("--fsiopt", default=FSIOPT, help="fsiopt binary (default bin/fsiopt)")
     ap.add_argument("--force", action="store_true", help="run again even when a complete matching run exists")
     ap.add_argument("--retries", type=int, default=2, help="retries of a run that dies without an fsiopt error "
-                                                           "(default 2)")
+                                                           "(default 2; a retry resumes from the checkpoint)")
+    ap.add_argument("--checkpoint-every", type=int, default=500, metavar="K",
+                    help="-checkpoint_every K for the periodic cases (default 500; 0: off); not part of the "
+                         "recorded command line, so it never makes a complete run stale")
     args = ap.parse_args()
+    signal.signal(signal.SIGTERM, on_sigterm)
     cases = [c.strip().lower() for c in args.cases.split(",") if c.strip()]
     unknown = [c for c in cases if c not in CASES]
     if not cases or unknown:
@@ -381,6 +493,13 @@ def main():
         ap.error("--extra: %s" % e)
     if args.dt_scale != 1 and "-dt" in extra:
         ap.error("--dt-scale and -dt in --extra: give one of them")
+    if args.checkpoint_every < 0:
+        ap.error("--checkpoint-every: 0 or more expected")
+    own = [o for o in ("-checkpoint_every", "-checkpoint_file", "-restart") if o in extra]
+    if own:
+        ap.error("--extra: %s: the script sets it (--checkpoint-every; resuming uses <run dir>/checkpoint.h5)"
+                 % ", ".join(own))
+    coupling = next((extra[i + 1] for i in range(len(extra) - 1) if extra[i] == "-coupling"), "opt")
     args.out = os.path.abspath(args.out)
     args.mesh_dir = os.path.abspath(args.mesh_dir)
     args.runs_dir = os.path.abspath(args.runs_dir or os.path.join(args.out, "runs"))
@@ -405,6 +524,9 @@ def main():
         defaults = case_defaults(cases, args, meshes, extra)
 
     runs = []
+    if coupling != "opt" and args.checkpoint_every and any(CASES[c] == ("fsi", True) for c in cases):
+        say("turek_hron_table: note: -coupling %s in --extra: the fsi runs get no checkpoints (fsiopt checkpoints "
+            "-coupling opt only)" % coupling, err=True)
     say("plan:")
     for c in cases:
         kind = CASES[c][0]
@@ -415,7 +537,8 @@ def main():
                 runs.append(failed_run(c, n, "mesh: " + "; ".join(errs)))
                 say("  %-28s not run: mesh failed" % runs[-1].name)
                 continue
-            v = case_run(c, n, {p: meshes[p, n] for p in PARTS[kind]}, dt, args.t_final, extra, args.dt_scale)
+            every = args.checkpoint_every if CASES[c][1] and (kind != "fsi" or coupling == "opt") else 0
+            v = case_run(c, n, {p: meshes[p, n] for p in PARTS[kind]}, dt, args.t_final, extra, args.dt_scale, every)
             runs.append(v)
             if c in defaults:
                 tf = args.t_final if args.t_final is not None else defaults[c]["t_final"]
@@ -430,7 +553,9 @@ def main():
               "dt", "steps", "t_start", "t_final", "window_s"] + \
              ["%s_%s" % (k, st) for k, _, _, _ in QUANTITIES for st in STATS] + \
              ["avg_coupling_iterations", "coupling_iterations", "work_factor", "max_interface_jump", "stalled_steps",
-              "converged", "wall_time_s", "elapsed_s", "run_date", "meshes", "run_dir", "command"]
+              "converged", "wall_time_s", "elapsed_s", "parts", "its_cover", "stalled_cover", "last_part_steps",
+              "wall_time_note",
+              "run_date", "meshes", "run_dir", "command"]
     os.makedirs(args.out, exist_ok=True)
     csv_path, md_path = os.path.join(args.out, "table.csv"), os.path.join(args.out, "table.md")
     fr.write_csv(csv_path, rows, fields, float_format="%.10g")
@@ -460,7 +585,10 @@ def main():
           "cfd3, fsi2, fsi3): mean ± amplitude [frequency] over the last `window` seconds of the run (%s Hz: "
           "no period found in the window); window*: the window covers the whole run (T too short for it), so "
           "these are not the periodic state's. %s: does not apply. GN its/step: Gauss-Newton "
-          "iterations per step of the coupled cases. Wall time: fsiopt's own (summary.json). Re-used runs keep "
+          "iterations per step of the coupled cases. Wall time: fsiopt's own (summary.json). A run resumed from "
+          "its checkpoint (N parts): wall time summed over the parts, including the steps a killed part ran past "
+          "its last checkpoint (≈: a part's time estimated from its files' times); GN its/step over all parts "
+          "(\"(steps A-B)\": the last part's only, an earlier part's count unknown). Re-used runs keep "
           "their own dates (table.csv: run_date)." % (DASH, DASH), "",
           "| case | n | unknowns | dt [s] | T [s] | window [s] | " +
           " | ".join(h for _, _, h, _ in QUANTITIES) + " | GN its/step | wall time | status |",
@@ -471,8 +599,8 @@ def main():
             row["case"], row["level"], unknowns_cell(row), g(number(row["dt"]), "%.4g") if ok else "",
             g(number(row["t_final"]), "%.4g") if ok else "", window_cell(row),
             " | ".join(value_cell(row, k) for k, _, _, _ in QUANTITIES),
-            (g(number(row["avg_coupling_iterations"]), "%.3g") if row["kind"] == "fsi" else DASH) if ok else "",
-            duration(row["wall_time_s"]), status_cell(v, row)))
+            (gn_cell(row) if row["kind"] == "fsi" else DASH) if ok else "",
+            wall_cell(row), status_cell(v, row)))
 
     md += ["", "## Change from the previous level", "",
            "Relative change (%) of each value above from the same case's previous level that ran "
@@ -498,4 +626,7 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    try:
+        main()
+    except KeyboardInterrupt:
+        sys.exit(130)
