@@ -860,7 +860,7 @@ def _():
     assert p.returncode == 0, "exit %d" % p.returncode
     for opt in ["-turek_case", "-turek_mean_velocity", "-turek_ramp_time", "-turek_gravity", "-turek_gravity_ramp",
                 "-quantities_window", "-checkpoint_every", "-checkpoint_file", "-restart", "-fluid_steady",
-                "-mesh_motion_stiffening", "-dt_min", "-fluid_time_order"]:
+                "-mesh_motion_stiffening", "-dt_min", "-fluid_time_order", "-coupling_explicit_jacobian_rebuild_its"]:
         assert opt in p.stdout, "%s not in -help of turek-hron" % opt
     return ""
 

@@ -27,6 +27,7 @@ typedef struct {
   /* the explicit-Jacobian preconditioner of the inner CG (explicit_pc.c) */
   ExplicitJacobian explicit_jacobian;
   PetscInt   rebuild_every;
+  PetscInt   rebuild_inner; /* and when a Gauss-Newton iteration's CG needed more than this */
   PetscInt   last_iteration;
 } Opt;
 
@@ -101,6 +102,8 @@ static PetscErrorCode ConvergenceTest(Tao tao, void *ctx)
   }
   PetscCall(TaoGetLinearSolveIterations(tao, &inner_total));
   PetscCall(HistoryAppend(C->history, opt->step, its, f, jump, inner_total - opt->inner_seen));
+  /* J moved away from the explicit one (a flag swinging): build it anew for the next solve */
+  if (opt->explicit_jacobian && opt->rebuild_inner > 0 && inner_total - opt->inner_seen > opt->rebuild_inner) PetscCall(ExplicitJacobianRequestRebuild(opt->explicit_jacobian));
   C->stats.inner_iterations += inner_total - opt->inner_seen;
   opt->inner_seen     = inner_total;
   opt->last_jump      = jump;
@@ -219,6 +222,7 @@ PetscErrorCode CouplingCreate_Opt(Coupling C)
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Optimization-based coupling", "coupling");
   opt->rebuild_every = 0;
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian", "Precondition the inner CG with the LU of an explicitly built J, rebuilt every K steps (0: no preconditioner, the seed's plain CGLS)", 0, 1000000, &opt->rebuild_every));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian_rebuild_its", "also rebuild that J after a Gauss-Newton iteration whose CG needed more than N iterations (0: only every K steps)", 0, 1000000, &opt->rebuild_inner));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_stall_its", "stop a step as stalled when the objective has not improved by 1% over this many iterations", 1, 1000, &opt->stall_its));
   PetscCall(PetscOptionsBool("-coupling_test_adjoint", "At the first step, check <J h, r> = <h, J^T r> for random h, r", NULL, opt->test_adjoint, &opt->test_adjoint, NULL));
   PetscCall(PetscOptionsBool("-coupling_test_taylor", "At the first step, print the Taylor remainders ||F(x+th) - F(x) - t J h|| for halving t", NULL, opt->test_taylor, &opt->test_taylor, NULL));
