@@ -8,9 +8,8 @@
    retried with half the dt; "failed": past -dt_min, the run stops). */
 typedef struct _p_History *History;
 
-PetscErrorCode HistoryOpen(MPI_Comm, const char dir[], PetscReal dt, History *);
-PetscErrorCode HistoryAppend(History, PetscInt step, PetscInt iteration, PetscReal objective, PetscReal jump, PetscInt inner_iterations);
-PetscErrorCode HistorySetTimeStep(History, PetscReal dt);
-PetscErrorCode HistoryAppendEvent(History, PetscInt step, const char event[]);
+PetscErrorCode HistoryOpen(MPI_Comm, const char dir[], History *);
+PetscErrorCode HistoryAppend(History, PetscInt step, PetscReal dt, PetscInt iteration, PetscReal objective, PetscReal jump, PetscInt inner_iterations);
+PetscErrorCode HistoryAppendEvent(History, PetscInt step, PetscReal dt, const char event[]);
 PetscErrorCode HistoryClose(History *, PetscBool complete);
 #endif

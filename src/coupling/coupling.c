@@ -33,7 +33,7 @@ PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, cons
   PetscCall(CouplingProblemCreateControl(problem, &C->x));
   PetscCall(CouplingProblemInitialControl(problem, t0, C->x));
   PetscCall(ExtrapolationCreate(C->x, degree, points, &C->start));
-  PetscCall(HistoryOpen(PETSC_COMM_WORLD, output_dir, dt, &C->history));
+  PetscCall(HistoryOpen(PETSC_COMM_WORLD, output_dir, &C->history));
   if (opt) PetscCall(CouplingCreate_Opt(C));
   else PetscCall(CouplingCreate_Partitioned(C));
   *coupling = C;
@@ -133,7 +133,6 @@ PetscErrorCode CouplingSetTimeStep(Coupling C, PetscReal dt)
   C->dt = dt;
   PetscCall(CouplingProblemSetTimeStep(C->problem, dt));
   C->start.npast = 0;
-  PetscCall(HistorySetTimeStep(C->history, dt));
   if (C->ops.resynchronize) PetscCall((*C->ops.resynchronize)(C));
   PetscFunctionReturn(0);
 }
@@ -141,7 +140,7 @@ PetscErrorCode CouplingSetTimeStep(Coupling C, PetscReal dt)
 PetscErrorCode CouplingLogRetry(Coupling C, PetscInt step, const char event[])
 {
   PetscFunctionBeginUser;
-  PetscCall(HistoryAppendEvent(C->history, step, event));
+  PetscCall(HistoryAppendEvent(C->history, step, C->dt, event));
   PetscFunctionReturn(0);
 }
 

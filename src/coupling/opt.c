@@ -101,7 +101,7 @@ static PetscErrorCode ConvergenceTest(Tao tao, void *ctx)
     PetscFunctionReturn(0);
   }
   PetscCall(TaoGetLinearSolveIterations(tao, &inner_total));
-  PetscCall(HistoryAppend(C->history, opt->step, its, f, jump, inner_total - opt->inner_seen));
+  PetscCall(HistoryAppend(C->history, opt->step, C->dt, its, f, jump, inner_total - opt->inner_seen));
   /* J moved away from the explicit one (a flag swinging): build it anew for the next solve */
   if (opt->explicit_jacobian && opt->rebuild_inner > 0 && inner_total - opt->inner_seen > opt->rebuild_inner) PetscCall(ExplicitJacobianRequestRebuild(opt->explicit_jacobian));
   C->stats.inner_iterations += inner_total - opt->inner_seen;

@@ -146,7 +146,7 @@ static PetscErrorCode PartitionedStep(Coupling C, PetscInt step)
     PetscCall(VecNorm(pt->r, NORM_2, &rnorm));
     PetscCall(VecNorm(pt->sweep, NORM_2, &xnorm));
     /* history: the objective column holds 1/2 ||r||^2, the jump column ||r|| (traction or velocity) */
-    PetscCall(HistoryAppend(C->history, step, k, 0.5 * rnorm * rnorm, rnorm, 0));
+    PetscCall(HistoryAppend(C->history, step, C->dt, k, 0.5 * rnorm * rnorm, rnorm, 0));
     if (k == 0) first = rnorm;
     if (rnorm <= PetscMax(pt->rtol * xnorm, pt->atol)) break;
     if (PetscIsInfOrNanReal(rnorm) || (k > (pt->kind == PARTITIONED_IQNILS ? 4 : 0) && rnorm > 1e3 * first)) PetscCall(StepFailureSet(&C->failure, "coupling %s diverged at step %" PetscInt_FMT ", iteration %" PetscInt_FMT ": residual %.3e, 1000 times its first value %.3e (relaxation -coupling_omega %g)", C->method, step, k, (double)rnorm, (double)first, (double)omega));

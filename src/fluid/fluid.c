@@ -241,9 +241,8 @@ PetscErrorCode FluidSetTimeStep(Fluid f, PetscReal dt)
 {
   PetscFunctionBeginUser;
   if (dt == f->dt) PetscFunctionReturn(0);
-  f->dt              = dt;
-  f->spacing_changed = PETSC_TRUE;
-  f->steps_at_dt     = 0;
+  f->dt          = dt;
+  f->steps_at_dt = 0;
   f->dirichlet_step  = -1;
   PetscCall(FluidSetPressureStabilization(f));
   PetscCall(FluidJacobianIsStale(f));
@@ -277,7 +276,6 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &ncells, 1, MPIU_INT, MPI_SUM, f->comm));
     f->cell_size = PetscPowReal(volume / ncells, 1.0 / dim);
   }
-  f->spacing_changed = PETSC_TRUE;
   PetscCall(FluidSetPressureStabilization(f));
   PetscCall(FluidSetUpWeakForm(f));
   PetscCall(FluidSetConstants(f, 0.0, 1.0, 1.0));
@@ -323,6 +321,8 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
 
 PetscErrorCode FluidBeginStep(Fluid f, PetscInt step)
 {
+  const PetscBool first_at_dt = f->steps_at_dt == 0; /* no u^{n-2} one step of this dt back */
+
   PetscFunctionBeginUser;
   StepFailureClear(&f->failure);
   /* Old-domain mass term, evaluated before the time and the mesh move on. */
@@ -332,12 +332,14 @@ PetscErrorCode FluidBeginStep(Fluid f, PetscInt step)
   else {
     PetscReal mass = f->rho / f->dt;
     if (f->time_order == 2) {
-      if (f->steps_at_dt > 0) {
+      if (!first_at_dt) {
         /* rho/dt (3/2 u^n - 2 u^{n-1} + 1/2 u^{n-2}) = 3/2 rho/dt (u^n - h), h = 4/3 u^{n-1} - 1/3 u^{n-2}:
-           the history and the body force see h where backward Euler has u^{n-1} */
-        PetscCall(VecCopy(f->xlocal_old, f->xlocal_work));
-        PetscCall(VecAXPBY(f->xlocal_old, -1.0 / 3.0, 4.0 / 3.0, f->xlocal_previous));
-        PetscCall(VecCopy(f->xlocal_work, f->xlocal_previous));
+           the history and the body force see h where backward Euler has u^{n-1}; the two
+           vectors swap, so that xlocal_previous keeps u^{n-1} */
+        Vec h = f->xlocal_previous;
+        PetscCall(VecAXPBY(h, 4.0 / 3.0, -1.0 / 3.0, f->xlocal_old));
+        f->xlocal_previous = f->xlocal_old;
+        f->xlocal_old      = h;
         mass *= 1.5;
       } else PetscCall(VecCopy(f->xlocal_old, f->xlocal_previous));
     }
@@ -349,12 +351,11 @@ PetscErrorCode FluidBeginStep(Fluid f, PetscInt step)
   f->steps_at_dt++;
   if (f->extrapolate && f->model == FLUID_NAVIER_STOKES) {
     /* the nonlinear solve starts from 2 u^{n-1} - u^{n-2}: one chord iteration fewer */
-    if (f->spacing_changed) PetscCall(VecCopy(f->x, f->x_before)); /* no u^{n-2} at this dt */
+    if (first_at_dt) PetscCall(VecCopy(f->x, f->x_before));
     PetscCall(VecAXPBY(f->x_before, 1.0, -1.0, f->x)); /* u^{n-1} - u^{n-2} */
     PetscCall(VecAXPY(f->x, 1.0, f->x_before));
     PetscCall(VecAYPX(f->x_before, -1.0, f->x)); /* u^{n-1} again */
   }
-  f->spacing_changed = PETSC_FALSE;
   f->time += f->dt;
   f->step = step;
   if (f->moving && f->data.mesh_displacement) {
@@ -487,7 +488,8 @@ PetscErrorCode FluidCheckpoint(Fluid f, Checkpoint cp, PetscBool load)
     } else PetscCall(CheckpointLocalVec(cp, "previous_state", f->dm, f->xlocal_previous, load));
   }
   PetscCall(CheckpointPopGroup(cp));
-  if (load) f->spacing_changed = PETSC_FALSE; /* state_before is u^{n-2} */
+  /* state_before is u^{n-2} (backward Euler keeps no count) */
+  if (load && f->time_order == 1) f->steps_at_dt = 1;
   /* chord factors from before it are not in the checkpoint */
   if (f->chord && CheckpointResynchronizes(cp, load)) PetscCall(SNESSetLagJacobian(f->snes, -2));
   PetscFunctionReturn(0);

@@ -20,9 +20,8 @@ struct _p_Fluid {
   Vec            rhs, x_start;
   Vec            x_before;    /* u^{n-2} while a step starts, for the extrapolated first guess */
   PetscBool      extrapolate;
-  PetscBool      spacing_changed; /* u^{n-2} is not one step of this dt back: no extrapolation */
   PetscInt       time_order;      /* 1: backward Euler, 2: BDF2 (fixed meshes) */
-  PetscInt       steps_at_dt;     /* steps taken since dt last changed: BDF2 needs one */
+  PetscInt       steps_at_dt;     /* steps taken since dt last changed: BDF2 and the extrapolated start need one */
   PetscReal      mass_coefficient; /* of (u^n, v) in this step: rho/dt, or 3/2 rho/dt (BDF2) */
   PetscInt       lag_after_rebuild; /* the user's Jacobian lag, resumed after a forced rebuild */
   Vec            xlocal_previous;  /* BDF2: u^{n-1} with its boundary values, u^{n-2} while a step starts */

@@ -2,40 +2,31 @@
 
 struct _p_History {
   PartialFile file;
-  PetscReal   dt;
 };
 
-PetscErrorCode HistoryOpen(MPI_Comm comm, const char dir[], PetscReal dt, History *history)
+PetscErrorCode HistoryOpen(MPI_Comm comm, const char dir[], History *history)
 {
   History h;
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&h));
-  h->dt = dt;
   PetscCall(PartialFileOpen(comm, dir, "history.csv", &h->file));
   PetscCall(PetscFPrintf(comm, h->file.fp, "step,iteration,objective,jump,inner_iterations,dt,event\n"));
   *history = h;
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode HistoryAppend(History h, PetscInt step, PetscInt iteration, PetscReal objective, PetscReal jump, PetscInt inner)
+PetscErrorCode HistoryAppend(History h, PetscInt step, PetscReal dt, PetscInt iteration, PetscReal objective, PetscReal jump, PetscInt inner)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscFPrintf(h->file.comm, h->file.fp, "%" PetscInt_FMT ",%" PetscInt_FMT ",%.10e,%.10e,%" PetscInt_FMT ",%.10e,\n", step, iteration, (double)objective, (double)jump, inner, (double)h->dt));
+  PetscCall(PetscFPrintf(h->file.comm, h->file.fp, "%" PetscInt_FMT ",%" PetscInt_FMT ",%.10e,%.10e,%" PetscInt_FMT ",%.10e,\n", step, iteration, (double)objective, (double)jump, inner, (double)dt));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode HistorySetTimeStep(History h, PetscReal dt)
+PetscErrorCode HistoryAppendEvent(History h, PetscInt step, PetscReal dt, const char event[])
 {
   PetscFunctionBeginUser;
-  h->dt = dt;
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode HistoryAppendEvent(History h, PetscInt step, const char event[])
-{
-  PetscFunctionBeginUser;
-  PetscCall(PetscFPrintf(h->file.comm, h->file.fp, "%" PetscInt_FMT ",-1,nan,nan,0,%.10e,%s\n", step, (double)h->dt, event));
+  PetscCall(PetscFPrintf(h->file.comm, h->file.fp, "%" PetscInt_FMT ",-1,nan,nan,0,%.10e,%s\n", step, (double)dt, event));
   PetscFunctionReturn(0);
 }
 
