@@ -29,6 +29,8 @@ PetscErrorCode CheckpointPopGroup(Checkpoint);
 /* Saves (load = PETSC_FALSE) or loads a vector, without renaming the caller's vector. */
 PetscErrorCode CheckpointVec(Checkpoint, const char name[], Vec, PetscBool load);
 PetscErrorCode CheckpointInt(Checkpoint, const char name[], PetscInt *, PetscBool load);
+/* in the current group; for state a set-up may add to an older checkpoint's */
+PetscErrorCode CheckpointHasAttribute(Checkpoint, const char name[], PetscBool *has);
 PetscErrorCode CheckpointReal(Checkpoint, const char name[], PetscReal *, PetscBool load);
 /* A local vector in a DM's local layout (in a file through its global vector: the owners'
    values). */

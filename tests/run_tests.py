@@ -321,22 +321,34 @@ def _():
 
 
 # ---- moving meshes (issue 4) ----
-@test("geometric conservation: uniform flow on a moving mesh, 2D and 3D")
+@test("geometric conservation: uniform flow on a moving mesh, 2D and 3D, backward Euler and BDF2")
 def _():
     details = []
     for name, box in (("quadrilaterals", []), ("hexahedra", ["-fluid_dm_plex_dim", "3", "-fluid_dm_plex_box_faces", "4,4,2"])):
-        s = solve(["-scene", "gcl", "-dt", "0.01", "-t_final", "0.1"] + box)
-        e = s["errors"]
-        assert e["u_L2"] <= 1e-12 and e["p_L2"] <= 1e-12, "%s: errors %s" % (name, e)
-        details.append("%s u_L2 %.1e, p_L2 %.1e" % (name, e["u_L2"], e["p_L2"]))
+        for order in ("1", "2"):
+            s = solve(["-scene", "gcl", "-dt", "0.01", "-t_final", "0.1", "-fluid_time_order", order] + box)
+            e = s["errors"]
+            assert e["u_L2"] <= 1e-12 and e["p_L2"] <= 1e-12, "%s, order %s: errors %s" % (name, order, e)
+            details.append("%s order %s u_L2 %.1e, p_L2 %.1e" % (name, order, e["u_L2"], e["p_L2"]))
     return ", ".join(details) + " after 10 steps"
 
 
-@test("ALE fluid on a moving mesh: temporal rate")
+@test("ALE fluid on a moving mesh: temporal rates (backward Euler, BDF2); BDF2 restarts exactly")
 def _():
     errs = [solve(["-scene", "mms-fluid", "-t_start", "0.5", "-t_final", "1", "-dt", str(dt), "-refine", "1",
                    "-mms_mesh_motion", "0.1"])["errors"] for dt in (0.05, 0.025, 0.0125)]
-    return check_rates(errs, {"u_L2": 0.9, "p_L2": 0.9})
+    detail = "backward Euler " + check_rates(errs, {"u_L2": 0.9, "p_L2": 0.9})
+    # to t = 0.8: at t = 1 the BDF2 error of this motion passes near a zero, its ratios scatter
+    base = ["-scene", "mms-fluid", "-t_start", "0.5", "-t_final", "0.8", "-refine", "2", "-mms_mesh_motion", "0.1",
+            "-fluid_time_order", "2"]
+    errs = [solve(base + ["-dt", str(dt)])["errors"] for dt in (0.05, 0.025, 0.0125)]
+    detail += "; BDF2 " + check_rates(errs, {"u_L2": 1.7, "p_L2": 1.8})
+    full = solve(base + ["-dt", "0.025"], out=os.path.join(WORK, "ale-bdf2-full"))
+    part = solve(base + ["-dt", "0.025", "-t_final", "0.65", "-checkpoint_every", "6"], out=os.path.join(WORK, "ale-bdf2-part"))
+    again = solve(base + ["-dt", "0.025", "-restart", os.path.join(WORK, "ale-bdf2-part", "checkpoint.h5")])
+    assert part["steps_done"] == 6 and again["first_step"] == 7 and again["errors"] == full["errors"], \
+        "restarted at step %d: %s, uninterrupted %s" % (again["first_step"], again["errors"], full["errors"])
+    return detail + "; restarted at step 7: same errors"
 
 
 CHANNEL = ["-options_file", "options/channel2d.yaml"]
@@ -490,8 +502,10 @@ def _():
     space = [force_errors(FLUID_SPACE[2:] + ["-refine", str(r)]) for r in range(1, 4)]
     time_args = ["-t_start", "0.5", "-t_final", "0.6", "-refine", "2", "-mms_mesh_motion", "0.1"]
     moving = [force_errors(time_args + ["-dt", dt]) for dt in ("0.02", "0.01", "0.005")]
+    # BDF2's lift error is at the spatial floor already at dt = 0.02
+    bdf2 = [force_errors(time_args + ["-dt", dt, "-fluid_time_order", "2"]) for dt in ("0.02", "0.01", "0.005")]
     return "space " + check_rates(space, {"drag": 2.5, "lift": 2.5}) + "; dt on a moving mesh " + \
-        check_rates(moving, {"drag": 0.7, "lift": 0.9})
+        check_rates(moving, {"drag": 0.7, "lift": 0.9}) + "; with BDF2 " + check_rates(bdf2, {"drag": 1.8})
 
 
 TUREK = ["-options_file", "options/turek-hron.yaml"]
@@ -805,7 +819,6 @@ def bad_input_cases():
         ("restart of another mesh", CHANNEL + ["-t_final", "0.002", "-refine", "1", "-restart", checkpoint], "-restart"),
         ("restart with a partitioned method", CHANNEL + ["-t_final", "0.002", "-coupling", "iqnils", "-restart", checkpoint], "-coupling opt"),
         ("restart past the end", CHANNEL + ["-t_final", "0.0001", "-restart", checkpoint], "-restart"),
-        ("BDF2 on a moving mesh", ["-scene", "gcl", "-fluid_time_order", "2"], "-fluid_time_order"),
         ("BDF2 with a backward-Euler forcing", F + ["-mms_discrete_time", "-fluid_time_order", "2"], "-mms_discrete_time"),
         ("third-order fluid time scheme", F + ["-fluid_time_order", "3"], "-fluid_time_order"),
         ("zero -dt_min", F + ["-dt_min", "0"], "-dt_min"),

@@ -46,7 +46,7 @@ PetscErrorCode FluidSetFromOptions(Fluid f)
   f->n_backflow_faces = FSIOPT_MAX_BOUNDARIES;
   PetscCall(PetscOptionsIntArray("-fluid_backflow_faces", "Face sets that get the backflow stabilization (default: every traction face)", NULL, f->backflow_faces, &f->n_backflow_faces, &f->backflow_faces_given));
   PetscCall(PetscOptionsBool("-fluid_steady", "Drop the time derivative: every step solves the steady equations with the data of its time (a continuation in the data)", NULL, f->steady, &f->steady, NULL));
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-fluid_time_order", "1: backward Euler, 2: BDF2 (its first step, and the first after a change of dt, backward Euler; fixed meshes only)", 1, 2, &f->time_order));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-fluid_time_order", "1: backward Euler, 2: BDF2 (its first step, and the first after a change of dt, backward Euler; on a moving mesh in the GCL-exact form of fluid_ale.c)", 1, 2, &f->time_order));
   PetscCall(PetscOptionsBool("-fluid_extrapolate", "start each step's nonlinear solve from 2 u^{n-1} - u^{n-2} instead of u^{n-1}", NULL, f->extrapolate, &f->extrapolate, NULL));
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-fluid_rhs_rtol", "nonlinear solves also stop when ||F|| <= rhs_rtol ||rhs||, a relative accuracy of the state that does not depend on how good the initial guess was", &f->rhs_rtol));
   PetscCall(PetscOptionsBool("-fluid_initial_projection", "Start from the Stokes projection of the scene's exact solution (discretely divergence free) instead of its interpolant", NULL, f->initial_projection, &f->initial_projection, NULL));
@@ -294,9 +294,15 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
   PetscCall(DMCreateLocalVector(f->dm, &f->xlocal_old));
   PetscCall(DMCreateLocalVector(f->dm, &f->xlocal_work));
   PetscCheck(!(f->steady && f->moving), f->comm, PETSC_ERR_ARG_INCOMP, "option -fluid_steady: a moving mesh needs the time derivative; expected a fixed fluid domain");
-  PetscCheck(f->time_order == 1 || !(f->moving || f->steady), f->comm, PETSC_ERR_ARG_INCOMP, "option -fluid_time_order 2: BDF2 is implemented on fixed meshes with a time derivative; expected 1 for a %s", f->moving ? "moving fluid domain" : "steady fluid (-fluid_steady)");
+  PetscCheck(f->time_order == 1 || !f->steady, f->comm, PETSC_ERR_ARG_INCOMP, "option -fluid_time_order 2: a steady fluid (-fluid_steady) has no time derivative; expected 1");
   if (f->time_order == 2) PetscCall(DMCreateLocalVector(f->dm, &f->xlocal_previous));
   if (f->moving) PetscCall(FluidALESetUp(f));
+  if (f->moving && data->mesh_displacement) {
+    /* the domain of t0, on which the initial state lives (else the first step's mesh
+       velocity carries the whole of d(t0)) */
+    PetscCall(FluidPrescribedDisplacement(f, data->mesh_displacement, t0, f->displacement_old));
+    PetscCall(FluidSetMeshDisplacement(f, f->displacement_old));
+  }
   PetscCall(FluidForcesSetUp(f));
   if (data->exact[0] && data->exact[1]) {
     FieldFn exact[2] = {data->exact[0], data->exact[1]};
@@ -327,12 +333,16 @@ PetscErrorCode FluidBeginStep(Fluid f, PetscInt step)
   StepFailureClear(&f->failure);
   /* Old-domain mass term, evaluated before the time and the mesh move on. */
   PetscCall(FEMGlobalToLocal(f->dm, f->x, f->xlocal_old));
-  if (f->moving) PetscCall(FluidALEBeginStep(f));
-  else if (f->steady) PetscCall(VecZeroEntries(f->history));
+  if (f->steady) PetscCall(VecZeroEntries(f->history));
   else {
-    PetscReal mass = f->rho / f->dt;
-    if (f->time_order == 2) {
-      if (!first_at_dt) {
+    const PetscBool bdf2 = f->time_order == 2 && !first_at_dt;
+    const PetscReal mass = f->rho / f->dt * (bdf2 ? 1.5 : 1.0);
+
+    if (mass != f->mass_coefficient && f->mass_coefficient > 0) PetscCall(FluidJacobianIsStale(f));
+    f->mass_coefficient = mass;
+    if (f->moving) PetscCall(FluidALEBeginStep(f, bdf2));
+    else {
+      if (bdf2) {
         /* rho/dt (3/2 u^n - 2 u^{n-1} + 1/2 u^{n-2}) = 3/2 rho/dt (u^n - h), h = 4/3 u^{n-1} - 1/3 u^{n-2}:
            the history and the body force see h where backward Euler has u^{n-1}; the two
            vectors swap, so that xlocal_previous keeps u^{n-1} */
@@ -340,13 +350,10 @@ PetscErrorCode FluidBeginStep(Fluid f, PetscInt step)
         PetscCall(VecAXPBY(h, 4.0 / 3.0, -1.0 / 3.0, f->xlocal_old));
         f->xlocal_previous = f->xlocal_old;
         f->xlocal_old      = h;
-        mass *= 1.5;
-      } else PetscCall(VecCopy(f->xlocal_old, f->xlocal_previous));
+      } else if (f->time_order == 2) PetscCall(VecCopy(f->xlocal_old, f->xlocal_previous));
+      PetscCall(FluidSetConstants(f, mass, 0.0, 0.0));
+      PetscCall(FEMResidual(f->dm, f->xlocal_old, f->history));
     }
-    if (mass != f->mass_coefficient && f->mass_coefficient > 0) PetscCall(FluidJacobianIsStale(f));
-    f->mass_coefficient = mass;
-    PetscCall(FluidSetConstants(f, mass, 0.0, 0.0));
-    PetscCall(FEMResidual(f->dm, f->xlocal_old, f->history));
   }
   f->steps_at_dt++;
   if (f->extrapolate && f->model == FLUID_NAVIER_STOKES) {
@@ -365,7 +372,7 @@ PetscErrorCode FluidBeginStep(Fluid f, PetscInt step)
     PetscCall(FluidSetMeshDisplacement(f, d));
     PetscCall(VecDestroy(&d));
   }
-  /* on a moving mesh the mass acts through M(Omega^{n-1}) (fluid_ale.c) */
+  /* on a moving mesh the mass acts through the old domains' matrices (fluid_ale.c) */
   PetscCall(FluidSetConstants(f, f->moving || f->steady ? 0.0 : f->mass_coefficient, 1.0, 1.0));
   PetscFunctionReturn(0);
 }
@@ -457,22 +464,34 @@ PetscErrorCode FluidLinearSolve(Fluid f, Vec rhs, Vec x, PetscBool transpose)
 
 PetscErrorCode FluidCheckpoint(Fluid f, Checkpoint cp, PetscBool load)
 {
+  PetscBool bdf2_state = f->time_order == 2;
+
   PetscFunctionBeginUser;
   PetscCall(CheckpointPushGroup(cp, "/fluid"));
   PetscCall(CheckpointReal(cp, "time", &f->time, load));
   PetscCall(CheckpointInt(cp, "step", &f->step, load));
+  if (load && f->time_order == 2) {
+    /* a backward-Euler run's checkpoint: BDF2 goes on from it as after a change of dt */
+    PetscCall(CheckpointHasAttribute(cp, "steps_at_dt", &bdf2_state));
+    if (!bdf2_state) {
+      f->steps_at_dt = 0;
+      PetscCall(PetscPrintf(f->comm, "fsiopt: the checkpoint was written by backward Euler (-fluid_time_order 1): BDF2 starts with one backward-Euler step\n"));
+    }
+  }
   PetscCall(CheckpointVec(cp, "state", f->x, load));
   PetscCall(CheckpointVec(cp, "state_before", f->x_before, load));
   if (f->moving) {
     DM cdm;
     PetscCall(DMGetCoordinateDM(f->dm, &cdm));
     PetscCall(CheckpointLocalVec(cp, "mesh_displacement", cdm, f->displacement, load));
+    /* BDF2's older domain; the mesh velocity of the step is not needed: the next step sets its own */
+    if (bdf2_state) PetscCall(CheckpointLocalVec(cp, "mesh_displacement_before", cdm, f->displacement_old, load));
     if (load) {
-      PetscCall(VecCopy(f->displacement, f->displacement_old));
+      if (!bdf2_state) PetscCall(VecCopy(f->displacement, f->displacement_old));
       PetscCall(FluidSetMeshDisplacement(f, f->displacement));
     }
   }
-  if (f->time_order == 2) {
+  if (bdf2_state) {
     PetscCall(CheckpointInt(cp, "steps_at_dt", &f->steps_at_dt, load));
     if (CheckpointIsFile(cp)) {
       /* a file keeps the free values; the boundary values are those of t - dt */

@@ -7,7 +7,13 @@
      rho/dt M(Omega^{n-1}) (u^n - u^{n-1}) + rho (((u^n - z) . grad) u^n, v)_{Omega^n} + ...
    and satisfies the discrete geometric conservation law: a uniform flow stays uniform on
    any mesh motion. M(Omega^{n-1}) is a matrix assembled once per step on a copy of the
-   DM kept on the previous domain. */
+   DM kept on the previous domain.
+   BDF2 (-fluid_time_order 2) applies the same idea to d/dt (M u) - (dM/dt) u with both
+   derivatives by the BDF2 formula:
+     rho/(2 dt) [3 M^n u^n - 4 M^{n-1} u^{n-1} + M^{n-2} u^{n-2} - (3 M^n - 4 M^{n-1} + M^{n-2}) u^n]
+       = rho/dt [(2 M^{n-1} - 1/2 M^{n-2}) u^n - 2 M^{n-1} u^{n-1} + 1/2 M^{n-2} u^{n-2}],
+   again without M(Omega^n) and exact for a uniform flow, with z = (3 d^n - 4 d^{n-1} +
+   d^{n-2})/(2 dt). */
 #include "fluid_impl.h"
 #include "fem.h"
 
@@ -40,11 +46,11 @@ static PetscErrorCode CopyVertexValues(DM dm, Vec from, PetscBool from_coordinat
   PetscFunctionReturn(0);
 }
 
-/* rho/dt M(Omega^{n-1}) on every dof, once per step (FluidALEBeginStep). Assembled here rather than through
+/* coefficient M on dm_all's present coordinates, every dof, once per step (FluidALEBeginStep). Assembled here rather than through
    DMPlexSNESComputeJacobianFEM, whose generic element loop (every component pair of the
    vector basis, with the g1..g3 slots) costs as much as the full Navier-Stokes Jacobian:
    the mass needs only sum_q w_q |J_q| phi_i . phi_j on the velocity block. */
-static PetscErrorCode AssembleOldMass(Fluid f)
+static PetscErrorCode AssembleMass(Fluid f, Mat target, PetscReal coefficient)
 {
   PetscDS          ds;
   PetscFE          fe;
@@ -54,7 +60,6 @@ static PetscErrorCode AssembleOldMass(Fluid f)
   PetscReal       *v, *J, *invJ, *detJ;
   PetscScalar     *element;
   PetscInt         dim, Nq, Nb, Nc, totDim, cStart, cEnd;
-  const PetscReal  coefficient = f->rho / f->dt;
 
   PetscFunctionBeginUser;
   PetscCall(DMGetDimension(f->dm_all, &dim));
@@ -68,7 +73,7 @@ static PetscErrorCode AssembleOldMass(Fluid f)
   PetscCall(PetscFEGetCellTabulation(fe, 0, &T));
   PetscCall(PetscMalloc5(Nq * dim, &v, Nq * dim * dim, &J, Nq * dim * dim, &invJ, Nq, &detJ, totDim * totDim, &element));
   PetscCall(DMPlexGetHeightStratum(f->dm_all, 0, &cStart, &cEnd));
-  PetscCall(MatZeroEntries(f->mass_old_all));
+  PetscCall(MatZeroEntries(target));
   for (PetscInt cell = cStart; cell < cEnd; ++cell) {
     PetscCall(DMPlexComputeCellGeometryFEM(f->dm_all, cell, quad, v, J, invJ, detJ));
     PetscCall(PetscArrayzero(element, totDim * totDim));
@@ -82,24 +87,31 @@ static PetscErrorCode AssembleOldMass(Fluid f)
           element[i * totDim + j] += wq * dot;
         }
     }
-    PetscCall(DMPlexMatSetClosure(f->dm_all, NULL, NULL, f->mass_old_all, cell, element, ADD_VALUES));
+    PetscCall(DMPlexMatSetClosure(f->dm_all, NULL, NULL, target, cell, element, ADD_VALUES));
   }
-  PetscCall(MatAssemblyBegin(f->mass_old_all, MAT_FINAL_ASSEMBLY));
-  PetscCall(MatAssemblyEnd(f->mass_old_all, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyBegin(target, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(target, MAT_FINAL_ASSEMBLY));
   PetscCall(PetscFree5(v, J, invJ, detJ, element));
-  PetscCall(MatCreateSubMatrix(f->mass_old_all, f->free_in_all, f->free_in_all, MAT_REUSE_MATRIX, &f->mass_old));
   PetscFunctionReturn(0);
 }
 
-/* out = M(Omega^{n-1}) u on the free rows, u a local state with its boundary values */
+/* out = the free rows of a global vector of dm_all */
+static PetscErrorCode FreeRows(Fluid f, Vec all, Vec out)
+{
+  PetscFunctionBeginUser;
+  PetscCall(DMGlobalToLocal(f->dm_all, all, INSERT_VALUES, f->all_local));
+  PetscCall(VecZeroEntries(out));
+  PetscCall(DMLocalToGlobal(f->dm, f->all_local, INSERT_VALUES, out));
+  PetscFunctionReturn(0);
+}
+
+/* out = the step's old-domain mass times u on the free rows, u a local state with its boundary values */
 static PetscErrorCode OldMassMult(Fluid f, Vec xlocal, Vec out)
 {
   PetscFunctionBeginUser;
   PetscCall(DMLocalToGlobal(f->dm_all, xlocal, INSERT_VALUES, f->all_x));
   PetscCall(MatMult(f->mass_old_all, f->all_x, f->all_y));
-  PetscCall(DMGlobalToLocal(f->dm_all, f->all_y, INSERT_VALUES, f->all_local));
-  PetscCall(VecZeroEntries(out));
-  PetscCall(DMLocalToGlobal(f->dm, f->all_local, INSERT_VALUES, out));
+  PetscCall(FreeRows(f, f->all_y, out));
   PetscFunctionReturn(0);
 }
 
@@ -161,9 +173,15 @@ PetscErrorCode FluidALESetUp(Fluid f)
   PetscCall(DMCreateGlobalVector(f->dm_all, &f->all_x));
   PetscCall(VecDuplicate(f->all_x, &f->all_y));
   PetscCall(DMCreateLocalVector(f->dm_all, &f->all_local));
+  PetscCall(VecDuplicate(f->all_x, &f->history_all));
   PetscCall(DMCreateMatrix(f->dm_all, &f->mass_old_all));
   PetscCall(MatAssemblyBegin(f->mass_old_all, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(f->mass_old_all, MAT_FINAL_ASSEMBLY));
+  if (f->time_order == 2) {
+    PetscCall(MatDuplicate(f->mass_old_all, MAT_DO_NOT_COPY_VALUES, &f->mass_older_all));
+    PetscCall(VecDuplicate(coordinates, &f->displacement_previous));
+    PetscCall(VecZeroEntries(f->displacement_previous));
+  }
   PetscCall(FEMFreeDofs(f->dm, f->dm_all, &f->free_in_all));
   PetscCall(MatCreateSubMatrix(f->mass_old_all, f->free_in_all, f->free_in_all, MAT_INITIAL_MATRIX, &f->mass_old));
   PetscCall(DMCreateGlobalVector(f->dm, &f->work));
@@ -172,18 +190,43 @@ PetscErrorCode FluidALESetUp(Fluid f)
   PetscFunctionReturn(0);
 }
 
-/* Before the time and the mesh move on: M(Omega^{n-1}), the history term
-   M(Omega^{n-1}) u^{n-1} (xlocal_old), and d^{n-1}. */
-PetscErrorCode FluidALEBeginStep(Fluid f)
+/* Before the time and the mesh move on: the old-domain mass, the history term (rho/dt
+   M(Omega^{n-1}) u^{n-1}, or BDF2's 2 rho/dt M(Omega^{n-1}) u^{n-1} - 1/2 rho/dt
+   M(Omega^{n-2}) u^{n-2}), and the displacements the mesh velocity needs. The
+   displacements are kept, not the matrices: a checkpoint restores them. */
+PetscErrorCode FluidALEBeginStep(Fluid f, PetscBool bdf2)
 {
-  Vec coordinates;
+  Vec       coordinates;
+  PetscReal coefficient = f->rho / f->dt;
 
   PetscFunctionBeginUser;
+  f->ale_bdf2 = bdf2;
   PetscCall(DMGetCoordinatesLocal(f->dm, &coordinates));
+  if (bdf2) {
+    Vec older;
+    PetscCall(VecDuplicate(coordinates, &older));
+    PetscCall(VecWAXPY(older, 1.0, f->coordinates_reference, f->displacement_old));
+    PetscCall(DMSetCoordinatesLocal(f->dm_all, older));
+    PetscCall(VecDestroy(&older));
+    PetscCall(FEMInvalidateGeometry(f->dm_all));
+    PetscCall(AssembleMass(f, f->mass_older_all, 0.5 * coefficient));
+    coefficient *= 2.0;
+  }
   PetscCall(DMSetCoordinatesLocal(f->dm_all, coordinates));
   PetscCall(FEMInvalidateGeometry(f->dm_all));
-  PetscCall(AssembleOldMass(f));
-  PetscCall(OldMassMult(f, f->xlocal_old, f->history));
+  PetscCall(AssembleMass(f, f->mass_old_all, coefficient));
+  PetscCall(DMLocalToGlobal(f->dm_all, f->xlocal_old, INSERT_VALUES, f->all_x));
+  PetscCall(MatMult(f->mass_old_all, f->all_x, f->history_all));
+  if (bdf2) {
+    PetscCall(DMLocalToGlobal(f->dm_all, f->xlocal_previous, INSERT_VALUES, f->all_x));
+    PetscCall(MatMult(f->mass_older_all, f->all_x, f->all_y));
+    PetscCall(VecAXPY(f->history_all, -1.0, f->all_y));
+    PetscCall(MatAXPY(f->mass_old_all, -1.0, f->mass_older_all, SAME_NONZERO_PATTERN));
+    PetscCall(VecCopy(f->displacement_old, f->displacement_previous));
+  }
+  PetscCall(MatCreateSubMatrix(f->mass_old_all, f->free_in_all, f->free_in_all, MAT_REUSE_MATRIX, &f->mass_old));
+  PetscCall(FreeRows(f, f->history_all, f->history));
+  if (f->time_order == 2) PetscCall(VecCopy(f->xlocal_old, f->xlocal_previous));
   PetscCall(VecCopy(f->displacement, f->displacement_old));
   PetscCall(VecZeroEntries(f->z_local));
   PetscFunctionReturn(0);
@@ -307,6 +350,10 @@ PetscErrorCode FluidSetMeshDisplacement(Fluid f, Vec displacement)
   PetscCall(VecDestroy(&coordinates));
   PetscCall(VecDuplicate(displacement, &z_coordinate_layout));
   PetscCall(VecWAXPY(z_coordinate_layout, -1.0, f->displacement_old, displacement));
+  if (f->ale_bdf2) { /* 3/2 (d^n - d^{n-1}) - 1/2 (d^{n-1} - d^{n-2}) */
+    PetscCall(VecScale(z_coordinate_layout, 1.5));
+    PetscCall(VecAXPBYPCZ(z_coordinate_layout, -0.5, 0.5, 1.0, f->displacement_old, f->displacement_previous));
+  }
   PetscCall(CopyVertexValues(f->dm, z_coordinate_layout, PETSC_TRUE, f->dm_aux, f->z_local, 1.0 / f->dt));
   PetscCall(VecDestroy(&z_coordinate_layout));
   PetscFunctionReturn(0);
@@ -349,7 +396,10 @@ PetscErrorCode FluidALEDestroy(Fluid f)
   PetscCall(PetscFree(f->corners));
   PetscCall(VecDestroy(&f->displacement));
   PetscCall(VecDestroy(&f->displacement_old));
+  PetscCall(VecDestroy(&f->displacement_previous));
   PetscCall(MatDestroy(&f->mass_old));
+  PetscCall(MatDestroy(&f->mass_older_all));
+  PetscCall(VecDestroy(&f->history_all));
   PetscCall(ISDestroy(&f->free_in_all));
   PetscCall(MatDestroy(&f->mass_old_all));
   PetscCall(VecDestroy(&f->all_x));

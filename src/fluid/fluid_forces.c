@@ -182,12 +182,13 @@ static PetscErrorCode BandSum(Fluid f, Vec xlocal, PetscReal sum[3])
   PetscFunctionReturn(0);
 }
 
-/* On a moving mesh: every cell's volume residual plus rho/dt M(Omega^{n-1}) (u^n - u^{n-1}),
-   summed over the owned body rows. */
+/* On a moving mesh: every cell's volume residual plus the time derivative's part, the old
+   domains' mass times u^n minus the history (rho/dt M(Omega^{n-1}) (u^n - u^{n-1}) for
+   backward Euler; fluid_ale.c), summed over the owned body rows. */
 static PetscErrorCode MovingSum(Fluid f, PetscReal sum[3])
 {
   const PetscScalar *r;
-  Vec                coordinates, old;
+  Vec                coordinates;
   PetscInt           dim;
 
   PetscFunctionBeginUser;
@@ -197,12 +198,9 @@ static PetscErrorCode MovingSum(Fluid f, PetscReal sum[3])
   PetscCall(FEMInvalidateGeometry(f->dm_all));
   PetscCall(FEMResidual(f->dm_all, f->xlocal_work, f->all_y));
   if (f->step > 0) {
-    PetscCall(DMGetGlobalVector(f->dm_all, &old));
     PetscCall(DMLocalToGlobal(f->dm_all, f->xlocal_work, INSERT_VALUES, f->all_x));
-    PetscCall(DMLocalToGlobal(f->dm_all, f->xlocal_old, INSERT_VALUES, old));
-    PetscCall(VecAXPY(f->all_x, -1.0, old));
-    PetscCall(DMRestoreGlobalVector(f->dm_all, &old));
     PetscCall(MatMultAdd(f->mass_old_all, f->all_x, f->all_y, f->all_y));
+    PetscCall(VecAXPY(f->all_y, -1.0, f->history_all));
   }
   PetscCall(VecGetArrayRead(f->all_y, &r));
   for (PetscInt i = 0; i < f->n_force_rows; ++i)

@@ -16,11 +16,11 @@ struct _p_Fluid {
   PetscInt       step;
   Vec            x;          /* (u, p) at `time` */
   Vec            xlocal_old; /* previous state with its boundary values */
-  Vec            history;    /* rho/dt M(Omega^{n-1}) u^{n-1} */
+  Vec            history;    /* rho/dt M(Omega^{n-1}) u^{n-1} (BDF2 on a moving mesh: fluid_ale.c) */
   Vec            rhs, x_start;
   Vec            x_before;    /* u^{n-2} while a step starts, for the extrapolated first guess */
   PetscBool      extrapolate;
-  PetscInt       time_order;      /* 1: backward Euler, 2: BDF2 (fixed meshes) */
+  PetscInt       time_order;      /* 1: backward Euler, 2: BDF2 */
   PetscInt       steps_at_dt;     /* steps taken since dt last changed: BDF2 and the extrapolated start need one */
   PetscReal      mass_coefficient; /* of (u^n, v) in this step: rho/dt, or 3/2 rho/dt (BDF2) */
   PetscInt       lag_after_rebuild; /* the user's Jacobian lag, resumed after a forced rebuild */
@@ -41,9 +41,13 @@ struct _p_Fluid {
   DM             dm_aux;                                   /* the mesh velocity z, Q1 */
   Vec            z_local;
   Vec            coordinates_reference, displacement, displacement_old; /* coordinate layout */
+  Vec            displacement_previous;                    /* BDF2: d^{n-2} */
+  PetscBool      ale_bdf2;                                 /* this step is BDF2 (not its first at dt) */
   PetscInt      *corners, ncorners; /* per cell corner: cell, its vertex's and its dim edge neighbours' coordinate offsets */
   DM             dm_all;                                   /* the same fields and volume terms without constraints (fluid_forces.c) */
-  Mat            mass_old, mass_old_all;                   /* rho/dt M(Omega^{n-1}): free rows, all rows */
+  Mat            mass_old, mass_old_all;                   /* rho/dt M(Omega^{n-1}), BDF2 rho/dt (2 M(Omega^{n-1}) - 1/2 M(Omega^{n-2})): free rows, all rows */
+  Mat            mass_older_all;                           /* BDF2: 1/2 rho/dt M(Omega^{n-2}) */
+  Vec            history_all;                              /* the history on all rows of dm_all (global) */
   IS             free_in_all;
   Vec            all_x, all_y, all_local, xlocal_work, work;
   /* the force on a body (fluid_forces.c) */
@@ -80,6 +84,6 @@ PetscErrorCode FluidDirichletDestroy(Fluid);
 /* fluid_ale.c */
 PetscErrorCode FluidPrescribedDisplacement(Fluid, FieldFn motion, PetscReal t, Vec displacement);
 PetscErrorCode FluidALESetUp(Fluid);
-PetscErrorCode FluidALEBeginStep(Fluid);
+PetscErrorCode FluidALEBeginStep(Fluid, PetscBool bdf2);
 PetscErrorCode FluidALEDestroy(Fluid);
 #endif

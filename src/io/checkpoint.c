@@ -161,6 +161,19 @@ static PetscErrorCode CheckpointAttribute(Checkpoint cp, const char name[], Pets
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode CheckpointHasAttribute(Checkpoint cp, const char name[], PetscBool *has)
+{
+  PetscFunctionBeginUser;
+  *has = PETSC_FALSE;
+  if (cp->viewer) PetscCall(PetscViewerHDF5HasAttribute(cp->viewer, NULL, name, has));
+  else {
+    char full[128];
+    PetscCall(PetscSNPrintf(full, sizeof(full), "%s/%s", cp->group, name));
+    for (PetscInt i = 0; i < cp->n && !*has; ++i) PetscCall(PetscStrcmp(cp->entries[i].name, full, has));
+  }
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode CheckpointInt(Checkpoint cp, const char name[], PetscInt *value, PetscBool load)
 {
   PetscFunctionBeginUser;

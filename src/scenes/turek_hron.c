@@ -5,7 +5,7 @@
    traction-free outflow, no-slip walls and cylinder, St. Venant-Kirchhoff flag clamped
    to the cylinder. -turek_case picks one of
      csm1-3  the flag alone under gravity (csm1, csm2 static; csm3 dynamic),
-     cfd1-3  the fluid around a rigid flag (cfd1 steady; cfd2, cfd3 periodic),
+     cfd1-3  the fluid around a rigid flag (cfd1, cfd2 steady; cfd3 periodic),
      fsi1-3  the coupled problem (fsi1 steady; fsi2, fsi3 periodic),
    with the published parameters; dt, T, the quantities' window and the static flag's load
    steps are our defaults, each an option. Recorded each step: the displacement of the flag's tip A = (0.6, 0.2) and the
@@ -36,15 +36,17 @@ typedef struct {
 } TurekCase;
 
 /* The published parameters (DESIGN §4). Steady cases: the static flag (csm1, csm2) in one
-   step, the steady fluid (cfd1) as a continuation along the inflow ramp, fsi1 by time
+   step, the steady fluid (cfd1, cfd2) as a continuation along the inflow ramp, fsi1 by time
    stepping with the dissipative first-order wall until nothing moves. Periodic cases: the
-   midpoint wall (energy-conserving), the window spanning several periods. */
+   midpoint wall (energy-conserving), the window spanning several periods. cfd2 is steady
+   because time stepping says so: from rest to T = 10 (BDF2 and backward Euler, levels 1
+   and 2) its lift's oscillation decays exponentially to the steady equations' state. */
 static const TurekCase cases[] = {
   {"csm1", CSM, PETSC_FALSE, 0.0, 1000, 0.5e6, 2.0, "0.25", "1.25", "0"},
   {"csm2", CSM, PETSC_FALSE, 0.0, 1000, 2.0e6, 2.0, "0.25", "1.25", "0"},
   {"csm3", CSM, PETSC_TRUE, 0.0, 1000, 0.5e6, 2.0, "0.005", "10", "4"},
   {"cfd1", CFD, PETSC_FALSE, 0.2, 0, 0, 0, "0.5", "2.5", "0"},
-  {"cfd2", CFD, PETSC_TRUE, 1.0, 0, 0, 0, "0.005", "10", "2"},
+  {"cfd2", CFD, PETSC_FALSE, 1.0, 0, 0, 0, "0.5", "2.5", "0"},
   {"cfd3", CFD, PETSC_TRUE, 2.0, 0, 0, 0, "0.002", "8", "1"},
   {"fsi1", FSI, PETSC_FALSE, 0.2, 1000, 0.5e6, 0, "0.1", "12", "0.5"},
   {"fsi2", FSI, PETSC_TRUE, 1.0, 10000, 0.5e6, 0, "0.002", "15", "2"},
@@ -129,7 +131,7 @@ PetscErrorCode SceneCreate_TurekHron(Scene *scene)
        flow little, and the solve is 2.8 times faster (cfd3, 20 steps) to the same tolerance */
     PetscCall(OptionsSetDefault("-fluid_snes_lag_jacobian", "20"));
     PetscCall(OptionsSetDefault("-fluid_snes_lag_jacobian_persists", "1"));
-    /* backward Euler's damping suppresses cfd2's shedding at dt = 0.005 on level 1 */
+    /* backward Euler's damping cost cfd3 (level 1) 21 % of its lift's amplitude */
     PetscCall(OptionsSetDefault("-fluid_time_order", "2"));
   }
 
