@@ -372,6 +372,11 @@ PetscErrorCode CouplingProblemBeginStep(CouplingProblem P, PetscInt step)
   P->jacobian_valid = PETSC_FALSE;
   StepFailureClear(&P->failure);
   if (P->fluid) PetscCall(FluidBeginStep(P->fluid, step));
+  if (P->motion) {
+    Vec d;
+    PetscCall(FluidGetMeshDisplacement(P->fluid, &d));
+    PetscCall(MeshMotionBeginStep(P->motion, d));
+  }
   if (P->motion && P->extrapolate_mesh && P->domain == DOMAIN_LAGGED) {
     /* the domain lags one iteration (seed Algorithm 3.3): started on Omega^{n-1}, the
        first iteration's step is spent on the domain's own move */

@@ -5,7 +5,11 @@
    with no finite-element evaluation per call. -mesh_motion_stiffening chi weights each
    cell by (|K|_mean / |K|)^chi (Jacobian-based stiffening, Stein, Tezduyar and Benney):
    the small cells next to a body then move nearly rigidly and the large ones far away
-   absorb the deformation. */
+   absorb the deformation. -mesh_motion_incremental extends each step's increment from
+   the mesh of the step's start instead, with A (and the weights) of that mesh: a body
+   that rotates far (a flag's tip) is followed by small increments, where the total
+   extension from the reference mesh shears the cells next to it. It costs an assembly
+   and a factorization of A per step, and the mesh then depends on the path. */
 #include "motion.h"
 #include "fem.h"
 #include "options.h"
@@ -23,6 +27,8 @@ struct _p_MeshMotion {
   Vec            d, rhs, bc_local, bc_all, operator_bc_all;
   MotionType     type;
   PetscReal      stiffening;
+  PetscBool      incremental;
+  Vec            coordinates_reference, start; /* incremental: the step's start d^{n-1}, coordinate layout */
   DM             dm_stiffness; /* a P0 field: each cell's weight */
   Vec            stiffness;
   DirichletDatum datums[FSIOPT_MAX_BOUNDARIES];
@@ -50,21 +56,15 @@ static void G3Elastic(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt 
     }
 }
 
-/* The cells' weights (|K|_mean / |K|)^chi on the reference mesh, an auxiliary field of the operator's DM. */
-static PetscErrorCode SetStiffness(MeshMotion mm)
+/* The cells' weights (|K|_mean / |K|)^chi on dm_all's present coordinates. */
+static PetscErrorCode ComputeStiffness(MeshMotion mm)
 {
-  PetscFE      displacement;
   PetscSection section;
   PetscScalar *w;
   PetscReal    total = 0;
   PetscInt     cStart, cEnd, ncells;
 
   PetscFunctionBeginUser;
-  PetscCall(DMGetField(mm->dm_all, 0, NULL, (PetscObject *)&displacement));
-  PetscCall(DMClone(mm->dm_all, &mm->dm_stiffness));
-  PetscCall(FEMCreateField(mm->dm_stiffness, 0, "stiffness", 1, 0, displacement));
-  PetscCall(DMCreateDS(mm->dm_stiffness));
-  PetscCall(DMCreateLocalVector(mm->dm_stiffness, &mm->stiffness));
   PetscCall(DMGetLocalSection(mm->dm_stiffness, &section));
   PetscCall(DMPlexGetHeightStratum(mm->dm_all, 0, &cStart, &cEnd));
   PetscCall(VecGetArray(mm->stiffness, &w));
@@ -85,7 +85,37 @@ static PetscErrorCode SetStiffness(MeshMotion mm)
     w[off] = PetscPowReal(total / ncells / PetscRealPart(w[off]), mm->stiffening);
   }
   PetscCall(VecRestoreArray(mm->stiffness, &w));
+  PetscFunctionReturn(0);
+}
+
+/* the weights, an auxiliary P0 field of the operator's DM */
+static PetscErrorCode SetStiffness(MeshMotion mm)
+{
+  PetscFE displacement;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetField(mm->dm_all, 0, NULL, (PetscObject *)&displacement));
+  PetscCall(DMClone(mm->dm_all, &mm->dm_stiffness));
+  PetscCall(FEMCreateField(mm->dm_stiffness, 0, "stiffness", 1, 0, displacement));
+  PetscCall(DMCreateDS(mm->dm_stiffness));
+  PetscCall(DMCreateLocalVector(mm->dm_stiffness, &mm->stiffness));
+  PetscCall(ComputeStiffness(mm));
   PetscCall(DMSetAuxiliaryVec(mm->dm_all, NULL, 0, 0, mm->stiffness));
+  PetscFunctionReturn(0);
+}
+
+/* A (and its free block) on dm_all's present coordinates */
+static PetscErrorCode AssembleOperator(MeshMotion mm)
+{
+  Vec zero;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetLocalVector(mm->dm_all, &zero));
+  PetscCall(VecZeroEntries(zero));
+  PetscCall(MatZeroEntries(mm->operator_all));
+  PetscCall(DMPlexSNESComputeJacobianFEM(mm->dm_all, zero, mm->operator_all, mm->operator_all, NULL));
+  PetscCall(DMRestoreLocalVector(mm->dm_all, &zero));
+  if (mm->operator_free) PetscCall(MatCreateSubMatrix(mm->operator_all, mm->free_in_all, mm->free_in_all, MAT_REUSE_MATRIX, &mm->operator_free));
   PetscFunctionReturn(0);
 }
 
@@ -100,6 +130,7 @@ PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfix
   PetscOptionsBegin(PetscObjectComm((PetscObject)fluid), NULL, "Mesh motion", "mesh");
   PetscCall(PetscOptionsEnum("-mesh_motion", "Extension of the interface displacement into the fluid mesh", NULL, MotionTypes, (PetscEnum)mm->type, (PetscEnum *)&mm->type, NULL));
   PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-mesh_motion_stiffening", "weight each cell by (mean cell size / its size)^chi: small cells near a body move rigidly (0: none)", &mm->stiffening));
+  PetscCall(PetscOptionsBool("-mesh_motion_incremental", "extend each step's increment from the mesh of the step's start, with the operator and weights of that mesh (one assembly and factorization per step), instead of the total displacement from the reference mesh", NULL, mm->incremental, &mm->incremental, NULL));
   PetscOptionsEnd();
   /* a quadrature of its own: PETSc 3.18 caches cell geometry by quadrature on the cell
      IS that clones share, and this mesh does not move */
@@ -111,13 +142,7 @@ PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfix
   if (mm->type == MOTION_HARMONIC) PetscCall(PetscDSSetJacobian(ds, 0, 0, NULL, NULL, NULL, G3Harmonic));
   else PetscCall(PetscDSSetJacobian(ds, 0, 0, NULL, NULL, NULL, G3Elastic));
   PetscCall(DMCreateMatrix(mm->dm_all, &mm->operator_all));
-  {
-    Vec zero;
-    PetscCall(DMGetLocalVector(mm->dm_all, &zero));
-    PetscCall(VecZeroEntries(zero));
-    PetscCall(DMPlexSNESComputeJacobianFEM(mm->dm_all, zero, mm->operator_all, mm->operator_all, NULL));
-    PetscCall(DMRestoreLocalVector(mm->dm_all, &zero));
-  }
+  PetscCall(AssembleOperator(mm));
   /* the same field with the fixed faces and the interface constrained: its free dofs */
   PetscCall(DMClone(fluid, &mm->dm));
   PetscCall(FEMCreateField(mm->dm, 0, "mesh_displacement", -1, 1, NULL));
@@ -147,7 +172,32 @@ PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfix
   PetscCall(DMCreateLocalVector(mm->dm, &mm->bc_local));
   PetscCall(DMCreateGlobalVector(mm->dm_all, &mm->bc_all));
   PetscCall(VecDuplicate(mm->bc_all, &mm->operator_bc_all));
+  if (mm->incremental) {
+    Vec coordinates;
+    PetscCall(DMGetCoordinatesLocal(mm->dm_all, &coordinates));
+    PetscCall(VecDuplicate(coordinates, &mm->coordinates_reference));
+    PetscCall(VecCopy(coordinates, mm->coordinates_reference));
+    PetscCall(VecDuplicate(coordinates, &mm->start));
+    PetscCall(VecZeroEntries(mm->start));
+  }
   *motion = mm;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode MeshMotionBeginStep(MeshMotion mm, Vec displacement)
+{
+  Vec coordinates;
+
+  PetscFunctionBeginUser;
+  if (!mm->incremental) PetscFunctionReturn(0);
+  PetscCall(VecCopy(displacement, mm->start));
+  PetscCall(VecDuplicate(mm->coordinates_reference, &coordinates));
+  PetscCall(VecWAXPY(coordinates, 1.0, mm->coordinates_reference, displacement));
+  PetscCall(DMSetCoordinatesLocal(mm->dm_all, coordinates));
+  PetscCall(VecDestroy(&coordinates));
+  PetscCall(FEMInvalidateGeometry(mm->dm_all));
+  if (mm->stiffening > 0) PetscCall(ComputeStiffness(mm));
+  PetscCall(AssembleOperator(mm));
   PetscFunctionReturn(0);
 }
 
@@ -156,6 +206,7 @@ PetscErrorCode MeshMotionSolve(MeshMotion mm, Interface itf, Vec interface, Vec 
   PetscInt           n, dim, vStart, vEnd;
   const PetscInt    *points;
   const PetscScalar *g;
+  const PetscScalar *start = NULL;
   PetscScalar       *b;
   PetscSection       ls, cs;
   Vec                dlocal;
@@ -165,16 +216,19 @@ PetscErrorCode MeshMotionSolve(MeshMotion mm, Interface itf, Vec interface, Vec 
   PetscCall(DMGetDimension(mm->dm, &dim));
   PetscCall(DMPlexGetDepthStratum(mm->dm, 0, &vStart, &vEnd));
   PetscCall(DMGetLocalSection(mm->dm, &ls));
+  PetscCall(DMGetCoordinateSection(mm->dm, &cs));
   PetscCall(InterfaceGetFluidNodes(itf, &n, &points, NULL));
   /* the interface vertices' values, owners' first, then to every copy */
   PetscCall(VecZeroEntries(mm->bc_local));
   PetscCall(VecGetArrayRead(interface, &g));
   PetscCall(VecGetArray(mm->bc_local, &b));
+  if (mm->incremental) PetscCall(VecGetArrayRead(mm->start, &start));
   for (PetscInt i = 0; i < n; ++i) {
-    PetscInt off;
+    PetscInt off, coff;
     if (points[i] < vStart || points[i] >= vEnd) continue; /* edge nodes: the mesh is affine */
     PetscCall(PetscSectionGetOffset(ls, points[i], &off));
-    for (PetscInt d = 0; d < dim; ++d) b[off + d] = g[i * dim + d];
+    PetscCall(PetscSectionGetOffset(cs, points[i], &coff));
+    for (PetscInt d = 0; d < dim; ++d) b[off + d] = g[i * dim + d] - (start ? start[coff + d] : 0.0);
   }
   PetscCall(VecRestoreArray(mm->bc_local, &b));
   PetscCall(VecRestoreArrayRead(interface, &g));
@@ -197,17 +251,17 @@ PetscErrorCode MeshMotionSolve(MeshMotion mm, Interface itf, Vec interface, Vec 
   PetscCall(VecZeroEntries(dlocal));
   PetscCall(DMGlobalToLocal(mm->dm, mm->d, INSERT_VALUES, dlocal));
   PetscCall(VecAXPY(dlocal, 1.0, mm->bc_local));
-  PetscCall(DMGetCoordinateSection(mm->dm, &cs));
   PetscCall(VecGetArrayRead(dlocal, &g));
   PetscCall(VecGetArray(displacement, &b));
   for (PetscInt v = vStart; v < vEnd; ++v) {
     PetscInt off, coff;
     PetscCall(PetscSectionGetOffset(ls, v, &off));
     PetscCall(PetscSectionGetOffset(cs, v, &coff));
-    for (PetscInt d = 0; d < dim; ++d) b[coff + d] = g[off + d];
+    for (PetscInt d = 0; d < dim; ++d) b[coff + d] = g[off + d] + (start ? start[coff + d] : 0.0);
   }
   PetscCall(VecRestoreArray(displacement, &b));
   PetscCall(VecRestoreArrayRead(dlocal, &g));
+  if (start) PetscCall(VecRestoreArrayRead(mm->start, &start));
   PetscCall(DMRestoreLocalVector(mm->dm, &dlocal));
   PetscFunctionReturn(0);
 }
@@ -231,6 +285,8 @@ PetscErrorCode MeshMotionDestroy(MeshMotion *motion)
   PetscCall(DMDestroy(&mm->dm_all));
   PetscCall(VecDestroy(&mm->stiffness));
   PetscCall(DMDestroy(&mm->dm_stiffness));
+  PetscCall(VecDestroy(&mm->coordinates_reference));
+  PetscCall(VecDestroy(&mm->start));
   PetscCall(PetscFree(*motion));
   PetscFunctionReturn(0);
 }
