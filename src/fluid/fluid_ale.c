@@ -326,7 +326,7 @@ static PetscErrorCode CheckCells(Fluid f, Vec coordinates)
     PetscCallMPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, f->comm));
     if (first == size) PetscFunctionReturn(0);
     PetscCallMPI(MPI_Bcast(where, 4, MPIU_REAL, first, f->comm));
-    PetscCall(StepFailureSet(&f->failure, "fluid mesh inverted or degenerate at step %" PetscInt_FMT " (t = %g): cell %d, corner at (%g, %g, %g), keeps less than 1e-3 of its reference %s: the displacement is too large for this mesh (-mesh_motion elastic or a finer mesh may help)", f->step, (double)f->time, (int)where[0], (double)where[1], (double)where[2], (double)where[3], dim == 2 ? "area" : "volume"));
+    PetscCall(StepFailureSet(&f->failure, "fluid mesh inverted or degenerate at step %" PetscInt_FMT " (t = %g): cell %d, corner at (%g, %g, %g), keeps less than 1e-3 of its reference %s: the displacement is too large for this mesh (-mesh_motion elastic, -mesh_motion_incremental or a finer mesh may help)", f->step, (double)f->time, (int)where[0], (double)where[1], (double)where[2], (double)where[3], dim == 2 ? "area" : "volume"));
     PetscFunctionReturn(0);
   }
 }
