@@ -302,6 +302,7 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
        velocity carries the whole of d(t0)) */
     PetscCall(FluidPrescribedDisplacement(f, data->mesh_displacement, t0, f->displacement_old));
     PetscCall(FluidSetMeshDisplacement(f, f->displacement_old));
+    PetscCheck(!StepFailed(&f->failure), f->comm, PETSC_ERR_ARG_OUTOFRANGE, "the scene's mesh motion at t0 = %g: %s", (double)t0, f->failure.reason);
   }
   PetscCall(FluidForcesSetUp(f));
   if (data->exact[0] && data->exact[1]) {
