@@ -29,6 +29,8 @@ RUNS = [
     ("channel2d: moving mesh, explicit Jacobian, checkpoints", CHANNEL + ["-t_final", "0.0003", "-checkpoint_every", "2"]),
     ("channel2d: restart", CHANNEL + ["-t_final", "0.0004", "-restart", "@checkpoint"]),
     ("channel2d: IQN-ILS", CHANNEL + ["-t_final", "0.0003", "-coupling", "iqnils"]),
+    ("channel2d: BDF2 fluid, incremental mesh motion", CHANNEL + ["-t_final", "0.0003", "-fluid_time_order", "2",
+                                                                  "-mesh_motion_incremental"]),
     ("turek-hron cfd1: steady fluid, body forces", TUREK + ["-turek_case", "cfd1", "-dt", "1.25"]),
     ("turek-hron csm1: static flag, probes on the structure", TUREK + ["-turek_case", "csm1"]),
     ("structure alone: every step retried with dt/2", ["-options_file", "options/mms-structure.yaml", "-structure_model", "svk", "-dt", "0.05",
