@@ -332,16 +332,17 @@ PetscErrorCode FluidBeginStep(Fluid f, PetscInt step)
 
   PetscFunctionBeginUser;
   StepFailureClear(&f->failure);
+  f->steps_at_dt++;
   /* Old-domain mass term, evaluated before the time and the mesh move on. */
   PetscCall(FEMGlobalToLocal(f->dm, f->x, f->xlocal_old));
   if (f->steady) PetscCall(VecZeroEntries(f->history));
   else {
-    const PetscBool bdf2 = f->time_order == 2 && !first_at_dt;
+    const PetscBool bdf2 = FluidStepIsBDF2(f);
     const PetscReal mass = f->rho / f->dt * (bdf2 ? 1.5 : 1.0);
 
     if (mass != f->mass_coefficient && f->mass_coefficient > 0) PetscCall(FluidJacobianIsStale(f));
     f->mass_coefficient = mass;
-    if (f->moving) PetscCall(FluidALEBeginStep(f, bdf2));
+    if (f->moving) PetscCall(FluidALEBeginStep(f));
     else {
       if (bdf2) {
         /* rho/dt (3/2 u^n - 2 u^{n-1} + 1/2 u^{n-2}) = 3/2 rho/dt (u^n - h), h = 4/3 u^{n-1} - 1/3 u^{n-2}:
@@ -356,7 +357,6 @@ PetscErrorCode FluidBeginStep(Fluid f, PetscInt step)
       PetscCall(FEMResidual(f->dm, f->xlocal_old, f->history));
     }
   }
-  f->steps_at_dt++;
   if (f->extrapolate && f->model == FLUID_NAVIER_STOKES) {
     /* the nonlinear solve starts from 2 u^{n-1} - u^{n-2}: one chord iteration fewer */
     if (first_at_dt) PetscCall(VecCopy(f->x, f->x_before));

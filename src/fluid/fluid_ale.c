@@ -194,13 +194,13 @@ PetscErrorCode FluidALESetUp(Fluid f)
    M(Omega^{n-1}) u^{n-1}, or BDF2's 2 rho/dt M(Omega^{n-1}) u^{n-1} - 1/2 rho/dt
    M(Omega^{n-2}) u^{n-2}), and the displacements the mesh velocity needs. The
    displacements are kept, not the matrices: a checkpoint restores them. */
-PetscErrorCode FluidALEBeginStep(Fluid f, PetscBool bdf2)
+PetscErrorCode FluidALEBeginStep(Fluid f)
 {
-  Vec       coordinates;
-  PetscReal coefficient = f->rho / f->dt;
+  const PetscBool bdf2 = FluidStepIsBDF2(f);
+  Vec             coordinates;
+  PetscReal       coefficient = f->rho / f->dt;
 
   PetscFunctionBeginUser;
-  f->ale_bdf2 = bdf2;
   PetscCall(DMGetCoordinatesLocal(f->dm, &coordinates));
   if (bdf2) {
     Vec older;
@@ -350,7 +350,7 @@ PetscErrorCode FluidSetMeshDisplacement(Fluid f, Vec displacement)
   PetscCall(VecDestroy(&coordinates));
   PetscCall(VecDuplicate(displacement, &z_coordinate_layout));
   PetscCall(VecWAXPY(z_coordinate_layout, -1.0, f->displacement_old, displacement));
-  if (f->ale_bdf2) { /* 3/2 (d^n - d^{n-1}) - 1/2 (d^{n-1} - d^{n-2}) */
+  if (FluidStepIsBDF2(f)) { /* 3/2 (d^n - d^{n-1}) - 1/2 (d^{n-1} - d^{n-2}) */
     PetscCall(VecScale(z_coordinate_layout, 1.5));
     PetscCall(VecAXPBYPCZ(z_coordinate_layout, -0.5, 0.5, 1.0, f->displacement_old, f->displacement_previous));
   }

@@ -42,7 +42,6 @@ struct _p_Fluid {
   Vec            z_local;
   Vec            coordinates_reference, displacement, displacement_old; /* coordinate layout */
   Vec            displacement_previous;                    /* BDF2: d^{n-2} */
-  PetscBool      ale_bdf2;                                 /* this step is BDF2 (not its first at dt) */
   PetscInt      *corners, ncorners; /* per cell corner: cell, its vertex's and its dim edge neighbours' coordinate offsets */
   DM             dm_all;                                   /* the same fields and volume terms without constraints (fluid_forces.c) */
   Mat            mass_old, mass_old_all;                   /* rho/dt M(Omega^{n-1}), BDF2 rho/dt (2 M(Omega^{n-1}) - 1/2 M(Omega^{n-2})): free rows, all rows */
@@ -84,6 +83,11 @@ PetscErrorCode FluidDirichletDestroy(Fluid);
 /* fluid_ale.c */
 PetscErrorCode FluidPrescribedDisplacement(Fluid, FieldFn motion, PetscReal t, Vec displacement);
 PetscErrorCode FluidALESetUp(Fluid);
-PetscErrorCode FluidALEBeginStep(Fluid, PetscBool bdf2);
+PetscErrorCode FluidALEBeginStep(Fluid);
+/* the step in progress (counted in steps_at_dt) is BDF2: not the first at its dt */
+static inline PetscBool FluidStepIsBDF2(Fluid f)
+{
+  return f->time_order == 2 && f->steps_at_dt > 1 ? PETSC_TRUE : PETSC_FALSE;
+}
 PetscErrorCode FluidALEDestroy(Fluid);
 #endif

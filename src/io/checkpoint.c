@@ -63,21 +63,28 @@ PetscErrorCode CheckpointPopGroup(Checkpoint cp)
   PetscFunctionReturn(0);
 }
 
+/* The memory entry of `name` in the current group (its full name in full), or NULL. */
+static PetscErrorCode MemoryEntryFind(Checkpoint cp, const char name[], char full[128], MemoryEntry **entry)
+{
+  PetscFunctionBeginUser;
+  *entry = NULL;
+  PetscCall(PetscSNPrintf(full, 128, "%s/%s", cp->group, name));
+  for (PetscInt i = 0; i < cp->n && !*entry; ++i) {
+    PetscBool same;
+    PetscCall(PetscStrcmp(cp->entries[i].name, full, &same));
+    if (same) *entry = &cp->entries[i];
+  }
+  PetscFunctionReturn(0);
+}
+
 /* The memory entry of `name` in the current group; a save creates it, a load must find it. */
 static PetscErrorCode MemoryEntryGet(Checkpoint cp, const char name[], PetscBool load, MemoryEntry **entry)
 {
   char full[128];
 
   PetscFunctionBeginUser;
-  PetscCall(PetscSNPrintf(full, sizeof(full), "%s/%s", cp->group, name));
-  for (PetscInt i = 0; i < cp->n; ++i) {
-    PetscBool same;
-    PetscCall(PetscStrcmp(cp->entries[i].name, full, &same));
-    if (same) {
-      *entry = &cp->entries[i];
-      PetscFunctionReturn(0);
-    }
-  }
+  PetscCall(MemoryEntryFind(cp, name, full, entry));
+  if (*entry) PetscFunctionReturn(0);
   PetscCheck(!load, PETSC_COMM_SELF, PETSC_ERR_PLIB, "the in-memory state has no '%s'", full);
   if (cp->n == cp->max) {
     MemoryEntry *more;
@@ -167,9 +174,10 @@ PetscErrorCode CheckpointHasAttribute(Checkpoint cp, const char name[], PetscBoo
   *has = PETSC_FALSE;
   if (cp->viewer) PetscCall(PetscViewerHDF5HasAttribute(cp->viewer, NULL, name, has));
   else {
-    char full[128];
-    PetscCall(PetscSNPrintf(full, sizeof(full), "%s/%s", cp->group, name));
-    for (PetscInt i = 0; i < cp->n && !*has; ++i) PetscCall(PetscStrcmp(cp->entries[i].name, full, has));
+    char         full[128];
+    MemoryEntry *e;
+    PetscCall(MemoryEntryFind(cp, name, full, &e));
+    *has = e ? PETSC_TRUE : PETSC_FALSE;
   }
   PetscFunctionReturn(0);
 }
