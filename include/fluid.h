@@ -44,6 +44,9 @@ PetscErrorCode FluidSetMeshDisplacement(Fluid, Vec displacement);
 PetscErrorCode FluidGetMeshDisplacement(Fluid, Vec *displacement);
 PetscErrorCode FluidErrors(Fluid, ErrorTable *);
 PetscErrorCode FluidGetCounts(Fluid, SolverCounts *);
+/* moving meshes: the smallest ratio of a cell corner's area (3D: volume) to its reference
+   one over the meshes the steps ended on, and the time of that mesh; -1, -1 otherwise */
+PetscErrorCode FluidGetMeshQuality(Fluid, PetscReal *worst_ratio, PetscReal *time);
 PetscErrorCode FluidGetInfo(Fluid, PetscInt *dim, PetscInt *ndofs);
 /* The force of the fluid on the scene's body faces (PhysicsData.force_faces) at the current
    state, on every fluid rank (fluid_forces.c). */

@@ -3,7 +3,7 @@
 #include "fsiopt.h"
 #include "interface.h"
 
-/* The fluid mesh displacement: the harmonic (or linear-elastic, -mesh_motion elastic)
+/* The fluid mesh displacement: the harmonic (or -mesh_motion elastic, biharmonic)
    extension of the interface displacement into the fluid's reference domain, zero on
    the fixed boundaries. The operator never changes (one factorization per run), unless
    -mesh_motion_incremental: then each step extends its increment from the step's start. */

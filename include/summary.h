@@ -13,6 +13,7 @@ typedef struct {
   SolverCounts     fluid, structure;
   PetscInt         coupling_iterations, inner_iterations, stalled_steps;
   PetscReal        work_factor, max_interface_jump;
+  PetscReal        worst_corner_ratio, worst_corner_time; /* moving fluid meshes (FluidGetMeshQuality) */
   PetscBool        converged, has_fluid, has_structure;
   PetscInt         steps_done;  /* fewer than params->steps when interrupted */
   PetscInt         first_step;  /* 1, or the step after the checkpoint of a restart: the counts are this run's */

@@ -31,6 +31,7 @@ RUNS = [
     ("channel2d: IQN-ILS", CHANNEL + ["-t_final", "0.0003", "-coupling", "iqnils"]),
     ("channel2d: BDF2 fluid, incremental mesh motion", CHANNEL + ["-t_final", "0.0003", "-fluid_time_order", "2",
                                                                   "-mesh_motion_incremental"]),
+    ("channel2d: biharmonic mesh motion", CHANNEL + ["-t_final", "0.0003", "-mesh_motion", "biharmonic"]),
     ("turek-hron cfd1: steady fluid, body forces", TUREK + ["-turek_case", "cfd1", "-dt", "1.25"]),
     ("turek-hron csm1: static flag, probes on the structure", TUREK + ["-turek_case", "csm1"]),
     ("structure alone: every step retried with dt/2", ["-options_file", "options/mms-structure.yaml", "-structure_model", "svk", "-dt", "0.05",

@@ -289,7 +289,11 @@ static PetscErrorCode Run(void)
   if (fluid && !failure) PetscCall(FluidErrors(fluid, &fluid_errors));
   if (structure && !failure) PetscCall(StructureErrors(structure, &structure_errors));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_ERRORS, 0, 0, 0, 0));
+  summary.worst_corner_ratio = summary.worst_corner_time = -1;
   if (fluid) PetscCall(FluidGetCounts(fluid, &summary.fluid));
+  if (fluid) PetscCall(FluidGetMeshQuality(fluid, &summary.worst_corner_ratio, &summary.worst_corner_time));
+  PetscCall(ShareWithAll(&summary.worst_corner_ratio, sizeof(summary.worst_corner_ratio), 0));
+  PetscCall(ShareWithAll(&summary.worst_corner_time, sizeof(summary.worst_corner_time), 0));
   if (structure) PetscCall(StructureGetCounts(structure, &summary.structure));
   PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
   {

@@ -404,6 +404,36 @@ def _():
     return "probes within %.1e of the total extension's; restarted at step 26: probes.csv byte for byte" % diff
 
 
+@test("biharmonic mesh motion: clamped at the wall (half the harmonic's shear), same probes (1 %)")
+def _():
+    import h5py
+    import numpy as np
+    # a wall 100 x softer than channel2d's: it moves 4.5 % of the channel's height
+    soft = CHANNEL + ["-t_final", "0.01", "-structure_youngs_modulus", "3e4", "-write_fields", "-write_fields_interval", "1000"]
+    runs = {}
+    for motion in ["harmonic", "biharmonic"]:
+        out = os.path.join(WORK, "motion-" + motion)
+        s = solve(soft + ["-mesh_motion", motion], out=out)
+        assert 0 < s["worst_corner_ratio"] < 1 and 0 < s["worst_corner_time"] <= 0.01 + 1e-12, \
+            "%s: worst_corner_ratio %s at t = %s" % (motion, s["worst_corner_ratio"], s["worst_corner_time"])
+        with h5py.File(os.path.join(out, "fields.h5"), "r") as h5:
+            steps = sorted(k for k in h5["fluid"] if k.startswith("step"))
+            X = h5["fluid"][steps[0]]["geometry"][:]
+            d = h5["fluid"][steps[-1]]["geometry"][:] - X
+        # the displacement's change across the layer of cells under the wall (y = 1 to 0.9),
+        # relative to the wall's: w = -Delta d tested on the boundary too makes the normal
+        # derivative zero there, so the first layer follows the wall nearly rigidly
+        wall, below = [np.flatnonzero(np.isclose(X[:, 1], y)) for y in (1.0, 0.9)]
+        wall, below = wall[np.argsort(X[wall, 0])], below[np.argsort(X[below, 0])]
+        assert len(wall) == len(below) > 10 and np.allclose(X[wall, 0], X[below, 0]), "no vertical grid lines in the channel mesh"
+        runs[motion] = (np.abs(d[wall] - d[below]).sum() / np.abs(d[wall]).sum(), read_probes(os.path.join(out, "probes.csv"))[1])
+    (shear_h, probes_h), (shear_b, probes_b) = runs["harmonic"], runs["biharmonic"]
+    assert shear_b < 0.6 * shear_h, "across the wall's first cell layer: biharmonic %.3f, harmonic %.3f of the wall's motion" % (shear_b, shear_h)
+    diff = probes_difference(probes_b, probes_h)
+    # the mesh motion changes the discretization only: the wall moves the same
+    assert 1e-8 < diff < 1e-2, "probes differ by %.2e of their amplitude" % diff
+    return "change across the first layer %.3f (harmonic %.3f) of the wall's; probes within %.1e" % (shear_b, shear_h, diff)
+
 @test("channel2d: least-squares start saves GN iterations, same probes (10 x tol)")
 def _():
     runs = {}
@@ -852,6 +882,7 @@ def bad_input_cases():
         ("negative inflow velocity", TUREK + ["-turek_case", "cfd1", "-turek_mean_velocity", "-1"], "-turek_mean_velocity"),
         ("steady fluid on a moving mesh", TUREK + ["-turek_case", "fsi1", "-fluid_steady"], "-fluid_steady"),
         ("negative mesh stiffening", TUREK + ["-turek_case", "fsi1", "-mesh_motion_stiffening", "-1"], "-mesh_motion_stiffening"),
+        ("unknown mesh motion", CHANNEL + ["-mesh_motion", "biharmonc"], "-mesh_motion. Available options: harmonic elastic biharmonic"),
         ("negative quantities window", TUREK + ["-turek_case", "csm1", "-quantities_window", "-1"], "-quantities_window"),
     ]
 

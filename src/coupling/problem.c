@@ -374,8 +374,10 @@ PetscErrorCode CouplingProblemBeginStep(CouplingProblem P, PetscInt step)
   if (P->fluid) PetscCall(FluidBeginStep(P->fluid, step));
   if (P->motion) {
     Vec d;
+    PetscCall(PetscLogStagePush(FSIOPT_STAGE_MESH_MOTION));
     PetscCall(FluidGetMeshDisplacement(P->fluid, &d));
     PetscCall(MeshMotionBeginStep(P->motion, d));
+    PetscCall(PetscLogStagePop());
   }
   if (P->motion && P->extrapolate_mesh && P->domain == DOMAIN_LAGGED) {
     /* the domain lags one iteration (seed Algorithm 3.3): started on Omega^{n-1}, the

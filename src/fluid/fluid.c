@@ -28,6 +28,8 @@ PetscErrorCode FluidCreate(MPI_Comm comm, Fluid *fluid)
   f->extrapolate     = PETSC_TRUE;
   f->time_order      = 1;
   f->pressure_degree = 1;
+  f->corner_ratio       = PETSC_MAX_REAL;
+  f->worst_corner_ratio = PETSC_MAX_REAL;
   *fluid             = f;
   PetscFunctionReturn(0);
 }

@@ -190,6 +190,32 @@ PetscErrorCode FluidALESetUp(Fluid f)
   PetscFunctionReturn(0);
 }
 
+/* a cell corner that keeps less of its reference area (volume) fails the step */
+#define SMALLEST_CORNER_RATIO 1e-3
+
+/* the mesh a step ended on (or started from) into the run's worst */
+static PetscErrorCode FoldCornerRatio(Fluid f)
+{
+  PetscFunctionBeginUser;
+  if (f->corners && f->corner_ratio >= SMALLEST_CORNER_RATIO && f->corner_ratio < f->worst_corner_ratio) {
+    f->worst_corner_ratio = f->corner_ratio;
+    f->worst_corner_time  = f->time;
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidGetMeshQuality(Fluid f, PetscReal *worst_ratio, PetscReal *time)
+{
+  PetscFunctionBeginUser;
+  *worst_ratio = -1;
+  *time        = -1;
+  if (!f->moving || !f->corners) PetscFunctionReturn(0);
+  PetscCall(FoldCornerRatio(f));
+  *worst_ratio = f->worst_corner_ratio;
+  *time        = f->worst_corner_time;
+  PetscFunctionReturn(0);
+}
+
 /* Before the time and the mesh move on: the old-domain mass, the history term (rho/dt
    M(Omega^{n-1}) u^{n-1}, or BDF2's 2 rho/dt M(Omega^{n-1}) u^{n-1} - 1/2 rho/dt
    M(Omega^{n-2}) u^{n-2}), and the displacements the mesh velocity needs. The
@@ -201,6 +227,7 @@ PetscErrorCode FluidALEBeginStep(Fluid f)
   PetscReal       coefficient = f->rho / f->dt;
 
   PetscFunctionBeginUser;
+  PetscCall(FoldCornerRatio(f));
   PetscCall(DMGetCoordinatesLocal(f->dm, &coordinates));
   if (bdf2) {
     Vec older;
@@ -309,7 +336,7 @@ static PetscErrorCode CheckCells(Fluid f, Vec coordinates)
     const PetscReal ratio  = CornerVolume(dim, x, corner) / CornerVolume(dim, X, corner);
     if (ratio < worst) {
       worst = ratio;
-      if (worst < 1e-3) bad = i;
+      if (worst < SMALLEST_CORNER_RATIO) bad = i;
     }
   }
   if (bad >= 0) {
@@ -318,6 +345,7 @@ static PetscErrorCode CheckCells(Fluid f, Vec coordinates)
   }
   PetscCall(VecRestoreArrayRead(coordinates, &x));
   PetscCall(VecRestoreArrayRead(f->coordinates_reference, &X));
+  PetscCallMPI(MPI_Allreduce(&worst, &f->corner_ratio, 1, MPIU_REAL, MPIU_MIN, f->comm));
   {
     PetscMPIInt rank, first, size, mine;
     PetscCallMPI(MPI_Comm_rank(f->comm, &rank));
@@ -326,7 +354,7 @@ static PetscErrorCode CheckCells(Fluid f, Vec coordinates)
     PetscCallMPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, f->comm));
     if (first == size) PetscFunctionReturn(0);
     PetscCallMPI(MPI_Bcast(where, 4, MPIU_REAL, first, f->comm));
-    PetscCall(StepFailureSet(&f->failure, "fluid mesh inverted or degenerate at step %" PetscInt_FMT " (t = %g): cell %d, corner at (%g, %g, %g), keeps less than 1e-3 of its reference %s: the displacement is too large for this mesh (-mesh_motion elastic, -mesh_motion_incremental or a finer mesh may help)", f->step, (double)f->time, (int)where[0], (double)where[1], (double)where[2], (double)where[3], dim == 2 ? "area" : "volume"));
+    PetscCall(StepFailureSet(&f->failure, "fluid mesh inverted or degenerate at step %" PetscInt_FMT " (t = %g): cell %d, corner at (%g, %g, %g), keeps less than 1e-3 of its reference %s: the displacement is too large for this mesh (-mesh_motion biharmonic, a larger -mesh_motion_stiffening or a finer mesh may help)", f->step, (double)f->time, (int)where[0], (double)where[1], (double)where[2], (double)where[3], dim == 2 ? "area" : "volume"));
     PetscFunctionReturn(0);
   }
 }

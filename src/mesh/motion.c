@@ -9,18 +9,22 @@
    the mesh of the step's start instead, with A (and the weights) of that mesh: a body
    that rotates far (a flag's tip) is followed by small increments, where the total
    extension from the reference mesh shears the cells next to it. It costs an assembly
-   and a factorization of A per step, and the mesh then depends on the path. */
+   and a factorization of A per step, and the mesh then depends on the path.
+   -mesh_motion biharmonic solves Delta^2 d = 0 in the mixed form of Wick (2011): a second
+   field w = -Delta d, tested by every vertex, so that besides d = g the normal derivative
+   of d is zero on the boundary (a clamped plate): the cells next to a body follow it
+   nearly rigidly, also around its corners, where a harmonic extension shears them. */
 #include "motion.h"
 #include "fem.h"
 #include "options.h"
 
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 
-typedef enum { MOTION_HARMONIC, MOTION_ELASTIC } MotionType;
-static const char *const MotionTypes[] = {"harmonic", "elastic", "MotionType", "MOTION_", NULL};
+typedef enum { MOTION_HARMONIC, MOTION_ELASTIC, MOTION_BIHARMONIC } MotionType;
+static const char *const MotionTypes[] = {"harmonic", "elastic", "biharmonic", "MotionType", "MOTION_", NULL};
 
 struct _p_MeshMotion {
-  DM             dm, dm_all; /* Q1 vector field with (without) the Dirichlet constraints */
+  DM             dm, dm_all; /* Q1 vector field(s) with (without) the Dirichlet constraints */
   Mat            operator_all, operator_free;
   IS             free_in_all;
   KSP            ksp;
@@ -54,6 +58,24 @@ static void G3Elastic(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt 
       g3[((c * dim + d) * dim + d) * dim + c] += WEIGHT;
       g3[((c * dim + d) * dim + c) * dim + d] += WEIGHT;
     }
+}
+
+/* Biharmonic, mixed: tested by d's (interior) functions phi, (weight grad w, grad phi) = 0;
+   by w's (all) functions psi, (grad d, grad psi) - (w, psi) = 0. The blocks are symmetric. */
+static void G3BiharmonicDW(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g3[])
+{
+  G3Harmonic(dim, Nf, NfAux, uOff, uOff_x, u, u_t, u_x, aOff, aOff_x, a, a_t, a_x, t, u_tShift, x, numConstants, constants, g3);
+}
+
+static void G3BiharmonicWD(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g3[])
+{
+  for (PetscInt c = 0; c < dim; ++c)
+    for (PetscInt d = 0; d < dim; ++d) g3[((c * dim + c) * dim + d) * dim + d] = 1.0;
+}
+
+static void G0BiharmonicWW(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g0[])
+{
+  for (PetscInt c = 0; c < dim; ++c) g0[c * dim + c] = -1.0;
 }
 
 /* The cells' weights (|K|_mean / |K|)^chi on dm_all's present coordinates. */
@@ -119,6 +141,19 @@ static PetscErrorCode AssembleOperator(MeshMotion mm)
   PetscFunctionReturn(0);
 }
 
+/* the displacement, and for the biharmonic extension w = -Delta d with d's quadrature */
+static PetscErrorCode CreateFields(MeshMotion mm, DM dm)
+{
+  PetscFE displacement;
+
+  PetscFunctionBeginUser;
+  PetscCall(FEMCreateField(dm, 0, "mesh_displacement", -1, 1, NULL));
+  if (mm->type != MOTION_BIHARMONIC) PetscFunctionReturn(0);
+  PetscCall(DMGetField(dm, 0, NULL, (PetscObject *)&displacement));
+  PetscCall(FEMCreateField(dm, 1, "mesh_displacement_laplacian", -1, 1, displacement));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfixed, const PetscInt fixed_faces[], MeshMotion *motion)
 {
   MeshMotion  mm;
@@ -135,17 +170,28 @@ PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfix
   /* a quadrature of its own: PETSc 3.18 caches cell geometry by quadrature on the cell
      IS that clones share, and this mesh does not move */
   PetscCall(DMClone(fluid, &mm->dm_all));
-  PetscCall(FEMCreateField(mm->dm_all, 0, "mesh_displacement", -1, 1, NULL));
+  PetscCall(CreateFields(mm, mm->dm_all));
   PetscCall(DMCreateDS(mm->dm_all));
   PetscCall(DMGetDS(mm->dm_all, &ds));
   if (mm->stiffening > 0) PetscCall(SetStiffness(mm));
-  if (mm->type == MOTION_HARMONIC) PetscCall(PetscDSSetJacobian(ds, 0, 0, NULL, NULL, NULL, G3Harmonic));
-  else PetscCall(PetscDSSetJacobian(ds, 0, 0, NULL, NULL, NULL, G3Elastic));
+  switch (mm->type) {
+  case MOTION_HARMONIC:
+    PetscCall(PetscDSSetJacobian(ds, 0, 0, NULL, NULL, NULL, G3Harmonic));
+    break;
+  case MOTION_ELASTIC:
+    PetscCall(PetscDSSetJacobian(ds, 0, 0, NULL, NULL, NULL, G3Elastic));
+    break;
+  case MOTION_BIHARMONIC:
+    PetscCall(PetscDSSetJacobian(ds, 0, 1, NULL, NULL, NULL, G3BiharmonicDW));
+    PetscCall(PetscDSSetJacobian(ds, 1, 0, NULL, NULL, NULL, G3BiharmonicWD));
+    PetscCall(PetscDSSetJacobian(ds, 1, 1, G0BiharmonicWW, NULL, NULL, NULL));
+    break;
+  }
   PetscCall(DMCreateMatrix(mm->dm_all, &mm->operator_all));
   PetscCall(AssembleOperator(mm));
   /* the same field with the fixed faces and the interface constrained: its free dofs */
   PetscCall(DMClone(fluid, &mm->dm));
-  PetscCall(FEMCreateField(mm->dm, 0, "mesh_displacement", -1, 1, NULL));
+  PetscCall(CreateFields(mm, mm->dm));
   PetscCall(PetscMemzero(&data, sizeof(data)));
   data.n_dirichlet = nfixed + 1;
   for (PetscInt b = 0; b < nfixed; ++b) data.dirichlet_faces[b] = fixed_faces[b];
@@ -226,7 +272,7 @@ PetscErrorCode MeshMotionSolve(MeshMotion mm, Interface itf, Vec interface, Vec 
   for (PetscInt i = 0; i < n; ++i) {
     PetscInt off, coff;
     if (points[i] < vStart || points[i] >= vEnd) continue; /* edge nodes: the mesh is affine */
-    PetscCall(PetscSectionGetOffset(ls, points[i], &off));
+    PetscCall(PetscSectionGetFieldOffset(ls, points[i], 0, &off));
     PetscCall(PetscSectionGetOffset(cs, points[i], &coff));
     for (PetscInt d = 0; d < dim; ++d) b[off + d] = g[i * dim + d] - (start ? start[coff + d] : 0.0);
   }
@@ -255,7 +301,7 @@ PetscErrorCode MeshMotionSolve(MeshMotion mm, Interface itf, Vec interface, Vec 
   PetscCall(VecGetArray(displacement, &b));
   for (PetscInt v = vStart; v < vEnd; ++v) {
     PetscInt off, coff;
-    PetscCall(PetscSectionGetOffset(ls, v, &off));
+    PetscCall(PetscSectionGetFieldOffset(ls, v, 0, &off));
     PetscCall(PetscSectionGetOffset(cs, v, &coff));
     for (PetscInt d = 0; d < dim; ++d) b[coff + d] = g[off + d] + (start ? start[coff + d] : 0.0);
   }
