@@ -492,6 +492,7 @@ PetscErrorCode FluidCheckpoint(Fluid f, Checkpoint cp, PetscBool load)
     if (load) {
       if (!bdf2_state) PetscCall(VecCopy(f->displacement, f->displacement_old));
       PetscCall(FluidSetMeshDisplacement(f, f->displacement));
+      f->corner_ratio_of_step = PETSC_FALSE; /* a restart's start, or a retried step's, counted already */
     }
   }
   if (bdf2_state) {

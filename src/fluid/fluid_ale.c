@@ -193,11 +193,11 @@ PetscErrorCode FluidALESetUp(Fluid f)
 /* a cell corner that keeps less of its reference area (volume) fails the step */
 #define SMALLEST_CORNER_RATIO 1e-3
 
-/* the mesh a step ended on (or started from) into the run's worst */
+/* the mesh a step of this run ended on into the run's worst (not the start of a restart) */
 static PetscErrorCode FoldCornerRatio(Fluid f)
 {
   PetscFunctionBeginUser;
-  if (f->corners && f->corner_ratio >= SMALLEST_CORNER_RATIO && f->corner_ratio < f->worst_corner_ratio) {
+  if (f->corner_ratio_of_step && f->corner_ratio >= SMALLEST_CORNER_RATIO && f->corner_ratio < f->worst_corner_ratio) {
     f->worst_corner_ratio = f->corner_ratio;
     f->worst_corner_time  = f->time;
   }
@@ -209,8 +209,8 @@ PetscErrorCode FluidGetMeshQuality(Fluid f, PetscReal *worst_ratio, PetscReal *t
   PetscFunctionBeginUser;
   *worst_ratio = -1;
   *time        = -1;
-  if (!f->moving || !f->corners) PetscFunctionReturn(0);
   PetscCall(FoldCornerRatio(f));
+  if (f->worst_corner_ratio == PETSC_MAX_REAL) PetscFunctionReturn(0); /* fixed, or no step */
   *worst_ratio = f->worst_corner_ratio;
   *time        = f->worst_corner_time;
   PetscFunctionReturn(0);
@@ -228,6 +228,7 @@ PetscErrorCode FluidALEBeginStep(Fluid f)
 
   PetscFunctionBeginUser;
   PetscCall(FoldCornerRatio(f));
+  f->corner_ratio_of_step = PETSC_TRUE; /* the step moves the mesh */
   PetscCall(DMGetCoordinatesLocal(f->dm, &coordinates));
   if (bdf2) {
     Vec older;

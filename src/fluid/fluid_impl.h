@@ -45,6 +45,7 @@ struct _p_Fluid {
   PetscInt      *corners, ncorners; /* per cell corner: cell, its vertex's and its dim edge neighbours' coordinate offsets */
   PetscReal      corner_ratio;                             /* the smallest corner area (volume) / its reference one, present mesh */
   PetscReal      worst_corner_ratio, worst_corner_time;    /* the smallest over the meshes steps ended on, and its time */
+  PetscBool      corner_ratio_of_step;                     /* corner_ratio is of a mesh a step of this run moved to */
   DM             dm_all;                                   /* the same fields and volume terms without constraints (fluid_forces.c) */
   Mat            mass_old, mass_old_all;                   /* rho/dt M(Omega^{n-1}), BDF2 rho/dt (2 M(Omega^{n-1}) - 1/2 M(Omega^{n-2})): free rows, all rows */
   Mat            mass_older_all;                           /* BDF2: 1/2 rho/dt M(Omega^{n-2}) */
