@@ -404,7 +404,7 @@ def _():
     return "probes within %.1e of the total extension's; restarted at step 26: probes.csv byte for byte" % diff
 
 
-@test("biharmonic mesh motion: clamped at the wall (half the harmonic's shear), same probes (1 %)")
+@test("biharmonic mesh motion: clamped at the wall (half the harmonic's shear), same probes (1 %), 2 fluid ranks")
 def _():
     import h5py
     import numpy as np
@@ -432,7 +432,16 @@ def _():
     diff = probes_difference(probes_b, probes_h)
     # the mesh motion changes the discretization only: the wall moves the same
     assert 1e-8 < diff < 1e-2, "probes differ by %.2e of their amplitude" % diff
-    return "change across the first layer %.3f (harmonic %.3f) of the wall's; probes within %.1e" % (shear_b, shear_h, diff)
+    # two fluid ranks share the mixed field's vertices
+    short = CHANNEL + ["-t_final", "0.002", "-mesh_motion", "biharmonic"]
+    one, three = os.path.join(WORK, "biharmonic-1"), os.path.join(WORK, "biharmonic-3")
+    solve(short, out=one)
+    s = solve(short + ["-structure_ranks", "1"], nproc=3, out=three)
+    assert s["ranks"]["fluid"] == 2, "ranks %s" % s["ranks"]
+    ranks = probes_difference(read_probes(os.path.join(three, "probes.csv"))[1], read_probes(os.path.join(one, "probes.csv"))[1])
+    assert ranks <= 1e-9, "2 fluid ranks differ from 1 by %.2e" % ranks
+    return "change across the first layer %.3f (harmonic %.3f) of the wall's; probes within %.1e; 2 fluid ranks = 1 to %.0e" % (
+        shear_b, shear_h, diff, ranks)
 
 @test("channel2d: least-squares start saves GN iterations, same probes (10 x tol)")
 def _():
