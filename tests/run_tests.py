@@ -812,6 +812,7 @@ def _():
     assert not missing, "missing keys %s" % missing
     assert s["scene"] == "mms-fluid" and s["dim"] == 2 and s["steps"] == 1 and s["converged"] is True
     assert s["fluid_solves"] == 1 and s["structure_solves"] == 0 and s["coupling"] == "none"
+    assert s["worst_corner_ratio"] is None and s["worst_corner_time"] is None, "a fixed mesh has no worst corner"
     return "%d keys" % len(keys)
 
 
