@@ -134,26 +134,10 @@ class Run:
         return self.status + (" (re-used)" if self.reused else "")
 
 
-def parse_stages(stdout_text):
-    """{stage name: seconds} from the 'Summary of Stages' of -log_view."""
-    stages, inside = {}, False
-    for line in stdout_text.splitlines():
-        if line.startswith("Summary of Stages"):
-            inside = True
-            continue
-        if inside:
-            m = re.match(r"\s*\d+:\s+(.+?):\s+([-+0-9.eE]+)\s+[0-9.]+%", line)
-            if m:
-                stages[m.group(1).strip()] = float(m.group(2))
-            elif stages and not line.strip():
-                break
-    return stages
-
-
 def read_stages(run_dir):
     try:
         with open(os.path.join(run_dir, "stdout.log")) as f:
-            return parse_stages(f.read())
+            return fr.parse_stages(f.read())
     except OSError:
         return {}
 
@@ -201,7 +185,7 @@ def run_one(r, fsiopt, runs_dir, timeout=None, force=False, rerun_failed=False, 
     for attempt in range(1, retries + 2):
         r.attempts = attempt
         returncode, stdout, stderr, r.elapsed_s, timed_out = execute(cmd, r.run_dir, env, timeout)
-        r.stages = parse_stages(stdout)
+        r.stages = fr.parse_stages(stdout)
         if returncode == 0 and all(os.path.isfile(os.path.join(r.run_dir, o)) for o in OUTPUTS):
             r.status, r.error = "ok", ""
             r.summary = read_json(os.path.join(r.run_dir, "summary.json"))

@@ -92,6 +92,32 @@ class Variant:
         return self.status in ("ok", "reused")
 
 
+def parse_stages(stdout_text):
+    """{stage name: seconds} from the 'Summary of Stages' of -log_view."""
+    stages, inside = {}, False
+    for line in stdout_text.splitlines():
+        if line.startswith("Summary of Stages"):
+            inside = True
+            continue
+        if inside:
+            m = re.match(r"\s*\d+:\s+(.+?):\s+([-+0-9.eE]+)\s+[0-9.]+%", line)
+            if m:
+                stages[m.group(1).strip()] = float(m.group(2))
+            elif stages and not line.strip():
+                break
+    return stages
+
+
+def probes_difference(rows, reference):
+    """the largest difference of two probe series (rows of numbers, t first), relative to
+    each column's largest value in the reference"""
+    worst = 0.0
+    for c in range(1, len(reference[0])):
+        scale = max(abs(r[c]) for r in reference) or 1.0
+        worst = max(worst, max(abs(a[c] - b[c]) for a, b in zip(rows, reference)) / scale)
+    return worst
+
+
 def read_json(path):
     try:
         with open(path) as f:

@@ -14,7 +14,10 @@ ratio says something; the probes of all variants are compared with the first's.
       [--restart CHECKPOINT] [--out out/mesh-motion-cost] [-- extra fsiopt options]"""
 import argparse, json, os, re, statistics, subprocess, sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import fsiopt_runs as fr   # noqa: E402
+
+ROOT = fr.ROOT
 VARIANTS = [  # the default of fsi2 and fsi3 first
     ("biharmonic, chi 2", ["-mesh_motion", "biharmonic", "-mesh_motion_stiffening", "2", "-mesh_motion_incremental", "0"]),
     ("harmonic, chi 1", ["-mesh_motion", "harmonic", "-mesh_motion_stiffening", "1", "-mesh_motion_incremental", "0"]),
@@ -34,11 +37,11 @@ def run(args, out):
     if p.returncode != 0 and not (summary and summary["failure"]):
         err = p.stderr.strip()
         sys.exit("mesh_motion_cost: fsiopt failed: %s" % (err.splitlines()[-1] if err else "exit %d" % p.returncode))
-    stage = re.search(r"^\s*\d+:\s+MeshMotion:\s+(\S+)", p.stdout, re.M)
-    if not stage:
+    stage = fr.parse_stages(p.stdout).get("MeshMotion")
+    if stage is None:
         sys.exit("mesh_motion_cost: no MeshMotion stage in -log_view's output")
     rows = [line.split(",") for line in open(os.path.join(out, "probes.csv")).read().split("\n")[1:] if line]
-    return summary, float(stage.group(1)), [[float(v) for v in r] for r in rows]
+    return summary, stage, [[float(v) for v in r] for r in rows]
 
 
 def main():
@@ -75,7 +78,7 @@ def main():
             print("| %s | %.2f | %.2f | %.3f | %.2f | failed at t = %s | |" % (
                 name, w, w / statistics.median(wall[first]), m, m / statistics.median(stage[first]), failed[name]))
             continue
-        diff = probes_difference(probes[name], probes[first]) if not failed[first] else float("nan")
+        diff = fr.probes_difference(probes[name], probes[first]) if not failed[first] else float("nan")
         print("| %s | %.2f | %.2f | %.3f | %.2f | %.4f | %.1e |" % (
             name, w, w / statistics.median(wall[first]), m, m / statistics.median(stage[first]), worst[name], diff))
     print("(%d steps, medians of %d runs each, alternated; %s)" % (a.steps, a.repeats, " ".join(base)))
@@ -87,15 +90,6 @@ def failure_time(failure):
         return None
     found = re.search(r"\(t = ([0-9.e+-]+)\)", failure)
     return found.group(1) if found else "? (%s)" % failure[:80]
-
-
-def probes_difference(rows, reference):
-    """the largest difference of a probe column, relative to that column's largest value"""
-    worst = 0.0
-    for c in range(1, len(reference[0])):
-        scale = max(abs(r[c]) for r in reference) or 1.0
-        worst = max(worst, max(abs(a[c] - b[c]) for a, b in zip(rows, reference)) / scale)
-    return worst
 
 
 def case_dt(base):

@@ -10,6 +10,8 @@ FSIOPT = os.path.join(ROOT, "bin", "fsiopt")
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
            OMPI_MCA_rmaps_base_oversubscribe="1")
 WORK = tempfile.mkdtemp(prefix="fsiopt-tests-")
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
+from fsiopt_runs import probes_difference  # noqa: E402  (the scripts' comparison of probe series)
 results = []
 
 
@@ -358,15 +360,6 @@ CHANNEL_REFERENCE = os.path.join(ROOT, "tests", "reference", "channel2d-50-steps
 def read_probes(path):
     rows = list(csv.reader(open(path)))
     return rows[0], [[float(v) for v in r] for r in rows[1:]]
-
-
-def probes_difference(got, ref):
-    """the largest difference of two probe series, relative to each column's largest value"""
-    worst = 0.0
-    for c in range(1, len(ref[0])):
-        scale = max(abs(r[c]) for r in ref)
-        worst = max(worst, max(abs(g[c] - r[c]) for g, r in zip(got, ref)) / scale)
-    return worst
 
 
 @test("channel2d 50 steps: jump <= tol every step, probes = reference")

@@ -114,7 +114,7 @@ PetscErrorCode SummaryWrite(MPI_Comm comm, const char dir[], const RunSummary *s
   WriteNumberOrNull(fp, "work_factor", s->work_factor, ",");
   WriteNumberOrNull(fp, "max_interface_jump", s->max_interface_jump, ",");
   WriteNumberOrNull(fp, "worst_corner_ratio", s->worst_corner_ratio, ",");
-  WriteNumberOrNull(fp, "worst_corner_time", s->worst_corner_ratio < 0 ? -1 : s->worst_corner_time, ",");
+  WriteNumberOrNull(fp, "worst_corner_time", s->worst_corner_time, ",");
   fprintf(fp, "  \"factorizations\": {\"fluid\": %d, \"structure\": %d},\n", (int)s->fluid.factorizations, (int)s->structure.factorizations);
   fprintf(fp, "  \"converged\": %s,\n", s->converged ? "true" : "false");
   fprintf(fp, "  \"errors\": {");
