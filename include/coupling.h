@@ -46,6 +46,7 @@ PetscErrorCode CouplingProblemUpdateJacobian(CouplingProblem, Vec x);
 /* Jumps at or below this need no new Jacobian: the optimizer accepts the point. */
 PetscErrorCode CouplingProblemSetConvergedJump(CouplingProblem, PetscReal);
 PetscErrorCode CouplingProblemJacobianMult(CouplingProblem, Vec h, Vec y);
+PetscErrorCode CouplingProblemJacobianMultBlock(CouplingProblem, Mat H, Mat Y); /* dense columns */
 PetscErrorCode CouplingProblemJacobianMultTranspose(CouplingProblem, Vec rho, Vec y);
 /* ||u - v_s||_{L2(Gamma_I)} at x (with the consistent interface mass) */
 PetscErrorCode CouplingProblemJump(CouplingProblem, Vec x, PetscReal *jump);

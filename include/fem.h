@@ -33,6 +33,7 @@ PetscErrorCode FEMSolveSteady(DM dm, const char prefix[], PetscInt *jacobian_ass
 PetscErrorCode FEMInvalidateGeometry(DM dm);
 /* A solve with A or A^T, the factors the SNES holds (no new factorization). */
 PetscErrorCode FEMLinearSolve(SNES snes, Vec rhs, Vec x, PetscBool transpose);
+PetscErrorCode FEMLinearSolveBlock(SNES snes, Mat rhs, Mat x);
 /* Assembles the Jacobian at x and factors it now (FEM_JACOBIAN_ON_REQUEST). */
 PetscErrorCode FEMUpdateJacobian(SNES snes, Vec x);
 /* The same for a Newton SNES after its solve: the linear solves that follow use the

@@ -29,6 +29,7 @@ PetscErrorCode FluidBeginStep(Fluid, PetscInt step);          /* old-domain term
 PetscErrorCode FluidSolve(Fluid, Vec load, PetscInt step);    /* R(x) = history + load */
 PetscErrorCode FluidUpdateJacobian(Fluid);                    /* A = dR/dx at the current state, factored */
 PetscErrorCode FluidLinearSolve(Fluid, Vec rhs, Vec x, PetscBool transpose); /* with the factors in hand */
+PetscErrorCode FluidLinearSolveBlock(Fluid, Mat rhs, Mat x);                /* dense columns, forward */
 /* Dirichlet-Neumann use: solves with the interface rows (global indices) set to `values`
    (a global vector; only those rows are read) and returns the reaction R(x) - history on
    those rows (0 elsewhere): the load a traction-controlled fluid would need there. */

@@ -31,6 +31,7 @@ PetscErrorCode StructureSetInitialLoad(Structure, Vec load); /* B_s g^0, for the
 PetscErrorCode StructureVelocityLocal(Structure, StructureVelocityMeasure, Vec velocity_local);
 PetscReal      StructureVelocityCoefficient(Structure, StructureVelocityMeasure);
 PetscErrorCode StructureLinearSolve(Structure, Vec rhs, Vec x, PetscBool transpose);
+PetscErrorCode StructureLinearSolveBlock(Structure, Mat rhs, Mat x);
 PetscErrorCode StructureGetDM(Structure, DM *);
 /* Probes on a structure alone: a vector of the displacement at every owned node (blocks of
    dim) and the coordinates of those nodes that are mesh vertices (others: PETSC_MAX_REAL). */

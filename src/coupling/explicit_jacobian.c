@@ -3,41 +3,46 @@
 struct _p_ExplicitJacobian {
   Mat        J;       /* the Jacobian shell */
   Mat        J0;      /* dense, sequential, the same on every rank */
-  Vec        e, Je, all, y, z;
+  Vec        e, all, y, z; /* e: the control layout */
   VecScatter to_all;
   PetscBool  rebuild, factored;
   PetscInt   builds;
+  PetscInt   block; /* columns per product J [e_j ...] */
 };
 
 static PetscErrorCode Build(ExplicitJacobian E)
 {
-  PetscInt     N, rstart, rend;
-  PetscScalar *column;
+  PetscInt N, n, rstart, rend;
 
   PetscFunctionBeginUser;
   PetscCall(VecGetSize(E->e, &N));
+  PetscCall(VecGetLocalSize(E->e, &n));
   PetscCall(VecGetOwnershipRange(E->e, &rstart, &rend));
   PetscCall(MatDestroy(&E->J0));
   PetscCall(MatCreateSeqDense(PETSC_COMM_SELF, N, N, NULL, &E->J0));
-  for (PetscInt j = 0; j < N; ++j) {
-    const PetscScalar *a;
-    PetscCall(VecZeroEntries(E->e));
-    if (j >= rstart && j < rend) PetscCall(VecSetValue(E->e, j, 1.0, INSERT_VALUES));
-    PetscCall(VecAssemblyBegin(E->e));
-    PetscCall(VecAssemblyEnd(E->e));
-    PetscCall(MatMult(E->J, E->e, E->Je));
-    PetscCall(VecScatterBegin(E->to_all, E->Je, E->all, INSERT_VALUES, SCATTER_FORWARD));
-    PetscCall(VecScatterEnd(E->to_all, E->Je, E->all, INSERT_VALUES, SCATTER_FORWARD));
-    {
-      Vec col;
-      PetscCall(MatDenseGetColumnVecWrite(E->J0, j, &col));
-      PetscCall(VecGetArrayRead(E->all, &a));
-      PetscCall(VecGetArray(col, &column));
-      for (PetscInt i = 0; i < N; ++i) column[i] = a[i];
-      PetscCall(VecRestoreArray(col, &column));
-      PetscCall(VecRestoreArrayRead(E->all, &a));
-      PetscCall(MatDenseRestoreColumnVecWrite(E->J0, j, &col));
+  for (PetscInt first = 0; first < N; first += E->block) {
+    const PetscInt columns = PetscMin(E->block, N - first);
+    Mat            units, images;
+
+    PetscCall(MatCreateDense(PetscObjectComm((PetscObject)E->J), n, PETSC_DECIDE, N, columns, NULL, &units));
+    PetscCall(MatZeroEntries(units));
+    for (PetscInt j = 0; j < columns; ++j)
+      if (first + j >= rstart && first + j < rend) PetscCall(MatSetValue(units, first + j, j, 1.0, INSERT_VALUES));
+    PetscCall(MatAssemblyBegin(units, MAT_FINAL_ASSEMBLY));
+    PetscCall(MatAssemblyEnd(units, MAT_FINAL_ASSEMBLY));
+    PetscCall(MatMatMult(E->J, units, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &images));
+    for (PetscInt j = 0; j < columns; ++j) {
+      Vec image, column;
+      PetscCall(MatDenseGetColumnVecRead(images, j, &image));
+      PetscCall(VecScatterBegin(E->to_all, image, E->all, INSERT_VALUES, SCATTER_FORWARD));
+      PetscCall(VecScatterEnd(E->to_all, image, E->all, INSERT_VALUES, SCATTER_FORWARD));
+      PetscCall(MatDenseRestoreColumnVecRead(images, j, &image));
+      PetscCall(MatDenseGetColumnVecWrite(E->J0, first + j, &column));
+      PetscCall(VecCopy(E->all, column));
+      PetscCall(MatDenseRestoreColumnVecWrite(E->J0, first + j, &column));
     }
+    PetscCall(MatDestroy(&units));
+    PetscCall(MatDestroy(&images));
   }
   PetscCall(MatLUFactor(E->J0, NULL, NULL, NULL));
   if (!E->y) PetscCall(VecDuplicate(E->all, &E->y));
@@ -64,7 +69,7 @@ static PetscErrorCode Apply(PC pc, Vec x, Vec out)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ExplicitJacobianCreate(Mat J, KSP ksp, ExplicitJacobian *explicit_jacobian)
+PetscErrorCode ExplicitJacobianCreate(Mat J, PetscInt block, KSP ksp, ExplicitJacobian *explicit_jacobian)
 {
   ExplicitJacobian E;
   PC               pc;
@@ -72,9 +77,10 @@ PetscErrorCode ExplicitJacobianCreate(Mat J, KSP ksp, ExplicitJacobian *explicit
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&E));
   E->J       = J;
+  E->block   = block;
   E->rebuild = PETSC_TRUE;
-  PetscCall(MatCreateVecs(J, &E->e, &E->Je));
-  PetscCall(VecScatterCreateToAll(E->Je, &E->to_all, &E->all));
+  PetscCall(MatCreateVecs(J, &E->e, NULL));
+  PetscCall(VecScatterCreateToAll(E->e, &E->to_all, &E->all));
   PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(PCSetType(pc, PCSHELL));
   PetscCall(PCShellSetContext(pc, E));
@@ -99,7 +105,6 @@ PetscErrorCode ExplicitJacobianDestroy(ExplicitJacobian *explicit_jacobian)
   if (!E) PetscFunctionReturn(0);
   PetscCall(MatDestroy(&E->J0));
   PetscCall(VecDestroy(&E->e));
-  PetscCall(VecDestroy(&E->Je));
   PetscCall(VecDestroy(&E->all));
   PetscCall(VecDestroy(&E->y));
   PetscCall(VecDestroy(&E->z));

@@ -24,9 +24,9 @@ typedef struct {
   PetscReal *objectives; /* this step's, by iteration */
   PetscBool  stalled, test_adjoint, test_taylor;
   PetscReal  last_jump, first_jump;
-  /* the explicit-Jacobian preconditioner of the inner CG (explicit_pc.c) */
+  /* the explicit-Jacobian preconditioner of the inner CG (explicit_jacobian.c) */
   ExplicitJacobian explicit_jacobian;
-  PetscInt   rebuild_every;
+  PetscInt   rebuild_every, build_block;
   PetscInt   rebuild_inner; /* and when a Gauss-Newton iteration's CG needed more than this */
   PetscInt   last_iteration;
 } Opt;
@@ -222,6 +222,8 @@ PetscErrorCode CouplingCreate_Opt(Coupling C)
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Optimization-based coupling", "coupling");
   opt->rebuild_every = 0;
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian", "Precondition the inner CG with the LU of an explicitly built J, rebuilt every K steps (0: no preconditioner, the seed's plain CGLS)", 0, 1000000, &opt->rebuild_every));
+  opt->build_block = 32;
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian_block", "build that J from products J [e_j ...] of this many columns, one multi-right-hand-side solve each (1: one solve per control)", 1, 100000, &opt->build_block));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian_rebuild_its", "also rebuild that J after a Gauss-Newton iteration whose CG needed more than N iterations (0: only every K steps)", 0, 1000000, &opt->rebuild_inner));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_stall_its", "stop a step as stalled when the objective has not improved by 1% over this many iterations", 1, 1000, &opt->stall_its));
   PetscCall(PetscOptionsBool("-coupling_test_adjoint", "At the first step, check <J h, r> = <h, J^T r> for random h, r", NULL, opt->test_adjoint, &opt->test_adjoint, NULL));
@@ -268,7 +270,7 @@ PetscErrorCode CouplingCreate_Opt(Coupling C)
     KSP ksp;
     PetscCall(TaoGetKSP(opt->inner, &ksp));
     PetscCheck(ksp, PETSC_COMM_WORLD, PETSC_ERR_SUP, "option -coupling_explicit_jacobian: the Gauss-Newton subsolver has no KSP");
-    PetscCall(ExplicitJacobianCreate(opt->J, ksp, &opt->explicit_jacobian));
+    PetscCall(ExplicitJacobianCreate(opt->J, opt->build_block, ksp, &opt->explicit_jacobian));
   }
   PetscFunctionReturn(0);
 }

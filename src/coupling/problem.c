@@ -26,6 +26,7 @@ struct _p_CouplingProblem {
   Vec                      g, r;                           /* control layout */
   Vec                      all_a, all_b, all_q, datum_load; /* all interface nodes */
   Vec                      fluid_vec, fluid_sol, fluid_local, structure_vec, structure_sol, structure_local;
+  Mat                      fluid_rhs_block, fluid_sol_block, structure_rhs_block, structure_sol_block; /* J H */
   Vec                      state_x, state_F, jacobian_x;
   PetscBool                state_valid, jacobian_valid;
   PetscReal                state_jump;
@@ -240,6 +241,10 @@ PetscErrorCode CouplingProblemDestroy(CouplingProblem *problem)
   PetscCall(VecDestroy(&P->structure_vec));
   PetscCall(VecDestroy(&P->structure_sol));
   PetscCall(VecDestroy(&P->structure_local));
+  PetscCall(MatDestroy(&P->fluid_rhs_block));
+  PetscCall(MatDestroy(&P->fluid_sol_block));
+  PetscCall(MatDestroy(&P->structure_rhs_block));
+  PetscCall(MatDestroy(&P->structure_sol_block));
   PetscCall(VecDestroy(&P->mesh_displacement));
   PetscCall(VecDestroy(&P->mesh_displacement_before));
   PetscCall(KSPDestroy(&P->control_mass_ksp));
@@ -737,6 +742,105 @@ PetscErrorCode CouplingProblemJacobianMultTranspose(CouplingProblem P, Vec rho, 
   PetscFunctionReturn(0);
 }
 
+/* Dense work blocks of `columns` columns laid out like v (NULL v: none on this rank). */
+static PetscErrorCode EnsureBlocks(Vec v, PetscInt columns, Mat *rhs, Mat *sol)
+{
+  PetscInt n, N, have = -1;
+
+  PetscFunctionBeginUser;
+  if (!v) PetscFunctionReturn(0);
+  if (*rhs) PetscCall(MatGetSize(*rhs, NULL, &have));
+  if (have == columns) PetscFunctionReturn(0);
+  PetscCall(MatDestroy(rhs));
+  PetscCall(MatDestroy(sol));
+  PetscCall(VecGetLocalSize(v, &n));
+  PetscCall(VecGetSize(v, &N));
+  PetscCall(MatCreateDense(PetscObjectComm((PetscObject)v), n, PETSC_DECIDE, N, columns, NULL, rhs));
+  PetscCall(MatDuplicate(*rhs, MAT_DO_NOT_COPY_VALUES, sol));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode CopyToColumn(Vec v, Mat block, PetscInt j)
+{
+  Vec column;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatDenseGetColumnVecWrite(block, j, &column));
+  PetscCall(VecCopy(v, column));
+  PetscCall(MatDenseRestoreColumnVecWrite(block, j, &column));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode CopyFromColumn(Mat block, PetscInt j, Vec v)
+{
+  Vec column;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatDenseGetColumnVecRead(block, j, &column));
+  PetscCall(VecCopy(column, v));
+  PetscCall(MatDenseRestoreColumnVecRead(block, j, &column));
+  PetscFunctionReturn(0);
+}
+
+/* Y = J H column by column as CouplingProblemJacobianMult, but with one solve of each
+   subproblem for the whole block: the explicit Jacobian's columns come from a handful of
+   multi-right-hand-side solves instead of one pair of solves per control. */
+PetscErrorCode CouplingProblemJacobianMultBlock(CouplingProblem P, Mat H, Mat Y)
+{
+  PetscInt columns;
+
+  PetscFunctionBeginUser;
+  if (StepFailed(&P->failure)) {
+    PetscCall(MatCopy(H, Y, SAME_NONZERO_PATTERN));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(PetscLogStagePush(FSIOPT_STAGE_SENSITIVITY));
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_SENSITIVITY, 0, 0, 0, 0));
+  PetscCall(MatGetSize(H, NULL, &columns));
+  PetscCall(EnsureBlocks(P->fluid ? P->fluid_vec : NULL, columns, &P->fluid_rhs_block, &P->fluid_sol_block));
+  PetscCall(EnsureBlocks(P->structure ? P->structure_vec : NULL, columns, &P->structure_rhs_block, &P->structure_sol_block));
+  for (PetscInt j = 0; j < columns; ++j) {
+    Vec h;
+    PetscCall(MatDenseGetColumnVecRead(H, j, &h));
+    PetscCall(ControlToLoad(P, h, P->all_q));
+    PetscCall(MatDenseRestoreColumnVecRead(H, j, &h));
+    if (P->structure) PetscCall(VecZeroEntries(P->structure_vec));
+    PetscCall(InterfaceStructureSpread(P->itf, P->all_q, P->structure ? P->structure_vec : NULL));
+    if (P->structure) PetscCall(CopyToColumn(P->structure_vec, P->structure_rhs_block, j));
+    if (P->fluid) {
+      PetscCall(VecZeroEntries(P->fluid_vec));
+      PetscCall(InterfaceFluidSpread(P->itf, P->all_q, P->fluid_vec));
+      PetscCall(CopyToColumn(P->fluid_vec, P->fluid_rhs_block, j));
+    }
+  }
+  if (P->fluid) PetscCall(FluidLinearSolveBlock(P->fluid, P->fluid_rhs_block, P->fluid_sol_block));
+  if (P->structure) PetscCall(StructureLinearSolveBlock(P->structure, P->structure_rhs_block, P->structure_sol_block));
+  for (PetscInt j = 0; j < columns; ++j) {
+    Vec y;
+    if (P->fluid) {
+      DM dm;
+      PetscCall(CopyFromColumn(P->fluid_sol_block, j, P->fluid_sol));
+      PetscCall(FluidGetDM(P->fluid, &dm));
+      PetscCall(VecZeroEntries(P->fluid_local));
+      PetscCall(DMGlobalToLocal(dm, P->fluid_sol, INSERT_VALUES, P->fluid_local));
+    }
+    if (P->structure) {
+      DM dm;
+      PetscCall(CopyFromColumn(P->structure_sol_block, j, P->structure_sol));
+      PetscCall(StructureGetDM(P->structure, &dm));
+      PetscCall(VecZeroEntries(P->structure_local));
+      PetscCall(DMGlobalToLocal(dm, P->structure_sol, INSERT_VALUES, P->structure_local));
+    }
+    PetscCall(MatDenseGetColumnVecWrite(Y, j, &y));
+    PetscCall(Jump(P, -P->velocity_coefficient, y, NULL));
+    PetscCall(VecPointwiseMult(y, y, P->weight_sqrt));
+    PetscCall(MatDenseRestoreColumnVecWrite(Y, j, &y));
+  }
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_SENSITIVITY, 0, 0, 0, 0));
+  PetscCall(PetscLogStagePop());
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode ShellMult(Mat J, Vec h, Vec y)
 {
   CouplingProblem P;
@@ -744,6 +848,16 @@ static PetscErrorCode ShellMult(Mat J, Vec h, Vec y)
   PetscFunctionBeginUser;
   PetscCall(MatShellGetContext(J, &P));
   PetscCall(CouplingProblemJacobianMult(P, h, y));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode ShellMatMult(Mat J, Mat H, Mat Y, PETSC_UNUSED void *product_data)
+{
+  CouplingProblem P;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatShellGetContext(J, &P));
+  PetscCall(CouplingProblemJacobianMultBlock(P, H, Y));
   PetscFunctionReturn(0);
 }
 
@@ -767,6 +881,9 @@ PetscErrorCode CouplingProblemCreateJacobian(CouplingProblem P, Mat *J)
   PetscCall(MatCreateShell(P->comm, n, n, N, N, P, J));
   PetscCall(MatShellSetOperation(*J, MATOP_MULT, (void (*)(void))ShellMult));
   PetscCall(MatShellSetOperation(*J, MATOP_MULT_TRANSPOSE, (void (*)(void))ShellMultTranspose));
+  /* MatMatMult(J, H) on a dense block of controls, on one rank or several */
+  PetscCall(MatShellSetMatProductOperation(*J, MATPRODUCT_AB, NULL, ShellMatMult, NULL, MATSEQDENSE, MATDENSE));
+  PetscCall(MatShellSetMatProductOperation(*J, MATPRODUCT_AB, NULL, ShellMatMult, NULL, MATMPIDENSE, MATDENSE));
   PetscFunctionReturn(0);
 }
 

@@ -465,6 +465,17 @@ PetscErrorCode FluidLinearSolve(Fluid f, Vec rhs, Vec x, PetscBool transpose)
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode FluidLinearSolveBlock(Fluid f, Mat rhs, Mat x)
+{
+  PetscInt columns;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatGetSize(rhs, NULL, &columns));
+  PetscCall(FEMLinearSolveBlock(f->snes, rhs, x));
+  f->counts.linear_solves += columns;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FluidCheckpoint(Fluid f, Checkpoint cp, PetscBool load)
 {
   PetscBool bdf2_state = f->time_order == 2;

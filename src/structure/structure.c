@@ -366,6 +366,17 @@ PetscErrorCode StructureLinearSolve(Structure s, Vec rhs, Vec x, PetscBool trans
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode StructureLinearSolveBlock(Structure s, Mat rhs, Mat x)
+{
+  PetscInt columns;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatGetSize(rhs, NULL, &columns));
+  PetscCall(FEMLinearSolveBlock(s->snes, rhs, x));
+  s->counts.linear_solves += columns;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode StructureGetDisplacementLocal(Structure s, Vec *eta_local)
 {
   PetscFunctionBeginUser;

@@ -1,32 +1,49 @@
 #!/usr/bin/python3
-"""What each fluid mesh motion costs and how far it keeps the cells from degenerating: the
-same Turek-Hron run (default fsi2 level 1, 20 steps) with each -mesh_motion variant,
-alternated --repeats times in one invocation. Reported per variant: the median wall time
-(summary.json wall_time_s) and the median time of the MeshMotion log stage (-log_view: the
-extensions, and for the incremental ones each step's assembly and factorization), both as
-ratios to the first variant's, and the smallest area a cell corner kept against its
-reference one (summary.json worst_corner_ratio; a step fails below 1e-3), or the time of
-a step that failed because of it (the timings then cover a shorter run). With --restart
-CHECKPOINT the runs start from a swung flag (a checkpoint of the same case), so that the
-ratio says something; the probes of all variants are compared with the first's.
+"""What a choice of method costs on a Turek-Hron run, side by side: the same run (default
+fsi2 level 1, 20 steps) with each variant of one comparison, alternated --repeats times
+in one invocation.
 
-  /usr/bin/python3 scripts/mesh_motion_cost.py [--case fsi2] [--steps 20] [--repeats 3]
-      [--restart CHECKPOINT] [--out out/mesh-motion-cost] [-- extra fsiopt options]"""
+  --compare mesh-motion        the -mesh_motion variants; log stage MeshMotion (the
+                               extensions, and for the incremental ones each step's
+                               assembly and factorization)
+  --compare explicit-jacobian  the number of controls per multi-right-hand-side solve
+                               when the CG preconditioner J0 is built
+                               (-coupling_explicit_jacobian_block); log stage Sensitivity
+
+Reported per variant: the median wall time (summary.json wall_time_s) and the median time
+of the comparison's log stage (-log_view), both as ratios to the first variant's (the
+default), the smallest area a cell corner kept against its reference one (summary.json
+worst_corner_ratio; a step fails below 1e-3) or the time of a step that failed because of
+it (the timings then cover a shorter run), and the largest difference of the probes from
+the first variant's. With --restart CHECKPOINT the runs start from a swung flag (a
+checkpoint of the same case), so that the ratios say something.
+
+  /usr/bin/python3 scripts/variant_cost.py [--compare mesh-motion] [--case fsi2]
+      [--steps 20] [--repeats 3] [--restart CHECKPOINT] [--out out/variant-cost]
+      [-- extra fsiopt options]"""
 import argparse, json, os, re, statistics, subprocess, sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import fsiopt_runs as fr   # noqa: E402
 
 ROOT = fr.ROOT
-VARIANTS = [  # the default of fsi2 and fsi3 first
-    ("biharmonic, chi 2", ["-mesh_motion", "biharmonic", "-mesh_motion_stiffening", "2", "-mesh_motion_incremental", "0"]),
-    ("harmonic, chi 1", ["-mesh_motion", "harmonic", "-mesh_motion_stiffening", "1", "-mesh_motion_incremental", "0"]),
-    ("elastic by increments, chi 2", ["-mesh_motion", "elastic", "-mesh_motion_stiffening", "2", "-mesh_motion_incremental", "1"]),
-    ("biharmonic by increments, chi 2", ["-mesh_motion", "biharmonic", "-mesh_motion_stiffening", "2", "-mesh_motion_incremental", "1"]),
-]
+COMPARISONS = {  # (log stage, variants with the default first)
+    "mesh-motion": ("MeshMotion", [
+        ("biharmonic, chi 2", ["-mesh_motion", "biharmonic", "-mesh_motion_stiffening", "2", "-mesh_motion_incremental", "0"]),
+        ("harmonic, chi 1", ["-mesh_motion", "harmonic", "-mesh_motion_stiffening", "1", "-mesh_motion_incremental", "0"]),
+        ("elastic by increments, chi 2", ["-mesh_motion", "elastic", "-mesh_motion_stiffening", "2", "-mesh_motion_incremental", "1"]),
+        ("biharmonic by increments, chi 2", ["-mesh_motion", "biharmonic", "-mesh_motion_stiffening", "2", "-mesh_motion_incremental", "1"]),
+    ]),
+    "explicit-jacobian": ("Sensitivity", [
+        ("blocks of 32 controls", ["-coupling_explicit_jacobian_block", "32"]),
+        ("one control at a time", ["-coupling_explicit_jacobian_block", "1"]),
+        ("blocks of 8 controls", ["-coupling_explicit_jacobian_block", "8"]),
+        ("blocks of 64 controls", ["-coupling_explicit_jacobian_block", "64"]),
+    ]),
+}
 
 
-def run(args, out):
+def run(args, out, stage_name):
     path = os.path.join(out, "summary.json")
     if os.path.exists(path):  # the previous repeat's: a run that writes none must not read it
         os.remove(path)
@@ -36,21 +53,22 @@ def run(args, out):
     summary = json.load(open(path)) if os.path.exists(path) else None
     if p.returncode != 0 and not (summary and summary["failure"]):
         err = p.stderr.strip()
-        sys.exit("mesh_motion_cost: fsiopt failed: %s" % (err.splitlines()[-1] if err else "exit %d" % p.returncode))
-    stage = fr.parse_stages(p.stdout).get("MeshMotion")
+        sys.exit("variant_cost: fsiopt failed: %s" % (err.splitlines()[-1] if err else "exit %d" % p.returncode))
+    stage = fr.parse_stages(p.stdout).get(stage_name)
     if stage is None:
-        sys.exit("mesh_motion_cost: no MeshMotion stage in -log_view's output")
+        sys.exit("variant_cost: no %s stage in -log_view's output" % stage_name)
     rows = [line.split(",") for line in open(os.path.join(out, "probes.csv")).read().split("\n")[1:] if line]
     return summary, stage, [[float(v) for v in r] for r in rows]
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--compare", choices=sorted(COMPARISONS), default="mesh-motion")
     ap.add_argument("--case", default="fsi2")
     ap.add_argument("--steps", type=int, default=20)
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--restart", help="a checkpoint of the same case to start from")
-    ap.add_argument("--out", default=os.path.join(ROOT, "out", "mesh-motion-cost"))
+    ap.add_argument("--out", default=os.path.join(ROOT, "out", "variant-cost"))
     ap.add_argument("extra", nargs="*", help="more fsiopt options (after --)")
     a = ap.parse_args()
     if a.steps < 1 or a.repeats < 1:
@@ -60,21 +78,23 @@ def main():
         if not os.path.isfile(a.restart):
             ap.error("--restart %s: no such checkpoint file" % a.restart)
         base += ["-restart", os.path.abspath(a.restart)]
+    stage_name, variants = COMPARISONS[a.compare]
     t_end = "%.12g" % (start_time(a, base) + a.steps * case_dt(base))
     wall, stage, worst, probes, failed = {}, {}, {}, {}, {}
     for r in range(a.repeats):
-        for name, options in VARIANTS:
-            s, t_stage, rows = run(base + options + ["-t_final", t_end], os.path.join(a.out, re.sub(r"[^a-z0-9]+", "-", name)))
+        for name, options in variants:
+            s, t_stage, rows = run(base + options + ["-t_final", t_end], os.path.join(a.out, re.sub(r"[^a-z0-9]+", "-", name)), stage_name)
             wall.setdefault(name, []).append(s["wall_time_s"])
             stage.setdefault(name, []).append(t_stage)
             worst[name], probes[name] = s["worst_corner_ratio"], rows
             failed[name] = failure_time(s["failure"])
-    first = VARIANTS[0][0]
-    print("| mesh motion | wall time (s) | ratio | MeshMotion stage (s) | ratio | worst corner ratio | probes vs first (of their largest) |")
+    first = variants[0][0]
+    print("| %s | wall time (s) | ratio | %s stage (s) | ratio | worst corner ratio | probes vs first (of their largest) |" % (
+        a.compare, stage_name))
     print("|---|---|---|---|---|---|---|")
-    for name, _ in VARIANTS:
+    for name, _ in variants:
         w, m = statistics.median(wall[name]), statistics.median(stage[name])
-        if failed[name]:  # a mesh this motion cannot follow: a step failed with the smallest dt
+        if failed[name]:  # e.g. a mesh this motion cannot follow: a step failed with the smallest dt
             print("| %s | %.2f | %.2f | %.3f | %.2f | failed at t = %s | |" % (
                 name, w, w / statistics.median(wall[first]), m, m / statistics.median(stage[first]), failed[name]))
             continue
@@ -98,7 +118,7 @@ def case_dt(base):
                           text=True, errors="replace").stdout
     found = re.search(r"^\s*-dt <(\S+)", text, re.M)
     if not found:
-        sys.exit("mesh_motion_cost: fsiopt -help does not show -dt")
+        sys.exit("variant_cost: fsiopt -help does not show -dt")
     return float(found.group(1))
 
 
