@@ -9,6 +9,10 @@ in one invocation.
   --compare explicit-jacobian  the number of controls per multi-right-hand-side solve
                                when the CG preconditioner J0 is built
                                (-coupling_explicit_jacobian_block); log stage Sensitivity
+  --compare rebuild            when J0 is rebuilt: after a Gauss-Newton iteration whose CG
+                               needed more than N iterations
+                               (-coupling_explicit_jacobian_rebuild_its); log stage
+                               Sensitivity (the builds and CG's products J h)
 
 Reported per variant: the median wall time (summary.json wall_time_s) and the median time
 of the comparison's log stage (-log_view), both as ratios to the first variant's (the
@@ -39,6 +43,12 @@ COMPARISONS = {  # (log stage, variants with the default first)
         ("one control at a time", ["-coupling_explicit_jacobian_block", "1"]),
         ("blocks of 8 controls", ["-coupling_explicit_jacobian_block", "8"]),
         ("blocks of 64 controls", ["-coupling_explicit_jacobian_block", "64"]),
+    ]),
+    "rebuild": ("Sensitivity", [
+        ("after > 10 CG iterations", ["-coupling_explicit_jacobian_rebuild_its", "10"]),
+        ("after > 20", ["-coupling_explicit_jacobian_rebuild_its", "20"]),
+        ("after > 5", ["-coupling_explicit_jacobian_rebuild_its", "5"]),
+        ("after > 2", ["-coupling_explicit_jacobian_rebuild_its", "2"]),
     ]),
 }
 
@@ -80,27 +90,28 @@ def main():
         base += ["-restart", os.path.abspath(a.restart)]
     stage_name, variants = COMPARISONS[a.compare]
     t_end = "%.12g" % (start_time(a, base) + a.steps * case_dt(base))
-    wall, stage, worst, probes, failed = {}, {}, {}, {}, {}
+    wall, stage, worst, probes, failed, its = {}, {}, {}, {}, {}, {}
     for r in range(a.repeats):
         for name, options in variants:
             s, t_stage, rows = run(base + options + ["-t_final", t_end], os.path.join(a.out, re.sub(r"[^a-z0-9]+", "-", name)), stage_name)
             wall.setdefault(name, []).append(s["wall_time_s"])
             stage.setdefault(name, []).append(t_stage)
             worst[name], probes[name] = s["worst_corner_ratio"], rows
+            its[name] = "%d / %d" % (s["coupling_iterations"], s["inner_iterations"])
             failed[name] = failure_time(s["failure"])
     first = variants[0][0]
-    print("| %s | wall time (s) | ratio | %s stage (s) | ratio | worst corner ratio | probes vs first (of their largest) |" % (
+    print("| %s | wall time (s) | ratio | %s stage (s) | ratio | GN / CG iterations | worst corner ratio | probes vs first (of their largest) |" % (
         a.compare, stage_name))
-    print("|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|")
     for name, _ in variants:
         w, m = statistics.median(wall[name]), statistics.median(stage[name])
         if failed[name]:  # e.g. a mesh this motion cannot follow: a step failed with the smallest dt
-            print("| %s | %.2f | %.2f | %.3f | %.2f | failed at t = %s | |" % (
-                name, w, w / statistics.median(wall[first]), m, m / statistics.median(stage[first]), failed[name]))
+            print("| %s | %.2f | %.2f | %.3f | %.2f | %s | failed at t = %s | |" % (
+                name, w, w / statistics.median(wall[first]), m, m / statistics.median(stage[first]), its[name], failed[name]))
             continue
         diff = fr.probes_difference(probes[name], probes[first]) if not failed[first] else float("nan")
-        print("| %s | %.2f | %.2f | %.3f | %.2f | %.4f | %.1e |" % (
-            name, w, w / statistics.median(wall[first]), m, m / statistics.median(stage[first]), worst[name], diff))
+        print("| %s | %.2f | %.2f | %.3f | %.2f | %s | %.4f | %.1e |" % (
+            name, w, w / statistics.median(wall[first]), m, m / statistics.median(stage[first]), its[name], worst[name], diff))
     print("(%d steps, medians of %d runs each, alternated; %s)" % (a.steps, a.repeats, " ".join(base)))
 
 
