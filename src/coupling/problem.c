@@ -676,31 +676,49 @@ PetscErrorCode CouplingProblemUpdateJacobian(CouplingProblem P, Vec x)
   PetscFunctionReturn(0);
 }
 
-/* The common body of J h and J^T rho: solve both subproblems (forward or transposed)
-   with the interface load all_q, and leave their velocity traces' sum in `out`. */
-static PetscErrorCode SolveAndTrace(CouplingProblem P, PetscBool transpose, Vec out)
+/* fluid_vec and structure_vec = the subproblems' loads of the interface load all_q. */
+static PetscErrorCode SpreadLoad(CouplingProblem P)
 {
   PetscFunctionBeginUser;
   if (P->structure) PetscCall(VecZeroEntries(P->structure_vec));
   PetscCall(InterfaceStructureSpread(P->itf, P->all_q, P->structure ? P->structure_vec : NULL));
   if (P->fluid) {
-    DM dm;
     PetscCall(VecZeroEntries(P->fluid_vec));
     PetscCall(InterfaceFluidSpread(P->itf, P->all_q, P->fluid_vec));
-    PetscCall(FluidLinearSolve(P->fluid, P->fluid_vec, P->fluid_sol, transpose));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* out = the jump of the responses fluid_sol and structure_sol (see SolveAndTrace). */
+static PetscErrorCode TraceResponses(CouplingProblem P, Vec out)
+{
+  DM dm;
+
+  PetscFunctionBeginUser;
+  if (P->fluid) {
     PetscCall(FluidGetDM(P->fluid, &dm));
     PetscCall(VecZeroEntries(P->fluid_local));
     PetscCall(DMGlobalToLocal(dm, P->fluid_sol, INSERT_VALUES, P->fluid_local));
   }
   if (P->structure) {
-    DM dm;
-    PetscCall(StructureLinearSolve(P->structure, P->structure_vec, P->structure_sol, transpose));
     PetscCall(StructureGetDM(P->structure, &dm));
     PetscCall(VecZeroEntries(P->structure_local));
     PetscCall(DMGlobalToLocal(dm, P->structure_sol, INSERT_VALUES, P->structure_local));
   }
   /* the structure responds to -B_s h with -delta eta; the jump carries -c delta eta */
   PetscCall(Jump(P, -P->velocity_coefficient, out, NULL));
+  PetscFunctionReturn(0);
+}
+
+/* The common body of J h and J^T rho: solve both subproblems (forward or transposed)
+   with the interface load all_q, and leave their velocity traces' sum in `out`. */
+static PetscErrorCode SolveAndTrace(CouplingProblem P, PetscBool transpose, Vec out)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SpreadLoad(P));
+  if (P->fluid) PetscCall(FluidLinearSolve(P->fluid, P->fluid_vec, P->fluid_sol, transpose));
+  if (P->structure) PetscCall(StructureLinearSolve(P->structure, P->structure_vec, P->structure_sol, transpose));
+  PetscCall(TraceResponses(P, out));
   PetscFunctionReturn(0);
 }
 
@@ -804,35 +822,18 @@ PetscErrorCode CouplingProblemJacobianMultBlock(CouplingProblem P, Mat H, Mat Y)
     PetscCall(MatDenseGetColumnVecRead(H, j, &h));
     PetscCall(ControlToLoad(P, h, P->all_q));
     PetscCall(MatDenseRestoreColumnVecRead(H, j, &h));
-    if (P->structure) PetscCall(VecZeroEntries(P->structure_vec));
-    PetscCall(InterfaceStructureSpread(P->itf, P->all_q, P->structure ? P->structure_vec : NULL));
+    PetscCall(SpreadLoad(P));
     if (P->structure) PetscCall(CopyToColumn(P->structure_vec, P->structure_rhs_block, j));
-    if (P->fluid) {
-      PetscCall(VecZeroEntries(P->fluid_vec));
-      PetscCall(InterfaceFluidSpread(P->itf, P->all_q, P->fluid_vec));
-      PetscCall(CopyToColumn(P->fluid_vec, P->fluid_rhs_block, j));
-    }
+    if (P->fluid) PetscCall(CopyToColumn(P->fluid_vec, P->fluid_rhs_block, j));
   }
   if (P->fluid) PetscCall(FluidLinearSolveBlock(P->fluid, P->fluid_rhs_block, P->fluid_sol_block));
   if (P->structure) PetscCall(StructureLinearSolveBlock(P->structure, P->structure_rhs_block, P->structure_sol_block));
   for (PetscInt j = 0; j < columns; ++j) {
     Vec y;
-    if (P->fluid) {
-      DM dm;
-      PetscCall(CopyFromColumn(P->fluid_sol_block, j, P->fluid_sol));
-      PetscCall(FluidGetDM(P->fluid, &dm));
-      PetscCall(VecZeroEntries(P->fluid_local));
-      PetscCall(DMGlobalToLocal(dm, P->fluid_sol, INSERT_VALUES, P->fluid_local));
-    }
-    if (P->structure) {
-      DM dm;
-      PetscCall(CopyFromColumn(P->structure_sol_block, j, P->structure_sol));
-      PetscCall(StructureGetDM(P->structure, &dm));
-      PetscCall(VecZeroEntries(P->structure_local));
-      PetscCall(DMGlobalToLocal(dm, P->structure_sol, INSERT_VALUES, P->structure_local));
-    }
+    if (P->fluid) PetscCall(CopyFromColumn(P->fluid_sol_block, j, P->fluid_sol));
+    if (P->structure) PetscCall(CopyFromColumn(P->structure_sol_block, j, P->structure_sol));
     PetscCall(MatDenseGetColumnVecWrite(Y, j, &y));
-    PetscCall(Jump(P, -P->velocity_coefficient, y, NULL));
+    PetscCall(TraceResponses(P, y));
     PetscCall(VecPointwiseMult(y, y, P->weight_sqrt));
     PetscCall(MatDenseRestoreColumnVecWrite(Y, j, &y));
   }
