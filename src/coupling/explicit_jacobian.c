@@ -7,7 +7,9 @@ struct _p_ExplicitJacobian {
   VecScatter to_all;
   PetscBool  rebuild, factored;
   PetscInt   builds;
-  PetscInt   block; /* columns per product J [e_j ...] */
+  PetscInt   block;         /* at most this many columns per product J [e_j ...] */
+  Mat        units, images; /* one width for every block and build: the products' work
+                               blocks are allocated once */
 };
 
 static PetscErrorCode Build(ExplicitJacobian E)
@@ -20,29 +22,29 @@ static PetscErrorCode Build(ExplicitJacobian E)
   PetscCall(VecGetOwnershipRange(E->e, &rstart, &rend));
   PetscCall(MatDestroy(&E->J0));
   PetscCall(MatCreateSeqDense(PETSC_COMM_SELF, N, N, NULL, &E->J0));
-  for (PetscInt first = 0; first < N; first += E->block) {
-    const PetscInt columns = PetscMin(E->block, N - first);
-    Mat            units, images;
+  /* the fewest blocks of at most E->block columns, all of one width; the last one's
+     unused columns are zero */
+  const PetscInt nblocks = (N + E->block - 1) / E->block, width = (N + nblocks - 1) / nblocks;
+  if (!E->units) PetscCall(MatCreateDense(PetscObjectComm((PetscObject)E->J), n, PETSC_DECIDE, N, width, NULL, &E->units));
+  for (PetscInt first = 0; first < N; first += width) {
+    const PetscInt columns = PetscMin(width, N - first);
 
-    PetscCall(MatCreateDense(PetscObjectComm((PetscObject)E->J), n, PETSC_DECIDE, N, columns, NULL, &units));
-    PetscCall(MatZeroEntries(units));
+    PetscCall(MatZeroEntries(E->units));
     for (PetscInt j = 0; j < columns; ++j)
-      if (first + j >= rstart && first + j < rend) PetscCall(MatSetValue(units, first + j, j, 1.0, INSERT_VALUES));
-    PetscCall(MatAssemblyBegin(units, MAT_FINAL_ASSEMBLY));
-    PetscCall(MatAssemblyEnd(units, MAT_FINAL_ASSEMBLY));
-    PetscCall(MatMatMult(E->J, units, MAT_INITIAL_MATRIX, PETSC_DEFAULT, &images));
+      if (first + j >= rstart && first + j < rend) PetscCall(MatSetValue(E->units, first + j, j, 1.0, INSERT_VALUES));
+    PetscCall(MatAssemblyBegin(E->units, MAT_FINAL_ASSEMBLY));
+    PetscCall(MatAssemblyEnd(E->units, MAT_FINAL_ASSEMBLY));
+    PetscCall(MatMatMult(E->J, E->units, E->images ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, PETSC_DEFAULT, &E->images));
     for (PetscInt j = 0; j < columns; ++j) {
       Vec image, column;
-      PetscCall(MatDenseGetColumnVecRead(images, j, &image));
+      PetscCall(MatDenseGetColumnVecRead(E->images, j, &image));
       PetscCall(VecScatterBegin(E->to_all, image, E->all, INSERT_VALUES, SCATTER_FORWARD));
       PetscCall(VecScatterEnd(E->to_all, image, E->all, INSERT_VALUES, SCATTER_FORWARD));
-      PetscCall(MatDenseRestoreColumnVecRead(images, j, &image));
+      PetscCall(MatDenseRestoreColumnVecRead(E->images, j, &image));
       PetscCall(MatDenseGetColumnVecWrite(E->J0, first + j, &column));
       PetscCall(VecCopy(E->all, column));
       PetscCall(MatDenseRestoreColumnVecWrite(E->J0, first + j, &column));
     }
-    PetscCall(MatDestroy(&units));
-    PetscCall(MatDestroy(&images));
   }
   PetscCall(MatLUFactor(E->J0, NULL, NULL, NULL));
   if (!E->y) PetscCall(VecDuplicate(E->all, &E->y));
@@ -104,6 +106,8 @@ PetscErrorCode ExplicitJacobianDestroy(ExplicitJacobian *explicit_jacobian)
   PetscFunctionBeginUser;
   if (!E) PetscFunctionReturn(0);
   PetscCall(MatDestroy(&E->J0));
+  PetscCall(MatDestroy(&E->units));
+  PetscCall(MatDestroy(&E->images));
   PetscCall(VecDestroy(&E->e));
   PetscCall(VecDestroy(&E->all));
   PetscCall(VecDestroy(&E->y));

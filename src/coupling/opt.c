@@ -223,7 +223,7 @@ PetscErrorCode CouplingCreate_Opt(Coupling C)
   opt->rebuild_every = 0;
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian", "Precondition the inner CG with the LU of an explicitly built J, rebuilt every K steps (0: no preconditioner, the seed's plain CGLS)", 0, 1000000, &opt->rebuild_every));
   opt->build_block = 32;
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian_block", "build that J from products J [e_j ...] of this many columns, one multi-right-hand-side solve each (1: one solve per control)", 1, 100000, &opt->build_block));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian_block", "build that J from products J [e_j ...] of at most this many columns (all blocks of one width), one multi-right-hand-side solve each (1: one solve per control)", 1, 100000, &opt->build_block));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian_rebuild_its", "also rebuild that J after a Gauss-Newton iteration whose CG needed more than N iterations (0: only every K steps)", 0, 1000000, &opt->rebuild_inner));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_stall_its", "stop a step as stalled when the objective has not improved by 1% over this many iterations", 1, 1000, &opt->stall_its));
   PetscCall(PetscOptionsBool("-coupling_test_adjoint", "At the first step, check <J h, r> = <h, J^T r> for random h, r", NULL, opt->test_adjoint, &opt->test_adjoint, NULL));
