@@ -659,7 +659,22 @@ def _():
     assert abs(q["mean"] - mean) <= 1e-12 and abs(q["amplitude"] - amplitude) <= 1e-12, "mean/amplitude %s against %g, %g" % (q, mean, amplitude)
     assert abs(q["frequency"] - frequency) <= 0.02 * frequency, "frequency %.4f against %.4f from the troughs" % (q["frequency"], frequency)
     assert amplitude > 0.1 * abs(mean), "no oscillation: amplitude %.3e, mean %.3e" % (amplitude, mean)
-    return "uy(A) %.4e +- %.4e m [%.4f Hz; troughs %.4f Hz]" % (q["mean"], q["amplitude"], q["frequency"], frequency)
+    # scripts/turek_hron_series.py quantities, over the same window, = summary.json's
+    table = os.path.join(out, "series.csv")
+    p = subprocess.run([sys.executable, os.path.join(ROOT, "scripts", "turek_hron_series.py"), "quantities", out,
+                        "--from", repr(last[0][0]), "--csv", table], capture_output=True, text=True)
+    assert p.returncode == 0, "turek_hron_series.py: %s" % p.stderr.strip()
+    row = next(csv.DictReader(open(table)))
+    worst = 0
+    for column, got in s["quantities"].items():
+        if column == "window_s":
+            continue
+        for key in ("mean", "amplitude", "frequency"):
+            if got[key] != -1:
+                worst = max(worst, abs(float(row[column + "_" + key]) - got[key]) / max(abs(got[key]), 1e-300))
+    assert worst <= 1e-9, "turek_hron_series.py quantities differ from summary.json by %.1e (relative)" % worst
+    return "uy(A) %.4e +- %.4e m [%.4f Hz; troughs %.4f Hz]; series script = summary to %.0e" % (
+        q["mean"], q["amplitude"], q["frequency"], frequency, worst)
 
 
 def interrupted_run(signum, nproc):
