@@ -88,8 +88,9 @@ def select(t, t0, t1):
 
 def write_csv(path, header, rows):
     if path:
-        with open(path, "w", newline="") as fh:
+        with open(path + ".partial", "w", newline="") as fh:
             csv.writer(fh).writerows([header] + rows)
+        os.replace(path + ".partial", path)
 
 
 def windows(args):
