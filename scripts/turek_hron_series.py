@@ -8,7 +8,8 @@ csm cases have no drag and lift, the cfd cases no displacement). A restarted run
 probes.csv covers the whole run.
 
   windows RUN [--width W] [--from T0] [--to T1]
-        per window of W seconds (default 0.25) from T0 (default: the first whole multiple of W)
+        per window [a, a + W] of W seconds (default 0.25; both ends included, so neighbours share
+        a step) from T0 (default: the first whole multiple of W)
         the least and the largest value of every quantity, and the change of its amplitude
         (max - min)/2 from the window before: how a periodic state is approached. Markdown.
   quantities RUN... [--from T0] [--to T1]
@@ -106,7 +107,7 @@ def windows(args):
     rows, before = [], {}
     a = start
     while a + args.width <= end + TOL:
-        m = (t >= a - TOL) & (t < a + args.width - TOL)
+        m = (t >= a - TOL) & (t <= a + args.width + TOL)
         if m.sum() >= 2:
             cells, row = [], ["%.6g" % a, "%.6g" % (a + args.width)]
             for c in columns:
