@@ -540,10 +540,15 @@ def write_runs_csv(path, variants):
             w.writerow(run_row(v))
 
 
-def read_table(path):
-    """A CSV with a header row of names and numeric rows: (names, list of float columns)."""
+def read_table(path, growing=False):
+    """A CSV with a header row of names and numeric rows: (names, list of float columns).
+    growing: the file is still being written (fsiopt's *.partial), so a last line without
+    its newline is half written and left out."""
     with open(path, newline="") as f:
-        rows = list(csv.reader(f))
+        text = f.read()
+    if growing and text and not text.endswith("\n"):
+        text = text[:text.rfind("\n") + 1]
+    rows = list(csv.reader(text.splitlines()))
     if not rows:
         raise ValueError("%s is empty" % path)
     names = [n.strip() for n in rows[0]]

@@ -32,6 +32,9 @@ import argparse, csv, math, os, sys
 sys.dont_write_bytecode = True
 import numpy as np
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import fsiopt_runs as fr  # noqa: E402
+
 # probes.csv column -> how the tables and plots name it
 LABELS = {"dx(0.6;0.2)": "ux(A)", "dy(0.6;0.2)": "uy(A)", "drag": "drag", "lift": "lift"}
 ORDER = ["dy(0.6;0.2)", "dx(0.6;0.2)", "drag", "lift"]
@@ -49,22 +52,18 @@ def read_run(spec):
     found = next((f for f in files if os.path.isfile(f)), None)
     if found is None:
         raise InputError("%s: expected a run directory with probes.csv or probes.csv.partial, or a probes file" % path)
-    with open(found) as fh:
-        rows = list(csv.reader(fh))
-    if not rows or rows[0][:1] != ["t"]:
-        raise InputError("%s: expected a header line starting with t" % found)
-    columns = [c for c in rows[0][1:] if c in LABELS]
-    if not columns:
-        raise InputError("%s: none of the columns %s" % (found, ", ".join(LABELS)))
     try:
-        # a run still writing may end in a half-written line: use the whole lines
-        data = np.array([[float(v) for v in r] for r in rows[1:] if len(r) == len(rows[0])])
-    except ValueError as e:
-        raise InputError("%s: expected numbers (%s)" % (found, e))
-    if len(data) < 2:
+        names, cols = fr.read_table(found, growing=found.endswith(".partial"))
+    except (ValueError, IndexError) as e:
+        raise InputError("%s: expected a header line and rows of numbers (%s)" % (found, e))
+    if names[:1] != ["t"]:
+        raise InputError("%s: expected a header line starting with t" % found)
+    values = {n: np.array(c) for n, c in zip(names, cols) if n in LABELS}
+    if not values:
+        raise InputError("%s: none of the columns %s" % (found, ", ".join(LABELS)))
+    if len(cols[0]) < 2:
         raise InputError("%s: fewer than two time steps" % found)
-    values = {c: data[:, rows[0].index(c)] for c in columns}
-    return label or os.path.basename(os.path.normpath(path)), found, data[:, 0], values
+    return label or os.path.basename(os.path.normpath(path)), found, np.array(cols[0]), values
 
 
 def analyze(t, v):
@@ -105,8 +104,8 @@ def windows(args):
              "| window | " + " | ".join("%s min … max | Δ amplitude" % LABELS[c] for c in columns) + " |",
              "|---|" + "---|---|" * len(columns)]
     rows, before = [], {}
-    a = start
-    while a + args.width <= end + TOL:
+    for k in range(int(math.floor((end - start) / args.width + TOL))):
+        a = start + k * args.width
         m = (t >= a - TOL) & (t <= a + args.width + TOL)
         if m.sum() >= 2:
             cells, row = [], ["%.6g" % a, "%.6g" % (a + args.width)]
@@ -119,7 +118,6 @@ def windows(args):
                 row += [repr(lo), repr(hi), "" if change is None else repr(change)]
             lines.append("| [%g, %g] | %s |" % (a, a + args.width, " | ".join(cells)))
             rows.append(row)
-        a = start + len(rows) * args.width if rows else a + args.width
     if not rows:
         raise InputError("no whole window of %g s between t = %g and %g" % (args.width, start, end))
     print("\n".join(lines))
