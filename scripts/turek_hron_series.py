@@ -196,6 +196,10 @@ def main():
         {"windows": windows, "quantities": quantities, "plot": plot}[args.command](args)
     except InputError as e:
         sys.exit("turek_hron_series: %s" % e)
+    except BrokenPipeError:
+        # the reader (e.g. `| head`) stopped early: not an error of ours; keep Python from
+        # complaining again when it flushes stdout at exit
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
 
 
 if __name__ == "__main__":
