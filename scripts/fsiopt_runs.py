@@ -43,6 +43,16 @@ import csv, hashlib, json, math, os, re, shlex, subprocess, sys, threading, time
 from concurrent.futures import ThreadPoolExecutor
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+FSIOPT = os.path.join(ROOT, "bin", "fsiopt")
+
+
+def fsiopt_env(base=None, **extra):
+    """The environment fsiopt runs in: Open MPI allowed as root and oversubscribed (the
+    Makefile sets the same), plus `extra`."""
+    env = dict(os.environ if base is None else base, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               OMPI_MCA_rmaps_base_oversubscribe="1")
+    env.update(extra)
+    return env
 OUTPUTS = ("summary.json", "probes.csv", "history.csv")
 # the files of a resumable run's directory besides its outputs (see the module docstring)
 CHECKPOINT, PENDING, ATTEMPTS, CURRENT = "checkpoint.h5", "cmd.pending", "attempts.json", "current_attempt.json"

@@ -188,6 +188,7 @@ static PetscErrorCode Run(void)
   /* the scene first: it sets its defaults, -dt and -t_final among them */
   PetscCall(SceneCreate(params.scene, &scene));
   PetscCall(RunParamsSetFromOptions(&params));
+  PetscCall(InterruptSetFromOptions());
   coupled = scene.has_fluid && scene.has_structure;
   PetscCall(SplitRanks(coupled, &fluid_comm, &structure_comm, &summary.fluid_ranks, &summary.structure_ranks));
   PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &summary.total_ranks));
@@ -262,6 +263,7 @@ static PetscErrorCode Run(void)
     }
     PetscCall(RecordProbes(probes, params.t_start + step * params.dt, &scene, fluid, structure, problem, probed_displacement));
     PetscCall(FieldWriterWrite(fields, step));
+    PetscCall(InterruptTestAfterStep(step));
     PetscCall(InterruptCheck(PETSC_COMM_WORLD, &signal_caught));
     /* an interrupted run leaves a checkpoint of its last step when its set-up can */
     if ((checkpoint.every && step % checkpoint.every == 0) || (signal_caught && checkpoint.possible && step < params.steps)) {

@@ -1,0 +1,98 @@
+#!/usr/bin/env python3
+"""Behaviour-preserving changes (refactors, reformatting): runs a fixed set of cases with
+one fsiopt binary and compares probes.csv, history.csv and summary.json byte for byte
+with another run of the same cases (a directory written earlier, or a second binary).
+summary.json is compared without the keys that measure the machine, not the computation
+(wall time, start time, host, version).
+
+  scripts/same_outputs.py record DIR [--fsiopt BIN]      # the reference outputs
+  scripts/same_outputs.py compare DIR [--fsiopt BIN]     # a run now against DIR
+  scripts/same_outputs.py --list                         # the cases and their options
+
+Exit 0 when every case agrees, 1 otherwise (each difference named)."""
+import argparse, json, os, shutil, subprocess, sys, time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from fsiopt_runs import ROOT, FSIOPT, fsiopt_env  # noqa: E402
+
+CHANNEL = ["-options_file", "options/channel2d.yaml"]
+TUREK = ["-options_file", "options/turek-hron.yaml"]
+CASES = {
+    "channel2d-opt": CHANNEL + ["-t_final", "0.01"],
+    "channel2d-aitken": CHANNEL + ["-coupling", "aitken", "-t_final", "0.003"],
+    "channel2d-iqnils": CHANNEL + ["-coupling", "iqnils", "-t_final", "0.005"],
+    "mms-ns": ["-options_file", "options/mms-ns.yaml"],
+    "tube3d": ["-options_file", "options/tube3d.yaml", "-t_final", "3e-4"],
+    "turek-hron-fsi1": TUREK + ["-turek_case", "fsi1", "-t_final", "2"],
+    "turek-hron-csm3": TUREK + ["-turek_case", "csm3", "-t_final", "0.5"],
+}
+FILES = ("probes.csv", "history.csv", "summary.json")
+MACHINE_KEYS = ("wall_time_s", "start_time", "host", "version")
+
+
+def run_cases(fsiopt, out_dir):
+    os.makedirs(out_dir, exist_ok=True)
+    for name, args in CASES.items():
+        d = os.path.join(out_dir, name)
+        shutil.rmtree(d, ignore_errors=True)
+        t0 = time.time()
+        p = subprocess.run([fsiopt] + args + ["-output_dir", d], cwd=ROOT, env=fsiopt_env(), capture_output=True,
+                           text=True, errors="replace")
+        print("%-18s exit %d  %6.1fs" % (name, p.returncode, time.time() - t0), flush=True)
+        if p.returncode:
+            print("  " + (p.stderr or p.stdout).strip().splitlines()[-1], flush=True)
+
+
+def summary_without_machine(path):
+    s = json.load(open(path))
+    for k in MACHINE_KEYS:
+        s.pop(k, None)
+    return s
+
+
+def compare(reference, now):
+    problems = []
+    for name in CASES:
+        for f in FILES:
+            a, b = os.path.join(reference, name, f), os.path.join(now, name, f)
+            if not os.path.exists(a) and not os.path.exists(b):
+                continue
+            if not os.path.exists(a) or not os.path.exists(b):
+                problems.append("%s/%s: present in only one run" % (name, f))
+            elif f == "summary.json":
+                sa, sb = summary_without_machine(a), summary_without_machine(b)
+                diff = sorted(k for k in set(sa) | set(sb) if sa.get(k) != sb.get(k))
+                if diff:
+                    problems.append("%s/summary.json: %s differ" % (name, ", ".join(diff)))
+            elif open(a, "rb").read() != open(b, "rb").read():
+                problems.append("%s/%s: bytes differ" % (name, f))
+    return problems
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("action", nargs="?", choices=("record", "compare"))
+    ap.add_argument("dir", nargs="?")
+    ap.add_argument("--fsiopt", default=FSIOPT)
+    ap.add_argument("--list", action="store_true")
+    a = ap.parse_args()
+    if a.list or not a.action:
+        for name, args in CASES.items():
+            print("%-18s %s" % (name, " ".join(args)))
+        return 0
+    if not a.dir:
+        ap.error("expected the directory of the reference outputs")
+    if a.action == "record":
+        run_cases(a.fsiopt, a.dir)
+        return 0
+    now = a.dir.rstrip("/") + ".now"
+    run_cases(a.fsiopt, now)
+    problems = compare(a.dir, now)
+    for p in problems:
+        print("DIFFERENT " + p)
+    print("%d cases: %s" % (len(CASES), "probes, history and summary identical" if not problems else "%d differences" % len(problems)))
+    return 1 if problems else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
