@@ -6,7 +6,7 @@ summary.json is compared without the keys that measure the machine, not the comp
 (wall time, start time, host, version).
 
   scripts/same_outputs.py record DIR [--fsiopt BIN]      # the reference outputs
-  scripts/same_outputs.py compare DIR [--fsiopt BIN]     # a run now against DIR
+  scripts/same_outputs.py compare DIR [--fsiopt BIN] [--now DIR2]  # a run now against DIR
   scripts/same_outputs.py --list                         # the cases and their options
 
 Exit 0 when every case agrees, 1 otherwise (each difference named)."""
@@ -74,6 +74,7 @@ def main():
     ap.add_argument("action", nargs="?", choices=("record", "compare"))
     ap.add_argument("dir", nargs="?")
     ap.add_argument("--fsiopt", default=FSIOPT)
+    ap.add_argument("--now", help="compare: where this run's outputs go (default DIR.now)")
     ap.add_argument("--list", action="store_true")
     a = ap.parse_args()
     if a.list or not a.action:
@@ -85,7 +86,7 @@ def main():
     if a.action == "record":
         run_cases(a.fsiopt, a.dir)
         return 0
-    now = a.dir.rstrip("/") + ".now"
+    now = a.now or a.dir.rstrip("/") + ".now"
     run_cases(a.fsiopt, now)
     problems = compare(a.dir, now)
     for p in problems:
