@@ -82,6 +82,15 @@ typedef struct {
   PetscReal max_jump;        /* largest final interface jump (opt) or traction residual (partitioned) of a step */
 } CouplingStats;
 
+/* The methods by name (-coupling), as the scenes are: CouplingRegisterAll() adds opt, dn,
+   aitken and iqnils; a new method is one file whose create function fills the method's
+   operations (coupling_impl.h) and one CouplingRegister line. */
+extern PetscFunctionList CouplingList;
+PetscErrorCode CouplingRegister(const char name[], PetscErrorCode (*create)(Coupling));
+PetscErrorCode CouplingRegisterAll(void);
+PetscErrorCode CouplingListNames(char names[], size_t len);
+PetscErrorCode CouplingCheckMethod(const char method[]); /* an error naming the known ones */
+PetscErrorCode CouplingFinalize(void);
 PetscErrorCode CouplingCreate(const char method[], CouplingProblem, const char output_dir[], PetscReal t0, PetscReal dt, Coupling *);
 PetscErrorCode CouplingStep(Coupling, PetscInt step);
 /* Why the step failed (a subproblem, or the method not converging), NULL if it has not. */

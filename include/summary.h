@@ -2,6 +2,10 @@
 #define FSIOPT_SUMMARY_H
 #include "fsiopt.h"
 #include "probes.h"
+#include "fluid.h"
+#include "structure.h"
+#include "coupling.h"
+#include "step_retry.h"
 
 /* Everything summary.json reports (DESIGN §6). Negative values mean "does not apply"
    and are written as null. */
@@ -26,6 +30,10 @@ typedef struct {
   PetscMPIInt      fluid_ranks, structure_ranks, total_ranks;
 } RunSummary;
 
+/* Fills the counts, errors, ranks and quantities of coupling and solvers (collective; fluid,
+   structure, coupling may be NULL where the scene or the rank has none). s->failure and
+   s->steps_done, s->first_step are the time loop's. */
+PetscErrorCode SummaryGather(RunSummary *s, PetscBool has_fluid, PetscBool has_structure, Fluid, Structure, Coupling, StepRetry);
 /* Writes <dir>/summary.json atomically (a temporary file renamed into place). */
 PetscErrorCode SummaryWrite(MPI_Comm, const char dir[], const RunSummary *);
 #endif

@@ -1,120 +1,149 @@
-/* The coupling-method interface: create by name, advance one step, report. */
+/* The coupling-method interface: the registry of methods by name, and the step skeleton
+   they share (begin the step, collect failures, count, end the step), so that a method is
+   only its iteration. */
 #include "coupling_impl.h"
 #include "options.h"
 #include "checkpoint.h"
 
-PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, const char output_dir[], PetscReal t0, PetscReal dt, Coupling *coupling)
+PetscFunctionList CouplingList = NULL;
+
+PetscErrorCode CouplingRegister(const char name[], PetscErrorCode (*create)(Coupling))
 {
-  Coupling  C;
-  PetscBool opt, partitioned = PETSC_FALSE;
-  PetscInt  degree, points;
+  PetscFunctionBeginUser;
+  PetscCall(PetscFunctionListAdd(&CouplingList, name, create));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingRegisterAll(void)
+{
+  PetscFunctionBeginUser;
+  if (CouplingList) PetscFunctionReturn(0);
+  PetscCall(CouplingRegister("opt", CouplingCreate_Opt));
+  PetscCall(CouplingRegister("dn", CouplingCreate_DN));
+  PetscCall(CouplingRegister("aitken", CouplingCreate_Aitken));
+  PetscCall(CouplingRegister("iqnils", CouplingCreate_IQNILS));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingListNames(char names[], size_t len)
+{
+  const char **list;
+  int          n;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscStrcmp(method, "opt", &opt));
-  for (const char **m = (const char *[]){"dn", "aitken", "iqnils", NULL}; *m && !partitioned; ++m) PetscCall(PetscStrcmp(method, *m, &partitioned));
-  PetscCheck(opt || partitioned, PETSC_COMM_WORLD, PETSC_ERR_SUP, "option -coupling %s: unknown coupling method; expected opt, dn, aitken or iqnils", method);
+  PetscCall(PetscFunctionListGet(CouplingList, &list, &n));
+  names[0] = 0;
+  for (int i = 0; i < n; ++i) {
+    if (i) PetscCall(PetscStrlcat(names, ", ", len));
+    PetscCall(PetscStrlcat(names, list[i], len));
+  }
+  PetscCall(PetscFree(list));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingCheckMethod(const char method[])
+{
+  PetscErrorCode (*create)(Coupling) = NULL;
+  char names[256];
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscFunctionListFind(CouplingList, method, &create));
+  if (create) PetscFunctionReturn(0);
+  PetscCall(CouplingListNames(names, sizeof(names)));
+  SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_ARG_UNKNOWN_TYPE, "option -coupling %s: unknown coupling method; expected one of: %s", method, names);
+}
+
+PetscErrorCode CouplingFinalize(void)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFunctionListDestroy(&CouplingList));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, const char output_dir[], PetscReal t0, PetscReal dt, Coupling *coupling)
+{
+  Coupling C;
+  PetscInt degree, points;
+  PetscErrorCode (*create)(Coupling) = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCall(CouplingCheckMethod(method));
+  PetscCall(PetscFunctionListFind(CouplingList, method, &create));
   PetscCall(PetscNew(&C));
   PetscCall(PetscStrncpy(C->method, method, sizeof(C->method)));
   C->problem = problem;
   C->dt      = dt;
-  C->tol     = 1e-10;
-  C->max_it  = opt ? 50 : 500; /* relaxation methods may need hundreds */
+  /* the method's operations and defaults (max_it among them), before the options */
+  PetscCall((*create)(C));
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Coupling options", "coupling");
-  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_tol", "stop when ||u - v_s||_{L2(Gamma_I)} falls below this", &C->tol));
   degree = 1;
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_extrapolation", "each step starts from the control extrapolated from the last K+1 steps by a polynomial of degree K (0: the last control, seed Remark 3.4)", 0, FSIOPT_EXTRAPOLATION_MAX, &degree));
   points = degree + 1;
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_extrapolation_points", "fit that polynomial by least squares to the last M >= K+1 steps: a larger M damps the error of controls accepted at the tolerance", 1, FSIOPT_EXTRAPOLATION_POINTS_MAX, &points));
   PetscCheck(points > degree, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "option -coupling_extrapolation_points: expected at least -coupling_extrapolation + 1 = %" PetscInt_FMT " steps, got %" PetscInt_FMT, degree + 1, points);
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_max_it", "coupling iterations per step before the run stops with an error", 1, 100000, &C->max_it));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_max_it", "coupling iterations per step before the step fails", 1, 100000, &C->max_it));
   PetscOptionsEnd();
   C->stats.max_jump = 0;
-  PetscCall(CouplingProblemSetConvergedJump(problem, C->tol));
   PetscCall(CouplingProblemCreateControl(problem, &C->x));
   PetscCall(CouplingProblemInitialControl(problem, t0, C->x));
   PetscCall(ExtrapolationCreate(C->x, degree, points, &C->start));
   PetscCall(HistoryOpen(PETSC_COMM_WORLD, output_dir, &C->history));
-  if (opt) PetscCall(CouplingCreate_Opt(C));
-  else PetscCall(CouplingCreate_Partitioned(C));
+  PetscCall((*C->ops.setup)(C));
   *coupling = C;
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ExtrapolationCreate(Vec model, PetscInt degree, PetscInt points, Extrapolation *e)
+/* "opt (brgn)" or "iqnils": how failure messages name the method */
+static void CouplingLabel(Coupling C, char label[], size_t len)
 {
-  PetscFunctionBeginUser;
-  PetscCall(PetscMemzero(e, sizeof(*e)));
-  e->degree = degree;
-  e->points = points;
-  for (PetscInt i = 0; i < points; ++i) PetscCall(VecDuplicate(model, &e->past[i]));
-  PetscFunctionReturn(0);
+  const char *optimizer = C->ops.optimizer ? C->ops.optimizer(C) : NULL;
+
+  if (optimizer) (void)PetscSNPrintf(label, len, "%s (%s)", C->method, optimizer);
+  else (void)PetscStrncpy(label, C->method, len);
 }
 
-PetscErrorCode ExtrapolationRecord(Extrapolation *e, Vec x)
+/* A subproblem's failure outside the method's iteration: the step fails, naming where. */
+static PetscErrorCode CheckProblemFailure(Coupling C, PetscInt step, const char where[], PetscBool *failed)
 {
-  Vec oldest = e->past[e->points - 1];
+  const char *failure;
+  char        label[64];
 
   PetscFunctionBeginUser;
-  for (PetscInt i = e->points - 1; i > 0; --i) e->past[i] = e->past[i - 1];
-  e->past[0] = oldest;
-  PetscCall(VecCopy(x, e->past[0]));
-  e->npast = PetscMin(e->npast + 1, e->points);
-  PetscFunctionReturn(0);
-}
-
-/* The weights w with sum_i w_i p(-i-1) = p(0) for the least-squares fit p of degree
-   `degree` to `n` values at times -1, ..., -n (binomial coefficients with alternating
-   signs when n = degree + 1): w = V y with (V^T V) y = e_0, V the Vandermonde matrix. */
-static void ExtrapolationWeights(PetscInt degree, PetscInt n, PetscScalar w[])
-{
-  const PetscInt m = degree + 1;
-  PetscReal      gram[FSIOPT_EXTRAPOLATION_MAX + 1][FSIOPT_EXTRAPOLATION_MAX + 2] = {{0}};
-
-  for (PetscInt r = 0; r < m; ++r) {
-    for (PetscInt c = 0; c < m; ++c)
-      for (PetscInt i = 0; i < n; ++i) gram[r][c] += PetscPowRealInt(-(i + 1.0), r + c);
-    gram[r][m] = r == 0;
-  }
-  for (PetscInt k = 0; k < m; ++k) /* the Gram matrix is positive definite: no pivoting */
-    for (PetscInt r = k + 1; r < m; ++r)
-      for (PetscInt c = m; c >= k; --c) gram[r][c] -= gram[r][k] / gram[k][k] * gram[k][c];
-  for (PetscInt r = m - 1; r >= 0; --r) {
-    for (PetscInt c = r + 1; c < m; ++c) gram[r][m] -= gram[r][c] * gram[c][m];
-    gram[r][m] /= gram[r][r];
-  }
-  for (PetscInt i = 0; i < n; ++i) {
-    w[i] = 0;
-    for (PetscInt r = 0; r < m; ++r) w[i] += PetscPowRealInt(-(i + 1.0), r) * gram[r][m];
-  }
-}
-
-PetscErrorCode ExtrapolationPredict(Extrapolation *e, Vec x)
-{
-  PetscScalar    weights[FSIOPT_EXTRAPOLATION_POINTS_MAX];
-  const PetscInt degree = PetscMin(e->degree, e->npast - 1);
-
-  PetscFunctionBeginUser;
-  if (degree < 0) PetscFunctionReturn(0); /* nothing recorded: x stays */
-  ExtrapolationWeights(degree, e->npast, weights);
-  PetscCall(VecZeroEntries(x));
-  PetscCall(VecMAXPY(x, e->npast, weights, e->past));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode ExtrapolationDestroy(Extrapolation *e)
-{
-  PetscFunctionBeginUser;
-  for (PetscInt i = 0; i < e->points; ++i) PetscCall(VecDestroy(&e->past[i]));
+  PetscCall(CouplingProblemGetFailure(C->problem, &failure));
+  *failed = failure ? PETSC_TRUE : PETSC_FALSE;
+  if (!failure) PetscFunctionReturn(0);
+  CouplingLabel(C, label, sizeof(label));
+  PetscCall(StepFailureSet(&C->failure, "coupling %s %s step %" PetscInt_FMT ": %s", label, where, step, failure));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode CouplingStep(Coupling C, PetscInt step)
 {
+  CouplingIterations it = {0, 0, 0, PETSC_FALSE};
+  PetscBool          failed;
+
   PetscFunctionBeginUser;
   StepFailureClear(&C->failure);
   PetscCall(ExtrapolationRecord(&C->start, C->x));
   PetscCall(ExtrapolationPredict(&C->start, C->x));
-  PetscCall((*C->ops.step)(C, step));
+  PetscCall(CouplingProblemBeginStep(C->problem, step));
+  PetscCall(CheckProblemFailure(C, step, "before the first iteration of", &failed));
+  if (failed) PetscFunctionReturn(0);
+  PetscCall((*C->ops.iterate)(C, step, &it));
+  /* a failed attempt's work counts too */
+  C->stats.iterations += it.iterations;
+  C->stats.linearized_pairs += it.linearized_pairs;
+  if (StepFailed(&C->failure)) PetscFunctionReturn(0);
+  PetscCall(CouplingProblemEndStep(C->problem, C->x));
+  PetscCall(CheckProblemFailure(C, step, "at the end of", &failed));
+  if (failed) PetscFunctionReturn(0);
+  if (it.stalled) {
+    char label[64];
+    CouplingLabel(C, label, sizeof(label));
+    C->stats.stalled_steps++;
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fsiopt: warning: step %" PetscInt_FMT " stalled after %" PetscInt_FMT " iterations (%s) at interface jump %.3e\n", step, it.iterations, label, (double)it.jump));
+  }
+  C->stats.max_jump = PetscMax(C->stats.max_jump, it.jump);
   PetscFunctionReturn(0);
 }
 
@@ -141,21 +170,6 @@ PetscErrorCode CouplingLogRetry(Coupling C, PetscInt step, const char event[])
 {
   PetscFunctionBeginUser;
   PetscCall(HistoryAppendEvent(C->history, step, C->dt, event));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode ExtrapolationCheckpoint(Extrapolation *e, Checkpoint cp, const char name[], PetscBool load)
-{
-  char key[64];
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscSNPrintf(key, sizeof(key), "past_%ss", name));
-  PetscCall(CheckpointInt(cp, key, &e->npast, load));
-  PetscCheck(e->npast <= e->points, PETSC_COMM_WORLD, PETSC_ERR_FILE_UNEXPECTED, "option -restart: the checkpoint keeps %" PetscInt_FMT " past %ss, -coupling_extrapolation_points is %" PetscInt_FMT, e->npast, name, e->points);
-  for (PetscInt i = 0; i < e->npast; ++i) {
-    PetscCall(PetscSNPrintf(key, sizeof(key), "past_%s_%" PetscInt_FMT, name, i));
-    PetscCall(CheckpointVec(cp, key, e->past[i], load));
-  }
   PetscFunctionReturn(0);
 }
 

@@ -17,29 +17,44 @@ PetscErrorCode ExtrapolationPredict(Extrapolation *, Vec x); /* x: the next step
 PetscErrorCode ExtrapolationDestroy(Extrapolation *);
 PetscErrorCode ExtrapolationCheckpoint(Extrapolation *, Checkpoint, const char name[], PetscBool load);
 
+/* What a method's iteration reports to the step skeleton (CouplingStep, coupling.c), which
+   begins the step, collects the subproblems' failures, counts and ends the step. */
+typedef struct {
+  PetscInt  iterations;       /* this step's coupling iterations (a failed attempt's too) */
+  PetscInt  linearized_pairs; /* of which solved the linearized and adjoint problems */
+  PetscReal jump;             /* the step's final interface jump, for the run's largest */
+  PetscBool stalled;          /* stopped short of the tolerance without failing */
+} CouplingIterations;
+
 /* What every coupling method shares; a method fills `ops` and keeps its own data. */
 struct _p_Coupling {
   char            method[16];
   CouplingProblem problem;
   History         history;
   CouplingStats   stats;
-  Vec             x; /* the scaled control, carried from step to step */
-  Extrapolation   start;   /* the control each step starts from */
-  PetscReal       tol, dt;
+  Vec             x;     /* the scaled control, carried from step to step */
+  Extrapolation   start; /* the control each step starts from */
+  PetscReal       dt;
   PetscInt        max_it;
   StepFailure     failure; /* of the step in progress */
   struct {
-    PetscErrorCode (*step)(Coupling, PetscInt); /* a failure goes to C->failure */
+    PetscErrorCode (*setup)(Coupling); /* the method's options and solvers, after the common ones */
+    /* iterate one step to convergence from C->x, after CouplingProblemBeginStep and
+       before CouplingProblemEndStep; a failure goes to C->failure */
+    PetscErrorCode (*iterate)(Coupling, PetscInt step, CouplingIterations *);
     PetscErrorCode (*destroy)(Coupling);
     const char *(*optimizer)(Coupling);
     /* after a checkpoint file or a new dt: drop what was built from the steps before */
     PetscErrorCode (*resynchronize)(Coupling);
     PetscErrorCode (*checkpoint)(Coupling, Checkpoint, PetscBool load); /* the method's own state; may be NULL */
-    PetscBool       restartable; /* its state is all in checkpoint files */
+    PetscBool restartable;                                              /* its state is all in checkpoint files */
   } ops;
   void *data;
 };
 
+/* The methods of the registry (CouplingRegisterAll) */
 PetscErrorCode CouplingCreate_Opt(Coupling);
-PetscErrorCode CouplingCreate_Partitioned(Coupling); /* dn, aitken, iqnils */
+PetscErrorCode CouplingCreate_DN(Coupling);     /* acceleration_constant.c */
+PetscErrorCode CouplingCreate_Aitken(Coupling); /* acceleration_aitken.c */
+PetscErrorCode CouplingCreate_IQNILS(Coupling); /* acceleration_iqnils.c */
 #endif

@@ -19,7 +19,7 @@ typedef struct {
   Tao        tao, inner; /* inner: the Tao that iterates (brgn's subsolver, or tao) */
   Vec        F;
   Mat        J;
-  PetscReal  tikhonov;
+  PetscReal  tikhonov, tol; /* -coupling_tikhonov, -coupling_tol */
   PetscInt   step, stall_its, inner_seen;
   PetscReal *objectives; /* this step's, by iteration */
   PetscBool  stalled, test_adjoint, test_taylor;
@@ -109,7 +109,7 @@ static PetscErrorCode ConvergenceTest(Tao tao, void *ctx)
   opt->last_jump      = jump;
   if (its <= C->max_it) opt->objectives[its] = f;
   if (its == 0) opt->first_jump = jump;
-  if (jump <= C->tol) reason = TAO_CONVERGED_USER;
+  if (jump <= opt->tol) reason = TAO_CONVERGED_USER;
   else if (PetscIsInfOrNanReal(jump) || (its > 0 && jump > 1e3 * opt->first_jump)) reason = TAO_DIVERGED_USER; /* blowing up */
   else if (its >= opt->stall_its && f > 0.99 * opt->objectives[its - opt->stall_its]) {
     reason       = TAO_CONVERGED_USER;
@@ -131,7 +131,7 @@ static PetscErrorCode OptResynchronize(Coupling C)
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode OptStep(Coupling C, PetscInt step)
+static PetscErrorCode OptIterate(Coupling C, PetscInt step, CouplingIterations *it)
 {
   Opt               *opt = (Opt *)C->data;
   TaoConvergedReason reason;
@@ -141,12 +141,6 @@ static PetscErrorCode OptStep(Coupling C, PetscInt step)
   opt->step       = step;
   opt->stalled    = PETSC_FALSE;
   opt->inner_seen = 0;
-  PetscCall(CouplingProblemBeginStep(C->problem, step));
-  PetscCall(CouplingProblemGetFailure(C->problem, &failure));
-  if (failure) {
-    PetscCall(StepFailureSet(&C->failure, "coupling opt (%s), step %" PetscInt_FMT " before its first iteration: %s", C->ops.optimizer(C), step, failure));
-    PetscFunctionReturn(0);
-  }
   if (step == 1 && opt->test_adjoint) PetscCall(CouplingProblemTestAdjoint(C->problem, C->x));
   if (step == 1 && opt->test_taylor) PetscCall(CouplingProblemTestTaylor(C->problem, C->x));
   opt->inner_seen = 0; /* TaoSolve restarts TAO's count */
@@ -156,29 +150,16 @@ static PetscErrorCode OptStep(Coupling C, PetscInt step)
   PetscCall(TaoSolve(opt->tao));
   PetscCall(PetscLogStagePop());
   PetscCall(TaoGetConvergedReason(opt->tao, &reason));
-  /* a failed attempt's work counts too */
-  C->stats.iterations += opt->last_iteration;
-  C->stats.linearized_pairs += opt->last_iteration;
+  it->iterations       = opt->last_iteration;
+  it->linearized_pairs = opt->last_iteration;
+  it->jump             = opt->last_jump;
+  it->stalled          = opt->stalled && opt->last_jump > opt->tol ? PETSC_TRUE : PETSC_FALSE;
   PetscCall(CouplingProblemGetFailure(C->problem, &failure));
   if (failure) {
     PetscCall(StepFailureSet(&C->failure, "coupling opt (%s) at step %" PetscInt_FMT ", iteration %" PetscInt_FMT ": %s", C->ops.optimizer(C), step, opt->last_iteration, failure));
     PetscFunctionReturn(0);
   }
-  if (reason <= 0) {
-    PetscCall(StepFailureSet(&C->failure, "coupling opt (%s) failed at step %" PetscInt_FMT ", iteration %" PetscInt_FMT ": TAO reason %s, interface jump %.3e > -coupling_tol %.3e%s", C->ops.optimizer(C), step, opt->last_iteration, TaoConvergedReasons[reason], (double)opt->last_jump, (double)C->tol, reason == TAO_DIVERGED_USER ? " (the jump grew 1000-fold: diverging)" : ""));
-    PetscFunctionReturn(0);
-  }
-  PetscCall(CouplingProblemEndStep(C->problem, C->x));
-  PetscCall(CouplingProblemGetFailure(C->problem, &failure));
-  if (failure) {
-    PetscCall(StepFailureSet(&C->failure, "coupling opt (%s) at the end of step %" PetscInt_FMT ": %s", C->ops.optimizer(C), step, failure));
-    PetscFunctionReturn(0);
-  }
-  if (opt->stalled && opt->last_jump > C->tol) {
-    C->stats.stalled_steps++;
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fsiopt: warning: step %" PetscInt_FMT " stalled after %" PetscInt_FMT " iterations (%s) at interface jump %.3e > -coupling_tol %.3e\n", step, opt->last_iteration, C->ops.optimizer(C), (double)opt->last_jump, (double)C->tol));
-  }
-  C->stats.max_jump = PetscMax(C->stats.max_jump, opt->last_jump);
+  if (reason <= 0) PetscCall(StepFailureSet(&C->failure, "coupling opt (%s) failed at step %" PetscInt_FMT ", iteration %" PetscInt_FMT ": TAO reason %s, interface jump %.3e > -coupling_tol %.3e%s", C->ops.optimizer(C), step, opt->last_iteration, TaoConvergedReasons[reason], (double)opt->last_jump, (double)opt->tol, reason == TAO_DIVERGED_USER ? " (the jump grew 1000-fold: diverging)" : ""));
   PetscFunctionReturn(0);
 }
 
@@ -204,22 +185,17 @@ static PetscErrorCode OptDestroy(Coupling C)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CouplingCreate_Opt(Coupling C)
+static PetscErrorCode OptSetUp(Coupling C)
 {
-  Opt      *opt;
+  Opt      *opt = (Opt *)C->data;
   PetscBool isbrgn, given;
   char      ls_type[64];
 
   PetscFunctionBeginUser;
-  PetscCall(PetscNew(&opt));
-  C->data          = opt;
-  C->ops.step      = OptStep;
-  C->ops.destroy   = OptDestroy;
-  C->ops.optimizer = OptOptimizer;
-  C->ops.resynchronize = OptResynchronize;
-  C->ops.restartable   = PETSC_TRUE;
-  opt->stall_its   = 5;
+  opt->stall_its = 5;
+  opt->tol       = 1e-10;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Optimization-based coupling", "coupling");
+  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_tol", "stop when ||u - v_s||_{L2(Gamma_I)} falls below this", &opt->tol));
   opt->rebuild_every = 0;
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian", "Precondition the inner CG with the LU of an explicitly built J, rebuilt every K steps (0: no preconditioner, the seed's plain CGLS)", 0, 1000000, &opt->rebuild_every));
   opt->build_block = 32;
@@ -229,6 +205,7 @@ PetscErrorCode CouplingCreate_Opt(Coupling C)
   PetscCall(PetscOptionsBool("-coupling_test_adjoint", "At the first step, check <J h, r> = <h, J^T r> for random h, r", NULL, opt->test_adjoint, &opt->test_adjoint, NULL));
   PetscCall(PetscOptionsBool("-coupling_test_taylor", "At the first step, print the Taylor remainders ||F(x+th) - F(x) - t J h|| for halving t", NULL, opt->test_taylor, &opt->test_taylor, NULL));
   PetscOptionsEnd();
+  PetscCall(CouplingProblemSetConvergedJump(C->problem, opt->tol));
   PetscCall(PetscMalloc1(C->max_it + 1, &opt->objectives));
   PetscCall(CouplingProblemGetTikhonov(C->problem, &opt->tikhonov));
   PetscCall(VecDuplicate(C->x, &opt->F));
@@ -272,5 +249,22 @@ PetscErrorCode CouplingCreate_Opt(Coupling C)
     PetscCheck(ksp, PETSC_COMM_WORLD, PETSC_ERR_SUP, "option -coupling_explicit_jacobian: the Gauss-Newton subsolver has no KSP");
     PetscCall(ExplicitJacobianCreate(opt->J, opt->build_block, ksp, &opt->explicit_jacobian));
   }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingCreate_Opt(Coupling C)
+{
+  Opt *opt;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&opt));
+  C->data              = opt;
+  C->max_it            = 50;
+  C->ops.setup         = OptSetUp;
+  C->ops.iterate       = OptIterate;
+  C->ops.destroy       = OptDestroy;
+  C->ops.optimizer     = OptOptimizer;
+  C->ops.resynchronize = OptResynchronize;
+  C->ops.restartable   = PETSC_TRUE;
   PetscFunctionReturn(0);
 }

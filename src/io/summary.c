@@ -1,5 +1,6 @@
 #include "summary.h"
 #include "output.h"
+#include "logging.h"
 #include <stdio.h>
 
 PetscErrorCode ErrorTableAdd(ErrorTable *table, const char name[], PetscReal value)
@@ -125,5 +126,81 @@ PetscErrorCode SummaryWrite(MPI_Comm comm, const char dir[], const RunSummary *s
   fprintf(fp, "}\n");
   PetscCheck(fclose(fp) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "option -output_dir %s: writing %s failed", dir, tmp);
   PetscCheck(rename(tmp, path) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "option -output_dir %s: cannot rename %s to %s", dir, tmp, path);
+  PetscFunctionReturn(0);
+}
+
+/* Rank 0 writes the summary; the structure's numbers live on the structure's ranks. */
+static PetscErrorCode ShareWithAll(void *buffer, size_t bytes, PetscMPIInt root)
+{
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Bcast(buffer, (int)bytes, MPI_BYTE, root, PETSC_COMM_WORLD));
+  PetscFunctionReturn(0);
+}
+
+/* The errors against the scene's exact solution (none after a failed step: its state lies
+   between two times), and the mesh quality and solver counts of each side. */
+static PetscErrorCode GatherSolvers(RunSummary *s, PetscBool has_structure, Fluid fluid, Structure structure)
+{
+  ErrorTable  fluid_errors, structure_errors;
+  PetscMPIInt size;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(&fluid_errors, sizeof(fluid_errors)));
+  PetscCall(PetscMemzero(&structure_errors, sizeof(structure_errors)));
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_ERRORS, 0, 0, 0, 0));
+  if (fluid && !s->failure) PetscCall(FluidErrors(fluid, &fluid_errors));
+  if (structure && !s->failure) PetscCall(StructureErrors(structure, &structure_errors));
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_ERRORS, 0, 0, 0, 0));
+  s->worst_corner_ratio = s->worst_corner_time = -1;
+  if (fluid) PetscCall(FluidGetCounts(fluid, &s->fluid));
+  if (fluid) PetscCall(FluidGetMeshQuality(fluid, &s->worst_corner_ratio, &s->worst_corner_time));
+  PetscCall(ShareWithAll(&s->worst_corner_ratio, sizeof(s->worst_corner_ratio), 0));
+  PetscCall(ShareWithAll(&s->worst_corner_time, sizeof(s->worst_corner_time), 0));
+  if (structure) PetscCall(StructureGetCounts(structure, &s->structure));
+  PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
+  {
+    /* rank 0 always holds the fluid (when there is one); the last rank always holds the structure */
+    const PetscMPIInt structure_root = has_structure ? size - 1 : 0;
+    PetscCall(ShareWithAll(&structure_errors, sizeof(structure_errors), structure_root));
+    PetscCall(ShareWithAll(&s->structure, sizeof(s->structure), structure_root));
+    PetscCall(ShareWithAll(&s->structure_dofs, sizeof(s->structure_dofs), structure_root));
+    PetscCall(ShareWithAll(&s->dim, sizeof(s->dim), structure_root));
+  }
+  s->errors = fluid_errors;
+  for (PetscInt i = 0; i < structure_errors.n; ++i) PetscCall(ErrorTableAdd(&s->errors, structure_errors.name[i], structure_errors.value[i]));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SummaryGather(RunSummary *s, PetscBool has_fluid, PetscBool has_structure, Fluid fluid, Structure structure, Coupling coupling, StepRetry retry)
+{
+  StepRetryStats retry_stats;
+
+  PetscFunctionBeginUser;
+  PetscCall(StepRetryGetStats(retry, &retry_stats));
+  s->retried_steps   = retry_stats.retried_steps;
+  s->failed_attempts = retry_stats.failed_attempts;
+  s->smallest_dt     = retry_stats.smallest_dt;
+  PetscCall(GatherSolvers(s, has_structure, fluid, structure));
+  s->work_factor        = -1;
+  s->max_interface_jump = -1;
+  if (coupling) {
+    CouplingStats stats;
+    PetscInt      fluid_solves = s->fluid.nonlinear_solves;
+
+    PetscCall(CouplingFinish(coupling));
+    PetscCall(CouplingGetStats(coupling, &stats));
+    PetscCall(CouplingGetOptimizer(coupling, &s->optimizer));
+    PetscCall(ShareWithAll(&fluid_solves, sizeof(fluid_solves), 0));
+    s->coupling_iterations = stats.iterations;
+    s->inner_iterations    = stats.inner_iterations;
+    s->max_interface_jump  = stats.max_jump;
+    s->stalled_steps       = stats.stalled_steps;
+    /* seed eq. 6.5: a forward run with the traction known needs one fluid solve per step */
+    s->work_factor = (PetscReal)(fluid_solves + 2 * stats.linearized_pairs) / PetscMax(s->steps_done - s->first_step + 1, 1);
+  }
+  s->has_fluid     = has_fluid;
+  s->has_structure = has_structure;
+  if (!has_fluid) s->fluid_ranks = 0;
+  if (!has_structure) s->structure_ranks = 0;
   PetscFunctionReturn(0);
 }

@@ -1,0 +1,23 @@
+#ifndef FSIOPT_OUTPUTS_H
+#define FSIOPT_OUTPUTS_H
+#include "fsiopt.h"
+#include "scene.h"
+#include "fluid.h"
+#include "structure.h"
+#include "interface.h"
+#include "coupling.h"
+#include "probes.h"
+/* What a run writes at each step it completes (probes.csv, the fields of -write_fields),
+   behind one object, so that a new per-step output is added here and nowhere else.
+   history.csv is the coupling method's (coupling.c), summary.json the report's. */
+typedef struct _p_Outputs *Outputs;
+/* fluid, structure, itf and problem may be NULL where the scene or the rank has none */
+PetscErrorCode OutputsCreate(const RunParams *, const Scene *, PetscInt dim, Fluid, Structure, Interface, CouplingProblem, Outputs *);
+/* the state at the end of `step` (0: the initial state) */
+PetscErrorCode OutputsRecord(Outputs, PetscInt step);
+PetscErrorCode OutputsGetProbes(Outputs, Probes *); /* for checkpoints; may be NULL */
+PetscErrorCode OutputsWriteFields(Outputs, PetscBool *); /* -write_fields */
+/* completes the files under their final names; the quantities of summary.json */
+PetscErrorCode OutputsFinish(Outputs, QuantityTable *);
+PetscErrorCode OutputsDestroy(Outputs *); /* leaves unfinished files as .partial */
+#endif

@@ -1,0 +1,49 @@
+/* A run's time loop (run.h): each step taken (with its retries, step_retry.c), its outputs
+   recorded, checkpoints written, a signal ending the run after the step in progress. */
+#include "run_impl.h"
+#include "logging.h"
+#include "interrupt.h"
+
+static PetscErrorCode WriteCheckpoint(Run run, PetscInt step)
+{
+  PetscInt saved = step;
+  Probes   probes;
+
+  PetscFunctionBeginUser;
+  PetscCall(OutputsGetProbes(run->outputs, &probes));
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CHECKPOINT, 0, 0, 0, 0));
+  PetscCall(RunCheckpoint(run->checkpoint.file, PETSC_FALSE, &saved, &run->params, &run->summary, run->fluid, run->structure, run->coupling, probes));
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CHECKPOINT, 0, 0, 0, 0));
+  run->checkpoint.last = step;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode RunAdvance(Run run)
+{
+  RunSummary *s = &run->summary;
+
+  PetscFunctionBeginUser;
+  PetscCall(InterruptInstall());
+  s->steps_done = run->params.steps;
+  s->first_step = run->first_step;
+  for (PetscInt step = run->first_step; step <= run->params.steps; ++step) {
+    PetscCall(StepRetryAdvance(run->retry, step, &run->failure));
+    if (run->failure) {
+      /* the outputs end with the last step completed; the last checkpoint stays */
+      s->steps_done = step - 1;
+      s->failure    = run->failure;
+      break;
+    }
+    PetscCall(OutputsRecord(run->outputs, step));
+    PetscCall(InterruptTestAfterStep(step));
+    PetscCall(InterruptCheck(PETSC_COMM_WORLD, &run->signal_caught));
+    /* an interrupted run leaves a checkpoint of its last step when its set-up can */
+    if ((run->checkpoint.every && step % run->checkpoint.every == 0) || (run->signal_caught && run->checkpoint.possible && step < run->params.steps)) PetscCall(WriteCheckpoint(run, step));
+    if (run->signal_caught) {
+      s->steps_done  = step;
+      s->interrupted = InterruptName(run->signal_caught);
+      break;
+    }
+  }
+  PetscFunctionReturn(0);
+}
