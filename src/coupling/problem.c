@@ -1,50 +1,14 @@
 /* The control problem of one time step: F(x), J h and J^T rho with the factorizations
    of the last nonlinear solves (see coupling.h for the algebra and the signs). */
-#include "coupling.h"
+#include "problem_impl.h"
 #include "checkpoint.h"
 #include "fem.h"
 #include "options.h"
 #include "logging.h"
-#include "motion.h"
 
 static const char *const ControlVariants[]  = {"traction", "convective", "ControlVariant", "CONTROL_", NULL};
 static const char *const DomainUpdates[]    = {"lagged", "current", "DomainUpdate", "DOMAIN_", NULL};
 static const char *const VelocityMeasures[] = {"scheme", "difference", "StructureVelocityMeasure", "STRUCTURE_VELOCITY_", NULL};
-
-struct _p_CouplingProblem {
-  MPI_Comm                 comm;
-  Fluid                    fluid;     /* NULL on ranks without the fluid */
-  Structure                structure; /* NULL on ranks without the structure */
-  Interface                itf;
-  PhysicsData              fluid_data;
-  ControlVariant           variant;
-  StructureVelocityMeasure measure;
-  PetscReal                tikhonov, velocity_coefficient;
-  PetscInt                 step;
-  Mat                      mass;
-  Vec                      weight_sqrt;                    /* W^{1/2} on the control nodes */
-  Vec                      g, r;                           /* control layout */
-  Vec                      all_a, all_b, all_q, datum_load; /* all interface nodes */
-  Vec                      fluid_vec, fluid_sol, fluid_local, structure_vec, structure_sol, structure_local;
-  Mat                      fluid_rhs_block, fluid_sol_block, structure_rhs_block, structure_sol_block; /* J H */
-  Vec                      state_x, state_F, jacobian_x;
-  PetscBool                state_valid, jacobian_valid;
-  PetscReal                state_jump;
-  PetscReal                converged_jump; /* at or below it, no new Jacobian: the optimizer stops there */
-  PetscInt                 jacobian_lag, jacobian_age; /* refactor the fluid every jacobian_lag requests */
-  PetscBool                predict;                    /* fluid's first guess from the linearization */
-  Vec                      control_change;
-  MeshMotion               motion; /* fluid ranks of a moving interface; NULL otherwise */
-  PetscBool                moving; /* the same on every rank */
-  PetscBool                extrapolate_mesh;
-  DomainUpdate             domain;
-  Vec                      mesh_displacement, mesh_displacement_before; /* d^{n-2} */
-  KSP                      control_mass_ksp;
-  PetscBool                swept; /* the state is the last sweep's */
-  IS                       fluid_interface_rows; /* Dirichlet-Neumann sweeps */
-  PetscBool                spacing_changed;      /* d^{n-2} is not one step of this dt back */
-  StepFailure              failure;              /* of the step in progress, on every rank */
-};
 
 /* A subproblem's failure, made known on every rank (the fluid's and the structure's may
    be different ones) with the reason of the first failing rank; failed may be NULL.
@@ -621,7 +585,7 @@ PetscErrorCode CouplingProblemResidual(CouplingProblem P, Vec x, Vec F)
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode EnsureState(CouplingProblem P, Vec x)
+PetscErrorCode EnsureState(CouplingProblem P, Vec x)
 {
   PetscFunctionBeginUser;
   PetscCall(CouplingProblemResidual(P, x, P->r));
@@ -643,7 +607,7 @@ PetscErrorCode CouplingProblemSetConvergedJump(CouplingProblem P, PetscReal jump
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode UpdateJacobian(CouplingProblem P, Vec x, PetscBool force)
+PetscErrorCode UpdateJacobian(CouplingProblem P, Vec x, PetscBool force)
 {
   PetscBool same = PETSC_FALSE;
 
@@ -897,97 +861,5 @@ PetscErrorCode CouplingProblemEndStep(CouplingProblem P, Vec x)
   }
   if (StepFailed(&P->failure)) PetscFunctionReturn(0);
   if (P->structure) PetscCall(StructureEndStep(P->structure));
-  PetscFunctionReturn(0);
-}
-
-static PetscErrorCode RandomVector(Vec v, unsigned long seed)
-{
-  PetscRandom rnd;
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscRandomCreate(PetscObjectComm((PetscObject)v), &rnd));
-  PetscCall(PetscRandomSetInterval(rnd, -1.0, 1.0));
-  PetscCall(PetscRandomSetSeed(rnd, seed));
-  PetscCall(PetscRandomSeed(rnd));
-  PetscCall(VecSetRandom(v, rnd));
-  PetscCall(PetscRandomDestroy(&rnd));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode CouplingProblemTestAdjoint(CouplingProblem P, Vec x)
-{
-  Vec         h, rho, Jh, Jtr, a, b;
-  PetscScalar lhs, rhs, scale;
-
-  PetscFunctionBeginUser;
-  PetscCall(UpdateJacobian(P, x, PETSC_TRUE));
-  PetscCall(VecDuplicate(x, &h));
-  PetscCall(VecDuplicate(x, &rho));
-  PetscCall(VecDuplicate(x, &Jh));
-  PetscCall(VecDuplicate(x, &Jtr));
-  PetscCall(RandomVector(h, 11));
-  PetscCall(RandomVector(rho, 23));
-  PetscCall(CouplingProblemJacobianMult(P, h, Jh));
-  PetscCall(CouplingProblemJacobianMultTranspose(P, rho, Jtr));
-  PetscCall(VecDot(Jh, rho, &lhs));
-  PetscCall(VecDot(h, Jtr, &rhs));
-  PetscCall(VecDuplicate(x, &a));
-  PetscCall(VecDuplicate(x, &b));
-  PetscCall(VecCopy(Jh, a));
-  PetscCall(VecAbs(a));
-  PetscCall(VecCopy(rho, b));
-  PetscCall(VecAbs(b));
-  PetscCall(VecDot(a, b, &scale));
-  PetscCall(PetscPrintf(P->comm, "adjoint test: <J h, r> = %.16e  <h, J^T r> = %.16e  relative difference %.3e\n", (double)PetscRealPart(lhs), (double)PetscRealPart(rhs), (double)(PetscAbsScalar(lhs - rhs) / PetscRealPart(scale))));
-  PetscCall(VecDestroy(&h));
-  PetscCall(VecDestroy(&rho));
-  PetscCall(VecDestroy(&Jh));
-  PetscCall(VecDestroy(&Jtr));
-  PetscCall(VecDestroy(&a));
-  PetscCall(VecDestroy(&b));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode CouplingProblemTestTaylor(CouplingProblem P, Vec x)
-{
-  Vec       h, F0, Jh, Ft, xt;
-  PetscReal t = 1.0, previous = 0, hnorm, xnorm;
-  PetscInt  n = 6;
-
-  PetscFunctionBeginUser;
-  PetscOptionsBegin(P->comm, NULL, "Taylor test", "coupling");
-  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_test_taylor_t0", "largest step t of the Taylor test, relative to max(||x||, 1)", &t));
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_test_taylor_steps", "halvings of t in the Taylor test", 2, 30, &n));
-  PetscOptionsEnd();
-  PetscCall(VecDuplicate(x, &h));
-  PetscCall(VecDuplicate(x, &F0));
-  PetscCall(VecDuplicate(x, &Jh));
-  PetscCall(VecDuplicate(x, &Ft));
-  PetscCall(VecDuplicate(x, &xt));
-  PetscCall(RandomVector(h, 37));
-  PetscCall(VecNorm(h, NORM_2, &hnorm));
-  PetscCall(VecNorm(x, NORM_2, &xnorm));
-  PetscCall(VecScale(h, PetscMax(xnorm, 1.0) / hnorm));
-  PetscCall(UpdateJacobian(P, x, PETSC_TRUE));
-  PetscCall(CouplingProblemResidual(P, x, F0));
-  PetscCall(CouplingProblemJacobianMult(P, h, Jh));
-  for (PetscInt k = 0; k < n; ++k, t *= 0.5) {
-    PetscReal remainder;
-
-    PetscCall(VecWAXPY(xt, t, h, x));
-    PetscCall(CouplingProblemResidual(P, xt, Ft));
-    PetscCall(VecAXPY(Ft, -1.0, F0));
-    PetscCall(VecAXPY(Ft, -t, Jh));
-    PetscCall(VecNorm(Ft, NORM_2, &remainder));
-    if (k) PetscCall(PetscPrintf(P->comm, "Taylor test: t = %.4e  ||F(x+th) - F(x) - t J h|| = %.6e  ratio %.4f\n", (double)t, (double)remainder, (double)(previous / remainder)));
-    else PetscCall(PetscPrintf(P->comm, "Taylor test: t = %.4e  ||F(x+th) - F(x) - t J h|| = %.6e\n", (double)t, (double)remainder));
-    previous = remainder;
-  }
-  PetscCall(EnsureState(P, x));
-  PetscCall(VecDestroy(&h));
-  PetscCall(VecDestroy(&F0));
-  PetscCall(VecDestroy(&Jh));
-  PetscCall(VecDestroy(&Ft));
-  PetscCall(VecDestroy(&xt));
   PetscFunctionReturn(0);
 }
