@@ -13,7 +13,7 @@ static const char *const VelocityMeasures[] = {"scheme", "difference", "Structur
 /* A subproblem's failure, made known on every rank (the fluid's and the structure's may
    be different ones) with the reason of the first failing rank; failed may be NULL.
    Collective. */
-static PetscErrorCode CollectFailure(CouplingProblem P, PetscBool *failed)
+PetscErrorCode CollectFailure(CouplingProblem P, PetscBool *failed)
 {
   const char *reason = NULL;
   PetscMPIInt rank, size, mine, first;
@@ -255,7 +255,7 @@ static PetscErrorCode ControlToLoad(CouplingProblem P, Vec x, Vec q)
 
 /* structure_vec = B_s g for the scaled control x (the structure solves R_s = -B_s g);
    all_q keeps the interface load M P^T g. */
-static PetscErrorCode StructureLoad(CouplingProblem P, Vec x)
+PetscErrorCode StructureLoad(CouplingProblem P, Vec x)
 {
   PetscFunctionBeginUser;
   PetscCall(ControlToLoad(P, x, P->all_q));
@@ -278,7 +278,7 @@ static PetscErrorCode ControlMassMult(Mat A, Vec x, Vec y)
 
 /* g = (P M P^T)^{-1} b: the control whose load on the control rows is b. CG on the
    (small, well-conditioned) interface mass, kept for the run. */
-static PetscErrorCode ControlMassSolve(CouplingProblem P, Vec b, Vec g)
+PetscErrorCode ControlMassSolve(CouplingProblem P, Vec b, Vec g)
 {
   PetscFunctionBeginUser;
   if (!P->control_mass_ksp) {
@@ -373,7 +373,7 @@ PetscErrorCode CouplingProblemBeginStep(CouplingProblem P, PetscInt step)
 }
 
 /* r = P (T_f fluid_local - T_s structure_local), the jump at the control nodes; and its L2 norm */
-static PetscErrorCode Jump(CouplingProblem P, PetscReal structure_scale, Vec r, PetscReal *l2)
+PetscErrorCode Jump(CouplingProblem P, PetscReal structure_scale, Vec r, PetscReal *l2)
 {
   PetscFunctionBeginUser;
   PetscCall(InterfaceFluidTrace(P->itf, P->fluid_local, P->all_a));
@@ -392,7 +392,7 @@ static PetscErrorCode Jump(CouplingProblem P, PetscReal structure_scale, Vec r, 
 
 /* The fluid domain follows the structure's interface displacement: the one of the last
    evaluation (lagged, seed Algorithm 3.3) or of this one (current). Collective. */
-static PetscErrorCode MoveMesh(CouplingProblem P)
+PetscErrorCode MoveMesh(CouplingProblem P)
 {
   PetscFunctionBeginUser;
   if (!P->moving) PetscFunctionReturn(0);
@@ -411,7 +411,7 @@ static PetscErrorCode MoveMesh(CouplingProblem P)
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode SolveStructure(CouplingProblem P)
+PetscErrorCode SolveStructure(CouplingProblem P)
 {
   PetscFunctionBeginUser;
   if (!P->structure) PetscFunctionReturn(0);
@@ -419,96 +419,6 @@ static PetscErrorCode SolveStructure(CouplingProblem P)
   PetscCall(StructureSolve(P->structure, P->structure_vec, P->step));
   PetscCall(StructureVelocityLocal(P->structure, P->measure, P->structure_local));
   PetscCall(PetscLogStagePop());
-  PetscFunctionReturn(0);
-}
-
-static PetscErrorCode SweepCheck(CouplingProblem P)
-{
-  PetscFunctionBeginUser;
-  PetscCheck(P->variant == CONTROL_TRACTION, P->comm, PETSC_ERR_SUP, "option -coupling_control convective: the Dirichlet-Neumann methods exchange the traction itself; use -coupling_control traction");
-  /* with the interface velocity prescribed too, an enclosed fluid's pressure is
-     undetermined and its volume cannot change (the incompressibility dilemma) */
-  PetscCheck(P->fluid_data.n_traction > 0, P->comm, PETSC_ERR_SUP, "option -coupling: the Dirichlet-Neumann methods (dn, aitken, iqnils) need a fluid boundary with a traction condition besides the interface; this scene's fluid is enclosed (incompressibility dilemma): use -coupling opt");
-  P->state_valid = PETSC_FALSE; /* the state will not be the traction-controlled one */
-  P->swept       = PETSC_TRUE;
-  PetscFunctionReturn(0);
-}
-
-/* The structure under the control x; v_s (all interface nodes) its interface velocity. */
-static PetscErrorCode StructureUnderControl(CouplingProblem P, Vec x, Vec v_s)
-{
-  PetscFunctionBeginUser;
-  PetscCall(StructureLoad(P, x));
-  PetscCall(SolveStructure(P));
-  PetscCall(InterfaceStructureTrace(P->itf, P->structure ? P->structure_local : NULL, v_s));
-  PetscFunctionReturn(0);
-}
-
-/* The fluid with the interface velocity v (all interface nodes) prescribed; x the control
-   whose load equals its reaction. */
-static PetscErrorCode FluidUnderVelocity(CouplingProblem P, Vec v, Vec x)
-{
-  PetscFunctionBeginUser;
-  if (P->fluid) {
-    DM  dm;
-    Vec state;
-    if (!P->fluid_interface_rows) PetscCall(InterfaceGetFluidRows(P->itf, &P->fluid_interface_rows));
-    PetscCall(VecZeroEntries(P->fluid_vec));
-    PetscCall(InterfaceFluidSpread(P->itf, v, P->fluid_vec));
-    PetscCall(PetscLogStagePush(FSIOPT_STAGE_FLUID));
-    PetscCall(FluidSolveDirichlet(P->fluid, P->fluid_interface_rows, P->fluid_vec, P->fluid_sol, P->step));
-    PetscCall(PetscLogStagePop());
-    PetscCall(FluidGetDM(P->fluid, &dm));
-    PetscCall(FluidGetSolution(P->fluid, &state));
-    PetscCall(FEMGlobalToLocal(dm, state, P->fluid_local));
-  }
-  PetscCall(InterfaceFluidGather(P->itf, P->fluid ? P->fluid_sol : NULL, P->all_a));
-  PetscCall(InterfaceRestrict(P->itf, P->all_a, P->r));
-  PetscCall(ControlMassSolve(P, P->r, x));
-  PetscCall(VecPointwiseMult(x, x, P->weight_sqrt));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode CouplingProblemSweep(CouplingProblem P, Vec x, Vec x_new)
-{
-  PetscBool failed;
-
-  PetscFunctionBeginUser;
-  PetscCall(SweepCheck(P));
-  PetscCall(StructureUnderControl(P, x, P->all_b));
-  PetscCall(CollectFailure(P, &failed));
-  if (!failed) PetscCall(MoveMesh(P));
-  if (!StepFailed(&P->failure)) PetscCall(FluidUnderVelocity(P, P->all_b, x_new));
-  PetscCall(CollectFailure(P, &failed));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode CouplingProblemSweepVelocity(CouplingProblem P, Vec v, Vec x, Vec v_new)
-{
-  PetscBool failed;
-
-  PetscFunctionBeginUser;
-  PetscCall(SweepCheck(P));
-  PetscCall(MoveMesh(P)); /* the wall of the last structure solve: the domain lags one sweep */
-  if (!StepFailed(&P->failure)) PetscCall(FluidUnderVelocity(P, v, x));
-  PetscCall(CollectFailure(P, &failed));
-  if (!failed) PetscCall(StructureUnderControl(P, x, v_new));
-  PetscCall(CollectFailure(P, &failed));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode CouplingProblemCreateInterfaceVector(CouplingProblem P, Vec *v)
-{
-  PetscFunctionBeginUser;
-  PetscCall(InterfaceCreateVector(P->itf, v));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode CouplingProblemSweepJump(CouplingProblem P, PetscReal *jump)
-{
-  PetscFunctionBeginUser;
-  PetscCheck(P->swept, P->comm, PETSC_ERR_ORDER, "no sweep to measure");
-  PetscCall(Jump(P, 1.0, P->r, jump));
   PetscFunctionReturn(0);
 }
 

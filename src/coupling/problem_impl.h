@@ -41,6 +41,13 @@ struct _p_CouplingProblem {
 };
 
 /* problem.c */
+PetscErrorCode CollectFailure(CouplingProblem, PetscBool *failed);
+PetscErrorCode StructureLoad(CouplingProblem, Vec x);
+PetscErrorCode ControlMassSolve(CouplingProblem, Vec b, Vec g);
+PetscErrorCode Jump(CouplingProblem, PetscReal structure_scale, Vec r, PetscReal *l2);
+PetscErrorCode MoveMesh(CouplingProblem);
+/* the structure under its load structure_vec; structure_local its interface velocity */
+PetscErrorCode SolveStructure(CouplingProblem);
 /* the state of the control x (a residual evaluation unless it is the one in hand) */
 PetscErrorCode EnsureState(CouplingProblem, Vec x);
 /* force: the fluid's factors of x even where the jump has converged or the lag would keep
