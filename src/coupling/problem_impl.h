@@ -42,6 +42,7 @@ struct _p_CouplingProblem {
 
 /* problem.c */
 PetscErrorCode CollectFailure(CouplingProblem, PetscBool *failed);
+PetscErrorCode ControlToLoad(CouplingProblem, Vec x, Vec q);
 PetscErrorCode StructureLoad(CouplingProblem, Vec x);
 PetscErrorCode ControlMassSolve(CouplingProblem, Vec b, Vec g);
 PetscErrorCode Jump(CouplingProblem, PetscReal structure_scale, Vec r, PetscReal *l2);
