@@ -42,9 +42,6 @@ struct _p_CouplingProblem {
 
 /* problem.c */
 PetscErrorCode CollectFailure(CouplingProblem, PetscBool *failed);
-PetscErrorCode ControlToLoad(CouplingProblem, Vec x, Vec q);
-PetscErrorCode StructureLoad(CouplingProblem, Vec x);
-PetscErrorCode ControlMassSolve(CouplingProblem, Vec b, Vec g);
 PetscErrorCode Jump(CouplingProblem, PetscReal structure_scale, Vec r, PetscReal *l2);
 PetscErrorCode MoveMesh(CouplingProblem);
 /* the structure under its load structure_vec; structure_local its interface velocity */
@@ -54,4 +51,10 @@ PetscErrorCode EnsureState(CouplingProblem, Vec x);
 /* force: the fluid's factors of x even where the jump has converged or the lag would keep
    older ones */
 PetscErrorCode UpdateJacobian(CouplingProblem, Vec x, PetscBool force);
+
+/* control_maps.c: they overwrite the work vectors all_a and g (ControlToLoad, StructureLoad)
+   or all_b (ControlMassSolve) */
+PetscErrorCode ControlToLoad(CouplingProblem, Vec x, Vec q);
+PetscErrorCode StructureLoad(CouplingProblem, Vec x);
+PetscErrorCode ControlMassSolve(CouplingProblem, Vec b, Vec g);
 #endif
