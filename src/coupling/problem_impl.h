@@ -1,7 +1,10 @@
 #ifndef FSIOPT_PROBLEM_IMPL_H
 #define FSIOPT_PROBLEM_IMPL_H
 /* What the files of the coupling problem share: the object, and the helpers that more
-   than one of them calls. The coupling methods see coupling.h only. */
+   than one of them calls. The coupling methods see coupling.h only; one file per job:
+   problem.c (the object, its options and a step's frame), control_maps.c (control <->
+   load), residual.c (F and the cached state), products.c (J h, J^T rho), sweep.c
+   (Dirichlet-Neumann), derivative_checks.c. */
 #include "coupling.h"
 #include "motion.h"
 
@@ -42,6 +45,14 @@ struct _p_CouplingProblem {
 
 /* problem.c */
 PetscErrorCode CollectFailure(CouplingProblem, PetscBool *failed);
+
+/* control_maps.c: they overwrite the work vectors all_a and g (ControlToLoad, StructureLoad)
+   or all_b (ControlMassSolve) */
+PetscErrorCode ControlToLoad(CouplingProblem, Vec x, Vec q);
+PetscErrorCode StructureLoad(CouplingProblem, Vec x);
+PetscErrorCode ControlMassSolve(CouplingProblem, Vec b, Vec g);
+
+/* residual.c */
 PetscErrorCode Jump(CouplingProblem, PetscReal structure_scale, Vec r, PetscReal *l2);
 PetscErrorCode MoveMesh(CouplingProblem);
 /* the structure under its load structure_vec; structure_local its interface velocity */
@@ -51,10 +62,4 @@ PetscErrorCode EnsureState(CouplingProblem, Vec x);
 /* force: the fluid's factors of x even where the jump has converged or the lag would keep
    older ones */
 PetscErrorCode UpdateJacobian(CouplingProblem, Vec x, PetscBool force);
-
-/* control_maps.c: they overwrite the work vectors all_a and g (ControlToLoad, StructureLoad)
-   or all_b (ControlMassSolve) */
-PetscErrorCode ControlToLoad(CouplingProblem, Vec x, Vec q);
-PetscErrorCode StructureLoad(CouplingProblem, Vec x);
-PetscErrorCode ControlMassSolve(CouplingProblem, Vec b, Vec g);
 #endif
