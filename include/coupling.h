@@ -20,7 +20,11 @@
    where M is the interface mass matrix, P restricts to the control nodes, T and S = T^T
    are the velocity traces and their spreading into the free rows, A the factored
    Jacobians and c = d v_s / d eta^n. The fluid satisfies R_f(x_f) = B_f g and the
-   structure R_s(x_s) = -B_s g (B = S M P^T), hence the two plus signs above. */
+   structure R_s(x_s) = -B_s g (B = S M P^T), hence the two plus signs above.
+   In src/coupling/: problem.c (the object, its options, a step's begin and end),
+   control_maps.c (a control's interface load M P^T W^{-1/2} x, a traction's control),
+   residual.c (F), products.c (J h, J^T rho), sweep.c (the Dirichlet-Neumann sweep),
+   derivative_checks.c. */
 typedef enum { CONTROL_TRACTION, CONTROL_CONVECTIVE } ControlVariant;
 typedef enum { DOMAIN_LAGGED, DOMAIN_CURRENT } DomainUpdate; /* -coupling_domain */
 

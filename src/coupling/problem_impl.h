@@ -1,0 +1,65 @@
+#ifndef FSIOPT_PROBLEM_IMPL_H
+#define FSIOPT_PROBLEM_IMPL_H
+/* What the files of the coupling problem share: the object, and the helpers that more
+   than one of them calls. The coupling methods see coupling.h only; one file per job:
+   problem.c (the object, its options and a step's frame), control_maps.c (control <->
+   load), residual.c (F and the cached state), products.c (J h, J^T rho), sweep.c
+   (Dirichlet-Neumann), derivative_checks.c. */
+#include "coupling.h"
+#include "motion.h"
+
+struct _p_CouplingProblem {
+  MPI_Comm                 comm;
+  Fluid                    fluid;     /* NULL on ranks without the fluid */
+  Structure                structure; /* NULL on ranks without the structure */
+  Interface                itf;
+  PhysicsData              fluid_data;
+  ControlVariant           variant;
+  StructureVelocityMeasure measure;
+  PetscReal                tikhonov, velocity_coefficient;
+  PetscInt                 step;
+  Mat                      mass;
+  Vec                      weight_sqrt;                    /* W^{1/2} on the control nodes */
+  Vec                      g, r;                           /* control layout */
+  Vec                      all_a, all_b, all_q, datum_load; /* all interface nodes */
+  Vec                      fluid_vec, fluid_sol, fluid_local, structure_vec, structure_sol, structure_local;
+  Mat                      fluid_rhs_block, fluid_sol_block, structure_rhs_block, structure_sol_block; /* J H */
+  Vec                      state_x, state_F, jacobian_x;
+  PetscBool                state_valid, jacobian_valid;
+  PetscReal                state_jump;
+  PetscReal                converged_jump; /* at or below it, no new Jacobian: the optimizer stops there */
+  PetscInt                 jacobian_lag, jacobian_age; /* refactor the fluid every jacobian_lag requests */
+  PetscBool                predict;                    /* fluid's first guess from the linearization */
+  Vec                      control_change;
+  MeshMotion               motion; /* fluid ranks of a moving interface; NULL otherwise */
+  PetscBool                moving; /* the same on every rank */
+  PetscBool                extrapolate_mesh;
+  DomainUpdate             domain;
+  Vec                      mesh_displacement, mesh_displacement_before; /* d^{n-2} */
+  KSP                      control_mass_ksp;
+  PetscBool                swept; /* the state is the last sweep's */
+  IS                       fluid_interface_rows; /* Dirichlet-Neumann sweeps */
+  PetscBool                spacing_changed;      /* d^{n-2} is not one step of this dt back */
+  StepFailure              failure;              /* of the step in progress, on every rank */
+};
+
+/* problem.c */
+PetscErrorCode CollectFailure(CouplingProblem, PetscBool *failed);
+
+/* control_maps.c: they overwrite the work vectors all_a and g (ControlToLoad, StructureLoad)
+   or all_b (ControlMassSolve) */
+PetscErrorCode ControlToLoad(CouplingProblem, Vec x, Vec q);
+PetscErrorCode StructureLoad(CouplingProblem, Vec x);
+PetscErrorCode ControlMassSolve(CouplingProblem, Vec b, Vec g);
+
+/* residual.c */
+PetscErrorCode Jump(CouplingProblem, PetscReal structure_scale, Vec r, PetscReal *l2);
+PetscErrorCode MoveMesh(CouplingProblem);
+/* the structure under its load structure_vec; structure_local its interface velocity */
+PetscErrorCode SolveStructure(CouplingProblem);
+/* the state of the control x (a residual evaluation unless it is the one in hand) */
+PetscErrorCode EnsureState(CouplingProblem, Vec x);
+/* force: the fluid's factors of x even where the jump has converged or the lag would keep
+   older ones */
+PetscErrorCode UpdateJacobian(CouplingProblem, Vec x, PetscBool force);
+#endif
