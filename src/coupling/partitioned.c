@@ -10,8 +10,8 @@
    traction: the change in L2(Gamma_I)); iterations past -coupling_max_it or a residual
    1000x its first one (after the iterations that build the acceleration's model) fail
    the step with a message naming the step and the iteration. -coupling_tol, the
-   interface velocity jump of opt, does not apply: velocity continuity holds by
-   construction here. */
+   interface velocity jump of opt, is not read: velocity continuity holds by construction
+   here (an option nothing reads is reported before the first step). */
 #include "acceleration.h"
 #include "options.h"
 #include "logging.h"
@@ -128,7 +128,6 @@ static const char *PartitionedOptimizer(PETSC_UNUSED Coupling C)
 static PetscErrorCode PartitionedSetUp(Coupling C)
 {
   Partitioned *pt = (Partitioned *)C->data;
-  PetscBool    tol_given;
 
   PetscFunctionBeginUser;
   pt->rtol = 1e-5;
@@ -139,8 +138,6 @@ static PetscErrorCode PartitionedSetUp(Coupling C)
   PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-coupling_atol", "or by less than this, absolute: the floor set by the subproblems' solver tolerances while the traction is tiny", &pt->atol));
   PetscCall(PetscOptionsBool("-coupling_relax_velocity", "iterate on the interface velocity (fluid first, the structure's velocity relaxed: the seed's arrangement) instead of the traction", NULL, pt->relax_velocity, &pt->relax_velocity, NULL));
   PetscOptionsEnd();
-  PetscCall(PetscOptionsHasName(NULL, NULL, "-coupling_tol", &tol_given));
-  if (tol_given) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fsiopt: warning: option -coupling_tol (the interface velocity jump of -coupling opt) is not used by -coupling %s, which stops on -coupling_rtol and -coupling_atol\n", C->method));
   pt->u = C->x;
   if (pt->relax_velocity) {
     PetscCall(CouplingProblemCreateInterfaceVector(C->problem, &pt->v));
