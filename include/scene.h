@@ -5,7 +5,10 @@
 /* A scene is a named problem: which physics it needs, their data, its exact solution.
    A scene's create function reads the scene's own options and sets its defaults
    (meshes, parameters) with OptionsSetDefault, so an options file or the command line
-   always wins. */
+   always wins; each value has that one home (an options file sets only what differs).
+   A scene's closed forms read their parameters from a context of the scene's own
+   (PhysicsData's ctx, made by SceneCreateContext), its pointwise kernels from the PetscDS
+   constants (PhysicsData's extra): no scene keeps values in file-level variables. */
 typedef struct {
   char        name[64];
   PetscBool   has_fluid, has_structure;
@@ -22,6 +25,8 @@ PetscErrorCode SceneCreate(const char name[], Scene *);
 PetscErrorCode SceneListNames(char names[], size_t len);
 PetscErrorCode SceneRequiredFaces(const PhysicsData *, PetscInt *n, PetscInt faces[]);
 PetscErrorCode SceneFinalize(void);
+/* A zeroed context of `size` bytes for a scene's parameters, freed by PetscFinalize. */
+PetscErrorCode SceneCreateContext(size_t size, void **ctx);
 /* A wall clamped on its LEFT and RIGHT face sets (its ends), traction-free on TOP, on the
    fluid along BOTTOM: channel2d's and tube3d's. */
 PetscErrorCode SceneClampedWall(Scene *);

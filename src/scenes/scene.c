@@ -69,6 +69,21 @@ PetscErrorCode SceneFinalize(void)
   PetscFunctionReturn(0);
 }
 
+/* main keeps its Scene by value and ends with SceneFinalize(), which sees no scene: the
+   context goes to a container that PetscFinalize destroys (with PetscFree). */
+PetscErrorCode SceneCreateContext(size_t size, void **ctx)
+{
+  PetscContainer container;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscCalloc(size, ctx));
+  PetscCall(PetscContainerCreate(PETSC_COMM_SELF, &container));
+  PetscCall(PetscContainerSetPointer(container, *ctx));
+  PetscCall(PetscContainerSetUserDestroy(container, PetscContainerUserDestroyDefault));
+  PetscCall(PetscObjectRegisterDestroy((PetscObject)container));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SceneSetDefaultMesh(const char option[], const char name[])
 {
   char path[PETSC_MAX_PATH_LEN];
