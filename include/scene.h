@@ -5,10 +5,11 @@
 /* A scene is a named problem: which physics it needs, their data, its exact solution.
    A scene's create function reads the scene's own options and sets its defaults
    (meshes, parameters) with OptionsSetDefault, so an options file or the command line
-   always wins; each value has that one home (an options file sets only what differs).
+   always wins: that is each value's one home, and an options file does not repeat it.
    A scene's closed forms read their parameters from a context of the scene's own
    (PhysicsData's ctx, made by SceneCreateContext), its pointwise kernels from the PetscDS
-   constants (PhysicsData's extra): no scene keeps values in file-level variables. */
+   constants (PhysicsData's extra), not from file-level variables (one exception: the
+   interface data of mms_fsi.c, see there). */
 typedef struct {
   char        name[64];
   PetscBool   has_fluid, has_structure;
@@ -33,6 +34,10 @@ PetscErrorCode SceneClampedWall(Scene *);
 /* The default of a mesh option: meshes/<name> of the working directory when it is there,
    else of the repository the binary was built in (FSIOPT_ROOT). */
 PetscErrorCode SceneSetDefaultMesh(const char option[], const char name[]);
+/* The default meshes of the manufactured solutions (mms-fluid, mms-structure, mms-stokes,
+   mms-ns): the fluid [0,1]^2 in 4x4 quadrilaterals, the structure [0,1]x[1,1.5] in 4x2. */
+PetscErrorCode SceneMMSFluidBox(void);
+PetscErrorCode SceneMMSStructureBox(void);
 
 /* The scenes (src/scenes/), one file each. */
 PetscErrorCode SceneCreate_MMSFluid(Scene *);

@@ -124,10 +124,14 @@ static void StructureLoad(PetscInt dim, PetscInt Nf, PetscInt NfAux, const Petsc
   f0[1] -= constants[STRUCTURE_LOAD] * (-2 * rho * c + 2 * mu * eta[1]);
 }
 
+/* an option the scene has just given its default, so always set: its value has that one home */
 static PetscErrorCode ReadReal(const char name[], PetscReal *value)
 {
+  PetscBool set;
+
   PetscFunctionBeginUser;
-  PetscCall(PetscOptionsGetReal(NULL, NULL, name, value, NULL));
+  PetscCall(PetscOptionsGetReal(NULL, NULL, name, value, &set));
+  PetscCheck(set, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "option %s: expected the scene's default", name);
   PetscFunctionReturn(0);
 }
 
@@ -135,7 +139,7 @@ PetscErrorCode SceneCreate_MMSFSI(Scene *scene, const char fluid_model[])
 {
   PhysicsData *fluid = &scene->fluid, *structure = &scene->structure;
   PetscBool    discrete_time = PETSC_FALSE;
-  PetscReal    E = 7.8, nu = 0.3;
+  PetscReal    E, nu;
   MMSFSI      *mms;
 
   PetscFunctionBeginUser;
@@ -145,12 +149,8 @@ PetscErrorCode SceneCreate_MMSFSI(Scene *scene, const char fluid_model[])
   PetscCall(PetscOptionsBool("-mms_discrete_time", "Force the fluid with the backward difference of the exact velocity, leaving its spatial error only", NULL, discrete_time, &discrete_time, NULL));
   PetscOptionsEnd();
   PetscCall(OptionsSetDefault("-fluid_model", fluid_model));
-  PetscCall(OptionsSetDefault("-fluid_dm_plex_simplex", "0"));
-  PetscCall(OptionsSetDefault("-fluid_dm_plex_box_faces", "4,4"));
-  PetscCall(OptionsSetDefault("-structure_dm_plex_simplex", "0"));
-  PetscCall(OptionsSetDefault("-structure_dm_plex_box_faces", "4,2"));
-  PetscCall(OptionsSetDefault("-structure_dm_plex_box_lower", "0,1"));
-  PetscCall(OptionsSetDefault("-structure_dm_plex_box_upper", "1,1.5"));
+  PetscCall(SceneMMSFluidBox());
+  PetscCall(SceneMMSStructureBox());
   /* the seed's rho = 1, rho_s = 1.9, mu_s = 3, lambda = 4.5 (E = 7.8, nu = 0.3) and our mu = 2 */
   PetscCall(OptionsSetDefault("-fluid_density", "1.0"));
   PetscCall(OptionsSetDefault("-fluid_viscosity", "2.0"));

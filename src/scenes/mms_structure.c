@@ -83,10 +83,7 @@ PetscErrorCode SceneCreate_MMSStructure(Scene *scene)
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-mms_amplitude", "factor on the manufactured displacement", &mms->amplitude));
   PetscCall(PetscOptionsBool("-mms_linear_load", "load of linear elasticity whatever -structure_model (the solution is then manufactured for the linear wall only)", NULL, linear_load, &linear_load, NULL));
   PetscOptionsEnd();
-  PetscCall(OptionsSetDefault("-structure_dm_plex_simplex", "0"));
-  PetscCall(OptionsSetDefault("-structure_dm_plex_box_faces", "4,2"));
-  PetscCall(OptionsSetDefault("-structure_dm_plex_box_lower", "0,1"));
-  PetscCall(OptionsSetDefault("-structure_dm_plex_box_upper", "1,1.5"));
+  PetscCall(SceneMMSStructureBox());
 
   scene->has_structure          = PETSC_TRUE;
   structure->n_dirichlet        = 3;

@@ -112,3 +112,24 @@ PetscErrorCode SceneClampedWall(Scene *scene)
   structure->interface_face     = FACE_BOTTOM;
   PetscFunctionReturn(0);
 }
+
+/* shared by the fluid-only and the coupled manufactured scenes (the PETSc box's default
+   [0,1]^2 is the fluid's domain) */
+PetscErrorCode SceneMMSFluidBox(void)
+{
+  PetscFunctionBeginUser;
+  PetscCall(OptionsSetDefault("-fluid_dm_plex_simplex", "0"));
+  PetscCall(OptionsSetDefault("-fluid_dm_plex_box_faces", "4,4"));
+  PetscFunctionReturn(0);
+}
+
+/* shared by the structure-only and the coupled manufactured scenes: on top of the fluid's */
+PetscErrorCode SceneMMSStructureBox(void)
+{
+  PetscFunctionBeginUser;
+  PetscCall(OptionsSetDefault("-structure_dm_plex_simplex", "0"));
+  PetscCall(OptionsSetDefault("-structure_dm_plex_box_faces", "4,2"));
+  PetscCall(OptionsSetDefault("-structure_dm_plex_box_lower", "0,1"));
+  PetscCall(OptionsSetDefault("-structure_dm_plex_box_upper", "1,1.5"));
+  PetscFunctionReturn(0);
+}

@@ -24,13 +24,17 @@ enum { GRAVITY = STRUCTURE_NUM_CONSTANTS, GRAVITY_RAMP };
 
 typedef enum { CSM, CFD, FSI } CaseKind;
 
+/* the flag's nu_s in every case: the default of -structure_poisson_ratio, and with the
+   case's mu_s the default of -structure_youngs_modulus */
+#define POISSON_RATIO 0.4
+
 typedef struct {
   const char *name;
   CaseKind    kind;
   PetscBool   periodic;
   PetscReal   mean_velocity;         /* fluid: U */
   PetscReal   structure_density;     /* rho_s */
-  PetscReal   shear_modulus;         /* mu_s; nu_s = 0.4 throughout */
+  PetscReal   shear_modulus;         /* mu_s; nu_s = POISSON_RATIO throughout */
   PetscReal   gravity;               /* on the flag, m/s^2 (csm) */
   const char *dt, *t_final, *window; /* our defaults */
   PetscBool   biharmonic_mesh;       /* our default: the biharmonic extension */
@@ -124,10 +128,10 @@ PetscErrorCode SceneCreate_TurekHron(Scene *scene)
   PetscCall(OptionsSetDefault("-fluid_density", "1000"));
   PetscCall(OptionsSetDefault("-fluid_viscosity", "1")); /* rho nu_f = 1000 * 1e-3 */
   PetscCall(OptionsSetDefault("-structure_model", "svk"));
-  PetscCall(OptionsSetDefault("-structure_poisson_ratio", "0.4"));
+  PetscCall(SetDefaultReal("-structure_poisson_ratio", POISSON_RATIO));
   if (c->kind != CFD) {
     PetscCall(SetDefaultReal("-structure_density", c->structure_density));
-    PetscCall(SetDefaultReal("-structure_youngs_modulus", 2.0 * c->shear_modulus * (1.0 + 0.4)));
+    PetscCall(SetDefaultReal("-structure_youngs_modulus", 2.0 * c->shear_modulus * (1.0 + POISSON_RATIO)));
     PetscCall(OptionsSetDefault("-structure_time_order", c->periodic ? "2" : (c->kind == CSM ? "0" : "1")));
   }
   if (c->kind == CFD && !c->periodic) PetscCall(OptionsSetDefault("-fluid_steady", "1"));
