@@ -86,7 +86,8 @@ PetscErrorCode SceneCreate_MMSFluid(Scene *scene)
   PetscOptionsEnd();
   if (discrete_time) {
     PetscInt order = 0;
-    /* the scene's default, not a copy of the fluid's: the check below reads what the fluid will */
+    /* the scene's default for this forcing; the check reads the value the fluid will use
+       (not a copy of the fluid's own default) */
     PetscCall(OptionsSetDefault("-fluid_time_order", "1"));
     PetscCall(PetscOptionsGetInt(NULL, NULL, "-fluid_time_order", &order, NULL));
     PetscCheck(order == 1, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP, "option -mms_discrete_time: its forcing is the backward-Euler difference; expected -fluid_time_order 1, got %" PetscInt_FMT, order);

@@ -18,9 +18,10 @@ typedef struct {
   PetscReal rho, mu, mu_s;
 } MMSFSI;
 
-/* The coupling evaluates the interface data (InterfaceTraction, ConvectiveDatum) by
-   InterfaceInterpolate (src/interface), which passes them no context, from src/coupling,
-   which this change leaves alone: those two alone find the scene's context here. */
+/* src/coupling evaluates the interface data (InterfaceTraction, ConvectiveDatum) through
+   InterfaceInterpolate, which has no context argument: those two alone reach the scene's
+   context through this pointer, set by the create function. A ctx argument there, given
+   PhysicsData's ctx by the coupling, would remove it. */
 static const MMSFSI *interface_ctx;
 
 static PetscErrorCode Velocity(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *u, void *ctx)

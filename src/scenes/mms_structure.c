@@ -13,7 +13,8 @@
    being solved (the discrete solution then converges to the manufactured one), or that
    of linear elasticity whatever the model: a St. Venant-Kirchhoff wall under the linear
    load departs from the linear wall by O(amplitude^2). The closed forms read the
-   amplitude from the scene's context, the load kernels both from the constants. */
+   amplitude from the scene's context, the load kernels the amplitude and the linear-load
+   switch from the PetscDS constants. */
 typedef struct {
   PetscReal amplitude;
 } MMSStructure;
