@@ -42,7 +42,7 @@ PetscErrorCode FEMFactorJacobianAt(SNES snes, Vec x);
 /* The free (unconstrained) dofs of dm, in dm's global order, as global indices of dm_all:
    a clone with the same fields and no constraints. */
 PetscErrorCode FEMFreeDofs(DM dm, DM dm_all, IS *is);
-/* Per field: L2 error and L2 error of the gradient against closed forms at time t
-   (a NULL closed form gives 0; h1 may be NULL). At most two fields. */
-PetscErrorCode FEMErrors(DM dm, Vec xglobal, PetscReal t, const FieldFn exact[], const GradientFn gradient[], PetscReal l2[], PetscReal h1[]);
+/* Per field: L2 error and L2 error of the gradient against closed forms at time t, called
+   with ctx (a NULL closed form gives 0; h1 may be NULL). At most two fields. */
+PetscErrorCode FEMErrors(DM dm, Vec xglobal, PetscReal t, const FieldFn exact[], const GradientFn gradient[], void *ctx, PetscReal l2[], PetscReal h1[]);
 #endif

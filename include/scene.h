@@ -5,7 +5,11 @@
 /* A scene is a named problem: which physics it needs, their data, its exact solution.
    A scene's create function reads the scene's own options and sets its defaults
    (meshes, parameters) with OptionsSetDefault, so an options file or the command line
-   always wins. */
+   always wins: that is each value's one home, and an options file does not repeat it.
+   A scene's closed forms read their parameters from a context of the scene's own
+   (PhysicsData's ctx, made by SceneCreateContext), its pointwise kernels from the PetscDS
+   constants (PhysicsData's extra), not from file-level variables (one exception: the
+   interface data of mms_fsi.c, see there). */
 typedef struct {
   char        name[64];
   PetscBool   has_fluid, has_structure;
@@ -22,12 +26,18 @@ PetscErrorCode SceneCreate(const char name[], Scene *);
 PetscErrorCode SceneListNames(char names[], size_t len);
 PetscErrorCode SceneRequiredFaces(const PhysicsData *, PetscInt *n, PetscInt faces[]);
 PetscErrorCode SceneFinalize(void);
+/* A zeroed context of `size` bytes for a scene's parameters, freed by PetscFinalize. */
+PetscErrorCode SceneCreateContext(size_t size, void **ctx);
 /* A wall clamped on its LEFT and RIGHT face sets (its ends), traction-free on TOP, on the
    fluid along BOTTOM: channel2d's and tube3d's. */
 PetscErrorCode SceneClampedWall(Scene *);
 /* The default of a mesh option: meshes/<name> of the working directory when it is there,
    else of the repository the binary was built in (FSIOPT_ROOT). */
 PetscErrorCode SceneSetDefaultMesh(const char option[], const char name[]);
+/* The default meshes of the manufactured solutions (mms-fluid, mms-structure, mms-stokes,
+   mms-ns): the fluid [0,1]^2 in 4x4 quadrilaterals, the structure [0,1]x[1,1.5] in 4x2. */
+PetscErrorCode SceneMMSFluidBox(void);
+PetscErrorCode SceneMMSStructureBox(void);
 
 /* The scenes (src/scenes/), one file each. */
 PetscErrorCode SceneCreate_MMSFluid(Scene *);

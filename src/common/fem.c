@@ -40,7 +40,7 @@ PetscErrorCode FEMAddBoundaries(DM dm, PetscInt field, const PhysicsData *data, 
   PetscCall(DMGetDS(dm, &ds));
   for (PetscInt b = 0; b < data->n_dirichlet; ++b) {
     datums[b].fn   = data->dirichlet_fn[b];
-    datums[b].ctx  = NULL;
+    datums[b].ctx  = data->ctx;
     datums[b].time = time;
     PetscCall(PetscSNPrintf(name, sizeof(name), "dirichlet_%" PetscInt_FMT, data->dirichlet_faces[b]));
     PetscCall(DMAddBoundary(dm, DM_BC_ESSENTIAL, name, label, 1, &data->dirichlet_faces[b], field, 0, NULL, (void (*)(void))DirichletEvaluate, NULL, &datums[b], NULL));
@@ -264,10 +264,11 @@ PetscErrorCode FEMFactorJacobianAt(SNES snes, Vec x)
 }
 
 /* PETSc's objective kernels cannot carry a closure, so the closed forms being compared
-   against are held here for the duration of one FEMErrors call. */
+   against, and their context, are held here for the duration of one FEMErrors call. */
 static struct {
   FieldFn    exact[2];
   GradientFn gradient[2];
+  void      *ctx;
   PetscReal  t;
 } target;
 
@@ -278,7 +279,7 @@ static struct {
     const PetscInt Nc    = uOff[F + 1] - uOff[F]; \
     obj[0]               = 0; \
     if (!target.exact[F]) return; \
-    (void)target.exact[F](dim, target.t, x, Nc, ue, NULL); \
+    (void)target.exact[F](dim, target.t, x, Nc, ue, target.ctx); \
     for (PetscInt c = 0; c < Nc; ++c) obj[0] += PetscSqr(u[uOff[F] + c] - ue[c]); \
   } \
   static void ObjectiveGradientError_##F(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar obj[]) \
@@ -287,13 +288,13 @@ static struct {
     const PetscInt Nc    = uOff[F + 1] - uOff[F]; \
     obj[0]               = 0; \
     if (!target.gradient[F]) return; \
-    (void)target.gradient[F](dim, target.t, x, Nc, ge, NULL); \
+    (void)target.gradient[F](dim, target.t, x, Nc, ge, target.ctx); \
     for (PetscInt i = 0; i < Nc * dim; ++i) obj[0] += PetscSqr(u_x[uOff_x[F] + i] - ge[i]); \
   }
 OBJECTIVE_KERNELS(0)
 OBJECTIVE_KERNELS(1)
 
-PetscErrorCode FEMErrors(DM dm, Vec xglobal, PetscReal t, const FieldFn exact[], const GradientFn gradient[], PetscReal l2[], PetscReal h1[])
+PetscErrorCode FEMErrors(DM dm, Vec xglobal, PetscReal t, const FieldFn exact[], const GradientFn gradient[], void *ctx, PetscReal l2[], PetscReal h1[])
 {
   PetscDS     ds;
   PetscInt    Nf;
@@ -303,7 +304,8 @@ PetscErrorCode FEMErrors(DM dm, Vec xglobal, PetscReal t, const FieldFn exact[],
   PetscCall(DMGetDS(dm, &ds));
   PetscCall(PetscDSGetNumFields(ds, &Nf));
   PetscCheck(Nf <= 2, PETSC_COMM_WORLD, PETSC_ERR_SUP, "error norms are implemented for at most two fields");
-  target.t = t;
+  target.t   = t;
+  target.ctx = ctx;
   for (PetscInt f = 0; f < Nf; ++f) {
     target.exact[f]    = exact[f];
     target.gradient[f] = gradient ? gradient[f] : NULL;

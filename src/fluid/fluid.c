@@ -189,6 +189,7 @@ PetscErrorCode FluidSetInterface(Fluid f, PetscInt face, PetscBool convective_te
 static struct {
   FieldFn    pressure;
   GradientFn gradient;
+  void      *ctx;
   PetscReal  t;
 } projection_target;
 
@@ -197,8 +198,8 @@ static void ProjectionStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const Pe
   PetscScalar g[9] = {0}, p = 0;
 
   if (constants[FLUID_PROJECTION] == 0.0) return;
-  (void)projection_target.gradient(dim, projection_target.t, x, dim, g, NULL);
-  (void)projection_target.pressure(dim, projection_target.t, x, 1, &p, NULL);
+  (void)projection_target.gradient(dim, projection_target.t, x, dim, g, projection_target.ctx);
+  (void)projection_target.pressure(dim, projection_target.t, x, 1, &p, projection_target.ctx);
   for (PetscInt c = 0; c < dim; ++c)
     for (PetscInt d = 0; d < dim; ++d) f1[c * dim + d] -= constants[FLUID_MU] * (g[c * dim + d] + g[d * dim + c]) - (c == d ? p : 0.0);
 }
@@ -208,6 +209,7 @@ static PetscErrorCode FluidProjectExact(Fluid f)
   PetscFunctionBeginUser;
   projection_target.pressure = f->data.exact[1];
   projection_target.gradient = f->data.exact_gradient[0];
+  projection_target.ctx      = f->data.ctx;
   projection_target.t        = f->time;
   PetscCall(FluidSetConstantsFull(f, 0.0, 1.0, 0.0, 0.0, 1.0));
   PetscCall(FEMSolveSteady(f->dm, "fluid_projection_", &f->counts.factorizations, f->x));
@@ -309,7 +311,8 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
   PetscCall(FluidForcesSetUp(f));
   if (data->exact[0] && data->exact[1]) {
     FieldFn exact[2] = {data->exact[0], data->exact[1]};
-    PetscCall(DMProjectFunction(f->dm, t0, exact, NULL, INSERT_ALL_VALUES, f->x));
+    void   *ctxs[2]  = {data->ctx, data->ctx};
+    PetscCall(DMProjectFunction(f->dm, t0, exact, ctxs, INSERT_ALL_VALUES, f->x));
     if (f->initial_projection) {
       PetscCheck(data->exact_gradient[0], f->comm, PETSC_ERR_ARG_WRONG, "option -fluid_initial_projection: the scene has no exact velocity gradient to project");
       {
@@ -563,7 +566,7 @@ PetscErrorCode FluidErrors(Fluid f, ErrorTable *errors)
 
   PetscFunctionBeginUser;
   if (!f->data.exact[0] || !f->data.exact[1]) PetscFunctionReturn(0);
-  PetscCall(FEMErrors(f->dm, f->x, f->time, f->data.exact, f->data.exact_gradient, l2, h1));
+  PetscCall(FEMErrors(f->dm, f->x, f->time, f->data.exact, f->data.exact_gradient, f->data.ctx, l2, h1));
   PetscCall(ErrorTableAdd(errors, "u_L2", l2[0]));
   if (f->data.exact_gradient[0]) PetscCall(ErrorTableAdd(errors, "u_H1", h1[0]));
   PetscCall(ErrorTableAdd(errors, "p_L2", l2[1]));

@@ -395,7 +395,7 @@ PetscErrorCode FluidGetMeshDisplacement(Fluid f, Vec *displacement)
   PetscFunctionReturn(0);
 }
 
-/* The scene's closed-form motion d(X, t) at the reference vertices. */
+/* The scene's closed-form motion d(X, t) at the reference vertices, with the scene's context. */
 PetscErrorCode FluidPrescribedDisplacement(Fluid f, FieldFn motion, PetscReal t, Vec displacement)
 {
   PetscInt           n, dim;
@@ -410,7 +410,7 @@ PetscErrorCode FluidPrescribedDisplacement(Fluid f, FieldFn motion, PetscReal t,
   for (PetscInt i = 0; i < n; i += dim) {
     PetscReal x[3];
     for (PetscInt k = 0; k < dim; ++k) x[k] = PetscRealPart(X[i + k]);
-    PetscCall(motion(dim, t, x, dim, &d[i], NULL));
+    PetscCall(motion(dim, t, x, dim, &d[i], f->data.ctx));
   }
   PetscCall(VecRestoreArray(displacement, &d));
   PetscCall(VecRestoreArrayRead(f->coordinates_reference, &X));

@@ -9,9 +9,10 @@
 
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 
-static struct {
+/* the scene's context: the mesh motion's parameters */
+typedef struct {
   PetscReal amplitude, frequency;
-} gcl = {0.15, 20.0};
+} GCL;
 
 static PetscErrorCode Velocity(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *u, void *ctx)
 {
@@ -29,20 +30,26 @@ static PetscErrorCode Pressure(PetscInt dim, PetscReal t, const PetscReal x[], P
 
 static PetscErrorCode Motion(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *d, void *ctx)
 {
+  const GCL *gcl = (const GCL *)ctx;
+
   for (PetscInt c = 0; c < Nc; ++c) d[c] = 0.0;
-  PrescribedMotion(gcl.amplitude, gcl.frequency, t, x, d);
+  PrescribedMotion(gcl->amplitude, gcl->frequency, t, x, d);
   return 0;
 }
 
 PetscErrorCode SceneCreate_GCL(Scene *scene)
 {
   PhysicsData *fluid = &scene->fluid;
+  GCL         *gcl;
 
   PetscFunctionBeginUser;
+  PetscCall(SceneCreateContext(sizeof(*gcl), (void **)&gcl));
+  gcl->amplitude = 0.15;
+  gcl->frequency = 20.0;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene gcl: a uniform flow on a moving mesh", "scene");
-  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-gcl_amplitude", "amplitude of the mesh motion (beyond about 0.3 the cells of the default mesh invert)", &gcl.amplitude));
-  PetscCheck(gcl.amplitude <= 1.0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "option -gcl_amplitude: expected an amplitude of at most 1, got %g", (double)gcl.amplitude);
-  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-gcl_frequency", "angular frequency of the mesh motion", &gcl.frequency));
+  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-gcl_amplitude", "amplitude of the mesh motion (beyond about 0.3 the cells of the default mesh invert)", &gcl->amplitude));
+  PetscCheck(gcl->amplitude <= 1.0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "option -gcl_amplitude: expected an amplitude of at most 1, got %g", (double)gcl->amplitude);
+  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-gcl_frequency", "angular frequency of the mesh motion", &gcl->frequency));
   PetscOptionsEnd();
   PetscCall(OptionsSetDefault("-fluid_dm_plex_simplex", "0"));
   PetscCall(OptionsSetDefault("-fluid_dm_plex_box_faces", "8,8"));
@@ -57,5 +64,6 @@ PetscErrorCode SceneCreate_GCL(Scene *scene)
   fluid->exact[0]          = Velocity;
   fluid->exact[1]          = Pressure;
   fluid->mesh_displacement = Motion;
+  fluid->ctx               = gcl;
   PetscFunctionReturn(0);
 }

@@ -55,11 +55,16 @@ static void LoadStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt
     for (PetscInt d = 0; d < 2; ++d) f1[c * 2 + d] -= load * (mu * (g[c * 2 + d] + g[d * 2 + c]) - (c == d ? p : 0.0));
 }
 
-static PetscReal motion_amplitude = 0.0, motion_frequency = 10.0;
+/* the scene's context: the prescribed mesh motion's parameters */
+typedef struct {
+  PetscReal motion_amplitude, motion_frequency;
+} MMSFluid;
 
 static PetscErrorCode Motion(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *d, void *ctx)
 {
-  PrescribedMotion(motion_amplitude, motion_frequency, t, x, d);
+  const MMSFluid *mms = (const MMSFluid *)ctx;
+
+  PrescribedMotion(mms->motion_amplitude, mms->motion_frequency, t, x, d);
   return 0;
 }
 
@@ -67,21 +72,27 @@ PetscErrorCode SceneCreate_MMSFluid(Scene *scene)
 {
   PhysicsData *fluid         = &scene->fluid;
   PetscBool    discrete_time = PETSC_FALSE;
+  MMSFluid    *mms;
 
   PetscFunctionBeginUser;
   scene->dim = 2;
+  PetscCall(SceneCreateContext(sizeof(*mms), (void **)&mms));
+  mms->motion_amplitude = 0.0;
+  mms->motion_frequency = 10.0;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene mms-fluid: the fluid alone against a manufactured solution", "scene");
-  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-mms_mesh_motion", "amplitude of a prescribed interior mesh motion (ALE check; 0: fixed mesh)", &motion_amplitude));
-  PetscCheck(motion_amplitude <= 0.2, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "option -mms_mesh_motion: expected an amplitude of at most 0.2 (cells would invert), got %g", (double)motion_amplitude);
+  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-mms_mesh_motion", "amplitude of a prescribed interior mesh motion (ALE check; 0: fixed mesh)", &mms->motion_amplitude));
+  PetscCheck(mms->motion_amplitude <= 0.2, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "option -mms_mesh_motion: expected an amplitude of at most 0.2 (cells would invert), got %g", (double)mms->motion_amplitude);
   PetscCall(PetscOptionsBool("-mms_discrete_time", "Force with the backward difference of the exact velocity, leaving only the spatial error", NULL, discrete_time, &discrete_time, NULL));
   PetscOptionsEnd();
   if (discrete_time) {
-    PetscInt order = 1;
+    PetscInt order = 0;
+    /* the scene's default for this forcing; the check reads the value the fluid will use
+       (not a copy of the fluid's own default) */
+    PetscCall(OptionsSetDefault("-fluid_time_order", "1"));
     PetscCall(PetscOptionsGetInt(NULL, NULL, "-fluid_time_order", &order, NULL));
     PetscCheck(order == 1, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP, "option -mms_discrete_time: its forcing is the backward-Euler difference; expected -fluid_time_order 1, got %" PetscInt_FMT, order);
   }
-  PetscCall(OptionsSetDefault("-fluid_dm_plex_simplex", "0"));
-  PetscCall(OptionsSetDefault("-fluid_dm_plex_box_faces", "4,4"));
+  PetscCall(SceneMMSFluidBox());
   PetscCall(OptionsSetDefault("-fluid_density", "1.0"));
   PetscCall(OptionsSetDefault("-fluid_viscosity", "1.0"));
 
@@ -98,7 +109,8 @@ PetscErrorCode SceneCreate_MMSFluid(Scene *scene)
   fluid->exact[0]           = Velocity;
   fluid->exact[1]           = Pressure;
   fluid->exact_gradient[0]  = VelocityGradient;
-  fluid->mesh_displacement  = motion_amplitude > 0 ? Motion : NULL;
+  fluid->mesh_displacement  = mms->motion_amplitude > 0 ? Motion : NULL;
+  fluid->ctx                = mms;
   /* The force on the bottom side: with the exact traction inside the volume-form data, the
      recorded drag and lift are those of the discrete solution minus the exact ones. */
   fluid->n_force_faces  = 1;

@@ -13,10 +13,16 @@
 enum { MMS_MU_S = FLUID_NUM_CONSTANTS, MMS_DISCRETE_TIME };
 
 /* The closed forms below need the physical parameters the solvers read; the scene reads
-   the same options once at creation. */
-static struct {
+   the same options once at creation into its context. */
+typedef struct {
   PetscReal rho, mu, mu_s;
-} mms;
+} MMSFSI;
+
+/* src/coupling evaluates the interface data (InterfaceTraction, ConvectiveDatum) through
+   InterfaceInterpolate, which has no context argument: those two alone reach the scene's
+   context through this pointer, set by the create function. A ctx argument there, given
+   PhysicsData's ctx by the coupling, would remove it. */
+static const MMSFSI *interface_ctx;
 
 static PetscErrorCode Velocity(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *u, void *ctx)
 {
@@ -34,7 +40,9 @@ static PetscScalar PressureAt(PetscReal mu, PetscReal mu_s, PetscReal t, const P
 
 static PetscErrorCode Pressure(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *p, void *ctx)
 {
-  p[0] = PressureAt(mms.mu, mms.mu_s, t, x);
+  const MMSFSI *mms = (const MMSFSI *)ctx;
+
+  p[0] = PressureAt(mms->mu, mms->mu_s, t, x);
   return 0;
 }
 
@@ -51,11 +59,12 @@ static PetscErrorCode VelocityGradient(PetscInt dim, PetscReal t, const PetscRea
 /* g = sigma_f n_f on the interface y = 1 */
 static PetscErrorCode InterfaceTraction(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *g, void *ctx)
 {
-  PetscScalar grad[4];
+  const MMSFSI *mms = interface_ctx;
+  PetscScalar   grad[4];
 
   (void)VelocityGradient(dim, t, x, Nc, grad, NULL);
-  g[0] = mms.mu * (grad[1] + grad[2]);
-  g[1] = 2 * mms.mu * grad[3] - PressureAt(mms.mu, mms.mu_s, t, x);
+  g[0] = mms->mu * (grad[1] + grad[2]);
+  g[1] = 2 * mms->mu * grad[3] - PressureAt(mms->mu, mms->mu_s, t, x);
   return 0;
 }
 
@@ -63,11 +72,12 @@ static PetscErrorCode InterfaceTraction(PetscInt dim, PetscReal t, const PetscRe
    the interface; the exact solution needs this traction on top of g = sigma_f n_f. */
 static PetscErrorCode ConvectiveDatum(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *d, void *ctx)
 {
-  PetscScalar u[2];
+  const MMSFSI *mms = interface_ctx;
+  PetscScalar   u[2];
 
   (void)Velocity(dim, t, x, Nc, u, NULL);
-  d[0] = -0.5 * mms.rho * u[1] * u[0];
-  d[1] = -0.5 * mms.rho * u[1] * u[1];
+  d[0] = -0.5 * mms->rho * u[1] * u[0];
+  d[1] = -0.5 * mms->rho * u[1] * u[1];
   return 0;
 }
 
@@ -115,10 +125,14 @@ static void StructureLoad(PetscInt dim, PetscInt Nf, PetscInt NfAux, const Petsc
   f0[1] -= constants[STRUCTURE_LOAD] * (-2 * rho * c + 2 * mu * eta[1]);
 }
 
+/* an option the scene has just given its default, so always set: its value has that one home */
 static PetscErrorCode ReadReal(const char name[], PetscReal *value)
 {
+  PetscBool set;
+
   PetscFunctionBeginUser;
-  PetscCall(PetscOptionsGetReal(NULL, NULL, name, value, NULL));
+  PetscCall(PetscOptionsGetReal(NULL, NULL, name, value, &set));
+  PetscCheck(set, PETSC_COMM_WORLD, PETSC_ERR_PLIB, "option %s: expected the scene's default", name);
   PetscFunctionReturn(0);
 }
 
@@ -126,19 +140,18 @@ PetscErrorCode SceneCreate_MMSFSI(Scene *scene, const char fluid_model[])
 {
   PhysicsData *fluid = &scene->fluid, *structure = &scene->structure;
   PetscBool    discrete_time = PETSC_FALSE;
-  PetscReal    E = 7.8, nu = 0.3;
+  PetscReal    E, nu;
+  MMSFSI      *mms;
 
   PetscFunctionBeginUser;
+  PetscCall(SceneCreateContext(sizeof(*mms), (void **)&mms));
+  interface_ctx = mms;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Manufactured FSI solution (mms-stokes, mms-ns)", "scene");
   PetscCall(PetscOptionsBool("-mms_discrete_time", "Force the fluid with the backward difference of the exact velocity, leaving its spatial error only", NULL, discrete_time, &discrete_time, NULL));
   PetscOptionsEnd();
   PetscCall(OptionsSetDefault("-fluid_model", fluid_model));
-  PetscCall(OptionsSetDefault("-fluid_dm_plex_simplex", "0"));
-  PetscCall(OptionsSetDefault("-fluid_dm_plex_box_faces", "4,4"));
-  PetscCall(OptionsSetDefault("-structure_dm_plex_simplex", "0"));
-  PetscCall(OptionsSetDefault("-structure_dm_plex_box_faces", "4,2"));
-  PetscCall(OptionsSetDefault("-structure_dm_plex_box_lower", "0,1"));
-  PetscCall(OptionsSetDefault("-structure_dm_plex_box_upper", "1,1.5"));
+  PetscCall(SceneMMSFluidBox());
+  PetscCall(SceneMMSStructureBox());
   /* the seed's rho = 1, rho_s = 1.9, mu_s = 3, lambda = 4.5 (E = 7.8, nu = 0.3) and our mu = 2 */
   PetscCall(OptionsSetDefault("-fluid_density", "1.0"));
   PetscCall(OptionsSetDefault("-fluid_viscosity", "2.0"));
@@ -146,11 +159,11 @@ PetscErrorCode SceneCreate_MMSFSI(Scene *scene, const char fluid_model[])
   PetscCall(OptionsSetDefault("-structure_youngs_modulus", "7.8"));
   PetscCall(OptionsSetDefault("-structure_poisson_ratio", "0.3"));
   PetscCall(OptionsSetDefault("-fluid_initial_projection", "1"));
-  PetscCall(ReadReal("-fluid_density", &mms.rho));
-  PetscCall(ReadReal("-fluid_viscosity", &mms.mu));
+  PetscCall(ReadReal("-fluid_density", &mms->rho));
+  PetscCall(ReadReal("-fluid_viscosity", &mms->mu));
   PetscCall(ReadReal("-structure_youngs_modulus", &E));
   PetscCall(ReadReal("-structure_poisson_ratio", &nu));
-  mms.mu_s = E / (2 * (1 + nu));
+  mms->mu_s = E / (2 * (1 + nu));
 
   scene->has_fluid                  = PETSC_TRUE;
   fluid->n_dirichlet                = 3;
@@ -165,8 +178,9 @@ PetscErrorCode SceneCreate_MMSFSI(Scene *scene, const char fluid_model[])
   fluid->exact[0]                   = Velocity;
   fluid->exact[1]                   = Pressure;
   fluid->exact_gradient[0]          = VelocityGradient;
+  fluid->ctx                        = mms;
   fluid->n_extra                    = 2;
-  fluid->extra[0]                   = mms.mu_s;
+  fluid->extra[0]                   = mms->mu_s;
   fluid->extra[1]                   = discrete_time ? 1.0 : 0.0;
 
   scene->has_structure          = PETSC_TRUE;

@@ -12,30 +12,39 @@
 /* The manufactured displacement is scaled by `amplitude`; its load is that of the model
    being solved (the discrete solution then converges to the manufactured one), or that
    of linear elasticity whatever the model: a St. Venant-Kirchhoff wall under the linear
-   load departs from the linear wall by O(amplitude^2). */
-static struct {
+   load departs from the linear wall by O(amplitude^2). The closed forms read the
+   amplitude from the scene's context, the load kernels the amplitude and the linear-load
+   switch from the PetscDS constants. */
+typedef struct {
   PetscReal amplitude;
-  PetscBool linear_load;
-} mms = {1.0, PETSC_FALSE};
+} MMSStructure;
+
+enum { MMS_AMPLITUDE = STRUCTURE_NUM_CONSTANTS, MMS_LINEAR_LOAD };
 
 static PetscErrorCode Displacement(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *eta, void *ctx)
 {
+  const MMSStructure *mms = (const MMSStructure *)ctx;
+
   MMSStructureDisplacement(t, x, eta);
-  for (PetscInt c = 0; c < Nc; ++c) eta[c] *= mms.amplitude;
+  for (PetscInt c = 0; c < Nc; ++c) eta[c] *= mms->amplitude;
   return 0;
 }
 
 static PetscErrorCode Velocity(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *etadot, void *ctx)
 {
+  const MMSStructure *mms = (const MMSStructure *)ctx;
+
   MMSStructureVelocity(t, x, etadot);
-  for (PetscInt c = 0; c < Nc; ++c) etadot[c] *= mms.amplitude;
+  for (PetscInt c = 0; c < Nc; ++c) etadot[c] *= mms->amplitude;
   return 0;
 }
 
 static PetscErrorCode DisplacementGradient(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *g, void *ctx)
 {
+  const MMSStructure *mms = (const MMSStructure *)ctx;
+
   MMSStructureDisplacementGradient(t, x, g);
-  for (PetscInt i = 0; i < Nc * dim; ++i) g[i] *= mms.amplitude;
+  for (PetscInt i = 0; i < Nc * dim; ++i) g[i] *= mms->amplitude;
   return 0;
 }
 
@@ -46,7 +55,7 @@ static void LoadValue(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt 
   PetscScalar f[2];
 
   MMSStructureInertia(PetscRealPart(constants[STRUCTURE_TIME]), x, PetscRealPart(constants[STRUCTURE_RHO]), f);
-  for (PetscInt c = 0; c < dim; ++c) f0[c] -= constants[STRUCTURE_LOAD] * mms.amplitude * f[c];
+  for (PetscInt c = 0; c < dim; ++c) f0[c] -= constants[STRUCTURE_LOAD] * constants[MMS_AMPLITUDE] * f[c];
 }
 
 /* the stress of the exact solution, of the model being solved (linear or St. Venant-Kirchhoff) */
@@ -56,25 +65,26 @@ static void LoadStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt
   PetscScalar       g[4], stress[4];
 
   MMSStructureDisplacementGradient(PetscRealPart(constants[STRUCTURE_TIME]), x, g);
-  for (PetscInt i = 0; i < 4; ++i) g[i] *= mms.amplitude;
-  StructureStress(mms.linear_load ? STRUCTURE_LINEAR : (StructureModel)PetscRealPart(constants[STRUCTURE_MODEL]), dim, PetscRealPart(constants[STRUCTURE_MU]), PetscRealPart(constants[STRUCTURE_LAMBDA]), g, stress);
+  for (PetscInt i = 0; i < 4; ++i) g[i] *= constants[MMS_AMPLITUDE];
+  StructureStress(constants[MMS_LINEAR_LOAD] != 0.0 ? STRUCTURE_LINEAR : (StructureModel)PetscRealPart(constants[STRUCTURE_MODEL]), dim, PetscRealPart(constants[STRUCTURE_MU]), PetscRealPart(constants[STRUCTURE_LAMBDA]), g, stress);
   for (PetscInt i = 0; i < 4; ++i) f1[i] -= load * stress[i];
 }
 
 PetscErrorCode SceneCreate_MMSStructure(Scene *scene)
 {
-  PhysicsData *structure = &scene->structure;
+  PhysicsData  *structure   = &scene->structure;
+  PetscBool     linear_load = PETSC_FALSE;
+  MMSStructure *mms;
 
   PetscFunctionBeginUser;
   scene->dim = 2;
+  PetscCall(SceneCreateContext(sizeof(*mms), (void **)&mms));
+  mms->amplitude = 1.0;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene mms-structure: the structure against a manufactured displacement", "scene");
-  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-mms_amplitude", "factor on the manufactured displacement", &mms.amplitude));
-  PetscCall(PetscOptionsBool("-mms_linear_load", "load of linear elasticity whatever -structure_model (the solution is then manufactured for the linear wall only)", NULL, mms.linear_load, &mms.linear_load, NULL));
+  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-mms_amplitude", "factor on the manufactured displacement", &mms->amplitude));
+  PetscCall(PetscOptionsBool("-mms_linear_load", "load of linear elasticity whatever -structure_model (the solution is then manufactured for the linear wall only)", NULL, linear_load, &linear_load, NULL));
   PetscOptionsEnd();
-  PetscCall(OptionsSetDefault("-structure_dm_plex_simplex", "0"));
-  PetscCall(OptionsSetDefault("-structure_dm_plex_box_faces", "4,2"));
-  PetscCall(OptionsSetDefault("-structure_dm_plex_box_lower", "0,1"));
-  PetscCall(OptionsSetDefault("-structure_dm_plex_box_upper", "1,1.5"));
+  PetscCall(SceneMMSStructureBox());
 
   scene->has_structure          = PETSC_TRUE;
   structure->n_dirichlet        = 3;
@@ -89,5 +99,9 @@ PetscErrorCode SceneCreate_MMSStructure(Scene *scene)
   structure->exact[0]           = Displacement;
   structure->exact_gradient[0]  = DisplacementGradient;
   structure->exact_rate         = Velocity;
+  structure->ctx                = mms;
+  structure->n_extra            = 2;
+  structure->extra[0]           = mms->amplitude;
+  structure->extra[1]           = linear_load ? 1.0 : 0.0;
   PetscFunctionReturn(0);
 }

@@ -69,6 +69,21 @@ PetscErrorCode SceneFinalize(void)
   PetscFunctionReturn(0);
 }
 
+/* main keeps its Scene by value and ends with SceneFinalize(), which sees no scene: the
+   context goes to a container that PetscFinalize destroys (with PetscFree). */
+PetscErrorCode SceneCreateContext(size_t size, void **ctx)
+{
+  PetscContainer container;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscCalloc(size, ctx));
+  PetscCall(PetscContainerCreate(PETSC_COMM_SELF, &container));
+  PetscCall(PetscContainerSetPointer(container, *ctx));
+  PetscCall(PetscContainerSetUserDestroy(container, PetscContainerUserDestroyDefault));
+  PetscCall(PetscObjectRegisterDestroy((PetscObject)container));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SceneSetDefaultMesh(const char option[], const char name[])
 {
   char path[PETSC_MAX_PATH_LEN];
@@ -95,5 +110,26 @@ PetscErrorCode SceneClampedWall(Scene *scene)
   structure->n_traction         = 1;
   structure->traction_faces[0]  = FACE_TOP; /* traction-free */
   structure->interface_face     = FACE_BOTTOM;
+  PetscFunctionReturn(0);
+}
+
+/* shared by the fluid-only and the coupled manufactured scenes (the PETSc box's default
+   [0,1]^2 is the fluid's domain) */
+PetscErrorCode SceneMMSFluidBox(void)
+{
+  PetscFunctionBeginUser;
+  PetscCall(OptionsSetDefault("-fluid_dm_plex_simplex", "0"));
+  PetscCall(OptionsSetDefault("-fluid_dm_plex_box_faces", "4,4"));
+  PetscFunctionReturn(0);
+}
+
+/* shared by the structure-only and the coupled manufactured scenes: on top of the fluid's */
+PetscErrorCode SceneMMSStructureBox(void)
+{
+  PetscFunctionBeginUser;
+  PetscCall(OptionsSetDefault("-structure_dm_plex_simplex", "0"));
+  PetscCall(OptionsSetDefault("-structure_dm_plex_box_faces", "4,2"));
+  PetscCall(OptionsSetDefault("-structure_dm_plex_box_lower", "0,1"));
+  PetscCall(OptionsSetDefault("-structure_dm_plex_box_upper", "1,1.5"));
   PetscFunctionReturn(0);
 }

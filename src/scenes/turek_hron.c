@@ -24,13 +24,17 @@ enum { GRAVITY = STRUCTURE_NUM_CONSTANTS, GRAVITY_RAMP };
 
 typedef enum { CSM, CFD, FSI } CaseKind;
 
+/* the flag's nu_s in every case: the default of -structure_poisson_ratio, and with the
+   case's mu_s the default of -structure_youngs_modulus */
+#define POISSON_RATIO 0.4
+
 typedef struct {
   const char *name;
   CaseKind    kind;
   PetscBool   periodic;
   PetscReal   mean_velocity;         /* fluid: U */
   PetscReal   structure_density;     /* rho_s */
-  PetscReal   shear_modulus;         /* mu_s; nu_s = 0.4 throughout */
+  PetscReal   shear_modulus;         /* mu_s; nu_s = POISSON_RATIO throughout */
   PetscReal   gravity;               /* on the flag, m/s^2 (csm) */
   const char *dt, *t_final, *window; /* our defaults */
   PetscBool   biharmonic_mesh;       /* our default: the biharmonic extension */
@@ -54,15 +58,17 @@ static const TurekCase cases[] = {
   {"fsi3", FSI, PETSC_TRUE, 2.0, 1000, 2.0e6, 0, "0.001", "10", "1", PETSC_TRUE},
 };
 
-static struct {
+/* the scene's context: the inflow's parameters */
+typedef struct {
   PetscReal mean_velocity, ramp_time;
-} inflow;
+} Inflow;
 
-static PetscErrorCode Inflow(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *u, void *ctx)
+static PetscErrorCode InflowVelocity(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *u, void *ctx)
 {
-  const PetscReal H = 0.41, ramp = t < inflow.ramp_time ? 0.5 * (1.0 - PetscCosReal(PETSC_PI * t / inflow.ramp_time)) : 1.0;
+  const Inflow   *inflow = (const Inflow *)ctx;
+  const PetscReal H = 0.41, ramp = t < inflow->ramp_time ? 0.5 * (1.0 - PetscCosReal(PETSC_PI * t / inflow->ramp_time)) : 1.0;
 
-  u[0] = 1.5 * inflow.mean_velocity * x[1] * (H - x[1]) / (0.25 * H * H) * ramp;
+  u[0] = 1.5 * inflow->mean_velocity * x[1] * (H - x[1]) / (0.25 * H * H) * ramp;
   u[1] = 0.0;
   return 0;
 }
@@ -95,19 +101,21 @@ PetscErrorCode SceneCreate_TurekHron(Scene *scene)
   PetscInt         which = 6, ncases = sizeof(cases) / sizeof(cases[0]);
   const TurekCase *c;
   PetscReal        gravity, gravity_ramp;
+  Inflow          *inflow;
 
   PetscFunctionBeginUser;
   scene->dim = 2;
   for (PetscInt i = 0; i < ncases; ++i) names[i] = cases[i].name;
-  inflow.ramp_time = 2.0;
+  PetscCall(SceneCreateContext(sizeof(*inflow), (void **)&inflow));
+  inflow->ramp_time = 2.0;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene turek-hron: the Turek-Hron benchmarks CSM1-3, CFD1-3, FSI1-3", "scene");
   PetscCall(PetscOptionsEList("-turek_case", "benchmark", NULL, names, ncases, names[which], &which, NULL));
-  c                    = &cases[which];
-  inflow.mean_velocity = c->mean_velocity;
-  gravity              = c->gravity;
-  gravity_ramp         = c->kind == CSM && !c->periodic ? 1.0 : 0.0;
-  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-turek_mean_velocity", "mean inflow velocity U, m/s (default: the case's)", &inflow.mean_velocity));
-  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-turek_ramp_time", "the inflow rises as (1 - cos(pi t/T))/2 for t < T, s", &inflow.ramp_time));
+  c                     = &cases[which];
+  inflow->mean_velocity = c->mean_velocity;
+  gravity               = c->gravity;
+  gravity_ramp          = c->kind == CSM && !c->periodic ? 1.0 : 0.0;
+  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-turek_mean_velocity", "mean inflow velocity U, m/s (default: the case's)", &inflow->mean_velocity));
+  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-turek_ramp_time", "the inflow rises as (1 - cos(pi t/T))/2 for t < T, s", &inflow->ramp_time));
   PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-turek_gravity", "gravity on the flag, m/s^2 (default: the case's)", &gravity));
   PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-turek_gravity_ramp", "gravity grows linearly to its value over this time, s (0: at once; default 1 for the static csm1, csm2)", &gravity_ramp));
   PetscOptionsEnd();
@@ -120,10 +128,10 @@ PetscErrorCode SceneCreate_TurekHron(Scene *scene)
   PetscCall(OptionsSetDefault("-fluid_density", "1000"));
   PetscCall(OptionsSetDefault("-fluid_viscosity", "1")); /* rho nu_f = 1000 * 1e-3 */
   PetscCall(OptionsSetDefault("-structure_model", "svk"));
-  PetscCall(OptionsSetDefault("-structure_poisson_ratio", "0.4"));
+  PetscCall(SetDefaultReal("-structure_poisson_ratio", POISSON_RATIO));
   if (c->kind != CFD) {
     PetscCall(SetDefaultReal("-structure_density", c->structure_density));
-    PetscCall(SetDefaultReal("-structure_youngs_modulus", 2.0 * c->shear_modulus * (1.0 + 0.4)));
+    PetscCall(SetDefaultReal("-structure_youngs_modulus", 2.0 * c->shear_modulus * (1.0 + POISSON_RATIO)));
     PetscCall(OptionsSetDefault("-structure_time_order", c->periodic ? "2" : (c->kind == CSM ? "0" : "1")));
   }
   if (c->kind == CFD && !c->periodic) PetscCall(OptionsSetDefault("-fluid_steady", "1"));
@@ -153,7 +161,8 @@ PetscErrorCode SceneCreate_TurekHron(Scene *scene)
   if (c->kind != CSM) {
     scene->has_fluid          = PETSC_TRUE;
     fluid->dirichlet_faces[0] = FACE_LEFT;
-    fluid->dirichlet_fn[0]    = Inflow;
+    fluid->dirichlet_fn[0]    = InflowVelocity;
+    fluid->ctx                = inflow;
     fluid->n_dirichlet        = 1;
     {
       const PetscInt walls[] = {FACE_BOTTOM, FACE_TOP, FACE_CYLINDER, FACE_FLAG};

@@ -148,6 +148,7 @@ static PetscErrorCode StructureSetUpWeakForm(Structure s)
    fluid pressure; the projection's is O(h^{k+1}). The kernel reads the closed form here. */
 static struct {
   GradientFn gradient;
+  void      *ctx;
   PetscReal  t;
 } projection_target;
 
@@ -156,7 +157,7 @@ static void ProjectionStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const Pe
   PetscScalar g[9] = {0}, stress[9];
 
   if (constants[STRUCTURE_PROJECTION] == 0.0) return;
-  (void)projection_target.gradient(dim, projection_target.t, x, dim, g, NULL);
+  (void)projection_target.gradient(dim, projection_target.t, x, dim, g, projection_target.ctx);
   StructureStress((StructureModel)PetscRealPart(constants[STRUCTURE_MODEL]), dim, PetscRealPart(constants[STRUCTURE_MU]), PetscRealPart(constants[STRUCTURE_LAMBDA]), g, stress);
   for (PetscInt i = 0; i < dim * dim; ++i) f1[i] -= stress[i];
 }
@@ -169,6 +170,7 @@ static PetscErrorCode StructureProjectExact(Structure s)
   PetscFunctionBeginUser;
   PetscCheck(s->data.exact_gradient[0], s->comm, PETSC_ERR_ARG_WRONG, "option -structure_initial_projection: the scene has no exact displacement gradient to project");
   projection_target.gradient = s->data.exact_gradient[0];
+  projection_target.ctx      = s->data.ctx;
   projection_target.t        = s->time;
   PetscCall(DMGetDS(s->dm, &ds));
   PetscCall(PetscDSGetWeakForm(ds, &wf));
@@ -237,12 +239,12 @@ PetscErrorCode StructureSetUp(Structure s, DM mesh, const PhysicsData *data, Pet
   PetscCall(VecDuplicate(s->eta_local, &s->etadot_local));
   PetscCall(VecDuplicate(s->eta_local, &s->work_local));
   if (data->exact[0]) {
-    PetscCall(DMProjectFunctionLocal(s->dm, t0, &s->data.exact[0], NULL, INSERT_ALL_VALUES, s->eta_local));
+    PetscCall(DMProjectFunctionLocal(s->dm, t0, &s->data.exact[0], &s->data.ctx, INSERT_ALL_VALUES, s->eta_local));
     PetscCall(DMLocalToGlobal(s->dm, s->eta_local, INSERT_VALUES, s->eta));
     PetscCheck(!s->initial_projection || s->model == STRUCTURE_LINEAR, s->comm, PETSC_ERR_ARG_INCOMP, "option -structure_initial_projection: the elastic projection is defined for -structure_model linear only");
     if (s->initial_projection) PetscCall(StructureProjectExact(s));
   } else PetscCheck(!s->initial_projection, s->comm, PETSC_ERR_ARG_WRONG, "option -structure_initial_projection: the scene has no exact solution to project");
-  if (data->exact_rate) PetscCall(DMProjectFunctionLocal(s->dm, t0, &s->data.exact_rate, NULL, INSERT_ALL_VALUES, s->etadot_local));
+  if (data->exact_rate) PetscCall(DMProjectFunctionLocal(s->dm, t0, &s->data.exact_rate, &s->data.ctx, INSERT_ALL_VALUES, s->etadot_local));
   PetscFunctionReturn(0);
 }
 
@@ -470,7 +472,7 @@ PetscErrorCode StructureErrors(Structure s, ErrorTable *errors)
 
   PetscFunctionBeginUser;
   if (s->data.exact[0]) {
-    PetscCall(FEMErrors(s->dm, s->eta, s->time, s->data.exact, s->data.exact_gradient, &eta_l2, &eta_h1));
+    PetscCall(FEMErrors(s->dm, s->eta, s->time, s->data.exact, s->data.exact_gradient, s->data.ctx, &eta_l2, &eta_h1));
     PetscCall(ErrorTableAdd(errors, "eta_L2", eta_l2));
     if (s->data.exact_gradient[0]) PetscCall(ErrorTableAdd(errors, "eta_H1", eta_h1));
   }
@@ -479,7 +481,7 @@ PetscErrorCode StructureErrors(Structure s, ErrorTable *errors)
 
     PetscCall(DMGetGlobalVector(s->dm_free, &etadot));
     PetscCall(DMLocalToGlobal(s->dm_free, s->etadot_local, INSERT_VALUES, etadot));
-    PetscCall(FEMErrors(s->dm_free, etadot, s->time, &s->data.exact_rate, NULL, &etadot_l2, NULL));
+    PetscCall(FEMErrors(s->dm_free, etadot, s->time, &s->data.exact_rate, NULL, s->data.ctx, &etadot_l2, NULL));
     PetscCall(DMRestoreGlobalVector(s->dm_free, &etadot));
     PetscCall(ErrorTableAdd(errors, "etadot_L2", etadot_l2));
   }
