@@ -41,7 +41,6 @@ typedef struct {
   PetscInt       interface_face;                          /* face set of the fluid-structure interface, 0: none */
   FieldFn        interface_traction;                      /* fluid: the exact control g = sigma_f n_f at t, for g^0 (NULL: 0) */
   FieldFn        convective_interface_datum;              /* fluid: traction the exact solution adds when the control absorbs the convective term */
-                                                          /* (these two the coupling calls with ctx NULL: InterfaceInterpolate has no ctx) */
   FieldFn        mesh_displacement;                       /* fluid: a prescribed mesh motion d(X, t), NULL: none */
   PetscInt       n_fixed_mesh_faces;                      /* fluid: > 0 makes the mesh follow the interface, */
   PetscInt       fixed_mesh_faces[FSIOPT_MAX_BOUNDARIES];  /* these face sets staying put */

@@ -47,8 +47,8 @@ PetscErrorCode InterfaceStructureSpread(Interface, Vec all, Vec structure_global
 /* Overwrites the structure's owned interface values (all components) in a local vector. */
 PetscErrorCode InterfaceStructureInsertLocal(Interface, Vec all, Vec structure_local);
 
-/* Interpolates a closed form at the interface nodes at time t. */
-PetscErrorCode InterfaceInterpolate(Interface, FieldFn, PetscReal t, Vec all);
+/* Interpolates a closed form (with its context) at the interface nodes at time t. */
+PetscErrorCode InterfaceInterpolate(Interface, FieldFn, void *ctx, PetscReal t, Vec all);
 /* This rank's interface nodes in the order of its part of an interface vector: the
    fluid mesh points carrying them and their reference coordinates. */
 PetscErrorCode InterfaceGetFluidNodes(Interface, PetscInt *n, const PetscInt **points, const PetscReal **coords);

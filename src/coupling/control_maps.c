@@ -93,7 +93,7 @@ PetscErrorCode CouplingProblemInitialControl(CouplingProblem P, PetscReal t0, Ve
   PetscFunctionBeginUser;
   PetscCall(VecZeroEntries(x));
   if (P->fluid_data.interface_traction) {
-    PetscCall(InterfaceInterpolate(P->itf, P->fluid_data.interface_traction, t0, P->all_q));
+    PetscCall(InterfaceInterpolate(P->itf, P->fluid_data.interface_traction, P->fluid_data.ctx, t0, P->all_q));
     PetscCall(TractionToControl(P, P->all_q, x));
     PetscCall(VecPointwiseMult(x, x, P->weight_sqrt));
   }

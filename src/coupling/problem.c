@@ -271,7 +271,7 @@ PetscErrorCode CouplingProblemBeginStep(CouplingProblem P, PetscInt step)
     PetscReal t = 0;
     if (P->fluid) PetscCall(FluidGetTime(P->fluid, &t));
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &t, 1, MPIU_REAL, MPI_MAX, P->comm));
-    PetscCall(InterfaceInterpolate(P->itf, P->fluid_data.convective_interface_datum, t, P->all_b));
+    PetscCall(InterfaceInterpolate(P->itf, P->fluid_data.convective_interface_datum, P->fluid_data.ctx, t, P->all_b));
     PetscCall(MatMult(P->mass, P->all_b, P->datum_load));
   }
   PetscFunctionReturn(0);

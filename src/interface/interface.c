@@ -506,13 +506,13 @@ PetscErrorCode InterfaceStructureSpread(Interface itf, Vec all, Vec structure_gl
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode InterfaceInterpolate(Interface itf, FieldFn fn, PetscReal t, Vec all)
+PetscErrorCode InterfaceInterpolate(Interface itf, FieldFn fn, void *ctx, PetscReal t, Vec all)
 {
   PetscScalar *a;
 
   PetscFunctionBeginUser;
   PetscCall(VecGetArrayWrite(all, &a));
-  for (PetscInt i = 0; i < itf->fluid.n; ++i) PetscCall(fn(itf->dim, t, &itf->fluid.coords[i * itf->dim], itf->dim, &a[i * itf->dim], NULL));
+  for (PetscInt i = 0; i < itf->fluid.n; ++i) PetscCall(fn(itf->dim, t, &itf->fluid.coords[i * itf->dim], itf->dim, &a[i * itf->dim], ctx));
   PetscCall(VecRestoreArrayWrite(all, &a));
   PetscFunctionReturn(0);
 }

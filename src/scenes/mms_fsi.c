@@ -18,12 +18,6 @@ typedef struct {
   PetscReal rho, mu, mu_s;
 } MMSFSI;
 
-/* src/coupling evaluates the interface data (InterfaceTraction, ConvectiveDatum) through
-   InterfaceInterpolate, which has no context argument: those two alone reach the scene's
-   context through this pointer, set by the create function. A ctx argument there, given
-   PhysicsData's ctx by the coupling, would remove it. */
-static const MMSFSI *interface_ctx;
-
 static PetscErrorCode Velocity(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *u, void *ctx)
 {
   const PetscReal s = PetscSinReal(x[0] + x[1] + 2 * t);
@@ -59,7 +53,7 @@ static PetscErrorCode VelocityGradient(PetscInt dim, PetscReal t, const PetscRea
 /* g = sigma_f n_f on the interface y = 1 */
 static PetscErrorCode InterfaceTraction(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *g, void *ctx)
 {
-  const MMSFSI *mms = interface_ctx;
+  const MMSFSI *mms = (const MMSFSI *)ctx;
   PetscScalar   grad[4];
 
   (void)VelocityGradient(dim, t, x, Nc, grad, NULL);
@@ -72,7 +66,7 @@ static PetscErrorCode InterfaceTraction(PetscInt dim, PetscReal t, const PetscRe
    the interface; the exact solution needs this traction on top of g = sigma_f n_f. */
 static PetscErrorCode ConvectiveDatum(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *d, void *ctx)
 {
-  const MMSFSI *mms = interface_ctx;
+  const MMSFSI *mms = (const MMSFSI *)ctx;
   PetscScalar   u[2];
 
   (void)Velocity(dim, t, x, Nc, u, NULL);
@@ -145,7 +139,6 @@ PetscErrorCode SceneCreate_MMSFSI(Scene *scene, const char fluid_model[])
 
   PetscFunctionBeginUser;
   PetscCall(SceneCreateContext(sizeof(*mms), (void **)&mms));
-  interface_ctx = mms;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Manufactured FSI solution (mms-stokes, mms-ns)", "scene");
   PetscCall(PetscOptionsBool("-mms_discrete_time", "Force the fluid with the backward difference of the exact velocity, leaving its spatial error only", NULL, discrete_time, &discrete_time, NULL));
   PetscOptionsEnd();
