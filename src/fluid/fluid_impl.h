@@ -93,4 +93,9 @@ static inline PetscBool FluidStepIsBDF2(Fluid f)
   return f->time_order == 2 && f->steps_at_dt > 1 ? PETSC_TRUE : PETSC_FALSE;
 }
 PetscErrorCode FluidALEDestroy(Fluid);
+/* fluid_weak_form.c */
+PetscErrorCode FluidSetConstantsFull(Fluid, PetscReal mass, PetscReal op, PetscReal load, PetscReal convection, PetscReal projection);
+PetscErrorCode FluidSetUpWeakForm(Fluid);
+PetscErrorCode FluidProjectExact(Fluid); /* adds its kernel to the weak form; the Stokes projection of the exact solution at f->time into f->x */
+PetscErrorCode FluidSetPressureStabilization(Fluid);
 #endif
