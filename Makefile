@@ -16,7 +16,7 @@ CFLAGS  += -Wall -Wextra -std=c11 -D_POSIX_C_SOURCE=200809L -DFSIOPT_ROOT='"$(CU
 LDLIBS  += $(shell pkg-config --libs PETSc 2>/dev/null) $(shell pkg-config --libs hdf5-openmpi 2>/dev/null) -lm
 
 SRC  := $(wildcard src/*.c src/*/*.c)
-OBJ  := $(SRC:%.c=build/%.o)
+OBJ  := $(SRC:%.c=build/%.o) build/known_options.o
 GEO  := $(wildcard meshes/*.geo)
 MSH  := $(GEO:.geo=.msh)
 
@@ -41,6 +41,17 @@ build/%.o: %.c
 	$(CC) $(CFLAGS) -MMD -MP -c -o $@ $<
 
 -include $(OBJ:.o=.d)
+
+# the options fsiopt reads, from the string literals of its sources: an option nothing
+# reads is refused with the nearest of these (src/common/options.c)
+build/known_options.c: $(SRC)
+	@mkdir -p build
+	@{ echo '/* made by make from the option names in src/ */'; echo '#include <stddef.h>'; \
+	  echo 'const char *const fsiopt_known_options[] = {'; \
+	  grep -ohE '"-[a-z][a-z0-9_]*"' $(SRC) | sort -u | sed 's/$$/,/'; echo 'NULL};'; } > $@
+
+build/known_options.o: build/known_options.c
+	$(CC) -c -o $@ $<
 
 meshes/%.msh: meshes/%.geo
 	gmsh -2 -format msh22 -v 2 -o $@ $< >/dev/null

@@ -9,6 +9,11 @@ PetscErrorCode OptionsRealInRange(PetscOptionItems *, const char opt[], const ch
 PetscErrorCode OptionsIntInRange(PetscOptionItems *, const char opt[], const char text[], PetscInt lo, PetscInt hi, PetscInt *value);
 /* Sets an option only when the user has not: how scenes give their defaults. */
 PetscErrorCode OptionsSetDefault(const char opt[], const char value[]);
+/* Before the first step: an option (command line, options file, YAML key, PETSC_OPTIONS)
+   that nothing read stops the run, naming it and the nearest known option, unless
+   -options_allow_unused; one that fsiopt reads in other set-ups (another scene, method or
+   solver) is a warning. Defaults a scene or method set and did not read are neither. */
+PetscErrorCode OptionsCheckUnused(MPI_Comm);
 /* Fails with a one-line message when a file cannot be read. FileProblem (usable before
    PetscInitialize) returns 0 when the file is a readable, non-empty regular file. */
 int            FileProblem(const char path[]);

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include "run.h"
 #include "options.h"
+#include "output.h"
 
 static const char help[] = "fsiopt: fluid-structure interaction by optimization-based decoupling.\n"
                            "  fsiopt -options_file options/<scene>.yaml [options]   or   fsiopt -scene <name> [options]\n"
@@ -67,6 +68,7 @@ int main(int argc, char **argv)
     MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
     MPI_Comm_size(PETSC_COMM_WORLD, &size);
     if (!rank) fprintf(stderr, "fsiopt: error: %s\n", ErrorReportingFirstMessage());
+    OutputRemoveSetUpFiles();
     fflush(stderr);
     /* On one rank finish cleanly; on several, a rank that did not fail may wait in a
        collective call, and only an abort is sure not to hang. */

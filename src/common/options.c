@@ -35,13 +35,17 @@ PetscErrorCode OptionsIntInRange(PetscOptionItems *PetscOptionsObject, const cha
   PetscFunctionReturn(0);
 }
 
+static PetscErrorCode RecordDefault(const char[]);
+
 PetscErrorCode OptionsSetDefault(const char opt[], const char value[])
 {
   PetscBool set;
 
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsHasName(NULL, NULL, opt, &set));
-  if (!set) PetscCall(PetscOptionsSetValue(NULL, opt, value));
+  if (set) PetscFunctionReturn(0);
+  PetscCall(PetscOptionsSetValue(NULL, opt, value));
+  PetscCall(RecordDefault(opt));
   PetscFunctionReturn(0);
 }
 
@@ -113,4 +117,140 @@ PetscErrorCode ErrorReportingPush(void)
 const char *ErrorReportingFirstMessage(void)
 {
   return first_message[0] ? first_message : "unknown error";
+}
+
+/* Options OptionsSetDefault put in the database because the user had not: a set-up that
+   does not read one of them (a scene's opt settings under -coupling aitken) was not
+   given it. */
+#define OPTIONS_MAX_DEFAULTS 256
+static char    *set_defaults[OPTIONS_MAX_DEFAULTS];
+static PetscInt n_set_defaults = 0;
+
+static PetscErrorCode ForgetDefaults(void)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < n_set_defaults; ++i) PetscCall(PetscFree(set_defaults[i]));
+  n_set_defaults = 0;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode RecordDefault(const char opt[])
+{
+  PetscFunctionBeginUser;
+  if (n_set_defaults == 0) PetscCall(PetscRegisterFinalize(ForgetDefaults));
+  if (n_set_defaults == OPTIONS_MAX_DEFAULTS) PetscFunctionReturn(0); /* the check then reports it: a false alarm, not a miss */
+  PetscCall(PetscStrallocpy(opt[0] == '-' ? opt + 1 : opt, &set_defaults[n_set_defaults++]));
+  PetscFunctionReturn(0);
+}
+
+static PetscBool IsDefault(const char name[])
+{
+  for (PetscInt i = 0; i < n_set_defaults; ++i)
+    if (!strcmp(set_defaults[i], name)) return PETSC_TRUE;
+  return PETSC_FALSE;
+}
+
+/* Levenshtein distance, for the suggestion of the nearest known option */
+static size_t EditDistance(const char *a, const char *b)
+{
+  size_t la = strlen(a), lb = strlen(b), row[256];
+
+  if (lb >= sizeof(row) / sizeof(row[0])) return (size_t)-1;
+  for (size_t j = 0; j <= lb; ++j) row[j] = j;
+  for (size_t i = 1; i <= la; ++i) {
+    size_t diagonal = row[0];
+    row[0]          = i;
+    for (size_t j = 1; j <= lb; ++j) {
+      const size_t above = row[j], best = PetscMin(PetscMin(row[j] + 1, row[j - 1] + 1), diagonal + (a[i - 1] != b[j - 1]));
+      diagonal           = above;
+      row[j]             = best;
+    }
+  }
+  return row[lb];
+}
+
+/* fsiopt's own options (build/known_options.c, made by make from the string literals of
+   src/), and the PETSc solver options users most often give, under fsiopt's prefixes. */
+extern const char *const fsiopt_known_options[];
+static const char *const solver_prefixes[] = {"fluid_", "structure_", "mesh_", "fluid_dirichlet_", "tao_brgn_subsolver_tao_bnk_", "", NULL};
+static const char *const solver_options[]  = {"snes_type", "snes_rtol", "snes_atol", "snes_stol", "snes_max_it", "snes_monitor", "snes_converged_reason", "snes_linesearch_type", "snes_lag_jacobian", "snes_test_jacobian", "ksp_type", "ksp_rtol", "ksp_atol", "ksp_max_it", "ksp_monitor", "ksp_converged_reason", "ksp_view", "ksp_gmres_restart", "pc_type", "pc_factor_mat_solver_type", "pc_fieldsplit_type", "pc_gamg_type", "pc_hypre_type", "snes_view", "tao_type", "tao_monitor", "tao_view", "tao_ls_type", "log_view", "options_left", "malloc_debug", "malloc_dump", "info", NULL};
+
+static void Nearest(const char name[], char best[], size_t len)
+{
+  size_t best_d = (size_t)-1;
+  char   candidate[256];
+
+  best[0] = 0;
+  for (const char *const *k = fsiopt_known_options; *k; ++k) {
+    const size_t d = EditDistance(name, *k + 1);
+    if (d < best_d) {
+      best_d = d;
+      (void)PetscStrncpy(best, *k, len);
+    }
+  }
+  for (const char *const *p = solver_prefixes; *p; ++p)
+    for (const char *const *o = solver_options; *o; ++o) {
+      (void)PetscSNPrintf(candidate, sizeof(candidate), "%s%s", *p, *o);
+      const size_t d = EditDistance(name, candidate);
+      if (d < best_d) {
+        best_d = d;
+        (void)PetscSNPrintf(best, len, "-%s", candidate);
+      }
+    }
+  /* a suggestion only when it is near: a few letters, not a different word */
+  if (best_d > PetscMax(2, strlen(name) / 4)) best[0] = 0;
+}
+
+static PetscBool IsKnown(const char name[])
+{
+  for (const char *const *k = fsiopt_known_options; *k; ++k)
+    if (!strcmp(*k + 1, name)) return PETSC_TRUE;
+  return PETSC_FALSE;
+}
+
+/* PETSc reads these in PetscFinalize, after the check */
+static PetscBool IsReadAtExit(const char name[])
+{
+  return !strcmp(name, "options_left") || !strcmp(name, "options_view") ? PETSC_TRUE : PETSC_FALSE;
+}
+
+PetscErrorCode OptionsCheckUnused(MPI_Comm comm)
+{
+  PetscInt  n;
+  char    **names, **values, unknown[1024] = "", nearest[1024] = "", unread[1024] = "";
+  PetscInt  n_unknown = 0, n_suggested = 0;
+  PetscBool allow = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(comm, NULL, "Options nothing reads", "fsiopt");
+  PetscCall(PetscOptionsBool("-options_allow_unused", "an option that nothing reads is a warning, not an error (for options meant for other tools)", NULL, allow, &allow, NULL));
+  PetscOptionsEnd();
+  PetscCall(PetscOptionsLeftGet(NULL, &n, &names, &values));
+  for (PetscInt i = 0; i < n; ++i) {
+    char suggestion[256];
+
+    if (IsDefault(names[i]) || IsReadAtExit(names[i])) continue;
+    if (IsKnown(names[i])) {
+      PetscCall(PetscStrlcat(unread, unread[0] ? ", -" : "-", sizeof(unread)));
+      PetscCall(PetscStrlcat(unread, names[i], sizeof(unread)));
+      continue;
+    }
+    PetscCall(PetscStrlcat(unknown, n_unknown++ ? ", -" : "-", sizeof(unknown)));
+    PetscCall(PetscStrlcat(unknown, names[i], sizeof(unknown)));
+    Nearest(names[i], suggestion, sizeof(suggestion));
+    if (suggestion[0]) {
+      PetscCall(PetscStrlcat(nearest, n_suggested++ ? ", " : "", sizeof(nearest)));
+      PetscCall(PetscStrlcat(nearest, suggestion, sizeof(nearest)));
+    }
+  }
+  PetscCall(PetscOptionsLeftRestore(NULL, &n, &names, &values));
+  if (unread[0]) PetscCall(PetscPrintf(comm, "fsiopt: warning: option%s %s: not read by this set-up (%s to another scene, coupling method or solver)\n", strchr(unread, ',') ? "s" : "", unread, strchr(unread, ',') ? "they belong" : "it belongs"));
+  if (!n_unknown) PetscFunctionReturn(0);
+  {
+    char message[3072];
+    PetscCall(PetscSNPrintf(message, sizeof(message), "option%s %s: nothing reads %s%s%s%s", n_unknown > 1 ? "s" : "", unknown, n_unknown > 1 ? "them" : "it", n_suggested ? " (the nearest known: " : "", nearest, n_suggested ? ")" : ""));
+    if (allow) PetscCall(PetscPrintf(comm, "fsiopt: warning: %s; let through by -options_allow_unused\n", message));
+    else SETERRQ(comm, PETSC_ERR_ARG_WRONG, "%s; -options_allow_unused lets %s through", message, n_unknown > 1 ? "them" : "it");
+  }
+  PetscFunctionReturn(0);
 }

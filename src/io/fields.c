@@ -262,6 +262,7 @@ PetscErrorCode FieldWriterCreate(MPI_Comm comm, const RunParams *params, Fluid f
   PetscCallMPI(MPI_Bcast(&ok, 1, MPIU_BOOL, 0, comm));
   PetscCheck(ok, comm, PETSC_ERR_FILE_OPEN, "option -write_fields: cannot create %s", w->partial);
   if (!w->rank) PetscCall(PetscViewerHDF5Open(PETSC_COMM_SELF, w->partial, FILE_MODE_WRITE, &w->viewer));
+  PetscCall(OutputRegisterSetUpFile(w->partial));
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, exists, 2, MPIU_BOOL, MPI_LOR, comm));
   if (exists[0]) {
     DM dm = NULL;

@@ -1,4 +1,30 @@
 #include "output.h"
+#include <unistd.h>
+
+#define MAX_SETUP_FILES 8
+static char      setup_files[MAX_SETUP_FILES][PETSC_MAX_PATH_LEN];
+static int       n_setup_files = 0;
+static PetscBool setup_done    = PETSC_FALSE;
+
+PetscErrorCode OutputRegisterSetUpFile(const char path[])
+{
+  PetscFunctionBeginUser;
+  if (setup_done || n_setup_files == MAX_SETUP_FILES) PetscFunctionReturn(0);
+  PetscCall(PetscStrncpy(setup_files[n_setup_files++], path, PETSC_MAX_PATH_LEN));
+  PetscFunctionReturn(0);
+}
+
+void OutputSetUpDone(void)
+{
+  setup_done = PETSC_TRUE;
+}
+
+void OutputRemoveSetUpFiles(void)
+{
+  if (setup_done) return;
+  for (int i = 0; i < n_setup_files; ++i) (void)unlink(setup_files[i]); /* a rank that did not create it gets ENOENT */
+  n_setup_files = 0;
+}
 
 PetscErrorCode PartialFileOpen(MPI_Comm comm, const char dir[], const char name[], PartialFile *file)
 {
@@ -12,6 +38,7 @@ PetscErrorCode PartialFileOpen(MPI_Comm comm, const char dir[], const char name[
   if (!rank) PetscCall(OutputMakeDirectories(dir));
   PetscCallMPI(MPI_Barrier(comm));
   PetscCall(PetscFOpen(comm, file->partial, "w", &file->fp));
+  PetscCall(OutputRegisterSetUpFile(file->partial));
   PetscFunctionReturn(0);
 }
 

@@ -3,6 +3,7 @@
 #include "run_impl.h"
 #include "logging.h"
 #include "interrupt.h"
+#include "output.h"
 
 static PetscErrorCode WriteCheckpoint(Run run, PetscInt step)
 {
@@ -24,6 +25,7 @@ PetscErrorCode RunAdvance(Run run)
 
   PetscFunctionBeginUser;
   PetscCall(InterruptInstall());
+  OutputSetUpDone();
   s->steps_done = run->params.steps;
   s->first_step = run->first_step;
   for (PetscInt step = run->first_step; step <= run->params.steps; ++step) {
