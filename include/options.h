@@ -12,8 +12,10 @@ PetscErrorCode OptionsSetDefault(const char opt[], const char value[]);
 /* Before the first step: an option (command line, options file, YAML key, PETSC_OPTIONS)
    that nothing read stops the run, naming it and the nearest known option, unless
    -options_allow_unused; one that fsiopt reads in other set-ups (another scene, method or
-   solver) is a warning. Defaults a scene or method set and did not read are neither. */
-PetscErrorCode OptionsCheckUnused(MPI_Comm);
+   solver) is a warning. Defaults a scene or method set and did not read are neither.
+   Viewers, convergence reasons and Jacobian tests, which PETSc reads inside its solves,
+   are checked after the first step (after_first_step). */
+PetscErrorCode OptionsCheckUnused(MPI_Comm, PetscBool after_first_step);
 /* Fails with a one-line message when a file cannot be read. FileProblem (usable before
    PetscInitialize) returns 0 when the file is a readable, non-empty regular file. */
 int            FileProblem(const char path[]);

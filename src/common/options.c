@@ -214,7 +214,18 @@ static PetscBool IsReadAtExit(const char name[])
   return !strcmp(name, "options_left") || !strcmp(name, "options_view") ? PETSC_TRUE : PETSC_FALSE;
 }
 
-PetscErrorCode OptionsCheckUnused(MPI_Comm comm)
+/* Viewers, convergence reasons and Jacobian tests PETSc reads inside its solves, not when
+   the solver is set up: the first check lets them wait for the first step. */
+static PetscBool IsReadInSolves(const char name[])
+{
+  const char *const lazy[] = {"_view", "converged_reason", "test_jacobian", "_monitor", NULL};
+
+  for (const char *const *l = lazy; *l; ++l)
+    if (strstr(name, *l)) return PETSC_TRUE;
+  return PETSC_FALSE;
+}
+
+PetscErrorCode OptionsCheckUnused(MPI_Comm comm, PetscBool after_first_step)
 {
   PetscInt  n;
   char    **names, **values, unknown[1024] = "", nearest[1024] = "", unread[1024] = "";
@@ -222,14 +233,16 @@ PetscErrorCode OptionsCheckUnused(MPI_Comm comm)
   PetscBool allow = PETSC_FALSE;
 
   PetscFunctionBeginUser;
-  PetscOptionsBegin(comm, NULL, "Options nothing reads", "fsiopt");
-  PetscCall(PetscOptionsBool("-options_allow_unused", "an option that nothing reads is a warning, not an error (for options meant for other tools)", NULL, allow, &allow, NULL));
-  PetscOptionsEnd();
+  if (!after_first_step) {
+    PetscOptionsBegin(comm, NULL, "Options nothing reads", "fsiopt");
+    PetscCall(PetscOptionsBool("-options_allow_unused", "an option that nothing reads is a warning, not an error (for options meant for other tools)", NULL, allow, &allow, NULL));
+    PetscOptionsEnd();
+  } else PetscCall(PetscOptionsGetBool(NULL, NULL, "-options_allow_unused", &allow, NULL));
   PetscCall(PetscOptionsLeftGet(NULL, &n, &names, &values));
   for (PetscInt i = 0; i < n; ++i) {
     char suggestion[256];
 
-    if (IsDefault(names[i]) || IsReadAtExit(names[i])) continue;
+    if (IsDefault(names[i]) || IsReadAtExit(names[i]) || IsReadInSolves(names[i]) != after_first_step) continue;
     if (IsKnown(names[i])) {
       PetscCall(PetscStrlcat(unread, unread[0] ? ", -" : "-", sizeof(unread)));
       PetscCall(PetscStrlcat(unread, names[i], sizeof(unread)));
@@ -248,7 +261,7 @@ PetscErrorCode OptionsCheckUnused(MPI_Comm comm)
   if (!n_unknown) PetscFunctionReturn(0);
   {
     char message[3072];
-    PetscCall(PetscSNPrintf(message, sizeof(message), "option%s %s: nothing reads %s%s%s%s", n_unknown > 1 ? "s" : "", unknown, n_unknown > 1 ? "them" : "it", n_suggested ? " (the nearest known: " : "", nearest, n_suggested ? ")" : ""));
+    PetscCall(PetscSNPrintf(message, sizeof(message), "option%s %s: nothing %s%s%s%s%s", n_unknown > 1 ? "s" : "", unknown, after_first_step ? "read it in the first step, where the solvers read their viewers and tests" : "reads it", n_unknown > 1 ? " (them)" : "", n_suggested ? " (the nearest known: " : "", nearest, n_suggested ? ")" : ""));
     if (allow) PetscCall(PetscPrintf(comm, "fsiopt: warning: %s; let through by -options_allow_unused\n", message));
     else SETERRQ(comm, PETSC_ERR_ARG_WRONG, "%s; -options_allow_unused lets %s through", message, n_unknown > 1 ? "them" : "it");
   }

@@ -4,6 +4,7 @@
 #include "logging.h"
 #include "interrupt.h"
 #include "output.h"
+#include "options.h"
 
 static PetscErrorCode WriteCheckpoint(Run run, PetscInt step)
 {
@@ -37,6 +38,7 @@ PetscErrorCode RunAdvance(Run run)
       break;
     }
     PetscCall(OutputsRecord(run->outputs, step));
+    if (step == run->first_step) PetscCall(OptionsCheckUnused(PETSC_COMM_WORLD, PETSC_TRUE));
     PetscCall(InterruptTestAfterStep(step));
     PetscCall(InterruptCheck(PETSC_COMM_WORLD, &run->signal_caught));
     /* an interrupted run leaves a checkpoint of its last step when its set-up can */

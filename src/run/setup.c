@@ -176,7 +176,7 @@ PetscErrorCode RunCreate(Run *created)
   PetscCall(DMDestroy(&fluid_mesh));
   PetscCall(DMDestroy(&structure_mesh));
   PetscCall(PetscLogStagePop());
-  if (!run->help) PetscCall(OptionsCheckUnused(PETSC_COMM_WORLD));
+  if (!run->help) PetscCall(OptionsCheckUnused(PETSC_COMM_WORLD, PETSC_FALSE));
   if (run->help) {
     /* every object has read its options by now: the listing is complete */
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fsiopt: -help: the options above; no time step was run\n"));
