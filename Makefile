@@ -20,7 +20,7 @@ OBJ  := $(SRC:%.c=build/%.o) build/known_options.o
 GEO  := $(wildcard meshes/*.geo)
 MSH  := $(GEO:.geo=.msh)
 
-.PHONY: all deps run test check-memory clean
+.PHONY: all deps run test check-memory format clean
 
 all: bin/fsiopt $(MSH)
 
@@ -78,6 +78,11 @@ test: deps
 check-memory: deps
 	$(MAKE) all
 	$(PYTHON) scripts/check_memory.py
+
+# the C style of .clang-format (PETSc's, 120 columns) over every source and header
+format:
+	@command -v clang-format >/dev/null || { echo "make format: needs clang-format (apt-get install clang-format)"; exit 1; }
+	clang-format -i $(SRC) $(wildcard include/*.h src/*/*.h)
 
 clean:
 	rm -rf build bin out meshes/*.msh

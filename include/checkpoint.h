@@ -21,7 +21,7 @@ PetscErrorCode CheckpointCreateInMemory(Checkpoint *);
 PetscErrorCode CheckpointDestroy(Checkpoint *);
 PetscBool      CheckpointIsFile(Checkpoint);
 /* Whether the solvers rebuild their factors after this save or load (see above). */
-PetscBool      CheckpointResynchronizes(Checkpoint, PetscBool load);
+PetscBool CheckpointResynchronizes(Checkpoint, PetscBool load);
 
 /* Names below go into the current group. */
 PetscErrorCode CheckpointPushGroup(Checkpoint, const char group[]);

@@ -25,15 +25,23 @@
    control_maps.c (a control's interface load M P^T W^{-1/2} x, a traction's control),
    residual.c (F), products.c (J h, J^T rho), sweep.c (the Dirichlet-Neumann sweep),
    derivative_checks.c. */
-typedef enum { CONTROL_TRACTION, CONTROL_CONVECTIVE } ControlVariant;
-typedef enum { DOMAIN_LAGGED, DOMAIN_CURRENT } DomainUpdate; /* -coupling_domain */
+typedef enum {
+  CONTROL_TRACTION,
+  CONTROL_CONVECTIVE
+} ControlVariant;
+typedef enum {
+  DOMAIN_LAGGED,
+  DOMAIN_CURRENT
+} DomainUpdate; /* -coupling_domain */
 
 typedef struct _p_CouplingProblem *CouplingProblem;
 
-PetscErrorCode CouplingProblemCreate(MPI_Comm, Fluid, Structure, Interface, const PhysicsData *fluid_data, CouplingProblem *);
+PetscErrorCode CouplingProblemCreate(MPI_Comm, Fluid, Structure, Interface, const PhysicsData *fluid_data,
+                                     CouplingProblem *);
 PetscErrorCode CouplingProblemDestroy(CouplingProblem *);
 PetscErrorCode CouplingProblemCheckpoint(CouplingProblem, Checkpoint, PetscBool load); /* checkpoint.h */
-PetscErrorCode CouplingProblemGetControlVariant(ControlVariant *); /* -coupling_control, readable before the solvers exist */
+PetscErrorCode CouplingProblemGetControlVariant(
+  ControlVariant *); /* -coupling_control, readable before the solvers exist */
 PetscErrorCode CouplingProblemCreateControl(CouplingProblem, Vec *);
 PetscErrorCode CouplingProblemCreateJacobian(CouplingProblem, Mat *);
 PetscErrorCode CouplingProblemGetTikhonov(CouplingProblem, PetscReal *);
@@ -79,23 +87,24 @@ PetscErrorCode CouplingProblemTestTaylor(CouplingProblem, Vec x);
 /* A coupling method advances the coupled system by one step (one file per method). */
 typedef struct _p_Coupling *Coupling;
 typedef struct {
-  PetscInt  iterations;      /* coupling iterations (Gauss-Newton or sweeps), summed over steps */
+  PetscInt  iterations;       /* coupling iterations (Gauss-Newton or sweeps), summed over steps */
   PetscInt  linearized_pairs; /* iterations that also solved the linearized and adjoint problems */
   PetscInt  inner_iterations;
   PetscInt  stalled_steps;
-  PetscReal max_jump;        /* largest final interface jump (opt) or traction residual (partitioned) of a step */
+  PetscReal max_jump; /* largest final interface jump (opt) or traction residual (partitioned) of a step */
 } CouplingStats;
 
 /* The methods by name (-coupling), as the scenes are: CouplingRegisterAll() adds opt, dn,
    aitken and iqnils; a new method is one file whose create function fills the method's
    operations (coupling_impl.h) and one CouplingRegister line. */
 extern PetscFunctionList CouplingList;
-PetscErrorCode CouplingRegister(const char name[], PetscErrorCode (*create)(Coupling));
-PetscErrorCode CouplingRegisterAll(void);
-PetscErrorCode CouplingListNames(char names[], size_t len);
-PetscErrorCode CouplingCheckMethod(const char method[]); /* an error naming the known ones */
-PetscErrorCode CouplingFinalize(void);
-PetscErrorCode CouplingCreate(const char method[], CouplingProblem, const char output_dir[], PetscReal t0, PetscReal dt, Coupling *);
+PetscErrorCode           CouplingRegister(const char name[], PetscErrorCode (*create)(Coupling));
+PetscErrorCode           CouplingRegisterAll(void);
+PetscErrorCode           CouplingListNames(char names[], size_t len);
+PetscErrorCode           CouplingCheckMethod(const char method[]); /* an error naming the known ones */
+PetscErrorCode           CouplingFinalize(void);
+PetscErrorCode CouplingCreate(const char method[], CouplingProblem, const char output_dir[], PetscReal t0, PetscReal dt,
+                              Coupling *);
 PetscErrorCode CouplingStep(Coupling, PetscInt step);
 /* Why the step failed (a subproblem, or the method not converging), NULL if it has not. */
 PetscErrorCode CouplingGetFailure(Coupling, const char **reason);

@@ -5,10 +5,12 @@
 /* The pieces the fluid and structure solvers share: fields, boundary data, residual
    evaluation on a given state, counted Jacobians and error norms. */
 
-PetscErrorCode FEMCreateField(DM dm, PetscInt field, const char name[], PetscInt Nc, PetscInt degree, PetscFE quadrature_from);
+PetscErrorCode FEMCreateField(DM dm, PetscInt field, const char name[], PetscInt Nc, PetscInt degree,
+                              PetscFE quadrature_from);
 /* Registers the essential and natural boundaries of `data` on field `field`.
    `datums` must live as long as the DM; `time` is the solver's current time. */
-PetscErrorCode FEMAddBoundaries(DM dm, PetscInt field, const PhysicsData *data, DirichletDatum datums[], const PetscReal *time);
+PetscErrorCode FEMAddBoundaries(DM dm, PetscInt field, const PhysicsData *data, DirichletDatum datums[],
+                                const PetscReal *time);
 /* The zero field: homogeneous Dirichlet data. */
 PetscErrorCode FEMZero(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *u, void *ctx);
 /* Residual of the DM's weak form at the local state xlocal (boundary values already in it). */
@@ -20,9 +22,9 @@ PetscErrorCode FEMGlobalToLocal(DM dm, Vec xglobal, Vec xlocal);
    the policy's Jacobian updates (see FEMJacobianPolicy).
    Options under `prefix` override all of it. */
 typedef enum {
-  FEM_JACOBIAN_NEWTON,     /* assembled and factored at every Newton iteration */
-  FEM_JACOBIAN_CONSTANT,   /* assembled and factored once per run: one linear solve per step */
-  FEM_JACOBIAN_ON_REQUEST  /* assembled and factored by FEMUpdateJacobian only; solves reuse the factors */
+  FEM_JACOBIAN_NEWTON,    /* assembled and factored at every Newton iteration */
+  FEM_JACOBIAN_CONSTANT,  /* assembled and factored once per run: one linear solve per step */
+  FEM_JACOBIAN_ON_REQUEST /* assembled and factored by FEMUpdateJacobian only; solves reuse the factors */
 } FEMJacobianPolicy;
 PetscErrorCode FEMCreateSNES(DM dm, const char prefix[], FEMJacobianPolicy, PetscInt *jacobian_assemblies, SNES *snes);
 /* Solves R(x) = 0 once with a SNES of its own (options under `prefix`), e.g. an initial
@@ -44,5 +46,6 @@ PetscErrorCode FEMFactorJacobianAt(SNES snes, Vec x);
 PetscErrorCode FEMFreeDofs(DM dm, DM dm_all, IS *is);
 /* Per field: L2 error and L2 error of the gradient against closed forms at time t, called
    with ctx (a NULL closed form gives 0; h1 may be NULL). At most two fields. */
-PetscErrorCode FEMErrors(DM dm, Vec xglobal, PetscReal t, const FieldFn exact[], const GradientFn gradient[], void *ctx, PetscReal l2[], PetscReal h1[]);
+PetscErrorCode FEMErrors(DM dm, Vec xglobal, PetscReal t, const FieldFn exact[], const GradientFn gradient[], void *ctx,
+                         PetscReal l2[], PetscReal h1[]);
 #endif

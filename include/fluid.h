@@ -6,7 +6,19 @@
    MASS is the coefficient of (u, v) (rho/dt in a step), OPERATOR and LOAD switch the
    spatial operator and the data on and off, so one weak form also yields the
    old-domain mass term M(Omega^{n-1}) u^{n-1}. */
-enum { FLUID_RHO, FLUID_MU, FLUID_MASS, FLUID_OPERATOR, FLUID_LOAD, FLUID_TIME, FLUID_DT, FLUID_CONVECTION, FLUID_PROJECTION, FLUID_PRESSURE_STABILIZATION, FLUID_NUM_CONSTANTS };
+enum {
+  FLUID_RHO,
+  FLUID_MU,
+  FLUID_MASS,
+  FLUID_OPERATOR,
+  FLUID_LOAD,
+  FLUID_TIME,
+  FLUID_DT,
+  FLUID_CONVECTION,
+  FLUID_PROJECTION,
+  FLUID_PRESSURE_STABILIZATION,
+  FLUID_NUM_CONSTANTS
+};
 
 typedef struct _p_Fluid *Fluid;
 
@@ -25,11 +37,11 @@ PetscErrorCode FluidGetFailure(Fluid, const char **reason);
    its Jacobian only when asked (FluidUpdateJacobian); its nonlinear solves reuse the
    factorization in hand. */
 PetscErrorCode FluidSetInterface(Fluid, PetscInt face, PetscBool convective_term);
-PetscErrorCode FluidBeginStep(Fluid, PetscInt step);          /* old-domain term, t += dt */
-PetscErrorCode FluidSolve(Fluid, Vec load, PetscInt step);    /* R(x) = history + load */
-PetscErrorCode FluidUpdateJacobian(Fluid);                    /* A = dR/dx at the current state, factored */
+PetscErrorCode FluidBeginStep(Fluid, PetscInt step);       /* old-domain term, t += dt */
+PetscErrorCode FluidSolve(Fluid, Vec load, PetscInt step); /* R(x) = history + load */
+PetscErrorCode FluidUpdateJacobian(Fluid);                 /* A = dR/dx at the current state, factored */
 PetscErrorCode FluidLinearSolve(Fluid, Vec rhs, Vec x, PetscBool transpose); /* with the factors in hand */
-PetscErrorCode FluidLinearSolveBlock(Fluid, Mat rhs, Mat x);                /* dense columns, forward */
+PetscErrorCode FluidLinearSolveBlock(Fluid, Mat rhs, Mat x);                 /* dense columns, forward */
 /* Dirichlet-Neumann use: solves with the interface rows (global indices) set to `values`
    (a global vector; only those rows are read) and returns the reaction R(x) - history on
    those rows (0 elsewhere): the load a traction-controlled fluid would need there. */
@@ -58,20 +70,68 @@ PetscErrorCode FluidCheckpoint(Fluid, Checkpoint, PetscBool load);
 PetscErrorCode FluidDestroy(Fluid *);
 
 /* Pointwise kernels (fluid_kernels.c). */
-void FluidF0Backflow(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
-void FluidG0Backflow(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
-void FluidF0InterfaceConvection(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
-void FluidG0InterfaceConvection(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
-void FluidF0MassStokes(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
-void FluidF0MassConvection(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
-void FluidF1Stress(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
-void FluidF0Continuity(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
-void FluidG0MassStokes(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
-void FluidG0MassConvection(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
-void FluidG1Convection(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
-void FluidG3Viscous(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
-void FluidG2Pressure(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
-void FluidG1Continuity(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
-void FluidF1PressureStabilization(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
-void FluidG3PressureStabilization(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void FluidF0Backflow(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],
+                     const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[],
+                     const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], const PetscReal[],
+                     PetscInt, const PetscScalar[], PetscScalar[]);
+void FluidG0Backflow(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],
+                     const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[],
+                     const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[],
+                     const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void FluidF0InterfaceConvection(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],
+                                const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[],
+                                const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal,
+                                const PetscReal[], const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void FluidG0InterfaceConvection(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],
+                                const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[],
+                                const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal,
+                                const PetscReal[], const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void FluidF0MassStokes(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],
+                       const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[],
+                       const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[],
+                       PetscInt, const PetscScalar[], PetscScalar[]);
+void FluidF0MassConvection(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],
+                           const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[],
+                           const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[],
+                           PetscInt, const PetscScalar[], PetscScalar[]);
+void FluidF1Stress(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],
+                   const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[],
+                   const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], PetscInt,
+                   const PetscScalar[], PetscScalar[]);
+void FluidF0Continuity(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],
+                       const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[],
+                       const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[],
+                       PetscInt, const PetscScalar[], PetscScalar[]);
+void FluidG0MassStokes(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],
+                       const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[],
+                       const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal,
+                       const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void FluidG0MassConvection(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],
+                           const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[],
+                           const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal,
+                           const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void FluidG1Convection(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],
+                       const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[],
+                       const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal,
+                       const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void FluidG3Viscous(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],
+                    const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[],
+                    const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt,
+                    const PetscScalar[], PetscScalar[]);
+void FluidG2Pressure(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],
+                     const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[],
+                     const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt,
+                     const PetscScalar[], PetscScalar[]);
+void FluidG1Continuity(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],
+                       const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[],
+                       const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal,
+                       const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void FluidF1PressureStabilization(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],
+                                  const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[],
+                                  const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal,
+                                  const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void FluidG3PressureStabilization(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],
+                                  const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[],
+                                  const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal,
+                                  const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
 #endif

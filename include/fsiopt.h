@@ -6,18 +6,31 @@
 #include <petscds.h>
 
 /* Face-set values of the box meshes and of the gmsh geometries in meshes/: one convention for every scene. */
-enum { FACE_BOTTOM = 1, FACE_RIGHT = 2, FACE_TOP = 3, FACE_LEFT = 4 };
+enum {
+  FACE_BOTTOM = 1,
+  FACE_RIGHT  = 2,
+  FACE_TOP    = 3,
+  FACE_LEFT   = 4
+};
 
 /* A closed-form field, as PETSc projects and integrates it. */
-typedef PetscErrorCode (*FieldFn)(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *u, void *ctx);
+typedef PetscErrorCode (*FieldFn)(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *u,
+                                  void *ctx);
 /* The gradient of a closed-form field: g[c*dim + d] = d u_c / d x_d. */
-typedef PetscErrorCode (*GradientFn)(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *g, void *ctx);
+typedef PetscErrorCode (*GradientFn)(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *g,
+                                     void *ctx);
 
-typedef void (*ResidualKernel)(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
-typedef void (*BdResidualKernel)(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+typedef void (*ResidualKernel)(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],
+                               const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[],
+                               const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal,
+                               const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+typedef void (*BdResidualKernel)(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],
+                                 const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[],
+                                 const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal,
+                                 const PetscReal[], const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
 
 #define FSIOPT_MAX_BOUNDARIES 8
-#define FSIOPT_MAX_EXTRA 8
+#define FSIOPT_MAX_EXTRA      8
 
 /* Dirichlet datum of one face set. The time comes from the owning solver, not from PETSc's
    argument: PETSc's SNES and integral helpers insert boundary values at time 0 or PETSC_MIN_REAL. */
@@ -29,27 +42,29 @@ typedef struct {
 
 /* What a single-physics solver needs from a scene: boundary data, loads, exact solution. */
 typedef struct {
-  PetscInt       n_dirichlet, dirichlet_faces[FSIOPT_MAX_BOUNDARIES];
-  FieldFn        dirichlet_fn[FSIOPT_MAX_BOUNDARIES];
-  PetscInt       n_traction, traction_faces[FSIOPT_MAX_BOUNDARIES];
-  BdResidualKernel traction_kernel[FSIOPT_MAX_BOUNDARIES]; /* adds -load*h(x,t); NULL: traction-free or given in volume form */
-  ResidualKernel load_value_kernel;                       /* f0 part of the data: adds -load*f(x,t), may be NULL */
-  ResidualKernel load_stress_kernel;                      /* f1 part of the data, may be NULL */
-  FieldFn        exact[2];                                /* by field; NULL when unknown */
+  PetscInt n_dirichlet, dirichlet_faces[FSIOPT_MAX_BOUNDARIES];
+  FieldFn  dirichlet_fn[FSIOPT_MAX_BOUNDARIES];
+  PetscInt n_traction, traction_faces[FSIOPT_MAX_BOUNDARIES];
+  BdResidualKernel
+    traction_kernel[FSIOPT_MAX_BOUNDARIES]; /* adds -load*h(x,t); NULL: traction-free or given in volume form */
+  ResidualKernel load_value_kernel;         /* f0 part of the data: adds -load*f(x,t), may be NULL */
+  ResidualKernel load_stress_kernel;        /* f1 part of the data, may be NULL */
+  FieldFn        exact[2];                  /* by field; NULL when unknown */
   GradientFn     exact_gradient[2];
-  FieldFn        exact_rate;                              /* structure: exact velocity d(eta)/dt */
-  PetscInt       interface_face;                          /* face set of the fluid-structure interface, 0: none */
-  FieldFn        interface_traction;                      /* fluid: the exact control g = sigma_f n_f at t, for g^0 (NULL: 0) */
-  FieldFn        convective_interface_datum;              /* fluid: traction the exact solution adds when the control absorbs the convective term */
-  FieldFn        mesh_displacement;                       /* fluid: a prescribed mesh motion d(X, t), NULL: none */
-  PetscInt       n_fixed_mesh_faces;                      /* fluid: > 0 makes the mesh follow the interface, */
-  PetscInt       fixed_mesh_faces[FSIOPT_MAX_BOUNDARIES];  /* these face sets staying put */
-  PetscInt       n_force_faces;                           /* fluid: face sets of the body whose force (drag, lift) */
-  PetscInt       force_faces[FSIOPT_MAX_BOUNDARIES];      /* is recorded each step */
-  PetscInt       n_extra;                                 /* scene constants appended after the solver's: */
-  PetscScalar    extra[FSIOPT_MAX_EXTRA];                 /* the pointwise kernels' scene parameters */
-  void          *ctx;                                     /* the closed forms' scene parameters: their ctx */
-                                                          /* argument (owned by the scene; see interface_traction) */
+  FieldFn        exact_rate;         /* structure: exact velocity d(eta)/dt */
+  PetscInt       interface_face;     /* face set of the fluid-structure interface, 0: none */
+  FieldFn        interface_traction; /* fluid: the exact control g = sigma_f n_f at t, for g^0 (NULL: 0) */
+  FieldFn
+    convective_interface_datum; /* fluid: traction the exact solution adds when the control absorbs the convective term */
+  FieldFn     mesh_displacement;                       /* fluid: a prescribed mesh motion d(X, t), NULL: none */
+  PetscInt    n_fixed_mesh_faces;                      /* fluid: > 0 makes the mesh follow the interface, */
+  PetscInt    fixed_mesh_faces[FSIOPT_MAX_BOUNDARIES]; /* these face sets staying put */
+  PetscInt    n_force_faces;                           /* fluid: face sets of the body whose force (drag, lift) */
+  PetscInt    force_faces[FSIOPT_MAX_BOUNDARIES];      /* is recorded each step */
+  PetscInt    n_extra;                                 /* scene constants appended after the solver's: */
+  PetscScalar extra[FSIOPT_MAX_EXTRA];                 /* the pointwise kernels' scene parameters */
+  void       *ctx;                                     /* the closed forms' scene parameters: their ctx */
+                                                       /* argument (owned by the scene; see interface_traction) */
 } PhysicsData;
 
 /* Counters every solver keeps for summary.json. */

@@ -9,7 +9,8 @@
 typedef struct _p_History *History;
 
 PetscErrorCode HistoryOpen(MPI_Comm, const char dir[], History *);
-PetscErrorCode HistoryAppend(History, PetscInt step, PetscReal dt, PetscInt iteration, PetscReal objective, PetscReal jump, PetscInt inner_iterations);
+PetscErrorCode HistoryAppend(History, PetscInt step, PetscReal dt, PetscInt iteration, PetscReal objective,
+                             PetscReal jump, PetscInt inner_iterations);
 PetscErrorCode HistoryAppendEvent(History, PetscInt step, PetscReal dt, const char event[]);
 PetscErrorCode HistoryClose(History *, PetscBool complete);
 #endif

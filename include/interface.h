@@ -18,7 +18,8 @@
    (or no structure) passes NULL for that side's vectors. */
 typedef struct _p_Interface *Interface;
 
-PetscErrorCode InterfaceCreate(MPI_Comm comm, DM fluid, PetscInt fluid_face, DM structure, PetscInt structure_face, Interface *);
+PetscErrorCode InterfaceCreate(MPI_Comm comm, DM fluid, PetscInt fluid_face, DM structure, PetscInt structure_face,
+                               Interface *);
 PetscErrorCode InterfaceDestroy(Interface *);
 
 PetscErrorCode InterfaceCreateVector(Interface, Vec *);        /* all interface nodes */

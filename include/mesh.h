@@ -7,5 +7,6 @@
    refines it `refine` times, distributes it, and checks it: the dimension the scene
    needs (`dim`, 0: any), every face set in `required`, and no inverted or degenerate
    cell. */
-PetscErrorCode MeshCreate(MPI_Comm, const char prefix[], PetscInt refine, PetscInt dim, PetscInt nrequired, const PetscInt required[], DM *);
+PetscErrorCode MeshCreate(MPI_Comm, const char prefix[], PetscInt refine, PetscInt dim, PetscInt nrequired,
+                          const PetscInt required[], DM *);
 #endif

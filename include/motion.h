@@ -9,7 +9,8 @@
    -mesh_motion_incremental: then each step extends its increment from the step's start. */
 typedef struct _p_MeshMotion *MeshMotion;
 
-PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfixed, const PetscInt fixed_faces[], MeshMotion *);
+PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfixed, const PetscInt fixed_faces[],
+                                MeshMotion *);
 /* interface: an interface vector (fluid node order) of displacements; the result is a
    local vector in the fluid's coordinate layout. Collective on the fluid's ranks. */
 PetscErrorCode MeshMotionSolve(MeshMotion, Interface, Vec interface, Vec displacement);

@@ -5,8 +5,10 @@
 /* Range-checked options: a bad value stops the run with one line naming the option. */
 PetscErrorCode OptionsPositiveReal(PetscOptionItems *, const char opt[], const char text[], PetscReal *value);
 PetscErrorCode OptionsNonNegativeReal(PetscOptionItems *, const char opt[], const char text[], PetscReal *value);
-PetscErrorCode OptionsRealInRange(PetscOptionItems *, const char opt[], const char text[], PetscReal lo, PetscReal hi, PetscReal *value);
-PetscErrorCode OptionsIntInRange(PetscOptionItems *, const char opt[], const char text[], PetscInt lo, PetscInt hi, PetscInt *value);
+PetscErrorCode OptionsRealInRange(PetscOptionItems *, const char opt[], const char text[], PetscReal lo, PetscReal hi,
+                                  PetscReal *value);
+PetscErrorCode OptionsIntInRange(PetscOptionItems *, const char opt[], const char text[], PetscInt lo, PetscInt hi,
+                                 PetscInt *value);
 /* Sets an option only when the user has not: how scenes give their defaults. */
 PetscErrorCode OptionsSetDefault(const char opt[], const char value[]);
 /* Before the first step: an option (command line, options file, YAML key, PETSC_OPTIONS)

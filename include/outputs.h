@@ -12,10 +12,11 @@
    history.csv is the coupling method's (coupling.c), summary.json the report's. */
 typedef struct _p_Outputs *Outputs;
 /* fluid, structure, itf and problem may be NULL where the scene or the rank has none */
-PetscErrorCode OutputsCreate(const RunParams *, const Scene *, PetscInt dim, Fluid, Structure, Interface, CouplingProblem, Outputs *);
+PetscErrorCode OutputsCreate(const RunParams *, const Scene *, PetscInt dim, Fluid, Structure, Interface,
+                             CouplingProblem, Outputs *);
 /* the state at the end of `step` (0: the initial state) */
 PetscErrorCode OutputsRecord(Outputs, PetscInt step);
-PetscErrorCode OutputsGetProbes(Outputs, Probes *); /* for checkpoints; may be NULL */
+PetscErrorCode OutputsGetProbes(Outputs, Probes *);      /* for checkpoints; may be NULL */
 PetscErrorCode OutputsWriteFields(Outputs, PetscBool *); /* -write_fields */
 /* completes the files under their final names; the quantities of summary.json */
 PetscErrorCode OutputsFinish(Outputs, QuantityTable *);

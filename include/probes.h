@@ -16,12 +16,15 @@ typedef struct {
   PetscInt  n;
   PetscReal window;
   char      name[FSIOPT_MAX_QUANTITIES][32];
-  PetscReal final[FSIOPT_MAX_QUANTITIES], mean[FSIOPT_MAX_QUANTITIES], amplitude[FSIOPT_MAX_QUANTITIES], frequency[FSIOPT_MAX_QUANTITIES];
+  PetscReal final[FSIOPT_MAX_QUANTITIES], mean[FSIOPT_MAX_QUANTITIES], amplitude[FSIOPT_MAX_QUANTITIES],
+    frequency[FSIOPT_MAX_QUANTITIES];
 } QuantityTable;
 
 /* `nodes` local nodes with coordinates coords[nodes*dim], whose displacements are the blocks
    of size dim of the vectors ProbesRecord gets (NULL when there are no points). */
-PetscErrorCode ProbesCreate(MPI_Comm, PetscInt dim, PetscInt nodes, const PetscReal coords[], PetscInt npoints, const PetscReal points[][3], PetscInt nextra, const char *const extra_names[], const char dir[], Probes *);
+PetscErrorCode ProbesCreate(MPI_Comm, PetscInt dim, PetscInt nodes, const PetscReal coords[], PetscInt npoints,
+                            const PetscReal points[][3], PetscInt nextra, const char *const extra_names[],
+                            const char dir[], Probes *);
 PetscErrorCode ProbesRecord(Probes, PetscReal t, Vec displacement, const PetscReal extra[]);
 /* The quantities of every column, on rank 0 (window from -quantities_window). */
 PetscErrorCode ProbesQuantities(Probes, QuantityTable *);
@@ -29,5 +32,6 @@ PetscErrorCode ProbesClose(Probes *, PetscBool complete);
 PetscErrorCode ProbesCheckpoint(Probes, Checkpoint, PetscBool load); /* checkpoint.h */
 
 /* quantities.c: the analysis of one series */
-PetscErrorCode QuantityAnalyze(PetscInt n, const PetscReal t[], const PetscReal v[], PetscReal window, PetscReal *final, PetscReal *mean, PetscReal *amplitude, PetscReal *frequency);
+PetscErrorCode QuantityAnalyze(PetscInt n, const PetscReal t[], const PetscReal v[], PetscReal window, PetscReal *final,
+                               PetscReal *mean, PetscReal *amplitude, PetscReal *frequency);
 #endif

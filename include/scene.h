@@ -13,9 +13,9 @@
 typedef struct {
   char        name[64];
   PetscBool   has_fluid, has_structure;
-  PetscInt    dim;           /* of its meshes; 0: any */
+  PetscInt    dim; /* of its meshes; 0: any */
   PhysicsData fluid, structure;
-  PetscInt    n_probes;      /* interface points whose structure displacement goes to probes.csv */
+  PetscInt    n_probes; /* interface points whose structure displacement goes to probes.csv */
   PetscReal   probes[8][3];
 } Scene;
 

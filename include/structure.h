@@ -5,8 +5,23 @@
 /* Constants handed to the structure's pointwise kernels; scene kernels read them too.
    MASS is the coefficient of (eta, xi) (c rho_s with c = 1/dt^2 or 4/dt^2); MODEL is a
    StructureModel. */
-enum { STRUCTURE_RHO, STRUCTURE_MU, STRUCTURE_LAMBDA, STRUCTURE_MASS, STRUCTURE_OPERATOR, STRUCTURE_LOAD, STRUCTURE_TIME, STRUCTURE_DT, STRUCTURE_PROJECTION, STRUCTURE_MODEL, STRUCTURE_NUM_CONSTANTS };
-typedef enum { STRUCTURE_LINEAR, STRUCTURE_SVK } StructureModel;
+enum {
+  STRUCTURE_RHO,
+  STRUCTURE_MU,
+  STRUCTURE_LAMBDA,
+  STRUCTURE_MASS,
+  STRUCTURE_OPERATOR,
+  STRUCTURE_LOAD,
+  STRUCTURE_TIME,
+  STRUCTURE_DT,
+  STRUCTURE_PROJECTION,
+  STRUCTURE_MODEL,
+  STRUCTURE_NUM_CONSTANTS
+};
+typedef enum {
+  STRUCTURE_LINEAR,
+  STRUCTURE_SVK
+} StructureModel;
 
 typedef struct _p_Structure *Structure;
 
@@ -23,7 +38,10 @@ PetscErrorCode StructureGetFailure(Structure, const char **reason);
    The interface velocity is measured either by the scheme's own velocity
    (etadot^n: seed ch. 3, 6) or by the difference quotient (eta^n - eta^{n-1})/dt
    (seed ch. 4, 5); both are affine in eta^n with slope StructureVelocityCoefficient. */
-typedef enum { STRUCTURE_VELOCITY_SCHEME, STRUCTURE_VELOCITY_DIFFERENCE } StructureVelocityMeasure;
+typedef enum {
+  STRUCTURE_VELOCITY_SCHEME,
+  STRUCTURE_VELOCITY_DIFFERENCE
+} StructureVelocityMeasure;
 PetscErrorCode StructureBeginStep(Structure);
 PetscErrorCode StructureSolve(Structure, Vec load, PetscInt step);
 PetscErrorCode StructureEndStep(Structure);
@@ -50,13 +68,32 @@ PetscErrorCode StructureDestroy(Structure *);
 /* The stress paired with grad xi for the displacement gradient grad_eta (row-major,
    [c*dim+d] = d eta_c / d x_d): sigma(eta) (linear) or the first Piola stress F Sigma
    (St. Venant-Kirchhoff). Scenes use it for manufactured loads. */
-void StructureStress(StructureModel, PetscInt dim, PetscReal mu, PetscReal lambda, const PetscScalar grad_eta[], PetscScalar stress[]);
+void StructureStress(StructureModel, PetscInt dim, PetscReal mu, PetscReal lambda, const PetscScalar grad_eta[],
+                     PetscScalar stress[]);
 
 /* Pointwise kernels (structure_kernels.c). */
-void StructureF0Mass(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
-void StructureF1LinearStress(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
-void StructureG0Mass(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
-void StructureF1SVKStress(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
-void StructureG3SVK(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
-void StructureG3LinearElasticity(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void StructureF0Mass(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],
+                     const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[],
+                     const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[], PetscInt,
+                     const PetscScalar[], PetscScalar[]);
+void StructureF1LinearStress(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],
+                             const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[],
+                             const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal,
+                             const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
+void StructureG0Mass(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],
+                     const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[],
+                     const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt,
+                     const PetscScalar[], PetscScalar[]);
+void StructureF1SVKStress(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],
+                          const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[],
+                          const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[],
+                          PetscInt, const PetscScalar[], PetscScalar[]);
+void StructureG3SVK(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],
+                    const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[], const PetscScalar[],
+                    const PetscScalar[], const PetscScalar[], PetscReal, PetscReal, const PetscReal[], PetscInt,
+                    const PetscScalar[], PetscScalar[]);
+void StructureG3LinearElasticity(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],
+                                 const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[],
+                                 const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, PetscReal,
+                                 const PetscReal[], PetscInt, const PetscScalar[], PetscScalar[]);
 #endif

@@ -33,7 +33,8 @@ typedef struct {
 /* Fills the counts, errors, ranks and quantities of coupling and solvers (collective; fluid,
    structure, coupling may be NULL where the scene or the rank has none). s->failure and
    s->steps_done, s->first_step are the time loop's. */
-PetscErrorCode SummaryGather(RunSummary *s, PetscBool has_fluid, PetscBool has_structure, Fluid, Structure, Coupling, StepRetry);
+PetscErrorCode SummaryGather(RunSummary *s, PetscBool has_fluid, PetscBool has_structure, Fluid, Structure, Coupling,
+                             StepRetry);
 /* Writes <dir>/summary.json atomically (a temporary file renamed into place). */
 PetscErrorCode SummaryWrite(MPI_Comm, const char dir[], const RunSummary *);
 #endif

@@ -6,10 +6,11 @@
 #include "options.h"
 #include "output.h"
 
-static const char help[] = "fsiopt: fluid-structure interaction by optimization-based decoupling.\n"
-                           "  fsiopt -options_file options/<scene>.yaml [options]   or   fsiopt -scene <name> [options]\n"
-                           "Meshes: -fluid_dm_plex_* and -structure_dm_plex_* (box meshes, or gmsh files with *_dm_plex_filename).\n"
-                           "Solvers: -fluid_snes_*, -fluid_ksp_*, -fluid_pc_*, -structure_snes_*, ...\n\n";
+static const char
+  help[] = "fsiopt: fluid-structure interaction by optimization-based decoupling.\n"
+           "  fsiopt -options_file options/<scene>.yaml [options]   or   fsiopt -scene <name> [options]\n"
+           "Meshes: -fluid_dm_plex_* and -structure_dm_plex_* (box meshes, or gmsh files with *_dm_plex_filename).\n"
+           "Solvers: -fluid_snes_*, -fluid_ksp_*, -fluid_pc_*, -structure_snes_*, ...\n\n";
 
 /* Set when every rank stops on the same error (a failed step, an interrupt): no abort is
    needed to end them. */

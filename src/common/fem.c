@@ -3,7 +3,8 @@
 /* PETSc fixes the signatures of pointwise kernels and callbacks; most use a few of their arguments. */
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 
-PetscErrorCode FEMCreateField(DM dm, PetscInt field, const char name[], PetscInt Nc, PetscInt degree, PetscFE quadrature_from)
+PetscErrorCode FEMCreateField(DM dm, PetscInt field, const char name[], PetscInt Nc, PetscInt degree,
+                              PetscFE quadrature_from)
 {
   PetscFE   fe;
   PetscInt  dim;
@@ -22,14 +23,16 @@ PetscErrorCode FEMCreateField(DM dm, PetscInt field, const char name[], PetscInt
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode DirichletEvaluate(PetscInt dim, PetscReal t_ignored, const PetscReal x[], PetscInt Nc, PetscScalar *u, void *ctx)
+static PetscErrorCode DirichletEvaluate(PetscInt dim, PetscReal t_ignored, const PetscReal x[], PetscInt Nc,
+                                        PetscScalar *u, void *ctx)
 {
   DirichletDatum *d = (DirichletDatum *)ctx;
   (void)t_ignored;
   return d->fn(dim, *d->time, x, Nc, u, d->ctx);
 }
 
-PetscErrorCode FEMAddBoundaries(DM dm, PetscInt field, const PhysicsData *data, DirichletDatum datums[], const PetscReal *time)
+PetscErrorCode FEMAddBoundaries(DM dm, PetscInt field, const PhysicsData *data, DirichletDatum datums[],
+                                const PetscReal *time)
 {
   DMLabel label;
   PetscDS ds;
@@ -43,19 +46,23 @@ PetscErrorCode FEMAddBoundaries(DM dm, PetscInt field, const PhysicsData *data, 
     datums[b].ctx  = data->ctx;
     datums[b].time = time;
     PetscCall(PetscSNPrintf(name, sizeof(name), "dirichlet_%" PetscInt_FMT, data->dirichlet_faces[b]));
-    PetscCall(DMAddBoundary(dm, DM_BC_ESSENTIAL, name, label, 1, &data->dirichlet_faces[b], field, 0, NULL, (void (*)(void))DirichletEvaluate, NULL, &datums[b], NULL));
+    PetscCall(DMAddBoundary(dm, DM_BC_ESSENTIAL, name, label, 1, &data->dirichlet_faces[b], field, 0, NULL,
+                            (void (*)(void))DirichletEvaluate, NULL, &datums[b], NULL));
   }
   for (PetscInt b = 0; b < data->n_traction; ++b) {
     PetscWeakForm bdwf;
     PetscInt      bd;
 
     PetscCall(PetscSNPrintf(name, sizeof(name), "traction_%" PetscInt_FMT, data->traction_faces[b]));
-    PetscCall(DMAddBoundary(dm, DM_BC_NATURAL, name, label, 1, &data->traction_faces[b], field, 0, NULL, NULL, NULL, NULL, &bd));
+    PetscCall(DMAddBoundary(dm, DM_BC_NATURAL, name, label, 1, &data->traction_faces[b], field, 0, NULL, NULL, NULL,
+                            NULL, &bd));
     /* Natural boundary terms live in the boundary's own weak form, not the volume one.
        Beware: PETSc 3.18 integrates them on reversed quadrilateral faces (top, left of a
        box) with mirrored basis values; only data constant along such a face are exact. */
     PetscCall(PetscDSGetBoundary(ds, bd, &bdwf, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
-    if (data->traction_kernel[b]) PetscCall(PetscWeakFormAddBdResidual(bdwf, label, data->traction_faces[b], field, 0, data->traction_kernel[b], NULL));
+    if (data->traction_kernel[b])
+      PetscCall(
+        PetscWeakFormAddBdResidual(bdwf, label, data->traction_faces[b], field, 0, data->traction_kernel[b], NULL));
   }
   PetscFunctionReturn(0);
 }
@@ -111,7 +118,8 @@ PetscErrorCode FEMZero(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt 
   return 0;
 }
 
-PetscErrorCode FEMCreateSNES(DM dm, const char prefix[], FEMJacobianPolicy policy, PetscInt *jacobian_assemblies, SNES *snes)
+PetscErrorCode FEMCreateSNES(DM dm, const char prefix[], FEMJacobianPolicy policy, PetscInt *jacobian_assemblies,
+                             SNES *snes)
 {
   KSP ksp;
   PC  pc;
@@ -168,7 +176,8 @@ PetscErrorCode FEMSolveSteady(DM dm, const char prefix[], PetscInt *jacobian_ass
   PetscCall(SNESSetFromOptions(snes));
   PetscCall(SNESSolve(snes, NULL, x));
   PetscCall(SNESGetConvergedReason(snes, &reason));
-  PetscCheck(reason > 0, PetscObjectComm((PetscObject)dm), PETSC_ERR_NOT_CONVERGED, "%s solve failed: SNES reason %s", prefix, SNESConvergedReasons[reason]);
+  PetscCheck(reason > 0, PetscObjectComm((PetscObject)dm), PETSC_ERR_NOT_CONVERGED, "%s solve failed: SNES reason %s",
+             prefix, SNESConvergedReasons[reason]);
   PetscCall(SNESDestroy(&snes));
   *jacobian_assemblies = assemblies; /* the run's counters are for the time steps */
   PetscFunctionReturn(0);
@@ -273,7 +282,12 @@ static struct {
 } target;
 
 #define OBJECTIVE_KERNELS(F) \
-  static void ObjectiveValueError_##F(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar obj[]) \
+  static void ObjectiveValueError_##F(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], \
+                                      const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], \
+                                      const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], \
+                                      const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], \
+                                      PetscReal t, const PetscReal x[], PetscInt numConstants, \
+                                      const PetscScalar constants[], PetscScalar obj[]) \
   { \
     PetscScalar    ue[3] = {0, 0, 0}; \
     const PetscInt Nc    = uOff[F + 1] - uOff[F]; \
@@ -282,7 +296,12 @@ static struct {
     (void)target.exact[F](dim, target.t, x, Nc, ue, target.ctx); \
     for (PetscInt c = 0; c < Nc; ++c) obj[0] += PetscSqr(u[uOff[F] + c] - ue[c]); \
   } \
-  static void ObjectiveGradientError_##F(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar obj[]) \
+  static void ObjectiveGradientError_##F(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], \
+                                         const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], \
+                                         const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], \
+                                         const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], \
+                                         PetscReal t, const PetscReal x[], PetscInt numConstants, \
+                                         const PetscScalar constants[], PetscScalar obj[]) \
   { \
     PetscScalar    ge[9] = {0}; \
     const PetscInt Nc    = uOff[F + 1] - uOff[F]; \
@@ -294,7 +313,8 @@ static struct {
 OBJECTIVE_KERNELS(0)
 OBJECTIVE_KERNELS(1)
 
-PetscErrorCode FEMErrors(DM dm, Vec xglobal, PetscReal t, const FieldFn exact[], const GradientFn gradient[], void *ctx, PetscReal l2[], PetscReal h1[])
+PetscErrorCode FEMErrors(DM dm, Vec xglobal, PetscReal t, const FieldFn exact[], const GradientFn gradient[], void *ctx,
+                         PetscReal l2[], PetscReal h1[])
 {
   PetscDS     ds;
   PetscInt    Nf;
@@ -310,11 +330,13 @@ PetscErrorCode FEMErrors(DM dm, Vec xglobal, PetscReal t, const FieldFn exact[],
     target.exact[f]    = exact[f];
     target.gradient[f] = gradient ? gradient[f] : NULL;
   }
-  for (PetscInt f = 0; f < Nf; ++f) PetscCall(PetscDSSetObjective(ds, f, f == 0 ? ObjectiveValueError_0 : ObjectiveValueError_1));
+  for (PetscInt f = 0; f < Nf; ++f)
+    PetscCall(PetscDSSetObjective(ds, f, f == 0 ? ObjectiveValueError_0 : ObjectiveValueError_1));
   PetscCall(DMPlexComputeIntegralFEM(dm, xglobal, integral, NULL));
   for (PetscInt f = 0; f < Nf; ++f) l2[f] = PetscSqrtReal(PetscRealPart(integral[f]));
   if (h1) {
-    for (PetscInt f = 0; f < Nf; ++f) PetscCall(PetscDSSetObjective(ds, f, f == 0 ? ObjectiveGradientError_0 : ObjectiveGradientError_1));
+    for (PetscInt f = 0; f < Nf; ++f)
+      PetscCall(PetscDSSetObjective(ds, f, f == 0 ? ObjectiveGradientError_0 : ObjectiveGradientError_1));
     PetscCall(DMPlexComputeIntegralFEM(dm, xglobal, integral, NULL));
     for (PetscInt f = 0; f < Nf; ++f) h1[f] = PetscSqrtReal(PetscRealPart(integral[f]));
   }
@@ -358,7 +380,8 @@ PetscErrorCode FEMFreeDofs(DM dm, DM dm_all, IS *is)
       ++k;
     }
   }
-  PetscCheck(k == n, PETSC_COMM_SELF, PETSC_ERR_PLIB, "%" PetscInt_FMT " free dofs mapped, %" PetscInt_FMT " expected", k, n);
+  PetscCheck(k == n, PETSC_COMM_SELF, PETSC_ERR_PLIB, "%" PetscInt_FMT " free dofs mapped, %" PetscInt_FMT " expected",
+             k, n);
   PetscCall(ISCreateGeneral(PetscObjectComm((PetscObject)dm), n, idx, PETSC_OWN_POINTER, is));
   PetscFunctionReturn(0);
 }

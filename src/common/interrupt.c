@@ -1,7 +1,7 @@
 #include <signal.h>
 #include "interrupt.h"
 
-static volatile sig_atomic_t caught = 0;
+static volatile sig_atomic_t caught      = 0;
 static PetscInt              test_step   = 0; /* -interrupt_test_step */
 static int                   test_signal = SIGTERM;
 
@@ -19,21 +19,25 @@ PetscErrorCode InterruptInstall(void)
   action.sa_handler = Catch;
   action.sa_flags   = SA_RESETHAND; /* the second signal takes the default action */
   sigemptyset(&action.sa_mask);
-  PetscCheck(sigaction(SIGINT, &action, NULL) == 0 && sigaction(SIGTERM, &action, NULL) == 0, PETSC_COMM_SELF, PETSC_ERR_SYS, "cannot install the SIGINT/SIGTERM handler");
+  PetscCheck(sigaction(SIGINT, &action, NULL) == 0 && sigaction(SIGTERM, &action, NULL) == 0, PETSC_COMM_SELF,
+             PETSC_ERR_SYS, "cannot install the SIGINT/SIGTERM handler");
   PetscFunctionReturn(0);
 }
 
 /* Tests need a signal that lands after a known step, on a loaded machine as on an idle one. */
 PetscErrorCode InterruptSetFromOptions(void)
 {
-  const char *const names[] = {"SIGTERM", "SIGINT", "SIGKILL"};
+  const char *const names[]   = {"SIGTERM", "SIGINT", "SIGKILL"};
   const int         numbers[] = {SIGTERM, SIGINT, SIGKILL};
-  PetscInt          which = 0;
+  PetscInt          which     = 0;
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Signals", "fsiopt");
-  PetscCall(PetscOptionsInt("-interrupt_test_step", "testing: the process sends itself -interrupt_test_signal after this step (0: never)", NULL, test_step, &test_step, NULL));
-  PetscCall(PetscOptionsEList("-interrupt_test_signal", "testing: the signal of -interrupt_test_step", NULL, names, 3, names[which], &which, NULL));
+  PetscCall(PetscOptionsInt("-interrupt_test_step",
+                            "testing: the process sends itself -interrupt_test_signal after this step (0: never)", NULL,
+                            test_step, &test_step, NULL));
+  PetscCall(PetscOptionsEList("-interrupt_test_signal", "testing: the signal of -interrupt_test_step", NULL, names, 3,
+                              names[which], &which, NULL));
   PetscOptionsEnd();
   test_signal = numbers[which];
   PetscFunctionReturn(0);
@@ -42,7 +46,9 @@ PetscErrorCode InterruptSetFromOptions(void)
 PetscErrorCode InterruptTestAfterStep(PetscInt step)
 {
   PetscFunctionBeginUser;
-  if (test_step > 0 && step == test_step) PetscCheck(raise(test_signal) == 0, PETSC_COMM_SELF, PETSC_ERR_SYS, "option -interrupt_test_step: cannot raise the signal");
+  if (test_step > 0 && step == test_step)
+    PetscCheck(raise(test_signal) == 0, PETSC_COMM_SELF, PETSC_ERR_SYS,
+               "option -interrupt_test_step: cannot raise the signal");
   PetscFunctionReturn(0);
 }
 

@@ -3,35 +3,45 @@
 #include <string.h>
 #include <sys/stat.h>
 
-PetscErrorCode OptionsPositiveReal(PetscOptionItems *PetscOptionsObject, const char opt[], const char text[], PetscReal *value)
+PetscErrorCode OptionsPositiveReal(PetscOptionItems *PetscOptionsObject, const char opt[], const char text[],
+                                   PetscReal *value)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsReal(opt, text, NULL, *value, value, NULL));
-  PetscCheck(*value > 0 && !PetscIsInfOrNanReal(*value), PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "option %s: expected a positive number (%s), got %g", opt, text, (double)*value);
+  PetscCheck(*value > 0 && !PetscIsInfOrNanReal(*value), PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "option %s: expected a positive number (%s), got %g", opt, text, (double)*value);
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode OptionsNonNegativeReal(PetscOptionItems *PetscOptionsObject, const char opt[], const char text[], PetscReal *value)
+PetscErrorCode OptionsNonNegativeReal(PetscOptionItems *PetscOptionsObject, const char opt[], const char text[],
+                                      PetscReal *value)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsReal(opt, text, NULL, *value, value, NULL));
-  PetscCheck(*value >= 0 && !PetscIsInfOrNanReal(*value), PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "option %s: expected a number >= 0 (%s), got %g", opt, text, (double)*value);
+  PetscCheck(*value >= 0 && !PetscIsInfOrNanReal(*value), PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "option %s: expected a number >= 0 (%s), got %g", opt, text, (double)*value);
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode OptionsRealInRange(PetscOptionItems *PetscOptionsObject, const char opt[], const char text[], PetscReal lo, PetscReal hi, PetscReal *value)
+PetscErrorCode OptionsRealInRange(PetscOptionItems *PetscOptionsObject, const char opt[], const char text[],
+                                  PetscReal lo, PetscReal hi, PetscReal *value)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsReal(opt, text, NULL, *value, value, NULL));
-  PetscCheck(*value > lo && *value < hi, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "option %s: expected a number in (%g, %g) (%s), got %g", opt, (double)lo, (double)hi, text, (double)*value);
+  PetscCheck(*value > lo && *value < hi, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "option %s: expected a number in (%g, %g) (%s), got %g", opt, (double)lo, (double)hi, text,
+             (double)*value);
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode OptionsIntInRange(PetscOptionItems *PetscOptionsObject, const char opt[], const char text[], PetscInt lo, PetscInt hi, PetscInt *value)
+PetscErrorCode OptionsIntInRange(PetscOptionItems *PetscOptionsObject, const char opt[], const char text[], PetscInt lo,
+                                 PetscInt hi, PetscInt *value)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsInt(opt, text, NULL, *value, value, NULL));
-  PetscCheck(*value >= lo && *value <= hi, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "option %s: expected an integer in [%" PetscInt_FMT ", %" PetscInt_FMT "] (%s), got %" PetscInt_FMT, opt, lo, hi, text, *value);
+  PetscCheck(*value >= lo && *value <= hi, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "option %s: expected an integer in [%" PetscInt_FMT ", %" PetscInt_FMT "] (%s), got %" PetscInt_FMT, opt,
+             lo, hi, text, *value);
   PetscFunctionReturn(0);
 }
 
@@ -87,7 +97,8 @@ PetscErrorCode CheckReadableFile(MPI_Comm comm, const char opt[], const char pat
 /* The first message of an error is the one that names the cause; PetscCall repeats it up the stack. */
 static char first_message[1024];
 
-static PetscErrorCode RecordFirstMessage(MPI_Comm comm, int line, const char *func, const char *file, PetscErrorCode n, PetscErrorType p, const char *mess, void *ctx)
+static PetscErrorCode RecordFirstMessage(MPI_Comm comm, int line, const char *func, const char *file, PetscErrorCode n,
+                                         PetscErrorType p, const char *mess, void *ctx)
 {
   (void)comm;
   (void)ctx;
@@ -96,7 +107,9 @@ static PetscErrorCode RecordFirstMessage(MPI_Comm comm, int line, const char *fu
        Ours are compiled as src/... (the Makefile's paths); Debian's PETSc as ./src/... */
     const PetscBool ours = file && strncmp(file, "src/", 4) == 0 ? PETSC_TRUE : PETSC_FALSE;
     if (mess && mess[0] && ours) PetscSNPrintf(first_message, sizeof(first_message), "%s", mess);
-    else PetscSNPrintf(first_message, sizeof(first_message), "%s (PETSc error %d in %s() at %s:%d)", mess && mess[0] ? mess : "PETSc error", (int)n, func, file, line);
+    else
+      PetscSNPrintf(first_message, sizeof(first_message), "%s (PETSc error %d in %s() at %s:%d)",
+                    mess && mess[0] ? mess : "PETSc error", (int)n, func, file, line);
   }
   return n;
 }
@@ -138,7 +151,8 @@ static PetscErrorCode RecordDefault(const char opt[])
 {
   PetscFunctionBeginUser;
   if (n_set_defaults == 0) PetscCall(PetscRegisterFinalize(ForgetDefaults));
-  if (n_set_defaults == OPTIONS_MAX_DEFAULTS) PetscFunctionReturn(0); /* the check then reports it: a false alarm, not a miss */
+  if (n_set_defaults == OPTIONS_MAX_DEFAULTS)
+    PetscFunctionReturn(0); /* the check then reports it: a false alarm, not a miss */
   PetscCall(PetscStrallocpy(opt[0] == '-' ? opt + 1 : opt, &set_defaults[n_set_defaults++]));
   PetscFunctionReturn(0);
 }
@@ -161,7 +175,8 @@ static size_t EditDistance(const char *a, const char *b)
     size_t diagonal = row[0];
     row[0]          = i;
     for (size_t j = 1; j <= lb; ++j) {
-      const size_t above = row[j], best = PetscMin(PetscMin(row[j] + 1, row[j - 1] + 1), diagonal + (a[i - 1] != b[j - 1]));
+      const size_t above = row[j],
+                   best  = PetscMin(PetscMin(row[j] + 1, row[j - 1] + 1), diagonal + (a[i - 1] != b[j - 1]));
       diagonal           = above;
       row[j]             = best;
     }
@@ -172,8 +187,42 @@ static size_t EditDistance(const char *a, const char *b)
 /* fsiopt's own options (build/known_options.c, made by make from the string literals of
    src/), and the PETSc solver options users most often give, under fsiopt's prefixes. */
 extern const char *const fsiopt_known_options[];
-static const char *const solver_prefixes[] = {"fluid_", "structure_", "mesh_", "fluid_dirichlet_", "tao_brgn_subsolver_tao_bnk_", "", NULL};
-static const char *const solver_options[]  = {"snes_type", "snes_rtol", "snes_atol", "snes_stol", "snes_max_it", "snes_monitor", "snes_converged_reason", "snes_linesearch_type", "snes_lag_jacobian", "snes_test_jacobian", "ksp_type", "ksp_rtol", "ksp_atol", "ksp_max_it", "ksp_monitor", "ksp_converged_reason", "ksp_view", "ksp_gmres_restart", "pc_type", "pc_factor_mat_solver_type", "pc_fieldsplit_type", "pc_gamg_type", "pc_hypre_type", "snes_view", "tao_type", "tao_monitor", "tao_view", "tao_ls_type", "log_view", "options_left", "malloc_debug", "malloc_dump", "info", NULL};
+static const char *const solver_prefixes[] =
+  {"fluid_", "structure_", "mesh_", "fluid_dirichlet_", "tao_brgn_subsolver_tao_bnk_", "", NULL};
+static const char *const solver_options[] = {"snes_type",
+                                             "snes_rtol",
+                                             "snes_atol",
+                                             "snes_stol",
+                                             "snes_max_it",
+                                             "snes_monitor",
+                                             "snes_converged_reason",
+                                             "snes_linesearch_type",
+                                             "snes_lag_jacobian",
+                                             "snes_test_jacobian",
+                                             "ksp_type",
+                                             "ksp_rtol",
+                                             "ksp_atol",
+                                             "ksp_max_it",
+                                             "ksp_monitor",
+                                             "ksp_converged_reason",
+                                             "ksp_view",
+                                             "ksp_gmres_restart",
+                                             "pc_type",
+                                             "pc_factor_mat_solver_type",
+                                             "pc_fieldsplit_type",
+                                             "pc_gamg_type",
+                                             "pc_hypre_type",
+                                             "snes_view",
+                                             "tao_type",
+                                             "tao_monitor",
+                                             "tao_view",
+                                             "tao_ls_type",
+                                             "log_view",
+                                             "options_left",
+                                             "malloc_debug",
+                                             "malloc_dump",
+                                             "info",
+                                             NULL};
 
 static void Nearest(const char name[], char best[], size_t len)
 {
@@ -235,7 +284,10 @@ PetscErrorCode OptionsCheckUnused(MPI_Comm comm, PetscBool after_first_step)
   PetscFunctionBeginUser;
   if (!after_first_step) {
     PetscOptionsBegin(comm, NULL, "Options nothing reads", "fsiopt");
-    PetscCall(PetscOptionsBool("-options_allow_unused", "an option that nothing reads is a warning, not an error (for options meant for other tools)", NULL, allow, &allow, NULL));
+    PetscCall(
+      PetscOptionsBool("-options_allow_unused",
+                       "an option that nothing reads is a warning, not an error (for options meant for other tools)",
+                       NULL, allow, &allow, NULL));
     PetscOptionsEnd();
   } else PetscCall(PetscOptionsGetBool(NULL, NULL, "-options_allow_unused", &allow, NULL));
   PetscCall(PetscOptionsLeftGet(NULL, &n, &names, &values));
@@ -257,13 +309,24 @@ PetscErrorCode OptionsCheckUnused(MPI_Comm comm, PetscBool after_first_step)
     }
   }
   PetscCall(PetscOptionsLeftRestore(NULL, &n, &names, &values));
-  if (unread[0]) PetscCall(PetscPrintf(comm, "fsiopt: warning: option%s %s: not read by this set-up (%s to another scene, coupling method or solver)\n", strchr(unread, ',') ? "s" : "", unread, strchr(unread, ',') ? "they belong" : "it belongs"));
+  if (unread[0])
+    PetscCall(PetscPrintf(comm,
+                          "fsiopt: warning: option%s %s: not read by this set-up (%s to another scene, coupling method "
+                          "or solver)\n",
+                          strchr(unread, ',') ? "s" : "", unread, strchr(unread, ',') ? "they belong" : "it belongs"));
   if (!n_unknown) PetscFunctionReturn(0);
   {
     char message[3072];
-    PetscCall(PetscSNPrintf(message, sizeof(message), "option%s %s: nothing %s%s%s%s%s", n_unknown > 1 ? "s" : "", unknown, after_first_step ? "read it in the first step, where the solvers read their viewers and tests" : "reads it", n_unknown > 1 ? " (them)" : "", n_suggested ? " (the nearest known: " : "", nearest, n_suggested ? ")" : ""));
+    PetscCall(
+      PetscSNPrintf(message, sizeof(message), "option%s %s: nothing %s%s%s%s%s", n_unknown > 1 ? "s" : "", unknown,
+                    after_first_step ? "read it in the first step, where the solvers read their viewers and tests"
+                                     : "reads it",
+                    n_unknown > 1 ? " (them)" : "", n_suggested ? " (the nearest known: " : "", nearest,
+                    n_suggested ? ")" : ""));
     if (allow) PetscCall(PetscPrintf(comm, "fsiopt: warning: %s; let through by -options_allow_unused\n", message));
-    else SETERRQ(comm, PETSC_ERR_ARG_WRONG, "%s; -options_allow_unused lets %s through", message, n_unknown > 1 ? "them" : "it");
+    else
+      SETERRQ(comm, PETSC_ERR_ARG_WRONG, "%s; -options_allow_unused lets %s through", message,
+              n_unknown > 1 ? "them" : "it");
   }
   PetscFunctionReturn(0);
 }

@@ -13,10 +13,11 @@ struct _p_Acceleration {
   PetscReal omega;     /* the relaxation of a step without a model (-coupling_omega); aitken: the one in use */
   PetscInt  model_its; /* the first iterations build a model: the divergence test waits for them */
   struct {
-    PetscErrorCode (*setup)(Acceleration, Vec model);                               /* its options and work vectors */
-    PetscErrorCode (*begin_step)(Acceleration, PetscInt step);                      /* may be NULL */
+    PetscErrorCode (*setup)(Acceleration, Vec model);          /* its options and work vectors */
+    PetscErrorCode (*begin_step)(Acceleration, PetscInt step); /* may be NULL */
     PetscErrorCode (*update)(Acceleration, PetscInt step, PetscInt k, Vec u, Vec sweep, Vec r); /* u_k -> u_{k+1} */
-    PetscErrorCode (*reset)(Acceleration);   /* forget what was learnt with another dt or before a checkpoint; may be NULL */
+    PetscErrorCode (*reset)(
+      Acceleration); /* forget what was learnt with another dt or before a checkpoint; may be NULL */
     PetscErrorCode (*destroy)(Acceleration); /* may be NULL */
   } ops;
   void *data;

@@ -25,7 +25,8 @@ static PetscErrorCode AitkenBeginStep(Acceleration acc, PETSC_UNUSED PetscInt st
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode AitkenUpdate(Acceleration acc, PETSC_UNUSED PetscInt step, PetscInt k, Vec u, PETSC_UNUSED Vec sweep, Vec r)
+static PetscErrorCode AitkenUpdate(Acceleration acc, PETSC_UNUSED PetscInt step, PetscInt k, Vec u,
+                                   PETSC_UNUSED Vec sweep, Vec r)
 {
   Aitken *ai = (Aitken *)acc->data;
 

@@ -3,7 +3,8 @@
    light wall it diverges (the added-mass effect), which is what it is kept to show. */
 #include "acceleration.h"
 
-static PetscErrorCode ConstantUpdate(Acceleration acc, PETSC_UNUSED PetscInt step, PETSC_UNUSED PetscInt k, Vec u, PETSC_UNUSED Vec sweep, Vec r)
+static PetscErrorCode ConstantUpdate(Acceleration acc, PETSC_UNUSED PetscInt step, PETSC_UNUSED PetscInt k, Vec u,
+                                     PETSC_UNUSED Vec sweep, Vec r)
 {
   PetscFunctionBeginUser;
   PetscCall(VecAXPY(u, acc->omega, r));

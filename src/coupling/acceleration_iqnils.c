@@ -23,9 +23,14 @@ static PetscErrorCode IQNILSSetUp(Acceleration acc, Vec model)
   qn->max_cols = 100;
   qn->filter   = 1e-8;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Interface quasi-Newton (IQN-ILS)", "coupling");
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_iqn_reuse", "iqnils: reuse the columns of this many previous time steps", 0, 1000, &qn->reuse));
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_iqn_columns", "iqnils: at most this many columns", 1, 10000, &qn->max_cols));
-  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_iqn_filter", "iqnils: drop a column whose part orthogonal to the newer ones is below this fraction of its norm", &qn->filter));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_iqn_reuse",
+                              "iqnils: reuse the columns of this many previous time steps", 0, 1000, &qn->reuse));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_iqn_columns", "iqnils: at most this many columns", 1,
+                              10000, &qn->max_cols));
+  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_iqn_filter",
+                                "iqnils: drop a column whose part orthogonal to the newer ones is below this fraction "
+                                "of its norm",
+                                &qn->filter));
   PetscOptionsEnd();
   PetscCall(VecDuplicate(model, &qn->r_before));
   PetscCall(VecDuplicate(model, &qn->sweep_before));
@@ -43,7 +48,8 @@ static PetscErrorCode IQNILSBeginStep(Acceleration acc, PetscInt step)
   IQNILS *qn = (IQNILS *)acc->data;
 
   PetscFunctionBeginUser;
-  while (qn->ncols > 0 && (qn->ncols > qn->max_cols || qn->col_step[qn->ncols - 1] <= step - 1 - qn->reuse)) qn->ncols--;
+  while (qn->ncols > 0 && (qn->ncols > qn->max_cols || qn->col_step[qn->ncols - 1] <= step - 1 - qn->reuse))
+    qn->ncols--;
   PetscFunctionReturn(0);
 }
 

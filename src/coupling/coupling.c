@@ -50,7 +50,8 @@ PetscErrorCode CouplingCheckMethod(const char method[])
   PetscCall(PetscFunctionListFind(CouplingList, method, &create));
   if (create) PetscFunctionReturn(0);
   PetscCall(CouplingListNames(names, sizeof(names)));
-  SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_ARG_UNKNOWN_TYPE, "option -coupling %s: unknown coupling method; expected one of: %s", method, names);
+  SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_ARG_UNKNOWN_TYPE,
+          "option -coupling %s: unknown coupling method; expected one of: %s", method, names);
 }
 
 PetscErrorCode CouplingFinalize(void)
@@ -60,7 +61,8 @@ PetscErrorCode CouplingFinalize(void)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, const char output_dir[], PetscReal t0, PetscReal dt, Coupling *coupling)
+PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, const char output_dir[], PetscReal t0,
+                              PetscReal dt, Coupling *coupling)
 {
   Coupling C;
   PetscInt degree, points;
@@ -77,11 +79,21 @@ PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, cons
   PetscCall((*create)(C));
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Coupling options", "coupling");
   degree = 1;
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_extrapolation", "each step starts from the control extrapolated from the last K+1 steps by a polynomial of degree K (0: the last control, seed Remark 3.4)", 0, FSIOPT_EXTRAPOLATION_MAX, &degree));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_extrapolation",
+                              "each step starts from the control extrapolated from the last K+1 steps by a polynomial "
+                              "of degree K (0: the last control, seed Remark 3.4)",
+                              0, FSIOPT_EXTRAPOLATION_MAX, &degree));
   points = degree + 1;
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_extrapolation_points", "fit that polynomial by least squares to the last M >= K+1 steps: a larger M damps the error of controls accepted at the tolerance", 1, FSIOPT_EXTRAPOLATION_POINTS_MAX, &points));
-  PetscCheck(points > degree, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "option -coupling_extrapolation_points: expected at least -coupling_extrapolation + 1 = %" PetscInt_FMT " steps, got %" PetscInt_FMT, degree + 1, points);
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_max_it", "coupling iterations per step before the step fails", 1, 100000, &C->max_it));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_extrapolation_points",
+                              "fit that polynomial by least squares to the last M >= K+1 steps: a larger M damps the "
+                              "error of controls accepted at the tolerance",
+                              1, FSIOPT_EXTRAPOLATION_POINTS_MAX, &points));
+  PetscCheck(points > degree, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "option -coupling_extrapolation_points: expected at least -coupling_extrapolation + 1 = %" PetscInt_FMT
+             " steps, got %" PetscInt_FMT,
+             degree + 1, points);
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_max_it",
+                              "coupling iterations per step before the step fails", 1, 100000, &C->max_it));
   PetscOptionsEnd();
   C->stats.max_jump = 0;
   PetscCall(CouplingProblemCreateControl(problem, &C->x));
@@ -141,7 +153,10 @@ PetscErrorCode CouplingStep(Coupling C, PetscInt step)
     char label[64];
     CouplingLabel(C, label, sizeof(label));
     C->stats.stalled_steps++;
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fsiopt: warning: step %" PetscInt_FMT " stalled after %" PetscInt_FMT " iterations (%s) at interface jump %.3e\n", step, it.iterations, label, (double)it.jump));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD,
+                          "fsiopt: warning: step %" PetscInt_FMT " stalled after %" PetscInt_FMT
+                          " iterations (%s) at interface jump %.3e\n",
+                          step, it.iterations, label, (double)it.jump));
   }
   C->stats.max_jump = PetscMax(C->stats.max_jump, it.jump);
   PetscFunctionReturn(0);
@@ -176,7 +191,9 @@ PetscErrorCode CouplingLogRetry(Coupling C, PetscInt step, const char event[])
 PetscErrorCode CouplingCheckpoint(Coupling C, Checkpoint cp, PetscBool load)
 {
   PetscFunctionBeginUser;
-  PetscCheck(C->ops.restartable || !CheckpointIsFile(cp), PETSC_COMM_WORLD, PETSC_ERR_SUP, "option %s: checkpoints are supported for -coupling opt, not %s (its past iterates are not saved)", load ? "-restart" : "-checkpoint_every", C->method);
+  PetscCheck(C->ops.restartable || !CheckpointIsFile(cp), PETSC_COMM_WORLD, PETSC_ERR_SUP,
+             "option %s: checkpoints are supported for -coupling opt, not %s (its past iterates are not saved)",
+             load ? "-restart" : "-checkpoint_every", C->method);
   PetscCall(CheckpointPushGroup(cp, "/coupling"));
   PetscCall(CheckpointVec(cp, "control", C->x, load));
   PetscCall(ExtrapolationCheckpoint(&C->start, cp, "control", load));

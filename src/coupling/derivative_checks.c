@@ -42,7 +42,9 @@ PetscErrorCode CouplingProblemTestAdjoint(CouplingProblem P, Vec x)
   PetscCall(VecCopy(rho, b));
   PetscCall(VecAbs(b));
   PetscCall(VecDot(a, b, &scale));
-  PetscCall(PetscPrintf(P->comm, "adjoint test: <J h, r> = %.16e  <h, J^T r> = %.16e  relative difference %.3e\n", (double)PetscRealPart(lhs), (double)PetscRealPart(rhs), (double)(PetscAbsScalar(lhs - rhs) / PetscRealPart(scale))));
+  PetscCall(PetscPrintf(P->comm, "adjoint test: <J h, r> = %.16e  <h, J^T r> = %.16e  relative difference %.3e\n",
+                        (double)PetscRealPart(lhs), (double)PetscRealPart(rhs),
+                        (double)(PetscAbsScalar(lhs - rhs) / PetscRealPart(scale))));
   PetscCall(VecDestroy(&h));
   PetscCall(VecDestroy(&rho));
   PetscCall(VecDestroy(&Jh));
@@ -60,8 +62,10 @@ PetscErrorCode CouplingProblemTestTaylor(CouplingProblem P, Vec x)
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(P->comm, NULL, "Taylor test", "coupling");
-  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_test_taylor_t0", "largest step t of the Taylor test, relative to max(||x||, 1)", &t));
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_test_taylor_steps", "halvings of t in the Taylor test", 2, 30, &n));
+  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_test_taylor_t0",
+                                "largest step t of the Taylor test, relative to max(||x||, 1)", &t));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_test_taylor_steps", "halvings of t in the Taylor test", 2,
+                              30, &n));
   PetscOptionsEnd();
   PetscCall(VecDuplicate(x, &h));
   PetscCall(VecDuplicate(x, &F0));
@@ -83,8 +87,12 @@ PetscErrorCode CouplingProblemTestTaylor(CouplingProblem P, Vec x)
     PetscCall(VecAXPY(Ft, -1.0, F0));
     PetscCall(VecAXPY(Ft, -t, Jh));
     PetscCall(VecNorm(Ft, NORM_2, &remainder));
-    if (k) PetscCall(PetscPrintf(P->comm, "Taylor test: t = %.4e  ||F(x+th) - F(x) - t J h|| = %.6e  ratio %.4f\n", (double)t, (double)remainder, (double)(previous / remainder)));
-    else PetscCall(PetscPrintf(P->comm, "Taylor test: t = %.4e  ||F(x+th) - F(x) - t J h|| = %.6e\n", (double)t, (double)remainder));
+    if (k)
+      PetscCall(PetscPrintf(P->comm, "Taylor test: t = %.4e  ||F(x+th) - F(x) - t J h|| = %.6e  ratio %.4f\n",
+                            (double)t, (double)remainder, (double)(previous / remainder)));
+    else
+      PetscCall(PetscPrintf(P->comm, "Taylor test: t = %.4e  ||F(x+th) - F(x) - t J h|| = %.6e\n", (double)t,
+                            (double)remainder));
     previous = remainder;
   }
   PetscCall(EnsureState(P, x));

@@ -1,8 +1,8 @@
 #include "explicit_jacobian.h"
 
 struct _p_ExplicitJacobian {
-  Mat        J;       /* the Jacobian shell */
-  Mat        J0;      /* dense, sequential, the same on every rank */
+  Mat        J;            /* the Jacobian shell */
+  Mat        J0;           /* dense, sequential, the same on every rank */
   Vec        e, all, y, z; /* e: the control layout */
   VecScatter to_all;
   PetscBool  rebuild, factored;
@@ -25,7 +25,8 @@ static PetscErrorCode Build(ExplicitJacobian E)
   /* the fewest blocks of at most E->block columns, all of one width; the last one's
      unused columns are zero */
   const PetscInt nblocks = (N + E->block - 1) / E->block, width = (N + nblocks - 1) / nblocks;
-  if (!E->units) PetscCall(MatCreateDense(PetscObjectComm((PetscObject)E->J), n, PETSC_DECIDE, N, width, NULL, &E->units));
+  if (!E->units)
+    PetscCall(MatCreateDense(PetscObjectComm((PetscObject)E->J), n, PETSC_DECIDE, N, width, NULL, &E->units));
   for (PetscInt first = 0; first < N; first += width) {
     const PetscInt columns = PetscMin(width, N - first);
 

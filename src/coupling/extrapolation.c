@@ -31,7 +31,7 @@ PetscErrorCode ExtrapolationRecord(Extrapolation *e, Vec x)
    signs when n = degree + 1): w = V y with (V^T V) y = e_0, V the Vandermonde matrix. */
 static void ExtrapolationWeights(PetscInt degree, PetscInt n, PetscScalar w[])
 {
-  const PetscInt m = degree + 1;
+  const PetscInt m                                                                = degree + 1;
   PetscReal      gram[FSIOPT_EXTRAPOLATION_MAX + 1][FSIOPT_EXTRAPOLATION_MAX + 2] = {{0}};
 
   for (PetscInt r = 0; r < m; ++r) {
@@ -79,7 +79,10 @@ PetscErrorCode ExtrapolationCheckpoint(Extrapolation *e, Checkpoint cp, const ch
   PetscFunctionBeginUser;
   PetscCall(PetscSNPrintf(key, sizeof(key), "past_%ss", name));
   PetscCall(CheckpointInt(cp, key, &e->npast, load));
-  PetscCheck(e->npast <= e->points, PETSC_COMM_WORLD, PETSC_ERR_FILE_UNEXPECTED, "option -restart: the checkpoint keeps %" PetscInt_FMT " past %ss, -coupling_extrapolation_points is %" PetscInt_FMT, e->npast, name, e->points);
+  PetscCheck(e->npast <= e->points, PETSC_COMM_WORLD, PETSC_ERR_FILE_UNEXPECTED,
+             "option -restart: the checkpoint keeps %" PetscInt_FMT
+             " past %ss, -coupling_extrapolation_points is %" PetscInt_FMT,
+             e->npast, name, e->points);
   for (PetscInt i = 0; i < e->npast; ++i) {
     PetscCall(PetscSNPrintf(key, sizeof(key), "past_%s_%" PetscInt_FMT, name, i));
     PetscCall(CheckpointVec(cp, key, e->past[i], load));

@@ -26,9 +26,9 @@ typedef struct {
   PetscReal  last_jump, first_jump;
   /* the explicit-Jacobian preconditioner of the inner CG (explicit_jacobian.c) */
   ExplicitJacobian explicit_jacobian;
-  PetscInt   rebuild_every, build_block;
-  PetscInt   rebuild_inner; /* and when a Gauss-Newton iteration's CG needed more than this */
-  PetscInt   last_iteration;
+  PetscInt         rebuild_every, build_block;
+  PetscInt         rebuild_inner; /* and when a Gauss-Newton iteration's CG needed more than this */
+  PetscInt         last_iteration;
 } Opt;
 
 static PetscErrorCode Residual(Tao tao, Vec x, Vec F, void *ctx)
@@ -86,7 +86,7 @@ static PetscErrorCode ConvergenceTest(Tao tao, void *ctx)
   TaoConvergedReason reason;
   Vec                x;
 
-  const char        *failure;
+  const char *failure;
 
   PetscFunctionBeginUser;
   PetscCall(TaoGetSolutionStatus(tao, &its, &f, NULL, NULL, NULL, &reason));
@@ -103,14 +103,16 @@ static PetscErrorCode ConvergenceTest(Tao tao, void *ctx)
   PetscCall(TaoGetLinearSolveIterations(tao, &inner_total));
   PetscCall(HistoryAppend(C->history, opt->step, C->dt, its, f, jump, inner_total - opt->inner_seen));
   /* J moved away from the explicit one (a flag swinging): build it anew for the next solve */
-  if (opt->explicit_jacobian && opt->rebuild_inner > 0 && inner_total - opt->inner_seen > opt->rebuild_inner) PetscCall(ExplicitJacobianRequestRebuild(opt->explicit_jacobian));
+  if (opt->explicit_jacobian && opt->rebuild_inner > 0 && inner_total - opt->inner_seen > opt->rebuild_inner)
+    PetscCall(ExplicitJacobianRequestRebuild(opt->explicit_jacobian));
   C->stats.inner_iterations += inner_total - opt->inner_seen;
-  opt->inner_seen     = inner_total;
-  opt->last_jump      = jump;
+  opt->inner_seen = inner_total;
+  opt->last_jump  = jump;
   if (its <= C->max_it) opt->objectives[its] = f;
   if (its == 0) opt->first_jump = jump;
   if (jump <= opt->tol) reason = TAO_CONVERGED_USER;
-  else if (PetscIsInfOrNanReal(jump) || (its > 0 && jump > 1e3 * opt->first_jump)) reason = TAO_DIVERGED_USER; /* blowing up */
+  else if (PetscIsInfOrNanReal(jump) || (its > 0 && jump > 1e3 * opt->first_jump))
+    reason = TAO_DIVERGED_USER; /* blowing up */
   else if (its >= opt->stall_its && f > 0.99 * opt->objectives[its - opt->stall_its]) {
     reason       = TAO_CONVERGED_USER;
     opt->stalled = PETSC_TRUE;
@@ -144,7 +146,8 @@ static PetscErrorCode OptIterate(Coupling C, PetscInt step, CouplingIterations *
   if (step == 1 && opt->test_adjoint) PetscCall(CouplingProblemTestAdjoint(C->problem, C->x));
   if (step == 1 && opt->test_taylor) PetscCall(CouplingProblemTestTaylor(C->problem, C->x));
   opt->inner_seen = 0; /* TaoSolve restarts TAO's count */
-  if (opt->explicit_jacobian && opt->rebuild_every > 0 && (step - 1) % opt->rebuild_every == 0) PetscCall(ExplicitJacobianRequestRebuild(opt->explicit_jacobian));
+  if (opt->explicit_jacobian && opt->rebuild_every > 0 && (step - 1) % opt->rebuild_every == 0)
+    PetscCall(ExplicitJacobianRequestRebuild(opt->explicit_jacobian));
   PetscCall(TaoSetSolution(opt->tao, C->x));
   PetscCall(PetscLogStagePush(FSIOPT_STAGE_OPTIMIZER));
   PetscCall(TaoSolve(opt->tao));
@@ -156,17 +159,25 @@ static PetscErrorCode OptIterate(Coupling C, PetscInt step, CouplingIterations *
   it->stalled          = opt->stalled && opt->last_jump > opt->tol ? PETSC_TRUE : PETSC_FALSE;
   PetscCall(CouplingProblemGetFailure(C->problem, &failure));
   if (failure) {
-    PetscCall(StepFailureSet(&C->failure, "coupling opt (%s) at step %" PetscInt_FMT ", iteration %" PetscInt_FMT ": %s", C->ops.optimizer(C), step, opt->last_iteration, failure));
+    PetscCall(StepFailureSet(&C->failure,
+                             "coupling opt (%s) at step %" PetscInt_FMT ", iteration %" PetscInt_FMT ": %s",
+                             C->ops.optimizer(C), step, opt->last_iteration, failure));
     PetscFunctionReturn(0);
   }
-  if (reason <= 0) PetscCall(StepFailureSet(&C->failure, "coupling opt (%s) failed at step %" PetscInt_FMT ", iteration %" PetscInt_FMT ": TAO reason %s, interface jump %.3e > -coupling_tol %.3e%s", C->ops.optimizer(C), step, opt->last_iteration, TaoConvergedReasons[reason], (double)opt->last_jump, (double)opt->tol, reason == TAO_DIVERGED_USER ? " (the jump grew 1000-fold: diverging)" : ""));
+  if (reason <= 0)
+    PetscCall(StepFailureSet(&C->failure,
+                             "coupling opt (%s) failed at step %" PetscInt_FMT ", iteration %" PetscInt_FMT
+                             ": TAO reason %s, interface jump %.3e > -coupling_tol %.3e%s",
+                             C->ops.optimizer(C), step, opt->last_iteration, TaoConvergedReasons[reason],
+                             (double)opt->last_jump, (double)opt->tol,
+                             reason == TAO_DIVERGED_USER ? " (the jump grew 1000-fold: diverging)" : ""));
   PetscFunctionReturn(0);
 }
 
 static const char *OptOptimizer(Coupling C)
 {
-  Opt      *opt = (Opt *)C->data;
-  TaoType   type;
+  Opt    *opt = (Opt *)C->data;
+  TaoType type;
   (void)TaoGetType(opt->tao, &type);
   return type;
 }
@@ -195,15 +206,31 @@ static PetscErrorCode OptSetUp(Coupling C)
   opt->stall_its = 5;
   opt->tol       = 1e-10;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Optimization-based coupling", "coupling");
-  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_tol", "stop when ||u - v_s||_{L2(Gamma_I)} falls below this", &opt->tol));
+  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_tol",
+                                "stop when ||u - v_s||_{L2(Gamma_I)} falls below this", &opt->tol));
   opt->rebuild_every = 0;
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian", "Precondition the inner CG with the LU of an explicitly built J, rebuilt every K steps (0: no preconditioner, the seed's plain CGLS)", 0, 1000000, &opt->rebuild_every));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian",
+                              "Precondition the inner CG with the LU of an explicitly built J, rebuilt every K steps "
+                              "(0: no preconditioner, the seed's plain CGLS)",
+                              0, 1000000, &opt->rebuild_every));
   opt->build_block = 32;
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian_block", "build that J from products J [e_j ...] of at most this many columns (all blocks of one width), one multi-right-hand-side solve each (1: one solve per control)", 1, 100000, &opt->build_block));
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian_rebuild_its", "also rebuild that J after a Gauss-Newton iteration whose CG needed more than N iterations (0: only every K steps)", 0, 1000000, &opt->rebuild_inner));
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_stall_its", "stop a step as stalled when the objective has not improved by 1% over this many iterations", 1, 1000, &opt->stall_its));
-  PetscCall(PetscOptionsBool("-coupling_test_adjoint", "At the first step, check <J h, r> = <h, J^T r> for random h, r", NULL, opt->test_adjoint, &opt->test_adjoint, NULL));
-  PetscCall(PetscOptionsBool("-coupling_test_taylor", "At the first step, print the Taylor remainders ||F(x+th) - F(x) - t J h|| for halving t", NULL, opt->test_taylor, &opt->test_taylor, NULL));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian_block",
+                              "build that J from products J [e_j ...] of at most this many columns (all blocks of one "
+                              "width), one multi-right-hand-side solve each (1: one solve per control)",
+                              1, 100000, &opt->build_block));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian_rebuild_its",
+                              "also rebuild that J after a Gauss-Newton iteration whose CG needed more than N "
+                              "iterations (0: only every K steps)",
+                              0, 1000000, &opt->rebuild_inner));
+  PetscCall(
+    OptionsIntInRange(PetscOptionsObject, "-coupling_stall_its",
+                      "stop a step as stalled when the objective has not improved by 1% over this many iterations", 1,
+                      1000, &opt->stall_its));
+  PetscCall(PetscOptionsBool("-coupling_test_adjoint", "At the first step, check <J h, r> = <h, J^T r> for random h, r",
+                             NULL, opt->test_adjoint, &opt->test_adjoint, NULL));
+  PetscCall(PetscOptionsBool("-coupling_test_taylor",
+                             "At the first step, print the Taylor remainders ||F(x+th) - F(x) - t J h|| for halving t",
+                             NULL, opt->test_taylor, &opt->test_taylor, NULL));
   PetscOptionsEnd();
   PetscCall(CouplingProblemSetConvergedJump(C->problem, opt->tol));
   PetscCall(PetscMalloc1(C->max_it + 1, &opt->objectives));
@@ -246,7 +273,8 @@ static PetscErrorCode OptSetUp(Coupling C)
   if (isbrgn && opt->rebuild_every > 0) {
     KSP ksp;
     PetscCall(TaoGetKSP(opt->inner, &ksp));
-    PetscCheck(ksp, PETSC_COMM_WORLD, PETSC_ERR_SUP, "option -coupling_explicit_jacobian: the Gauss-Newton subsolver has no KSP");
+    PetscCheck(ksp, PETSC_COMM_WORLD, PETSC_ERR_SUP,
+               "option -coupling_explicit_jacobian: the Gauss-Newton subsolver has no KSP");
     PetscCall(ExplicitJacobianCreate(opt->J, opt->build_block, ksp, &opt->explicit_jacobian));
   }
   PetscFunctionReturn(0);

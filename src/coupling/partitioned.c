@@ -42,15 +42,25 @@ static PetscErrorCode PartitionedTest(Coupling C, PetscInt step, PetscInt k, Pet
   if (k == 0) *first = rnorm;
   *done = PETSC_TRUE;
   if (rnorm <= PetscMax(pt->rtol * xnorm, pt->atol)) PetscFunctionReturn(0);
-  if (PetscIsInfOrNanReal(rnorm) || (k > pt->acc->model_its && rnorm > 1e3 * *first)) PetscCall(StepFailureSet(&C->failure, "coupling %s diverged at step %" PetscInt_FMT ", iteration %" PetscInt_FMT ": residual %.3e, 1000 times its first value %.3e (relaxation -coupling_omega %g)", C->method, step, k, (double)rnorm, (double)*first, (double)pt->acc->omega));
-  else if (k >= C->max_it) PetscCall(StepFailureSet(&C->failure, "coupling %s did not converge at step %" PetscInt_FMT " in -coupling_max_it %" PetscInt_FMT " iterations: residual %.3e > -coupling_rtol %.1e times the iterate %.3e and > -coupling_atol %.1e", C->method, step, C->max_it, (double)rnorm, (double)pt->rtol, (double)xnorm, (double)pt->atol));
+  if (PetscIsInfOrNanReal(rnorm) || (k > pt->acc->model_its && rnorm > 1e3 * *first))
+    PetscCall(StepFailureSet(&C->failure,
+                             "coupling %s diverged at step %" PetscInt_FMT ", iteration %" PetscInt_FMT
+                             ": residual %.3e, 1000 times its first value %.3e (relaxation -coupling_omega %g)",
+                             C->method, step, k, (double)rnorm, (double)*first, (double)pt->acc->omega));
+  else if (k >= C->max_it)
+    PetscCall(StepFailureSet(&C->failure,
+                             "coupling %s did not converge at step %" PetscInt_FMT " in -coupling_max_it %" PetscInt_FMT
+                             " iterations: residual %.3e > -coupling_rtol %.1e times the iterate %.3e and > "
+                             "-coupling_atol %.1e",
+                             C->method, step, C->max_it, (double)rnorm, (double)pt->rtol, (double)xnorm,
+                             (double)pt->atol));
   else *done = PETSC_FALSE;
   PetscFunctionReturn(0);
 }
 
 static PetscErrorCode PartitionedIterate(Coupling C, PetscInt step, CouplingIterations *it)
 {
-  Partitioned *pt = (Partitioned *)C->data;
+  Partitioned *pt    = (Partitioned *)C->data;
   PetscReal    first = 0;
   PetscInt     k;
 
@@ -66,7 +76,8 @@ static PetscErrorCode PartitionedIterate(Coupling C, PetscInt step, CouplingIter
     PetscCall(CouplingProblemGetFailure(C->problem, &failure));
     if (failure) {
       it->iterations = k;
-      PetscCall(StepFailureSet(&C->failure, "coupling %s at step %" PetscInt_FMT ", iteration %" PetscInt_FMT ": %s", C->method, step, k, failure));
+      PetscCall(StepFailureSet(&C->failure, "coupling %s at step %" PetscInt_FMT ", iteration %" PetscInt_FMT ": %s",
+                               C->method, step, k, failure));
       PetscFunctionReturn(0);
     }
     PetscCall(PartitionedTest(C, step, k, &first, &done));
@@ -133,10 +144,22 @@ static PetscErrorCode PartitionedSetUp(Coupling C)
   pt->rtol = 1e-5;
   pt->atol = 1e-7;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Partitioned (Dirichlet-Neumann) coupling", "coupling");
-  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_omega", "relaxation: fixed for dn (default 1, unrelaxed), the first step of aitken and iqnils (default 0.05, the seed's)", &pt->acc->omega));
-  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_rtol", "a step has converged when the traction changes by less than this, relative, in L2(Gamma_I)", &pt->rtol));
-  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-coupling_atol", "or by less than this, absolute: the floor set by the subproblems' solver tolerances while the traction is tiny", &pt->atol));
-  PetscCall(PetscOptionsBool("-coupling_relax_velocity", "iterate on the interface velocity (fluid first, the structure's velocity relaxed: the seed's arrangement) instead of the traction", NULL, pt->relax_velocity, &pt->relax_velocity, NULL));
+  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_omega",
+                                "relaxation: fixed for dn (default 1, unrelaxed), the first step of aitken and iqnils "
+                                "(default 0.05, the seed's)",
+                                &pt->acc->omega));
+  PetscCall(
+    OptionsPositiveReal(PetscOptionsObject, "-coupling_rtol",
+                        "a step has converged when the traction changes by less than this, relative, in L2(Gamma_I)",
+                        &pt->rtol));
+  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-coupling_atol",
+                                   "or by less than this, absolute: the floor set by the subproblems' solver "
+                                   "tolerances while the traction is tiny",
+                                   &pt->atol));
+  PetscCall(PetscOptionsBool("-coupling_relax_velocity",
+                             "iterate on the interface velocity (fluid first, the structure's velocity relaxed: the "
+                             "seed's arrangement) instead of the traction",
+                             NULL, pt->relax_velocity, &pt->relax_velocity, NULL));
   PetscOptionsEnd();
   pt->u = C->x;
   if (pt->relax_velocity) {

@@ -12,7 +12,8 @@
 
 static const char *const ControlVariants[]  = {"traction", "convective", "ControlVariant", "CONTROL_", NULL};
 static const char *const DomainUpdates[]    = {"lagged", "current", "DomainUpdate", "DOMAIN_", NULL};
-static const char *const VelocityMeasures[] = {"scheme", "difference", "StructureVelocityMeasure", "STRUCTURE_VELOCITY_", NULL};
+static const char *const VelocityMeasures[] = {"scheme", "difference", "StructureVelocityMeasure",
+                                               "STRUCTURE_VELOCITY_", NULL};
 
 /* A subproblem's failure, made known on every rank (the fluid's and the structure's may
    be different ones) with the reason of the first failing rank; failed may be NULL.
@@ -90,32 +91,53 @@ static PetscErrorCode MatchInitialVelocity(CouplingProblem P)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure structure, Interface itf, const PhysicsData *fluid_data, CouplingProblem *problem)
+PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure structure, Interface itf,
+                                     const PhysicsData *fluid_data, CouplingProblem *problem)
 {
   CouplingProblem P;
   PetscReal       wmin;
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&P));
-  P->comm       = comm;
-  P->fluid      = fluid;
-  P->structure  = structure;
-  P->itf        = itf;
-  P->fluid_data = *fluid_data;
-  P->variant    = CONTROL_TRACTION;
-  P->measure    = STRUCTURE_VELOCITY_SCHEME;
-  P->converged_jump = -1;
-  P->jacobian_lag   = 1;
-  P->predict        = PETSC_TRUE;
+  P->comm             = comm;
+  P->fluid            = fluid;
+  P->structure        = structure;
+  P->itf              = itf;
+  P->fluid_data       = *fluid_data;
+  P->variant          = CONTROL_TRACTION;
+  P->measure          = STRUCTURE_VELOCITY_SCHEME;
+  P->converged_jump   = -1;
+  P->jacobian_lag     = 1;
+  P->predict          = PETSC_TRUE;
   P->extrapolate_mesh = PETSC_TRUE;
   PetscOptionsBegin(comm, NULL, "Coupling problem options", "coupling");
-  PetscCall(PetscOptionsEnum("-coupling_control", "What the control replaces: the fluid traction (seed ch. 3, 6) or the traction minus the convective boundary flux 1/2 rho ((u-z).n) u (seed ch. 4, 5)", NULL, ControlVariants, (PetscEnum)P->variant, (PetscEnum *)&P->variant, NULL));
-  PetscCall(PetscOptionsEnum("-coupling_velocity", "Structure velocity matched on the interface: the scheme's own (seed ch. 3, 6) or (eta^n - eta^{n-1})/dt (seed ch. 4, 5)", NULL, VelocityMeasures, (PetscEnum)P->measure, (PetscEnum *)&P->measure, NULL));
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_jacobian_lag", "refactor the fluid Jacobian at every K-th Gauss-Newton iteration (1: exact Gauss-Newton; more: an older Jacobian in J h and J^T r)", 1, 1000000, &P->jacobian_lag));
-  PetscCall(PetscOptionsBool("-coupling_predictor", "start each fluid solve of a step from the last state plus its linearized response to the control's change (one solve with the factors in hand)", NULL, P->predict, &P->predict, NULL));
-  PetscCall(PetscOptionsEnum("-coupling_domain", "Fluid domain of an evaluation of F(g): the structure's displacement of the previous Gauss-Newton iteration (seed Algorithm 3.3: fluid and structure solve at the same time) or of this one (the structure solves first, then the mesh moves, then the fluid solves)", NULL, DomainUpdates, (PetscEnum)P->domain, (PetscEnum *)&P->domain, NULL));
-  PetscCall(PetscOptionsBool("-coupling_mesh_extrapolate", "start each step on the fluid mesh 2 d^{n-1} - d^{n-2} instead of d^{n-1}: the first iterations see a domain O(dt^2) (not O(dt)) from the one they will end on", NULL, P->extrapolate_mesh, &P->extrapolate_mesh, NULL));
-  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-coupling_tikhonov", "Tikhonov weight epsilon (delta) of eps/2 ||g||^2_{L2(Gamma_I)}", &P->tikhonov));
+  PetscCall(PetscOptionsEnum("-coupling_control",
+                             "What the control replaces: the fluid traction (seed ch. 3, 6) or the traction minus the "
+                             "convective boundary flux 1/2 rho ((u-z).n) u (seed ch. 4, 5)",
+                             NULL, ControlVariants, (PetscEnum)P->variant, (PetscEnum *)&P->variant, NULL));
+  PetscCall(PetscOptionsEnum("-coupling_velocity",
+                             "Structure velocity matched on the interface: the scheme's own (seed ch. 3, 6) or (eta^n "
+                             "- eta^{n-1})/dt (seed ch. 4, 5)",
+                             NULL, VelocityMeasures, (PetscEnum)P->measure, (PetscEnum *)&P->measure, NULL));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_jacobian_lag",
+                              "refactor the fluid Jacobian at every K-th Gauss-Newton iteration (1: exact "
+                              "Gauss-Newton; more: an older Jacobian in J h and J^T r)",
+                              1, 1000000, &P->jacobian_lag));
+  PetscCall(PetscOptionsBool("-coupling_predictor",
+                             "start each fluid solve of a step from the last state plus its linearized response to the "
+                             "control's change (one solve with the factors in hand)",
+                             NULL, P->predict, &P->predict, NULL));
+  PetscCall(PetscOptionsEnum("-coupling_domain",
+                             "Fluid domain of an evaluation of F(g): the structure's displacement of the previous "
+                             "Gauss-Newton iteration (seed Algorithm 3.3: fluid and structure solve at the same time) "
+                             "or of this one (the structure solves first, then the mesh moves, then the fluid solves)",
+                             NULL, DomainUpdates, (PetscEnum)P->domain, (PetscEnum *)&P->domain, NULL));
+  PetscCall(PetscOptionsBool("-coupling_mesh_extrapolate",
+                             "start each step on the fluid mesh 2 d^{n-1} - d^{n-2} instead of d^{n-1}: the first "
+                             "iterations see a domain O(dt^2) (not O(dt)) from the one they will end on",
+                             NULL, P->extrapolate_mesh, &P->extrapolate_mesh, NULL));
+  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-coupling_tikhonov",
+                                   "Tikhonov weight epsilon (delta) of eps/2 ||g||^2_{L2(Gamma_I)}", &P->tikhonov));
   PetscOptionsEnd();
   if (structure) P->velocity_coefficient = StructureVelocityCoefficient(structure, P->measure);
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &P->velocity_coefficient, 1, MPIU_REAL, MPI_MAX, comm));
@@ -126,7 +148,10 @@ PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure struc
     Vec lumped;
     PetscCall(InterfaceGetLumpedControlMass(itf, &lumped));
     PetscCall(VecMin(lumped, NULL, &wmin));
-    PetscCheck(wmin > 0, comm, PETSC_ERR_SUP, "interface: the lumped interface mass has a non-positive entry (%g); this element's trace needs a consistent weight, which is not implemented", (double)wmin);
+    PetscCheck(wmin > 0, comm, PETSC_ERR_SUP,
+               "interface: the lumped interface mass has a non-positive entry (%g); this element's trace needs a "
+               "consistent weight, which is not implemented",
+               (double)wmin);
     PetscCall(VecCopy(lumped, P->weight_sqrt));
     PetscCall(VecSqrtAbs(P->weight_sqrt));
   }
@@ -160,7 +185,8 @@ PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure struc
       DM  dm;
       Vec d;
       PetscCall(FluidGetDM(fluid, &dm));
-      PetscCall(MeshMotionCreate(dm, fluid_data->interface_face, fluid_data->n_fixed_mesh_faces, fluid_data->fixed_mesh_faces, &P->motion));
+      PetscCall(MeshMotionCreate(dm, fluid_data->interface_face, fluid_data->n_fixed_mesh_faces,
+                                 fluid_data->fixed_mesh_faces, &P->motion));
       PetscCall(FluidGetMeshDisplacement(fluid, &d));
       PetscCall(VecDuplicate(d, &P->mesh_displacement));
       PetscCall(VecDuplicate(d, &P->mesh_displacement_before));
@@ -182,7 +208,8 @@ PetscErrorCode CouplingProblemCheckpoint(CouplingProblem P, Checkpoint cp, Petsc
     PetscCall(CheckpointLocalVec(cp, "mesh_displacement", cdm, P->mesh_displacement, load));
     PetscCall(CheckpointLocalVec(cp, "mesh_displacement_before", cdm, P->mesh_displacement_before, load));
   }
-  if (CheckpointResynchronizes(cp, load)) P->jacobian_age = 0; /* the fluid refactors at the next step (FluidCheckpoint) */
+  if (CheckpointResynchronizes(cp, load))
+    P->jacobian_age = 0; /* the fluid refactors at the next step (FluidCheckpoint) */
   PetscFunctionReturn(0);
 }
 

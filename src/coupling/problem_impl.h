@@ -19,15 +19,15 @@ struct _p_CouplingProblem {
   PetscReal                tikhonov, velocity_coefficient;
   PetscInt                 step;
   Mat                      mass;
-  Vec                      weight_sqrt;                    /* W^{1/2} on the control nodes */
-  Vec                      g, r;                           /* control layout */
+  Vec                      weight_sqrt;                     /* W^{1/2} on the control nodes */
+  Vec                      g, r;                            /* control layout */
   Vec                      all_a, all_b, all_q, datum_load; /* all interface nodes */
   Vec                      fluid_vec, fluid_sol, fluid_local, structure_vec, structure_sol, structure_local;
   Mat                      fluid_rhs_block, fluid_sol_block, structure_rhs_block, structure_sol_block; /* J H */
   Vec                      state_x, state_F, jacobian_x;
   PetscBool                state_valid, jacobian_valid;
   PetscReal                state_jump;
-  PetscReal                converged_jump; /* at or below it, no new Jacobian: the optimizer stops there */
+  PetscReal                converged_jump;             /* at or below it, no new Jacobian: the optimizer stops there */
   PetscInt                 jacobian_lag, jacobian_age; /* refactor the fluid every jacobian_lag requests */
   PetscBool                predict;                    /* fluid's first guess from the linearization */
   Vec                      control_change;
@@ -37,7 +37,7 @@ struct _p_CouplingProblem {
   DomainUpdate             domain;
   Vec                      mesh_displacement, mesh_displacement_before; /* d^{n-2} */
   KSP                      control_mass_ksp;
-  PetscBool                swept; /* the state is the last sweep's */
+  PetscBool                swept;                /* the state is the last sweep's */
   IS                       fluid_interface_rows; /* Dirichlet-Neumann sweeps */
   PetscBool                spacing_changed;      /* d^{n-2} is not one step of this dt back */
   StepFailure              failure;              /* of the step in progress, on every rank */

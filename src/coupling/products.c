@@ -144,7 +144,8 @@ PetscErrorCode CouplingProblemJacobianMultBlock(CouplingProblem P, Mat H, Mat Y)
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_SENSITIVITY, 0, 0, 0, 0));
   PetscCall(MatGetSize(H, NULL, &columns));
   PetscCall(EnsureBlocks(P->fluid ? P->fluid_vec : NULL, columns, &P->fluid_rhs_block, &P->fluid_sol_block));
-  PetscCall(EnsureBlocks(P->structure ? P->structure_vec : NULL, columns, &P->structure_rhs_block, &P->structure_sol_block));
+  PetscCall(
+    EnsureBlocks(P->structure ? P->structure_vec : NULL, columns, &P->structure_rhs_block, &P->structure_sol_block));
   for (PetscInt j = 0; j < columns; ++j) {
     Vec h;
     PetscCall(MatDenseGetColumnVecRead(H, j, &h));

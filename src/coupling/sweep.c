@@ -9,10 +9,15 @@
 static PetscErrorCode SweepCheck(CouplingProblem P)
 {
   PetscFunctionBeginUser;
-  PetscCheck(P->variant == CONTROL_TRACTION, P->comm, PETSC_ERR_SUP, "option -coupling_control convective: the Dirichlet-Neumann methods exchange the traction itself; use -coupling_control traction");
+  PetscCheck(P->variant == CONTROL_TRACTION, P->comm, PETSC_ERR_SUP,
+             "option -coupling_control convective: the Dirichlet-Neumann methods exchange the traction itself; use "
+             "-coupling_control traction");
   /* with the interface velocity prescribed too, an enclosed fluid's pressure is
      undetermined and its volume cannot change (the incompressibility dilemma) */
-  PetscCheck(P->fluid_data.n_traction > 0, P->comm, PETSC_ERR_SUP, "option -coupling: the Dirichlet-Neumann methods (dn, aitken, iqnils) need a fluid boundary with a traction condition besides the interface; this scene's fluid is enclosed (incompressibility dilemma): use -coupling opt");
+  PetscCheck(P->fluid_data.n_traction > 0, P->comm, PETSC_ERR_SUP,
+             "option -coupling: the Dirichlet-Neumann methods (dn, aitken, iqnils) need a fluid boundary with a "
+             "traction condition besides the interface; this scene's fluid is enclosed (incompressibility dilemma): "
+             "use -coupling opt");
   P->state_valid = PETSC_FALSE; /* the state will not be the traction-controlled one */
   P->swept       = PETSC_TRUE;
   PetscFunctionReturn(0);

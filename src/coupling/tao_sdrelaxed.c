@@ -24,7 +24,9 @@ static PetscErrorCode TaoSolve_RelaxedSD(Tao tao)
   PetscReal     f, gnorm, step;
 
   PetscFunctionBeginUser;
-  PetscCheck(sd->delta > 0, PetscObjectComm((PetscObject)tao), PETSC_ERR_ARG_WRONG, "option -tao_type sdrelaxed: the relaxed steepest descent steps by alpha/delta; expected -coupling_tikhonov > 0");
+  PetscCheck(sd->delta > 0, PetscObjectComm((PetscObject)tao), PETSC_ERR_ARG_WRONG,
+             "option -tao_type sdrelaxed: the relaxed steepest descent steps by alpha/delta; expected "
+             "-coupling_tikhonov > 0");
   step        = sd->alpha / sd->delta;
   tao->reason = TAO_CONTINUE_ITERATING;
   tao->niter  = 0;
@@ -59,7 +61,8 @@ static PetscErrorCode TaoSetFromOptions_RelaxedSD(Tao tao, PetscOptionItems *Pet
 
   PetscFunctionBeginUser;
   PetscOptionsHeadBegin(PetscOptionsObject, "Relaxed steepest descent (seed Algorithm 4.11)");
-  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-tao_sdrelaxed_alpha", "relaxation alpha: the step is alpha/delta along the negative gradient", &sd->alpha));
+  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-tao_sdrelaxed_alpha",
+                                "relaxation alpha: the step is alpha/delta along the negative gradient", &sd->alpha));
   PetscOptionsHeadEnd();
   PetscFunctionReturn(0);
 }

@@ -16,18 +16,18 @@ PetscErrorCode FluidCreate(MPI_Comm comm, Fluid *fluid)
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&f));
-  f->comm            = comm;
-  f->model           = FLUID_NAVIER_STOKES;
-  f->rho             = 1.0;
-  f->mu              = 1.0;
-  f->velocity_degree = 2;
-  f->rhs_rtol        = 1e-13;
-  f->extrapolate     = PETSC_TRUE;
-  f->time_order      = 1;
-  f->pressure_degree = 1;
+  f->comm               = comm;
+  f->model              = FLUID_NAVIER_STOKES;
+  f->rho                = 1.0;
+  f->mu                 = 1.0;
+  f->velocity_degree    = 2;
+  f->rhs_rtol           = 1e-13;
+  f->extrapolate        = PETSC_TRUE;
+  f->time_order         = 1;
+  f->pressure_degree    = 1;
   f->corner_ratio       = PETSC_MAX_REAL;
   f->worst_corner_ratio = PETSC_MAX_REAL;
-  *fluid             = f;
+  *fluid                = f;
   PetscFunctionReturn(0);
 }
 
@@ -35,22 +35,54 @@ PetscErrorCode FluidSetFromOptions(Fluid f)
 {
   PetscFunctionBeginUser;
   PetscOptionsBegin(f->comm, NULL, "Fluid options", "fluid");
-  PetscCall(PetscOptionsEnum("-fluid_model", "Fluid equations", NULL, FluidModels, (PetscEnum)f->model, (PetscEnum *)&f->model, NULL));
+  PetscCall(PetscOptionsEnum("-fluid_model", "Fluid equations", NULL, FluidModels, (PetscEnum)f->model,
+                             (PetscEnum *)&f->model, NULL));
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-fluid_density", "fluid density rho", &f->rho));
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-fluid_viscosity", "fluid dynamic viscosity mu", &f->mu));
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-fluid_velocity_degree", "polynomial degree of the velocity", 1, 4, &f->velocity_degree));
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-fluid_pressure_degree", "polynomial degree of the pressure", 1, 3, &f->pressure_degree));
-  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-fluid_pressure_stabilization", "alpha of the pressure stabilization -tau (grad p, grad q), tau = alpha h^2 / (rho h^2/dt + mu), h the mean cell size (Brezzi-Pitkaranta; needed by equal-order pairs)", &f->pressure_stabilization));
-  PetscCall(PetscOptionsBool("-fluid_backflow_stabilization", "Add -1/2 rho ((u-z).n)_- (u, v) on the traction boundaries, against backflow instabilities", NULL, f->backflow, &f->backflow, NULL));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-fluid_velocity_degree", "polynomial degree of the velocity", 1, 4,
+                              &f->velocity_degree));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-fluid_pressure_degree", "polynomial degree of the pressure", 1, 3,
+                              &f->pressure_degree));
+  PetscCall(
+    OptionsNonNegativeReal(PetscOptionsObject, "-fluid_pressure_stabilization",
+                           "alpha of the pressure stabilization -tau (grad p, grad q), tau = alpha h^2 / (rho h^2/dt + "
+                           "mu), h the mean cell size (Brezzi-Pitkaranta; needed by equal-order pairs)",
+                           &f->pressure_stabilization));
+  PetscCall(
+    PetscOptionsBool("-fluid_backflow_stabilization",
+                     "Add -1/2 rho ((u-z).n)_- (u, v) on the traction boundaries, against backflow instabilities", NULL,
+                     f->backflow, &f->backflow, NULL));
   f->n_backflow_faces = FSIOPT_MAX_BOUNDARIES;
-  PetscCall(PetscOptionsIntArray("-fluid_backflow_faces", "Face sets that get the backflow stabilization (default: every traction face)", NULL, f->backflow_faces, &f->n_backflow_faces, &f->backflow_faces_given));
-  PetscCall(PetscOptionsBool("-fluid_steady", "Drop the time derivative: every step solves the steady equations with the data of its time (a continuation in the data)", NULL, f->steady, &f->steady, NULL));
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-fluid_time_order", "1: backward Euler, 2: BDF2 (its first step, and the first after a change of dt, backward Euler; on a moving mesh in the GCL-exact form of fluid_ale.c)", 1, 2, &f->time_order));
-  PetscCall(PetscOptionsBool("-fluid_extrapolate", "start each step's nonlinear solve from 2 u^{n-1} - u^{n-2} instead of u^{n-1}", NULL, f->extrapolate, &f->extrapolate, NULL));
-  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-fluid_rhs_rtol", "nonlinear solves also stop when ||F|| <= rhs_rtol ||rhs||, a relative accuracy of the state that does not depend on how good the initial guess was", &f->rhs_rtol));
-  PetscCall(PetscOptionsBool("-fluid_initial_projection", "Start from the Stokes projection of the scene's exact solution (discretely divergence free) instead of its interpolant", NULL, f->initial_projection, &f->initial_projection, NULL));
+  PetscCall(PetscOptionsIntArray("-fluid_backflow_faces",
+                                 "Face sets that get the backflow stabilization (default: every traction face)", NULL,
+                                 f->backflow_faces, &f->n_backflow_faces, &f->backflow_faces_given));
+  PetscCall(PetscOptionsBool("-fluid_steady",
+                             "Drop the time derivative: every step solves the steady equations with the data of its "
+                             "time (a continuation in the data)",
+                             NULL, f->steady, &f->steady, NULL));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-fluid_time_order",
+                              "1: backward Euler, 2: BDF2 (its first step, and the first after a change of dt, "
+                              "backward Euler; on a moving mesh in the GCL-exact form of fluid_ale.c)",
+                              1, 2, &f->time_order));
+  PetscCall(PetscOptionsBool("-fluid_extrapolate",
+                             "start each step's nonlinear solve from 2 u^{n-1} - u^{n-2} instead of u^{n-1}", NULL,
+                             f->extrapolate, &f->extrapolate, NULL));
+  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-fluid_rhs_rtol",
+                                "nonlinear solves also stop when ||F|| <= rhs_rtol ||rhs||, a relative accuracy of the "
+                                "state that does not depend on how good the initial guess was",
+                                &f->rhs_rtol));
+  PetscCall(PetscOptionsBool("-fluid_initial_projection",
+                             "Start from the Stokes projection of the scene's exact solution (discretely divergence "
+                             "free) instead of its interpolant",
+                             NULL, f->initial_projection, &f->initial_projection, NULL));
   PetscOptionsEnd();
-  PetscCheck(f->pressure_degree < f->velocity_degree || (f->pressure_degree == f->velocity_degree && f->pressure_stabilization > 0), f->comm, PETSC_ERR_ARG_INCOMP, "option -fluid_pressure_degree: expected a degree below -fluid_velocity_degree (%" PetscInt_FMT ") for an inf-sup stable Taylor-Hood pair, or equal to it with -fluid_pressure_stabilization > 0, got %" PetscInt_FMT, f->velocity_degree, f->pressure_degree);
+  PetscCheck(f->pressure_degree < f->velocity_degree ||
+               (f->pressure_degree == f->velocity_degree && f->pressure_stabilization > 0),
+             f->comm, PETSC_ERR_ARG_INCOMP,
+             "option -fluid_pressure_degree: expected a degree below -fluid_velocity_degree (%" PetscInt_FMT
+             ") for an inf-sup stable Taylor-Hood pair, or equal to it with -fluid_pressure_stabilization > 0, got "
+             "%" PetscInt_FMT,
+             f->velocity_degree, f->pressure_degree);
   PetscFunctionReturn(0);
 }
 
@@ -81,9 +113,9 @@ PetscErrorCode FluidSetTimeStep(Fluid f, PetscReal dt)
 {
   PetscFunctionBeginUser;
   if (dt == f->dt) PetscFunctionReturn(0);
-  f->dt          = dt;
-  f->steps_at_dt = 0;
-  f->dirichlet_step  = -1;
+  f->dt             = dt;
+  f->steps_at_dt    = 0;
+  f->dirichlet_step = -1;
   PetscCall(FluidSetPressureStabilization(f));
   PetscCall(FluidJacobianIsStale(f));
   PetscFunctionReturn(0);
@@ -133,8 +165,10 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
   PetscCall(VecDuplicate(f->x, &f->x_before));
   PetscCall(DMCreateLocalVector(f->dm, &f->xlocal_old));
   PetscCall(DMCreateLocalVector(f->dm, &f->xlocal_work));
-  PetscCheck(!(f->steady && f->moving), f->comm, PETSC_ERR_ARG_INCOMP, "option -fluid_steady: a moving mesh needs the time derivative; expected a fixed fluid domain");
-  PetscCheck(f->time_order == 1 || !f->steady, f->comm, PETSC_ERR_ARG_INCOMP, "option -fluid_time_order 2: a steady fluid (-fluid_steady) has no time derivative; expected 1");
+  PetscCheck(!(f->steady && f->moving), f->comm, PETSC_ERR_ARG_INCOMP,
+             "option -fluid_steady: a moving mesh needs the time derivative; expected a fixed fluid domain");
+  PetscCheck(f->time_order == 1 || !f->steady, f->comm, PETSC_ERR_ARG_INCOMP,
+             "option -fluid_time_order 2: a steady fluid (-fluid_steady) has no time derivative; expected 1");
   if (f->time_order == 2) PetscCall(DMCreateLocalVector(f->dm, &f->xlocal_previous));
   if (f->moving) PetscCall(FluidALESetUp(f));
   if (f->moving && data->mesh_displacement) {
@@ -142,7 +176,8 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
        velocity carries the whole of d(t0)) */
     PetscCall(FluidPrescribedDisplacement(f, data->mesh_displacement, t0, f->displacement_old));
     PetscCall(FluidSetMeshDisplacement(f, f->displacement_old));
-    PetscCheck(!StepFailed(&f->failure), f->comm, PETSC_ERR_ARG_OUTOFRANGE, "the scene's mesh motion at t0 = %g: %s", (double)t0, f->failure.reason);
+    PetscCheck(!StepFailed(&f->failure), f->comm, PETSC_ERR_ARG_OUTOFRANGE, "the scene's mesh motion at t0 = %g: %s",
+               (double)t0, f->failure.reason);
   }
   PetscCall(FluidForcesSetUp(f));
   if (data->exact[0] && data->exact[1]) {
@@ -150,11 +185,13 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
     void   *ctxs[2]  = {data->ctx, data->ctx};
     PetscCall(DMProjectFunction(f->dm, t0, exact, ctxs, INSERT_ALL_VALUES, f->x));
     if (f->initial_projection) {
-      PetscCheck(data->exact_gradient[0], f->comm, PETSC_ERR_ARG_WRONG, "option -fluid_initial_projection: the scene has no exact velocity gradient to project");
+      PetscCheck(data->exact_gradient[0], f->comm, PETSC_ERR_ARG_WRONG,
+                 "option -fluid_initial_projection: the scene has no exact velocity gradient to project");
       PetscCall(FluidProjectExact(f));
     }
   } else {
-    PetscCheck(!f->initial_projection, f->comm, PETSC_ERR_ARG_WRONG, "option -fluid_initial_projection: the scene has no exact solution to project");
+    PetscCheck(!f->initial_projection, f->comm, PETSC_ERR_ARG_WRONG,
+               "option -fluid_initial_projection: the scene has no exact solution to project");
     PetscCall(VecZeroEntries(f->x));
   }
   PetscFunctionReturn(0);
@@ -250,7 +287,11 @@ PetscErrorCode FluidNonlinearSolve(Fluid f, SNES snes, Vec rhs, PetscBool chord,
     PetscCall(SNESSetLagJacobian(snes, -1)); /* the fresh factors serve from now on */
   }
   f->counts.nonlinear_solves += 1;
-  if (reason <= 0) PetscCall(StepFailureSet(&f->failure, "fluid solve%s failed at step %" PetscInt_FMT " (t = %g) after %" PetscInt_FMT " Newton iterations: SNES reason %s", what, step, (double)f->time, its, SNESConvergedReasons[reason]));
+  if (reason <= 0)
+    PetscCall(StepFailureSet(&f->failure,
+                             "fluid solve%s failed at step %" PetscInt_FMT " (t = %g) after %" PetscInt_FMT
+                             " Newton iterations: SNES reason %s",
+                             what, step, (double)f->time, its, SNESConvergedReasons[reason]));
   f->counts.linear_solves += PetscMax(its, 1);
   PetscFunctionReturn(0);
 }
@@ -266,7 +307,8 @@ PetscErrorCode FluidSolve(Fluid f, Vec load, PetscInt step)
        below round-off of the right-hand side (1e-13), whatever the absolute tolerance says. */
     PetscReal rhs_norm;
     PetscCall(VecNorm(f->rhs, NORM_2, &rhs_norm));
-    PetscCall(SNESSetTolerances(f->snes, PetscMax(f->atol, PetscMax(f->rhs_rtol, 1e-13) * rhs_norm), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT));
+    PetscCall(SNESSetTolerances(f->snes, PetscMax(f->atol, PetscMax(f->rhs_rtol, 1e-13) * rhs_norm), PETSC_DEFAULT,
+                                PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT));
   }
   PetscCall(FluidNonlinearSolve(f, f->snes, f->rhs, f->chord, step, ""));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_FLUID_SOLVE, 0, 0, 0, 0));
@@ -321,7 +363,8 @@ PetscErrorCode FluidCheckpoint(Fluid f, Checkpoint cp, PetscBool load)
     PetscCall(CheckpointHasAttribute(cp, "steps_at_dt", &bdf2_state));
     if (!bdf2_state) {
       f->steps_at_dt = 0;
-      PetscCall(PetscPrintf(f->comm, "fsiopt: the checkpoint was written by backward Euler (-fluid_time_order 1): BDF2 starts with one backward-Euler step\n"));
+      PetscCall(PetscPrintf(f->comm, "fsiopt: the checkpoint was written by backward Euler (-fluid_time_order 1): BDF2 "
+                                     "starts with one backward-Euler step\n"));
     }
   }
   PetscCall(CheckpointVec(cp, "state", f->x, load));

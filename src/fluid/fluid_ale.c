@@ -18,7 +18,8 @@
 #include "fem.h"
 
 /* Copies vertex values between the coordinate layout and a Q1 field's local layout. */
-static PetscErrorCode CopyVertexValues(DM dm, Vec from, PetscBool from_coordinate_layout, DM dm_field, Vec to, PetscReal scale)
+static PetscErrorCode CopyVertexValues(DM dm, Vec from, PetscBool from_coordinate_layout, DM dm_field, Vec to,
+                                       PetscReal scale)
 {
   PetscSection       cs, fs;
   PetscInt           vStart, vEnd, dim;
@@ -71,7 +72,8 @@ static PetscErrorCode AssembleMass(Fluid f, Mat target, PetscReal coefficient)
   PetscCall(PetscFEGetDimension(fe, &Nb));
   PetscCall(PetscFEGetNumComponents(fe, &Nc));
   PetscCall(PetscFEGetCellTabulation(fe, 0, &T));
-  PetscCall(PetscMalloc5(Nq * dim, &v, Nq * dim * dim, &J, Nq * dim * dim, &invJ, Nq, &detJ, totDim * totDim, &element));
+  PetscCall(
+    PetscMalloc5(Nq * dim, &v, Nq * dim * dim, &J, Nq * dim * dim, &invJ, Nq, &detJ, totDim * totDim, &element));
   PetscCall(DMPlexGetHeightStratum(f->dm_all, 0, &cStart, &cEnd));
   PetscCall(MatZeroEntries(target));
   for (PetscInt cell = cStart; cell < cEnd; ++cell) {
@@ -294,7 +296,7 @@ static PetscErrorCode CellCornersSetUp(Fluid f)
     PetscCall(DMPlexRestoreTransitiveClosure(f->dm, c, PETSC_TRUE, &nclosure, &closure));
     for (PetscInt i = 0; i < nv; ++i) {
       PetscInt *corner = &f->corners[n * 5], k = 0;
-      corner[0]        = c;
+      corner[0] = c;
       PetscCall(PetscSectionGetOffset(section, verts[i], &corner[1]));
       for (PetscInt e = 0; e < ne; ++e) {
         const PetscInt other = edges[e][0] == verts[i] ? edges[e][1] : edges[e][1] == verts[i] ? edges[e][0] : -1;
@@ -316,7 +318,8 @@ static PetscReal CornerVolume(PetscInt dim, const PetscScalar *x, const PetscInt
   for (PetscInt k = 0; k < dim; ++k)
     for (PetscInt d = 0; d < dim; ++d) e[k][d] = PetscRealPart(x[corner[2 + k] + d] - x[corner[1] + d]);
   if (dim == 2) return e[0][0] * e[1][1] - e[0][1] * e[1][0];
-  return e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) - e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) + e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0]);
+  return e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1]) - e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0]) +
+         e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0]);
 }
 
 /* Every corner of every cell must keep its orientation and at least 1e-3 of its reference
@@ -355,7 +358,13 @@ static PetscErrorCode CheckCells(Fluid f, Vec coordinates)
     PetscCallMPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, f->comm));
     if (first == size) PetscFunctionReturn(0);
     PetscCallMPI(MPI_Bcast(where, 4, MPIU_REAL, first, f->comm));
-    PetscCall(StepFailureSet(&f->failure, "fluid mesh inverted or degenerate at step %" PetscInt_FMT " (t = %g): cell %d, corner at (%g, %g, %g), keeps less than 1e-3 of its reference %s: the displacement is too large for this mesh (-mesh_motion biharmonic, a larger -mesh_motion_stiffening or a finer mesh may help)", f->step, (double)f->time, (int)where[0], (double)where[1], (double)where[2], (double)where[3], dim == 2 ? "area" : "volume"));
+    PetscCall(StepFailureSet(&f->failure,
+                             "fluid mesh inverted or degenerate at step %" PetscInt_FMT
+                             " (t = %g): cell %d, corner at (%g, %g, %g), keeps less than 1e-3 of its reference %s: "
+                             "the displacement is too large for this mesh (-mesh_motion biharmonic, a larger "
+                             "-mesh_motion_stiffening or a finer mesh may help)",
+                             f->step, (double)f->time, (int)where[0], (double)where[1], (double)where[2],
+                             (double)where[3], dim == 2 ? "area" : "volume"));
     PetscFunctionReturn(0);
   }
 }
@@ -365,7 +374,8 @@ PetscErrorCode FluidSetMeshDisplacement(Fluid f, Vec displacement)
   Vec coordinates, z_coordinate_layout;
 
   PetscFunctionBeginUser;
-  PetscCheck(f->moving, f->comm, PETSC_ERR_ORDER, "fluid: the mesh of this fluid does not move (FluidEnableMeshMotion before FluidSetUp)");
+  PetscCheck(f->moving, f->comm, PETSC_ERR_ORDER,
+             "fluid: the mesh of this fluid does not move (FluidEnableMeshMotion before FluidSetUp)");
   PetscCall(VecDuplicate(f->coordinates_reference, &coordinates));
   PetscCall(VecWAXPY(coordinates, 1.0, f->coordinates_reference, displacement));
   PetscCall(CheckCells(f, coordinates));

@@ -24,7 +24,7 @@ static PetscErrorCode DirichletFunction(SNES snes, Vec x, Vec F, void *ctx)
   PetscCall(VecGetArray(F, &Fa));
   for (PetscInt i = 0; i < f->n_dirichlet_rows; ++i) {
     f->dirichlet_residual[i] = Fa[f->dirichlet_rows[i]];
-    Fa[f->dirichlet_rows[i]]  = xa[f->dirichlet_rows[i]];
+    Fa[f->dirichlet_rows[i]] = xa[f->dirichlet_rows[i]];
   }
   PetscCall(VecRestoreArray(F, &Fa));
   PetscCall(VecRestoreArrayRead(x, &xa));
@@ -118,9 +118,11 @@ PetscErrorCode FluidSolveDirichlet(Fluid f, IS rows, Vec values, Vec reaction, P
   {
     PetscReal rhs_norm;
     PetscCall(VecNorm(f->dirichlet_rhs, NORM_2, &rhs_norm));
-    PetscCall(SNESSetTolerances(f->snes_dirichlet, PetscMax(f->atol, 1e-13 * rhs_norm), PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT));
+    PetscCall(SNESSetTolerances(f->snes_dirichlet, PetscMax(f->atol, 1e-13 * rhs_norm), PETSC_DEFAULT, PETSC_DEFAULT,
+                                PETSC_DEFAULT, PETSC_DEFAULT));
   }
-  PetscCall(FluidNonlinearSolve(f, f->snes_dirichlet, f->dirichlet_rhs, PETSC_TRUE, step, " with the interface velocity prescribed"));
+  PetscCall(FluidNonlinearSolve(f, f->snes_dirichlet, f->dirichlet_rhs, PETSC_TRUE, step,
+                                " with the interface velocity prescribed"));
   /* the reaction: what the interface rows of R(x) = history + load would need as load */
   {
     const PetscScalar *h;
@@ -128,7 +130,8 @@ PetscErrorCode FluidSolveDirichlet(Fluid f, IS rows, Vec values, Vec reaction, P
     PetscCall(VecZeroEntries(reaction));
     PetscCall(VecGetArrayRead(f->history, &h));
     PetscCall(VecGetArray(reaction, &r));
-    for (PetscInt i = 0; i < f->n_dirichlet_rows; ++i) r[f->dirichlet_rows[i]] = f->dirichlet_residual[i] - h[f->dirichlet_rows[i]];
+    for (PetscInt i = 0; i < f->n_dirichlet_rows; ++i)
+      r[f->dirichlet_rows[i]] = f->dirichlet_residual[i] - h[f->dirichlet_rows[i]];
     PetscCall(VecRestoreArray(reaction, &r));
     PetscCall(VecRestoreArrayRead(f->history, &h));
   }

@@ -53,7 +53,8 @@ static PetscErrorCode BodyPoints(Fluid f, PetscInt *n, PetscInt **points)
 /* The first component of every velocity node of the body points: offset(p) + node * dim,
    with offset(p) the point's offset in `offsets` less `shift` (velocity comes first among a
    point's dofs); points with a negative offset (owned by another rank) are left out. */
-static PetscErrorCode VelocityRows(PetscInt nbody, const PetscInt body[], PetscInt dim, PetscSection dofs, PetscSection offsets, PetscInt shift, PetscInt *n, PetscInt **rows)
+static PetscErrorCode VelocityRows(PetscInt nbody, const PetscInt body[], PetscInt dim, PetscSection dofs,
+                                   PetscSection offsets, PetscInt shift, PetscInt *n, PetscInt **rows)
 {
   PetscFunctionBeginUser;
   for (PetscInt pass = 0; pass < 2; ++pass) {
@@ -122,7 +123,10 @@ PetscErrorCode FluidForcesSetUp(Fluid f)
     PetscCall(PetscSectionGetOffset(local_force, p, &off_force));
     PetscCall(PetscSectionGetOffset(local, p, &off));
     PetscCall(PetscSectionGetDof(local, p, &ndof_fluid));
-    PetscCheck(ndof == ndof_fluid, f->comm, PETSC_ERR_PLIB, "fluid forces: point %" PetscInt_FMT " has %" PetscInt_FMT " dofs in the band, %" PetscInt_FMT " in the fluid", p, ndof, ndof_fluid);
+    PetscCheck(ndof == ndof_fluid, f->comm, PETSC_ERR_PLIB,
+               "fluid forces: point %" PetscInt_FMT " has %" PetscInt_FMT " dofs in the band, %" PetscInt_FMT
+               " in the fluid",
+               p, ndof, ndof_fluid);
     f->force_copy[3 * f->n_force_copy]     = off_force;
     f->force_copy[3 * f->n_force_copy + 1] = off;
     f->force_copy[3 * f->n_force_copy + 2] = ndof;
@@ -170,7 +174,8 @@ static PetscErrorCode BandSum(Fluid f, Vec xlocal, PetscReal sum[3])
   PetscCall(DMGetDimension(f->dm, &dim));
   PetscCall(VecGetArrayRead(xlocal, &x));
   PetscCall(VecGetArray(f->force_x, &xb));
-  for (PetscInt i = 0; i < f->n_force_copy; ++i) PetscCall(PetscArraycpy(&xb[f->force_copy[3 * i]], &x[f->force_copy[3 * i + 1]], f->force_copy[3 * i + 2]));
+  for (PetscInt i = 0; i < f->n_force_copy; ++i)
+    PetscCall(PetscArraycpy(&xb[f->force_copy[3 * i]], &x[f->force_copy[3 * i + 1]], f->force_copy[3 * i + 2]));
   PetscCall(VecRestoreArray(f->force_x, &xb));
   PetscCall(VecRestoreArrayRead(xlocal, &x));
   PetscCall(VecZeroEntries(f->force_residual));
@@ -215,7 +220,8 @@ PetscErrorCode FluidBodyForce(Fluid f, PetscReal force[3])
   DM        dm = f->moving ? f->dm_all : f->dm_force;
 
   PetscFunctionBeginUser;
-  PetscCheck(f->data.n_force_faces, f->comm, PETSC_ERR_ARG_WRONGSTATE, "the scene names no body faces for a fluid force");
+  PetscCheck(f->data.n_force_faces, f->comm, PETSC_ERR_ARG_WRONGSTATE,
+             "the scene names no body faces for a fluid force");
   PetscCall(FEMGlobalToLocal(f->dm, f->x, f->xlocal_work));
   /* the initial state has no time derivative to go with it: its force is the steady one */
   PetscCall(SetConstants(f, dm, f->step == 0 ? 0.0 : -1, -1, -1));

@@ -2,61 +2,65 @@
 #define FSIOPT_FLUID_IMPL_H
 #include "fluid.h"
 
-typedef enum { FLUID_STOKES, FLUID_NAVIER_STOKES } FluidModel;
+typedef enum {
+  FLUID_STOKES,
+  FLUID_NAVIER_STOKES
+} FluidModel;
 
 struct _p_Fluid {
-  MPI_Comm       comm;
-  DM             dm;
-  SNES           snes;
-  FluidModel     model;
-  PetscReal      rho, mu;
-  PetscInt       velocity_degree, pressure_degree;
-  PetscReal      pressure_stabilization, pressure_tau; /* alpha and tau of -tau (grad p, grad q) */
-  PetscReal      time, dt;
-  PetscInt       step;
-  Vec            x;          /* (u, p) at `time` */
-  Vec            xlocal_old; /* previous state with its boundary values */
-  Vec            history;    /* rho/dt M(Omega^{n-1}) u^{n-1} (BDF2 on a moving mesh: fluid_ale.c) */
-  Vec            rhs, x_start;
-  Vec            x_before;    /* u^{n-2} while a step starts, for the extrapolated first guess */
-  PetscBool      extrapolate;
-  PetscInt       time_order;      /* 1: backward Euler, 2: BDF2 */
-  PetscInt       steps_at_dt;     /* steps taken since dt last changed: BDF2 and the extrapolated start need one */
-  PetscReal      mass_coefficient; /* of (u^n, v) in this step: rho/dt, or 3/2 rho/dt (BDF2) */
-  PetscInt       lag_after_rebuild; /* the user's Jacobian lag, resumed after a forced rebuild */
-  Vec            xlocal_previous;  /* BDF2: u^{n-1} with its boundary values, u^{n-2} while a step starts */
-  PetscReal      cell_size;       /* mean, for the pressure stabilization */
-  PetscBool      steady;     /* no time derivative: each step is a steady solve at its time */
-  PetscBool      chord;          /* nonlinear solves on factors from another state */
-  PetscInt       chord_restarts; /* solves that needed fresh factors */
-  PetscInt       interface_face;            /* 0: no interface */
-  PetscBool      interface_convective_term; /* -1/2 rho ((u.n) u, v) on the interface: the control absorbs it */
-  PetscBool      initial_projection;
-  PetscBool      backflow, backflow_faces_given;
-  PetscInt       n_backflow_faces, backflow_faces[FSIOPT_MAX_BOUNDARIES];
-  PetscReal      atol;     /* the user's (or our default) absolute residual tolerance */
-  PetscReal      rhs_rtol; /* and one relative to the right-hand side */
+  MPI_Comm   comm;
+  DM         dm;
+  SNES       snes;
+  FluidModel model;
+  PetscReal  rho, mu;
+  PetscInt   velocity_degree, pressure_degree;
+  PetscReal  pressure_stabilization, pressure_tau; /* alpha and tau of -tau (grad p, grad q) */
+  PetscReal  time, dt;
+  PetscInt   step;
+  Vec        x;          /* (u, p) at `time` */
+  Vec        xlocal_old; /* previous state with its boundary values */
+  Vec        history;    /* rho/dt M(Omega^{n-1}) u^{n-1} (BDF2 on a moving mesh: fluid_ale.c) */
+  Vec        rhs, x_start;
+  Vec        x_before; /* u^{n-2} while a step starts, for the extrapolated first guess */
+  PetscBool  extrapolate;
+  PetscInt   time_order;        /* 1: backward Euler, 2: BDF2 */
+  PetscInt   steps_at_dt;       /* steps taken since dt last changed: BDF2 and the extrapolated start need one */
+  PetscReal  mass_coefficient;  /* of (u^n, v) in this step: rho/dt, or 3/2 rho/dt (BDF2) */
+  PetscInt   lag_after_rebuild; /* the user's Jacobian lag, resumed after a forced rebuild */
+  Vec        xlocal_previous;   /* BDF2: u^{n-1} with its boundary values, u^{n-2} while a step starts */
+  PetscReal  cell_size;         /* mean, for the pressure stabilization */
+  PetscBool  steady;            /* no time derivative: each step is a steady solve at its time */
+  PetscBool  chord;             /* nonlinear solves on factors from another state */
+  PetscInt   chord_restarts;    /* solves that needed fresh factors */
+  PetscInt   interface_face;    /* 0: no interface */
+  PetscBool  interface_convective_term; /* -1/2 rho ((u.n) u, v) on the interface: the control absorbs it */
+  PetscBool  initial_projection;
+  PetscBool  backflow, backflow_faces_given;
+  PetscInt   n_backflow_faces, backflow_faces[FSIOPT_MAX_BOUNDARIES];
+  PetscReal  atol;     /* the user's (or our default) absolute residual tolerance */
+  PetscReal  rhs_rtol; /* and one relative to the right-hand side */
   /* moving meshes (fluid_ale.c) */
-  PetscBool      moving;
-  DM             dm_aux;                                   /* the mesh velocity z, Q1 */
-  Vec            z_local;
-  Vec            coordinates_reference, displacement, displacement_old; /* coordinate layout */
-  Vec            displacement_previous;                    /* BDF2: d^{n-2} */
-  PetscInt      *corners, ncorners; /* per cell corner: cell, its vertex's and its dim edge neighbours' coordinate offsets */
-  PetscReal      corner_ratio;                             /* the smallest corner area (volume) / its reference one, present mesh */
-  PetscReal      worst_corner_ratio, worst_corner_time;    /* the smallest over the meshes steps ended on, and its time */
-  PetscBool      corner_ratio_of_step;                     /* corner_ratio is of a mesh a step of this run moved to */
-  DM             dm_all;                                   /* the same fields and volume terms without constraints (fluid_forces.c) */
-  Mat            mass_old, mass_old_all;                   /* rho/dt M(Omega^{n-1}), BDF2 rho/dt (2 M(Omega^{n-1}) - 1/2 M(Omega^{n-2})): free rows, all rows */
-  Mat            mass_older_all;                           /* BDF2: 1/2 rho/dt M(Omega^{n-2}) */
-  Vec            history_all;                              /* the history on all rows of dm_all (global) */
-  IS             free_in_all;
-  Vec            all_x, all_y, all_local, xlocal_work, work;
+  PetscBool moving;
+  DM        dm_aux; /* the mesh velocity z, Q1 */
+  Vec       z_local;
+  Vec       coordinates_reference, displacement, displacement_old; /* coordinate layout */
+  Vec       displacement_previous;                                 /* BDF2: d^{n-2} */
+  PetscInt *corners, ncorners; /* per cell corner: cell, its vertex's and its dim edge neighbours' coordinate offsets */
+  PetscReal corner_ratio;      /* the smallest corner area (volume) / its reference one, present mesh */
+  PetscReal worst_corner_ratio, worst_corner_time; /* the smallest over the meshes steps ended on, and its time */
+  PetscBool corner_ratio_of_step;                  /* corner_ratio is of a mesh a step of this run moved to */
+  DM        dm_all; /* the same fields and volume terms without constraints (fluid_forces.c) */
+  Mat       mass_old,
+    mass_old_all; /* rho/dt M(Omega^{n-1}), BDF2 rho/dt (2 M(Omega^{n-1}) - 1/2 M(Omega^{n-2})): free rows, all rows */
+  Mat mass_older_all; /* BDF2: 1/2 rho/dt M(Omega^{n-2}) */
+  Vec history_all;    /* the history on all rows of dm_all (global) */
+  IS  free_in_all;
+  Vec all_x, all_y, all_local, xlocal_work, work;
   /* the force on a body (fluid_forces.c) */
-  DM             dm_force;                        /* the fields on the cells that touch the body */
-  Vec            force_x, force_residual;         /* its local vectors */
-  PetscInt       n_force_copy, *force_copy;       /* per point: its offset in dm_force, in dm, its dofs */
-  PetscInt       n_force_rows, *force_rows;       /* the body's velocity nodes (first component): in dm_force's
+  DM       dm_force;                  /* the fields on the cells that touch the body */
+  Vec      force_x, force_residual;   /* its local vectors */
+  PetscInt n_force_copy, *force_copy; /* per point: its offset in dm_force, in dm, its dofs */
+  PetscInt n_force_rows, *force_rows; /* the body's velocity nodes (first component): in dm_force's
                                                     local array; on a moving mesh the owned ones in dm_all's global array */
   /* the interface velocity prescribed (fluid_dirichlet.c) */
   SNES           snes_dirichlet;
@@ -64,14 +68,13 @@ struct _p_Fluid {
   Vec            dirichlet_rhs;
   PetscInt       n_dirichlet_rows, *dirichlet_rows; /* local offsets of the interface rows */
   IS             dirichlet_rows_global;
-  PetscScalar   *dirichlet_residual;                /* R(x) on them at the last evaluation */
+  PetscScalar   *dirichlet_residual; /* R(x) on them at the last evaluation */
   PetscInt       dirichlet_step;
   PhysicsData    data;
   DirichletDatum datums[FSIOPT_MAX_BOUNDARIES];
   SolverCounts   counts;
   StepFailure    failure; /* of the step in progress */
 };
-
 
 PetscErrorCode FluidSetConstants(Fluid, PetscReal mass, PetscReal op, PetscReal load);
 PetscErrorCode FluidSetVolumeWeakForm(Fluid, DM, DMLabel region);
@@ -94,8 +97,10 @@ static inline PetscBool FluidStepIsBDF2(Fluid f)
 }
 PetscErrorCode FluidALEDestroy(Fluid);
 /* fluid_weak_form.c */
-PetscErrorCode FluidSetConstantsFull(Fluid, PetscReal mass, PetscReal op, PetscReal load, PetscReal convection, PetscReal projection);
+PetscErrorCode FluidSetConstantsFull(Fluid, PetscReal mass, PetscReal op, PetscReal load, PetscReal convection,
+                                     PetscReal projection);
 PetscErrorCode FluidSetUpWeakForm(Fluid);
-PetscErrorCode FluidProjectExact(Fluid); /* adds its kernel to the weak form; the Stokes projection of the exact solution at f->time into f->x */
+PetscErrorCode FluidProjectExact(
+  Fluid); /* adds its kernel to the weak form; the Stokes projection of the exact solution at f->time into f->x */
 PetscErrorCode FluidSetPressureStabilization(Fluid);
 #endif

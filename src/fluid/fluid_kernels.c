@@ -15,13 +15,20 @@
 /* PETSc fixes the signatures of pointwise kernels; each uses a few of their arguments. */
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 
-
-void FluidF0MassStokes(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
+void FluidF0MassStokes(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                       const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[],
+                       const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[],
+                       PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[],
+                       PetscScalar f0[])
 {
   for (PetscInt c = 0; c < dim; ++c) f0[c] = constants[FLUID_MASS] * u[uOff[0] + c];
 }
 
-void FluidF0MassConvection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
+void FluidF0MassConvection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                           const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[],
+                           const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[],
+                           const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[],
+                           PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
 {
   const PetscScalar rho_op = constants[FLUID_RHO] * constants[FLUID_OPERATOR] * constants[FLUID_CONVECTION];
 
@@ -32,15 +39,24 @@ void FluidF0MassConvection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const Pets
   }
 }
 
-void FluidF1Stress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f1[])
+void FluidF1Stress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                   const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[],
+                   const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[],
+                   PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[],
+                   PetscScalar f1[])
 {
   const PetscScalar mu = constants[FLUID_MU], op = constants[FLUID_OPERATOR], p = u[uOff[1]];
 
   for (PetscInt c = 0; c < dim; ++c)
-    for (PetscInt d = 0; d < dim; ++d) f1[c * dim + d] = op * (mu * (u_x[uOff_x[0] + c * dim + d] + u_x[uOff_x[0] + d * dim + c]) - (c == d ? p : 0.0));
+    for (PetscInt d = 0; d < dim; ++d)
+      f1[c * dim + d] = op * (mu * (u_x[uOff_x[0] + c * dim + d] + u_x[uOff_x[0] + d * dim + c]) - (c == d ? p : 0.0));
 }
 
-void FluidF0Continuity(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
+void FluidF0Continuity(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                       const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[],
+                       const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[],
+                       PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[],
+                       PetscScalar f0[])
 {
   PetscScalar divergence = 0;
 
@@ -48,13 +64,20 @@ void FluidF0Continuity(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt
   f0[0] = -constants[FLUID_OPERATOR] * divergence;
 }
 
-
-void FluidG0MassStokes(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g0[])
+void FluidG0MassStokes(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                       const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[],
+                       const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[],
+                       PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants,
+                       const PetscScalar constants[], PetscScalar g0[])
 {
   for (PetscInt c = 0; c < dim; ++c) g0[c * dim + c] = constants[FLUID_MASS];
 }
 
-void FluidG0MassConvection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g0[])
+void FluidG0MassConvection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                           const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[],
+                           const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[],
+                           const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift,
+                           const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g0[])
 {
   const PetscScalar rho_op = constants[FLUID_RHO] * constants[FLUID_OPERATOR] * constants[FLUID_CONVECTION];
 
@@ -64,7 +87,11 @@ void FluidG0MassConvection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const Pets
   }
 }
 
-void FluidG1Convection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g1[])
+void FluidG1Convection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                       const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[],
+                       const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[],
+                       PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants,
+                       const PetscScalar constants[], PetscScalar g1[])
 {
   const PetscScalar rho_op = constants[FLUID_RHO] * constants[FLUID_OPERATOR] * constants[FLUID_CONVECTION];
 
@@ -72,7 +99,11 @@ void FluidG1Convection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt
     for (PetscInt d = 0; d < dim; ++d) g1[(c * dim + c) * dim + d] = rho_op * (u[uOff[0] + d] - MESH_VELOCITY(d));
 }
 
-void FluidG3Viscous(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g3[])
+void FluidG3Viscous(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                    const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[],
+                    const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[],
+                    PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants,
+                    const PetscScalar constants[], PetscScalar g3[])
 {
   const PetscScalar mu_op = constants[FLUID_MU] * constants[FLUID_OPERATOR];
 
@@ -83,12 +114,20 @@ void FluidG3Viscous(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uO
     }
 }
 
-void FluidG2Pressure(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g2[])
+void FluidG2Pressure(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                     const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[],
+                     const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[],
+                     PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants,
+                     const PetscScalar constants[], PetscScalar g2[])
 {
   for (PetscInt d = 0; d < dim; ++d) g2[d * dim + d] = -constants[FLUID_OPERATOR];
 }
 
-void FluidG1Continuity(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g1[])
+void FluidG1Continuity(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                       const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[],
+                       const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[],
+                       PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants,
+                       const PetscScalar constants[], PetscScalar g1[])
 {
   for (PetscInt d = 0; d < dim; ++d) g1[d * dim + d] = -constants[FLUID_OPERATOR];
 }
@@ -96,7 +135,12 @@ void FluidG1Continuity(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt
 /* The convective boundary term the control absorbs in the seed's chapters 4-5:
    -1/2 rho ((u . n) u, v) on the interface, and its linearization. Only u and n enter,
    so PETSc's tabulation of reversed faces integrates it exactly. */
-void FluidF0InterfaceConvection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], const PetscReal n[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
+void FluidF0InterfaceConvection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[],
+                                const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[],
+                                const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[],
+                                const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t,
+                                const PetscReal x[], const PetscReal n[], PetscInt numConstants,
+                                const PetscScalar constants[], PetscScalar f0[])
 {
   const PetscScalar half_rho = 0.5 * constants[FLUID_RHO] * constants[FLUID_OPERATOR] * constants[FLUID_CONVECTION];
   PetscScalar       un       = 0;
@@ -105,7 +149,12 @@ void FluidF0InterfaceConvection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const
   for (PetscInt c = 0; c < dim; ++c) f0[c] = -half_rho * un * u[uOff[0] + c];
 }
 
-void FluidG0InterfaceConvection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], const PetscReal n[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g0[])
+void FluidG0InterfaceConvection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[],
+                                const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[],
+                                const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[],
+                                const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t,
+                                PetscReal u_tShift, const PetscReal x[], const PetscReal n[], PetscInt numConstants,
+                                const PetscScalar constants[], PetscScalar g0[])
 {
   const PetscScalar half_rho = 0.5 * constants[FLUID_RHO] * constants[FLUID_OPERATOR] * constants[FLUID_CONVECTION];
   PetscScalar       un       = 0;
@@ -117,7 +166,11 @@ void FluidG0InterfaceConvection(PetscInt dim, PetscInt Nf, PetscInt NfAux, const
 
 /* Backflow stabilization on open boundaries: -1/2 rho ((u - z).n)_- (u, v), which cancels
    the energy a traction-free boundary lets in where the flow turns inward. */
-void FluidF0Backflow(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], const PetscReal n[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
+void FluidF0Backflow(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                     const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[],
+                     const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[],
+                     PetscReal t, const PetscReal x[], const PetscReal n[], PetscInt numConstants,
+                     const PetscScalar constants[], PetscScalar f0[])
 {
   const PetscScalar half_rho = 0.5 * constants[FLUID_RHO] * constants[FLUID_OPERATOR] * constants[FLUID_CONVECTION];
   PetscScalar       un       = 0;
@@ -127,7 +180,11 @@ void FluidF0Backflow(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt u
   for (PetscInt c = 0; c < dim; ++c) f0[c] -= half_rho * un * u[uOff[0] + c];
 }
 
-void FluidG0Backflow(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], const PetscReal n[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g0[])
+void FluidG0Backflow(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                     const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[],
+                     const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[],
+                     PetscReal t, PetscReal u_tShift, const PetscReal x[], const PetscReal n[], PetscInt numConstants,
+                     const PetscScalar constants[], PetscScalar g0[])
 {
   const PetscScalar half_rho = 0.5 * constants[FLUID_RHO] * constants[FLUID_OPERATOR] * constants[FLUID_CONVECTION];
   PetscScalar       un       = 0;
@@ -138,14 +195,24 @@ void FluidG0Backflow(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt u
     for (PetscInt d = 0; d < dim; ++d) g0[c * dim + d] -= half_rho * (u[uOff[0] + c] * n[d] + (c == d ? un : 0.0));
 }
 
-void FluidF1PressureStabilization(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f1[])
+void FluidF1PressureStabilization(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[],
+                                  const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[],
+                                  const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[],
+                                  const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t,
+                                  const PetscReal x[], PetscInt numConstants, const PetscScalar constants[],
+                                  PetscScalar f1[])
 {
   const PetscScalar tau = constants[FLUID_OPERATOR] * constants[FLUID_PRESSURE_STABILIZATION];
 
   for (PetscInt d = 0; d < dim; ++d) f1[d] = -tau * u_x[uOff_x[1] + d];
 }
 
-void FluidG3PressureStabilization(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g3[])
+void FluidG3PressureStabilization(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[],
+                                  const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[],
+                                  const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[],
+                                  const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t,
+                                  PetscReal u_tShift, const PetscReal x[], PetscInt numConstants,
+                                  const PetscScalar constants[], PetscScalar g3[])
 {
   const PetscScalar tau = constants[FLUID_OPERATOR] * constants[FLUID_PRESSURE_STABILIZATION];
 

@@ -15,21 +15,22 @@ PetscErrorCode FluidSetConstants(Fluid f, PetscReal mass, PetscReal op, PetscRea
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FluidSetConstantsFull(Fluid f, PetscReal mass, PetscReal op, PetscReal load, PetscReal convection, PetscReal projection)
+PetscErrorCode FluidSetConstantsFull(Fluid f, PetscReal mass, PetscReal op, PetscReal load, PetscReal convection,
+                                     PetscReal projection)
 {
   PetscDS     ds;
   PetscScalar c[FLUID_NUM_CONSTANTS + FSIOPT_MAX_EXTRA];
 
   PetscFunctionBeginUser;
-  c[FLUID_RHO]      = f->rho;
-  c[FLUID_MU]       = f->mu;
-  c[FLUID_MASS]     = mass;
-  c[FLUID_OPERATOR] = op;
-  c[FLUID_LOAD]     = load;
-  c[FLUID_TIME]     = f->time;
-  c[FLUID_DT]       = f->dt;
-  c[FLUID_CONVECTION] = convection;
-  c[FLUID_PROJECTION] = projection;
+  c[FLUID_RHO]                    = f->rho;
+  c[FLUID_MU]                     = f->mu;
+  c[FLUID_MASS]                   = mass;
+  c[FLUID_OPERATOR]               = op;
+  c[FLUID_LOAD]                   = load;
+  c[FLUID_TIME]                   = f->time;
+  c[FLUID_DT]                     = f->dt;
+  c[FLUID_CONVECTION]             = convection;
+  c[FLUID_PROJECTION]             = projection;
   c[FLUID_PRESSURE_STABILIZATION] = f->pressure_tau;
   for (PetscInt i = 0; i < f->data.n_extra; ++i) c[FLUID_NUM_CONSTANTS + i] = f->data.extra[i];
   PetscCall(DMGetDS(f->dm, &ds));
@@ -69,16 +70,21 @@ PetscErrorCode FluidSetVolumeWeakForm(Fluid f, DM dm, DMLabel region)
     const PetscInt value = region ? 1 : 0;
     if (f->model == FLUID_NAVIER_STOKES) {
       PetscCall(PetscWeakFormAddResidual(wf, region, value, 0, 0, FluidF0MassConvection, FluidF1Stress));
-      PetscCall(PetscWeakFormAddJacobian(wf, region, value, 0, 0, 0, FluidG0MassConvection, FluidG1Convection, NULL, FluidG3Viscous));
+      PetscCall(PetscWeakFormAddJacobian(wf, region, value, 0, 0, 0, FluidG0MassConvection, FluidG1Convection, NULL,
+                                         FluidG3Viscous));
     } else {
       PetscCall(PetscWeakFormAddResidual(wf, region, value, 0, 0, FluidF0MassStokes, FluidF1Stress));
       PetscCall(PetscWeakFormAddJacobian(wf, region, value, 0, 0, 0, FluidG0MassStokes, NULL, NULL, FluidG3Viscous));
     }
-    PetscCall(PetscWeakFormAddResidual(wf, region, value, 1, 0, FluidF0Continuity, f->pressure_stabilization > 0 ? FluidF1PressureStabilization : NULL));
-    if (f->pressure_stabilization > 0) PetscCall(PetscWeakFormAddJacobian(wf, region, value, 1, 1, 0, NULL, NULL, NULL, FluidG3PressureStabilization));
+    PetscCall(PetscWeakFormAddResidual(wf, region, value, 1, 0, FluidF0Continuity,
+                                       f->pressure_stabilization > 0 ? FluidF1PressureStabilization : NULL));
+    if (f->pressure_stabilization > 0)
+      PetscCall(PetscWeakFormAddJacobian(wf, region, value, 1, 1, 0, NULL, NULL, NULL, FluidG3PressureStabilization));
     PetscCall(PetscWeakFormAddJacobian(wf, region, value, 0, 1, 0, NULL, NULL, FluidG2Pressure, NULL));
     PetscCall(PetscWeakFormAddJacobian(wf, region, value, 1, 0, 0, NULL, FluidG1Continuity, NULL, NULL));
-    if (f->data.load_value_kernel || f->data.load_stress_kernel) PetscCall(PetscWeakFormAddResidual(wf, region, value, 0, 0, f->data.load_value_kernel, f->data.load_stress_kernel));
+    if (f->data.load_value_kernel || f->data.load_stress_kernel)
+      PetscCall(
+        PetscWeakFormAddResidual(wf, region, value, 0, 0, f->data.load_value_kernel, f->data.load_stress_kernel));
   }
   PetscFunctionReturn(0);
 }
@@ -100,13 +106,16 @@ PetscErrorCode FluidSetUpWeakForm(Fluid f)
       char          name[64];
       PetscBool     listed = f->backflow_faces_given ? PETSC_FALSE : PETSC_TRUE;
 
-      for (PetscInt i = 0; i < f->n_backflow_faces && f->backflow_faces_given; ++i) listed = listed || f->backflow_faces[i] == f->data.traction_faces[b];
+      for (PetscInt i = 0; i < f->n_backflow_faces && f->backflow_faces_given; ++i)
+        listed = listed || f->backflow_faces[i] == f->data.traction_faces[b];
       if (!listed) continue;
       PetscCall(PetscSNPrintf(name, sizeof(name), "backflow_%" PetscInt_FMT, f->data.traction_faces[b]));
-      PetscCall(DMAddBoundary(f->dm, DM_BC_NATURAL, name, label, 1, &f->data.traction_faces[b], 0, 0, NULL, NULL, NULL, NULL, &bd));
+      PetscCall(DMAddBoundary(f->dm, DM_BC_NATURAL, name, label, 1, &f->data.traction_faces[b], 0, 0, NULL, NULL, NULL,
+                              NULL, &bd));
       PetscCall(PetscDSGetBoundary(ds, bd, &bdwf, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
       PetscCall(PetscWeakFormAddBdResidual(bdwf, label, f->data.traction_faces[b], 0, 0, FluidF0Backflow, NULL));
-      PetscCall(PetscWeakFormAddBdJacobian(bdwf, label, f->data.traction_faces[b], 0, 0, 0, FluidG0Backflow, NULL, NULL, NULL));
+      PetscCall(
+        PetscWeakFormAddBdJacobian(bdwf, label, f->data.traction_faces[b], 0, 0, 0, FluidG0Backflow, NULL, NULL, NULL));
     }
   }
   if (f->interface_face && f->interface_convective_term && f->model == FLUID_NAVIER_STOKES) {
@@ -115,10 +124,12 @@ PetscErrorCode FluidSetUpWeakForm(Fluid f)
     PetscInt      bd;
 
     PetscCall(DMGetLabel(f->dm, "Face Sets", &label));
-    PetscCall(DMAddBoundary(f->dm, DM_BC_NATURAL, "interface_convection", label, 1, &f->interface_face, 0, 0, NULL, NULL, NULL, NULL, &bd));
+    PetscCall(DMAddBoundary(f->dm, DM_BC_NATURAL, "interface_convection", label, 1, &f->interface_face, 0, 0, NULL,
+                            NULL, NULL, NULL, &bd));
     PetscCall(PetscDSGetBoundary(ds, bd, &bdwf, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
     PetscCall(PetscWeakFormAddBdResidual(bdwf, label, f->interface_face, 0, 0, FluidF0InterfaceConvection, NULL));
-    PetscCall(PetscWeakFormAddBdJacobian(bdwf, label, f->interface_face, 0, 0, 0, FluidG0InterfaceConvection, NULL, NULL, NULL));
+    PetscCall(PetscWeakFormAddBdJacobian(bdwf, label, f->interface_face, 0, 0, 0, FluidG0InterfaceConvection, NULL,
+                                         NULL, NULL));
   }
   PetscFunctionReturn(0);
 }
@@ -134,7 +145,11 @@ static struct {
   PetscReal  t;
 } projection_target;
 
-static void ProjectionStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f1[])
+static void ProjectionStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                             const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[],
+                             const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[],
+                             const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[],
+                             PetscInt numConstants, const PetscScalar constants[], PetscScalar f1[])
 {
   PetscScalar g[9] = {0}, p = 0;
 
@@ -142,7 +157,8 @@ static void ProjectionStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const Pe
   (void)projection_target.gradient(dim, projection_target.t, x, dim, g, projection_target.ctx);
   (void)projection_target.pressure(dim, projection_target.t, x, 1, &p, projection_target.ctx);
   for (PetscInt c = 0; c < dim; ++c)
-    for (PetscInt d = 0; d < dim; ++d) f1[c * dim + d] -= constants[FLUID_MU] * (g[c * dim + d] + g[d * dim + c]) - (c == d ? p : 0.0);
+    for (PetscInt d = 0; d < dim; ++d)
+      f1[c * dim + d] -= constants[FLUID_MU] * (g[c * dim + d] + g[d * dim + c]) - (c == d ? p : 0.0);
 }
 
 PetscErrorCode FluidProjectExact(Fluid f)
@@ -169,6 +185,7 @@ PetscErrorCode FluidSetPressureStabilization(Fluid f)
   const PetscReal h = f->cell_size;
 
   PetscFunctionBeginUser;
-  if (f->pressure_stabilization > 0) f->pressure_tau = f->pressure_stabilization * h * h / (f->rho * h * h / f->dt + f->mu);
+  if (f->pressure_stabilization > 0)
+    f->pressure_tau = f->pressure_stabilization * h * h / (f->rho * h * h / f->dt + f->mu);
   PetscFunctionReturn(0);
 }

@@ -6,9 +6,9 @@
 #include "options.h"
 
 typedef struct {
-  char     name[128]; /* group/name */
-  Vec      vec;       /* NULL for a number */
-  PetscInt integer;
+  char      name[128]; /* group/name */
+  Vec       vec;       /* NULL for a number */
+  PetscInt  integer;
   PetscReal real;
 } MemoryEntry;
 
@@ -133,7 +133,8 @@ PetscErrorCode CheckpointVec(Checkpoint cp, const char name[], Vec v, PetscBool 
   if (load) {
     PetscBool has;
     PetscCall(PetscViewerHDF5HasObject(viewer, (PetscObject)plain, &has));
-    PetscCheck(has, PetscObjectComm((PetscObject)v), PETSC_ERR_FILE_UNEXPECTED, "option -restart: the checkpoint has no '%s': written by another scene or set-up", name);
+    PetscCheck(has, PetscObjectComm((PetscObject)v), PETSC_ERR_FILE_UNEXPECTED,
+               "option -restart: the checkpoint has no '%s': written by another scene or set-up", name);
     PetscCall(VecLoad(plain, viewer));
     PetscCall(VecCopy(plain, v));
   } else {
@@ -144,7 +145,8 @@ PetscErrorCode CheckpointVec(Checkpoint cp, const char name[], Vec v, PetscBool 
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode CheckpointAttribute(Checkpoint cp, const char name[], PetscDataType type, void *value, PetscBool load)
+static PetscErrorCode CheckpointAttribute(Checkpoint cp, const char name[], PetscDataType type, void *value,
+                                          PetscBool load)
 {
   PetscViewer viewer = cp->viewer;
 
@@ -162,7 +164,8 @@ static PetscErrorCode CheckpointAttribute(Checkpoint cp, const char name[], Pets
   } else if (load) {
     PetscBool has;
     PetscCall(PetscViewerHDF5HasAttribute(viewer, NULL, name, &has));
-    PetscCheck(has, PetscObjectComm((PetscObject)viewer), PETSC_ERR_FILE_UNEXPECTED, "option -restart: the checkpoint has no attribute '%s': not an fsiopt checkpoint of this set-up", name);
+    PetscCheck(has, PetscObjectComm((PetscObject)viewer), PETSC_ERR_FILE_UNEXPECTED,
+               "option -restart: the checkpoint has no attribute '%s': not an fsiopt checkpoint of this set-up", name);
     PetscCall(PetscViewerHDF5ReadAttribute(viewer, NULL, name, type, NULL, value));
   } else PetscCall(PetscViewerHDF5WriteAttribute(viewer, NULL, name, type, value));
   PetscFunctionReturn(0);
@@ -262,7 +265,9 @@ PetscErrorCode CheckpointClose(MPI_Comm comm, const char path[], PetscBool load,
   PetscCall(TemporaryName(path, tmp, sizeof(tmp)));
   PetscCallMPI(MPI_Barrier(comm));
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (!rank) PetscCheck(rename(tmp, path) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "option -checkpoint_file %s: cannot rename %s into place", path, tmp);
+  if (!rank)
+    PetscCheck(rename(tmp, path) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE,
+               "option -checkpoint_file %s: cannot rename %s into place", path, tmp);
   PetscCallMPI(MPI_Barrier(comm));
   PetscFunctionReturn(0);
 }

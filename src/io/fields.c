@@ -8,11 +8,11 @@
    so the topology is written once although the fluid's coordinates change every step. */
 typedef struct {
   const char *name, *field[2];
-  PetscBool   deform;                          /* geometry = coordinates + first field */
+  PetscBool   deform; /* geometry = coordinates + first field */
   PetscInt    nfields, nc[2];
-  PetscInt    dim, nv, ncells, nvertices;      /* the same on every rank */
-  PetscInt    nown, *own;                      /* vertex points this rank owns */
-  PetscInt   *index;                           /* root: global number of each gathered vertex */
+  PetscInt    dim, nv, ncells, nvertices; /* the same on every rank */
+  PetscInt    nown, *own;                 /* vertex points this rank owns */
+  PetscInt   *index;                      /* root: global number of each gathered vertex */
 } Part;
 
 struct _p_FieldWriter {
@@ -29,7 +29,8 @@ struct _p_FieldWriter {
 };
 
 /* Concatenates every rank's n values on the root, in rank order. */
-static PetscErrorCode GatherOnRoot(MPI_Comm comm, PetscInt n, MPI_Datatype type, const void *send, void **recv, PetscInt *total)
+static PetscErrorCode GatherOnRoot(MPI_Comm comm, PetscInt n, MPI_Datatype type, const void *send, void **recv,
+                                   PetscInt *total)
 {
   PetscMPIInt rank, size, mine = (PetscMPIInt)n, *counts = NULL, *displs = NULL, unit;
 
@@ -90,7 +91,7 @@ static PetscErrorCode PartSetUp(FieldWriter w, Part *P, DM dm)
     PetscCall(PetscMalloc1(vEnd - vStart, &global));
     for (PetscInt v = vStart; v < vEnd; ++v) {
       if (vn[v - vStart] < 0) continue; /* another rank writes it */
-      P->own[P->nown]    = v;
+      P->own[P->nown]   = v;
       global[P->nown++] = vn[v - vStart];
       /* a Lagrange field keeps its vertex value at the vertex point: one dof per component */
       for (PetscInt f = 0; f < P->nfields; ++f) {
@@ -108,7 +109,8 @@ static PetscErrorCode PartSetUp(FieldWriter w, Part *P, DM dm)
       for (PetscInt i = 0; i < 2 * n; i += 2) {
         const PetscInt p = closure[i];
         if (p < vStart || p >= vEnd) continue;
-        if (nv < MAX_CELL_VERTICES) cells[ncells * MAX_CELL_VERTICES + nv] = vn[p - vStart] < 0 ? -(vn[p - vStart] + 1) : vn[p - vStart];
+        if (nv < MAX_CELL_VERTICES)
+          cells[ncells * MAX_CELL_VERTICES + nv] = vn[p - vStart] < 0 ? -(vn[p - vStart] + 1) : vn[p - vStart];
         ++nv;
       }
       PetscCall(DMPlexRestoreTransitiveClosure(dm, c, PETSC_TRUE, &n, &closure));
@@ -120,11 +122,18 @@ static PetscErrorCode PartSetUp(FieldWriter w, Part *P, DM dm)
     PetscCall(ISRestoreIndices(cnum, &cn));
   }
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &bad, 1, MPIU_BOOL, MPI_LOR, w->comm));
-  PetscCheck(!bad, w->comm, PETSC_ERR_SUP, "option -write_fields: the %s needs a mesh of one cell type and Lagrange fields with values at the vertices", P->name);
+  PetscCheck(!bad, w->comm, PETSC_ERR_SUP,
+             "option -write_fields: the %s needs a mesh of one cell type and Lagrange fields with values at the "
+             "vertices",
+             P->name);
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, info, 2, MPIU_INT, MPI_MAX, w->comm));
   P->dim = info[0];
   P->nv  = info[1];
-  PetscCheck((P->dim == 2 && (P->nv == 3 || P->nv == 4)) || (P->dim == 3 && (P->nv == 4 || P->nv == 8)), w->comm, PETSC_ERR_SUP, "option -write_fields: the %s mesh has cells of %" PetscInt_FMT " vertices in %" PetscInt_FMT "D; only triangles, quadrilaterals, tetrahedra and hexahedra are written", P->name, P->nv, P->dim);
+  PetscCheck((P->dim == 2 && (P->nv == 3 || P->nv == 4)) || (P->dim == 3 && (P->nv == 4 || P->nv == 8)), w->comm,
+             PETSC_ERR_SUP,
+             "option -write_fields: the %s mesh has cells of %" PetscInt_FMT " vertices in %" PetscInt_FMT
+             "D; only triangles, quadrilaterals, tetrahedra and hexahedra are written",
+             P->name, P->nv, P->dim);
   for (PetscInt f = 0; f < P->nfields; ++f)
     if (P->nc[f] < 0) P->nc[f] = P->dim;
   for (PetscInt c = 0; c < ncells; ++c) {
@@ -164,7 +173,7 @@ static PetscErrorCode PartWrite(FieldWriter w, const Part *P, DM dm, Vec local, 
   const PetscInt ncomp = bs[0] + bs[1] + bs[2];
   /* ParaView takes an XDMF Vector for three components: 2D vectors get a zero z */
   const PetscInt obs[3] = {bs[0], bs[1] > 1 ? 3 : bs[1], bs[2] > 1 ? 3 : bs[2]};
-  PetscScalar   *buf = NULL, *all;
+  PetscScalar *buf = NULL, *all;
   PetscInt       total;
 
   PetscFunctionBeginUser;
@@ -195,7 +204,7 @@ static PetscErrorCode PartWrite(FieldWriter w, const Part *P, DM dm, Vec local, 
   }
   PetscCall(GatherOnRoot(w->comm, P->nown * ncomp, MPIU_SCALAR, buf, (void **)&all, &total));
   if (!w->rank) {
-    const PetscInt N = P->nvertices;
+    const PetscInt N    = P->nvertices;
     PetscScalar   *q[3] = {NULL, NULL, NULL};
 
     for (PetscInt k = 0; k < nq; ++k) PetscCall(PetscCalloc1(N * obs[k], &q[k]));
@@ -219,17 +228,23 @@ static PetscErrorCode PartWrite(FieldWriter w, const Part *P, DM dm, Vec local, 
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FieldWriterCreate(MPI_Comm comm, const RunParams *params, Fluid fluid, Structure structure, FieldWriter *writer)
+PetscErrorCode FieldWriterCreate(MPI_Comm comm, const RunParams *params, Fluid fluid, Structure structure,
+                                 FieldWriter *writer)
 {
   FieldWriter w;
-  PetscBool   on = PETSC_FALSE, help, ok = PETSC_TRUE, exists[2] = {fluid ? PETSC_TRUE : PETSC_FALSE, structure ? PETSC_TRUE : PETSC_FALSE};
-  PetscInt    interval = 10;
+  PetscBool   on = PETSC_FALSE, help, ok = PETSC_TRUE,
+            exists[2] = {fluid ? PETSC_TRUE : PETSC_FALSE, structure ? PETSC_TRUE : PETSC_FALSE};
+  PetscInt interval   = 10;
 
   PetscFunctionBeginUser;
   *writer = NULL;
   PetscOptionsBegin(comm, NULL, "Field output for ParaView", "fsiopt");
-  PetscCall(PetscOptionsBool("-write_fields", "write <output_dir>/fields.h5 and fields.xdmf (fluid and structure fields over time)", NULL, on, &on, NULL));
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-write_fields_interval", "write the fields every K-th step (the first and the last always)", 1, PETSC_MAX_INT, &interval));
+  PetscCall(PetscOptionsBool("-write_fields",
+                             "write <output_dir>/fields.h5 and fields.xdmf (fluid and structure fields over time)",
+                             NULL, on, &on, NULL));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-write_fields_interval",
+                              "write the fields every K-th step (the first and the last always)", 1, PETSC_MAX_INT,
+                              &interval));
   PetscOptionsEnd();
   PetscCall(PetscOptionsHasHelp(NULL, &help));
   if (!on || help) PetscFunctionReturn(0); /* a -help run runs no step: nothing to show */
@@ -241,8 +256,15 @@ PetscErrorCode FieldWriterCreate(MPI_Comm comm, const RunParams *params, Fluid f
   w->steps     = params->steps;
   w->t0        = params->t_start;
   w->dt        = params->dt;
-  w->part[0]   = (Part){.name = "fluid", .field = {"velocity", "pressure"}, .nfields = 2, .nc = {-1, 1}};
-  w->part[1]   = (Part){.name = "structure", .field = {"displacement", NULL}, .nfields = 1, .nc = {-1, 0}, .deform = PETSC_TRUE};
+  w->part[0]   = (Part){
+      .name = "fluid", .field = {"velocity", "pressure"},
+           .nfields = 2, .nc = {-1,         1         }
+  };
+  w->part[1] = (Part){
+    .name = "structure", .field = {"displacement", NULL},
+         .nfields = 1, .nc = {-1,             0   },
+         .deform = PETSC_TRUE
+  };
   PetscCall(PetscMalloc1(w->steps + 1, &w->written));
   PetscCall(PetscStrncpy(w->dir, params->output_dir, sizeof(w->dir)));
   PetscCall(PetscSNPrintf(w->path, sizeof(w->path), "%s/fields.h5", w->dir));
@@ -310,31 +332,40 @@ PetscErrorCode FieldWriterWrite(FieldWriter w, PetscInt step)
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode XdmfItem(MPI_Comm comm, FILE *fp, const char *indent, PetscInt n, PetscInt bs, const char type[], size_t precision, const char path[])
+static PetscErrorCode XdmfItem(MPI_Comm comm, FILE *fp, const char *indent, PetscInt n, PetscInt bs, const char type[],
+                               size_t precision, const char path[])
 {
   PetscFunctionBeginUser;
   PetscCall(PetscFPrintf(comm, fp, "%s<DataItem Dimensions=\"%" PetscInt_FMT, indent, n));
   if (bs > 1) PetscCall(PetscFPrintf(comm, fp, " %" PetscInt_FMT, bs));
-  PetscCall(PetscFPrintf(comm, fp, "\" NumberType=\"%s\" Precision=\"%d\" Format=\"HDF\">fields.h5:%s</DataItem>\n", type, (int)precision, path));
+  PetscCall(PetscFPrintf(comm, fp, "\" NumberType=\"%s\" Precision=\"%d\" Format=\"HDF\">fields.h5:%s</DataItem>\n",
+                         type, (int)precision, path));
   PetscFunctionReturn(0);
 }
 
 static PetscErrorCode XdmfGrid(MPI_Comm comm, FILE *fp, const Part *P, PetscInt step)
 {
-  const char *topology = P->dim == 3 ? (P->nv == 8 ? "Hexahedron" : "Tetrahedron") : P->nv == 3 ? "Triangle" : "Quadrilateral";
+  const char *topology = P->dim == 3 ? (P->nv == 8 ? "Hexahedron" : "Tetrahedron")
+                       : P->nv == 3  ? "Triangle"
+                                     : "Quadrilateral";
   char        path[128];
 
   PetscFunctionBeginUser;
   PetscCall(PetscFPrintf(comm, fp, "      <Grid Name=\"%s\" GridType=\"Uniform\">\n", P->name));
-  PetscCall(PetscFPrintf(comm, fp, "        <Topology TopologyType=\"%s\" NumberOfElements=\"%" PetscInt_FMT "\" NodesPerElement=\"%" PetscInt_FMT "\">\n", topology, P->ncells, P->nv));
+  PetscCall(PetscFPrintf(comm, fp,
+                         "        <Topology TopologyType=\"%s\" NumberOfElements=\"%" PetscInt_FMT
+                         "\" NodesPerElement=\"%" PetscInt_FMT "\">\n",
+                         topology, P->ncells, P->nv));
   PetscCall(PetscSNPrintf(path, sizeof(path), "/%s/topology", P->name));
   PetscCall(XdmfItem(comm, fp, "          ", P->ncells, P->nv, "Int", sizeof(PetscInt), path));
-  PetscCall(PetscFPrintf(comm, fp, "        </Topology>\n        <Geometry GeometryType=\"%s\">\n", P->dim == 3 ? "XYZ" : "XY"));
+  PetscCall(PetscFPrintf(comm, fp, "        </Topology>\n        <Geometry GeometryType=\"%s\">\n",
+                         P->dim == 3 ? "XYZ" : "XY"));
   PetscCall(PetscSNPrintf(path, sizeof(path), "/%s/step_%05" PetscInt_FMT "/geometry", P->name, step));
   PetscCall(XdmfItem(comm, fp, "          ", P->nvertices, P->dim, "Float", sizeof(PetscScalar), path));
   PetscCall(PetscFPrintf(comm, fp, "        </Geometry>\n"));
   for (PetscInt f = 0; f < P->nfields; ++f) {
-    PetscCall(PetscFPrintf(comm, fp, "        <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"Node\">\n", P->field[f], P->nc[f] > 1 ? "Vector" : "Scalar"));
+    PetscCall(PetscFPrintf(comm, fp, "        <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"Node\">\n",
+                           P->field[f], P->nc[f] > 1 ? "Vector" : "Scalar"));
     PetscCall(PetscSNPrintf(path, sizeof(path), "/%s/step_%05" PetscInt_FMT "/%s", P->name, step, P->field[f]));
     PetscCall(XdmfItem(comm, fp, "          ", P->nvertices, P->nc[f] > 1 ? 3 : 1, "Float", sizeof(PetscScalar), path));
     PetscCall(PetscFPrintf(comm, fp, "        </Attribute>\n"));
@@ -356,13 +387,21 @@ PetscErrorCode FieldWriterFinish(FieldWriter w)
     renamed = rename(w->partial, w->path) == 0 ? PETSC_TRUE : PETSC_FALSE;
   }
   PetscCallMPI(MPI_Bcast(&renamed, 1, MPIU_BOOL, 0, w->comm));
-  PetscCheck(renamed, w->comm, PETSC_ERR_FILE_WRITE, "option -write_fields: cannot rename %s to %s", w->partial, w->path);
+  PetscCheck(renamed, w->comm, PETSC_ERR_FILE_WRITE, "option -write_fields: cannot rename %s to %s", w->partial,
+             w->path);
   PetscCall(PartialFileOpen(w->comm, w->dir, "fields.xdmf", &xdmf));
-  PetscCall(PetscFPrintf(w->comm, xdmf.fp, "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"3.0\">\n  <Domain>\n"));
-  PetscCall(PetscFPrintf(w->comm, xdmf.fp, "    <Grid Name=\"fsiopt\" GridType=\"Collection\" CollectionType=\"Temporal\">\n"));
+  PetscCall(PetscFPrintf(w->comm, xdmf.fp,
+                         "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n<Xdmf Version=\"3.0\">\n  "
+                         "<Domain>\n"));
+  PetscCall(
+    PetscFPrintf(w->comm, xdmf.fp, "    <Grid Name=\"fsiopt\" GridType=\"Collection\" CollectionType=\"Temporal\">\n"));
   for (PetscInt i = 0; i < w->nwritten; ++i) {
-    PetscCall(PetscFPrintf(w->comm, xdmf.fp, "    <Grid Name=\"step_%05" PetscInt_FMT "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n", w->written[i]));
-    PetscCall(PetscFPrintf(w->comm, xdmf.fp, "      <Time Value=\"%.12g\"/>\n", (double)(w->t0 + w->written[i] * w->dt)));
+    PetscCall(PetscFPrintf(w->comm, xdmf.fp,
+                           "    <Grid Name=\"step_%05" PetscInt_FMT
+                           "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n",
+                           w->written[i]));
+    PetscCall(
+      PetscFPrintf(w->comm, xdmf.fp, "      <Time Value=\"%.12g\"/>\n", (double)(w->t0 + w->written[i] * w->dt)));
     for (PetscInt p = 0; p < 2; ++p)
       if (w->part[p].nvertices) PetscCall(XdmfGrid(w->comm, xdmf.fp, &w->part[p], w->written[i]));
     PetscCall(PetscFPrintf(w->comm, xdmf.fp, "    </Grid>\n"));

@@ -16,17 +16,21 @@ PetscErrorCode HistoryOpen(MPI_Comm comm, const char dir[], History *history)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode HistoryAppend(History h, PetscInt step, PetscReal dt, PetscInt iteration, PetscReal objective, PetscReal jump, PetscInt inner)
+PetscErrorCode HistoryAppend(History h, PetscInt step, PetscReal dt, PetscInt iteration, PetscReal objective,
+                             PetscReal jump, PetscInt inner)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscFPrintf(h->file.comm, h->file.fp, "%" PetscInt_FMT ",%" PetscInt_FMT ",%.10e,%.10e,%" PetscInt_FMT ",%.10e,\n", step, iteration, (double)objective, (double)jump, inner, (double)dt));
+  PetscCall(PetscFPrintf(h->file.comm, h->file.fp,
+                         "%" PetscInt_FMT ",%" PetscInt_FMT ",%.10e,%.10e,%" PetscInt_FMT ",%.10e,\n", step, iteration,
+                         (double)objective, (double)jump, inner, (double)dt));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode HistoryAppendEvent(History h, PetscInt step, PetscReal dt, const char event[])
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscFPrintf(h->file.comm, h->file.fp, "%" PetscInt_FMT ",-1,nan,nan,0,%.10e,%s\n", step, (double)dt, event));
+  PetscCall(
+    PetscFPrintf(h->file.comm, h->file.fp, "%" PetscInt_FMT ",-1,nan,nan,0,%.10e,%s\n", step, (double)dt, event));
   PetscFunctionReturn(0);
 }
 

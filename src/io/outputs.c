@@ -20,8 +20,8 @@ static PetscErrorCode ProbesSetUp(Outputs out, PetscInt dim, Interface itf)
 {
   const char  *force_names[] = {"drag", "lift", "force_z"};
   const Scene *scene         = out->scene;
-  PetscInt     nforce        = scene->has_fluid && scene->fluid.n_force_faces ? dim : 0, nodes = 0;
-  PetscReal   *coords        = NULL;
+  PetscInt     nforce = scene->has_fluid && scene->fluid.n_force_faces ? dim : 0, nodes = 0;
+  PetscReal   *coords = NULL;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &dim, 1, MPIU_INT, MPI_MAX, PETSC_COMM_WORLD));
@@ -32,13 +32,16 @@ static PetscErrorCode ProbesSetUp(Outputs out, PetscInt dim, Interface itf)
     PetscCall(InterfaceGetFluidNodes(itf, &nodes, NULL, &interface_coords));
     PetscCall(PetscMalloc1(nodes * dim, &coords));
     PetscCall(PetscArraycpy(coords, interface_coords, nodes * dim));
-  } else if (scene->n_probes && out->structure && !scene->has_fluid) PetscCall(StructureCreateNodeVector(out->structure, &out->displacement, &nodes, &coords));
-  PetscCall(ProbesCreate(PETSC_COMM_WORLD, dim, nodes, coords, out->displacement ? scene->n_probes : 0, scene->probes, nforce, force_names, out->params->output_dir, &out->probes));
+  } else if (scene->n_probes && out->structure && !scene->has_fluid)
+    PetscCall(StructureCreateNodeVector(out->structure, &out->displacement, &nodes, &coords));
+  PetscCall(ProbesCreate(PETSC_COMM_WORLD, dim, nodes, coords, out->displacement ? scene->n_probes : 0, scene->probes,
+                         nforce, force_names, out->params->output_dir, &out->probes));
   PetscCall(PetscFree(coords));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode OutputsCreate(const RunParams *params, const Scene *scene, PetscInt dim, Fluid fluid, Structure structure, Interface itf, CouplingProblem problem, Outputs *outputs)
+PetscErrorCode OutputsCreate(const RunParams *params, const Scene *scene, PetscInt dim, Fluid fluid,
+                             Structure structure, Interface itf, CouplingProblem problem, Outputs *outputs)
 {
   Outputs out;
 
@@ -63,7 +66,8 @@ static PetscErrorCode RecordProbes(Outputs out, PetscReal t)
   if (!out->probes) PetscFunctionReturn(0);
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_PROBES, 0, 0, 0, 0));
   if (out->fluid && out->scene->fluid.n_force_faces) PetscCall(FluidBodyForce(out->fluid, force));
-  if (out->displacement && out->problem) PetscCall(CouplingProblemInterfaceDisplacement(out->problem, out->displacement));
+  if (out->displacement && out->problem)
+    PetscCall(CouplingProblemInterfaceDisplacement(out->problem, out->displacement));
   else if (out->displacement) PetscCall(StructureGetNodeDisplacement(out->structure, out->displacement));
   PetscCall(ProbesRecord(out->probes, t, out->displacement, force));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_PROBES, 0, 0, 0, 0));

@@ -51,6 +51,8 @@ PetscErrorCode PartialFileClose(PartialFile *file, PetscBool complete)
   PetscCall(PetscFClose(file->comm, file->fp));
   file->fp = NULL;
   PetscCallMPI(MPI_Comm_rank(file->comm, &rank));
-  if (complete && !rank) PetscCheck(rename(file->partial, file->path) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot rename %s to %s", file->partial, file->path);
+  if (complete && !rank)
+    PetscCheck(rename(file->partial, file->path) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot rename %s to %s",
+               file->partial, file->path);
   PetscFunctionReturn(0);
 }

@@ -4,9 +4,9 @@
 #include "checkpoint.h"
 
 struct _p_Probes {
-  MPI_Comm    comm;
-  PetscInt    npoints, dim, nextra, ncolumns;
-  char      (*names)[32];
+  MPI_Comm comm;
+  PetscInt npoints, dim, nextra, ncolumns;
+  char (*names)[32];
   VecScatter  to_zero;
   Vec         values; /* on rank 0: npoints * dim */
   PartialFile file;
@@ -16,7 +16,8 @@ struct _p_Probes {
 };
 
 /* The global index of the first component at each point, found among the nodes. */
-static PetscErrorCode FindPoints(Probes P, Vec layout, PetscInt nodes, const PetscReal coords[], const PetscReal points[][3], PetscInt index[])
+static PetscErrorCode FindPoints(Probes P, Vec layout, PetscInt nodes, const PetscReal coords[],
+                                 const PetscReal points[][3], PetscInt index[])
 {
   PetscInt start;
 
@@ -30,13 +31,18 @@ static PetscErrorCode FindPoints(Probes P, Vec layout, PetscInt nodes, const Pet
       if (dist < 1e-6) found = start + i * P->dim; /* gmsh places nodes on arcs to about 1e-9 */
     }
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &found, 1, MPIU_INT, MPI_MAX, P->comm));
-    PetscCheck(found >= 0, P->comm, PETSC_ERR_ARG_WRONG, "probe (%g, %g, %g): not a vertex of the mesh it watches (the fluid-structure interface, or the structure)", (double)points[p][0], (double)points[p][1], (double)(P->dim == 3 ? points[p][2] : 0));
+    PetscCheck(found >= 0, P->comm, PETSC_ERR_ARG_WRONG,
+               "probe (%g, %g, %g): not a vertex of the mesh it watches (the fluid-structure interface, or the "
+               "structure)",
+               (double)points[p][0], (double)points[p][1], (double)(P->dim == 3 ? points[p][2] : 0));
     for (PetscInt d = 0; d < P->dim; ++d) index[p * P->dim + d] = found + d;
   }
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ProbesCreate(MPI_Comm comm, PetscInt dim, PetscInt nodes, const PetscReal coords[], PetscInt npoints, const PetscReal points[][3], PetscInt nextra, const char *const extra_names[], const char dir[], Probes *probes)
+PetscErrorCode ProbesCreate(MPI_Comm comm, PetscInt dim, PetscInt nodes, const PetscReal coords[], PetscInt npoints,
+                            const PetscReal points[][3], PetscInt nextra, const char *const extra_names[],
+                            const char dir[], Probes *probes)
 {
   Probes      P;
   PetscMPIInt rank;
@@ -49,16 +55,24 @@ PetscErrorCode ProbesCreate(MPI_Comm comm, PetscInt dim, PetscInt nodes, const P
   P->dim      = dim;
   P->nextra   = nextra;
   P->ncolumns = npoints * dim + nextra;
-  PetscCheck(P->ncolumns <= FSIOPT_MAX_QUANTITIES, comm, PETSC_ERR_ARG_OUTOFRANGE, "at most %d probe columns, asked for %" PetscInt_FMT, FSIOPT_MAX_QUANTITIES, P->ncolumns);
+  PetscCheck(P->ncolumns <= FSIOPT_MAX_QUANTITIES, comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "at most %d probe columns, asked for %" PetscInt_FMT, FSIOPT_MAX_QUANTITIES, P->ncolumns);
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   PetscOptionsBegin(comm, NULL, "Probes and the quantities of summary.json", "probes");
-  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-quantities_window", "report mean, amplitude and frequency of every probe column over the run's last T seconds (0: final values only)", &P->window));
+  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-quantities_window",
+                                   "report mean, amplitude and frequency of every probe column over the run's last T "
+                                   "seconds (0: final values only)",
+                                   &P->window));
   PetscOptionsEnd();
   PetscCall(PetscMalloc1(P->ncolumns, &P->names));
   for (PetscInt p = 0; p < npoints; ++p)
     for (PetscInt d = 0; d < dim; ++d, ++column) {
-      if (dim == 3) PetscCall(PetscSNPrintf(P->names[column], 32, "d%c(%g;%g;%g)", "xyz"[d], (double)points[p][0], (double)points[p][1], (double)points[p][2]));
-      else PetscCall(PetscSNPrintf(P->names[column], 32, "d%c(%g;%g)", "xyz"[d], (double)points[p][0], (double)points[p][1]));
+      if (dim == 3)
+        PetscCall(PetscSNPrintf(P->names[column], 32, "d%c(%g;%g;%g)", "xyz"[d], (double)points[p][0],
+                                (double)points[p][1], (double)points[p][2]));
+      else
+        PetscCall(
+          PetscSNPrintf(P->names[column], 32, "d%c(%g;%g)", "xyz"[d], (double)points[p][0], (double)points[p][1]));
     }
   for (PetscInt e = 0; e < nextra; ++e, ++column) PetscCall(PetscStrncpy(P->names[column], extra_names[e], 32));
   if (npoints) {
@@ -98,7 +112,8 @@ static PetscErrorCode AppendRow(Probes P, PetscReal t, const PetscReal row[])
   PetscCall(PetscArraycpy(&P->series[P->nrecords * P->ncolumns], row, P->ncolumns));
   P->nrecords++;
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, P->file.fp, "%.10g", (double)t));
-  for (PetscInt c = 0; c < P->ncolumns; ++c) PetscCall(PetscFPrintf(PETSC_COMM_SELF, P->file.fp, ",%.12e", (double)row[c]));
+  for (PetscInt c = 0; c < P->ncolumns; ++c)
+    PetscCall(PetscFPrintf(PETSC_COMM_SELF, P->file.fp, ",%.12e", (double)row[c]));
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, P->file.fp, "\n"));
   PetscFunctionReturn(0);
 }
@@ -141,7 +156,9 @@ PetscErrorCode ProbesCheckpoint(Probes P, Checkpoint cp, PetscBool load)
   PetscCallMPI(MPI_Bcast(&records, 1, MPIU_INT, 0, P->comm));
   PetscCall(CheckpointInt(cp, "records", &records, load));
   PetscCall(CheckpointInt(cp, "columns", &columns, load));
-  PetscCheck(columns == P->ncolumns, P->comm, PETSC_ERR_FILE_UNEXPECTED, "option -restart: the checkpoint's probes have %" PetscInt_FMT " columns, this run's %" PetscInt_FMT, columns, P->ncolumns);
+  PetscCheck(columns == P->ncolumns, P->comm, PETSC_ERR_FILE_UNEXPECTED,
+             "option -restart: the checkpoint's probes have %" PetscInt_FMT " columns, this run's %" PetscInt_FMT,
+             columns, P->ncolumns);
   PetscCall(VecCreateMPI(P->comm, rank ? 0 : records * (columns + 1), PETSC_DETERMINE, &series));
   if (!load) {
     PetscCall(VecGetArray(series, &a));
@@ -179,7 +196,8 @@ PetscErrorCode ProbesQuantities(Probes P, QuantityTable *table)
   for (PetscInt c = 0; c < P->ncolumns; ++c) {
     for (PetscInt r = 0; r < P->nrecords; ++r) column[r] = P->series[r * P->ncolumns + c];
     PetscCall(PetscStrncpy(table->name[c], P->names[c], sizeof(table->name[c])));
-    PetscCall(QuantityAnalyze(P->nrecords, P->t, column, P->window, &table->final[c], &table->mean[c], &table->amplitude[c], &table->frequency[c]));
+    PetscCall(QuantityAnalyze(P->nrecords, P->t, column, P->window, &table->final[c], &table->mean[c],
+                              &table->amplitude[c], &table->frequency[c]));
   }
   PetscCall(PetscFree(column));
   PetscFunctionReturn(0);

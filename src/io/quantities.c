@@ -4,7 +4,8 @@
    (none when the amplitude is below 1e-5 of the values: a steady signal). */
 #include "probes.h"
 
-PetscErrorCode QuantityAnalyze(PetscInt n, const PetscReal t[], const PetscReal v[], PetscReal window, PetscReal *final, PetscReal *mean, PetscReal *amplitude, PetscReal *frequency)
+PetscErrorCode QuantityAnalyze(PetscInt n, const PetscReal t[], const PetscReal v[], PetscReal window, PetscReal *final,
+                               PetscReal *mean, PetscReal *amplitude, PetscReal *frequency)
 {
   PetscInt  first = n - 1, crossings = 0;
   PetscReal lo, hi, t_first = 0, t_last = 0;

@@ -40,7 +40,8 @@ static void WriteQuantities(FILE *fp, const QuantityTable *q)
   for (PetscInt i = 0; i < q->n; ++i) {
     fprintf(fp, ",\n    \"%s\": {\"final\": %.10e", q->name[i], (double)q->final[i]);
     if (q->window > 0) {
-      fprintf(fp, ", \"mean\": %.10e, \"amplitude\": %.10e, \"frequency\": ", (double)q->mean[i], (double)q->amplitude[i]);
+      fprintf(fp, ", \"mean\": %.10e, \"amplitude\": %.10e, \"frequency\": ", (double)q->mean[i],
+              (double)q->amplitude[i]);
       if (q->frequency[i] > 0) fprintf(fp, "%.10e}", (double)q->frequency[i]);
       else fprintf(fp, "null}");
     } else fprintf(fp, "}");
@@ -116,16 +117,21 @@ PetscErrorCode SummaryWrite(MPI_Comm comm, const char dir[], const RunSummary *s
   WriteNumberOrNull(fp, "max_interface_jump", s->max_interface_jump, ",");
   WriteNumberOrNull(fp, "worst_corner_ratio", s->worst_corner_ratio, ",");
   WriteNumberOrNull(fp, "worst_corner_time", s->worst_corner_time, ",");
-  fprintf(fp, "  \"factorizations\": {\"fluid\": %d, \"structure\": %d},\n", (int)s->fluid.factorizations, (int)s->structure.factorizations);
+  fprintf(fp, "  \"factorizations\": {\"fluid\": %d, \"structure\": %d},\n", (int)s->fluid.factorizations,
+          (int)s->structure.factorizations);
   fprintf(fp, "  \"converged\": %s,\n", s->converged ? "true" : "false");
   fprintf(fp, "  \"errors\": {");
-  for (PetscInt i = 0; i < s->errors.n; ++i) fprintf(fp, "%s\"%s\": %.10e", i ? ", " : "", s->errors.name[i], (double)s->errors.value[i]);
+  for (PetscInt i = 0; i < s->errors.n; ++i)
+    fprintf(fp, "%s\"%s\": %.10e", i ? ", " : "", s->errors.name[i], (double)s->errors.value[i]);
   fprintf(fp, "},\n");
   WriteQuantities(fp, &s->quantities);
-  fprintf(fp, "  \"ranks\": {\"fluid\": %d, \"structure\": %d, \"total\": %d}\n", (int)s->fluid_ranks, (int)s->structure_ranks, (int)s->total_ranks);
+  fprintf(fp, "  \"ranks\": {\"fluid\": %d, \"structure\": %d, \"total\": %d}\n", (int)s->fluid_ranks,
+          (int)s->structure_ranks, (int)s->total_ranks);
   fprintf(fp, "}\n");
-  PetscCheck(fclose(fp) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "option -output_dir %s: writing %s failed", dir, tmp);
-  PetscCheck(rename(tmp, path) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "option -output_dir %s: cannot rename %s to %s", dir, tmp, path);
+  PetscCheck(fclose(fp) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "option -output_dir %s: writing %s failed", dir,
+             tmp);
+  PetscCheck(rename(tmp, path) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE,
+             "option -output_dir %s: cannot rename %s to %s", dir, tmp, path);
   PetscFunctionReturn(0);
 }
 
@@ -167,11 +173,13 @@ static PetscErrorCode GatherSolvers(RunSummary *s, PetscBool has_structure, Flui
     PetscCall(ShareWithAll(&s->dim, sizeof(s->dim), structure_root));
   }
   s->errors = fluid_errors;
-  for (PetscInt i = 0; i < structure_errors.n; ++i) PetscCall(ErrorTableAdd(&s->errors, structure_errors.name[i], structure_errors.value[i]));
+  for (PetscInt i = 0; i < structure_errors.n; ++i)
+    PetscCall(ErrorTableAdd(&s->errors, structure_errors.name[i], structure_errors.value[i]));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SummaryGather(RunSummary *s, PetscBool has_fluid, PetscBool has_structure, Fluid fluid, Structure structure, Coupling coupling, StepRetry retry)
+PetscErrorCode SummaryGather(RunSummary *s, PetscBool has_fluid, PetscBool has_structure, Fluid fluid,
+                             Structure structure, Coupling coupling, StepRetry retry)
 {
   StepRetryStats retry_stats;
 
@@ -196,7 +204,8 @@ PetscErrorCode SummaryGather(RunSummary *s, PetscBool has_fluid, PetscBool has_s
     s->max_interface_jump  = stats.max_jump;
     s->stalled_steps       = stats.stalled_steps;
     /* seed eq. 6.5: a forward run with the traction known needs one fluid solve per step */
-    s->work_factor = (PetscReal)(fluid_solves + 2 * stats.linearized_pairs) / PetscMax(s->steps_done - s->first_step + 1, 1);
+    s->work_factor = (PetscReal)(fluid_solves + 2 * stats.linearized_pairs) /
+                     PetscMax(s->steps_done - s->first_step + 1, 1);
   }
   s->has_fluid     = has_fluid;
   s->has_structure = has_structure;

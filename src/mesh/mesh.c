@@ -2,7 +2,8 @@
 #include "options.h"
 #include "logging.h"
 
-static PetscErrorCode MeshCheckFaceSets(DM dm, const char prefix[], const char source[], PetscInt nrequired, const PetscInt required[])
+static PetscErrorCode MeshCheckFaceSets(DM dm, const char prefix[], const char source[], PetscInt nrequired,
+                                        const PetscInt required[])
 {
   DMLabel label;
 
@@ -13,7 +14,11 @@ static PetscErrorCode MeshCheckFaceSets(DM dm, const char prefix[], const char s
 
     if (label) PetscCall(DMLabelGetStratumSize(label, required[i], &local));
     PetscCallMPI(MPI_Allreduce(&local, &global, 1, MPIU_INT, MPI_SUM, PetscObjectComm((PetscObject)dm)));
-    PetscCheck(global > 0, PetscObjectComm((PetscObject)dm), PETSC_ERR_ARG_WRONG, "%s mesh %s: expected a 'Face Sets' label with value %" PetscInt_FMT " (1 bottom, 2 right, 3 top, 4 left, higher values the scene's own), which the scene needs; it is missing", prefix, source, required[i]);
+    PetscCheck(global > 0, PetscObjectComm((PetscObject)dm), PETSC_ERR_ARG_WRONG,
+               "%s mesh %s: expected a 'Face Sets' label with value %" PetscInt_FMT
+               " (1 bottom, 2 right, 3 top, 4 left, higher values the scene's own), which the scene needs; it is "
+               "missing",
+               prefix, source, required[i]);
   }
   PetscFunctionReturn(0);
 }
@@ -22,7 +27,7 @@ static PetscErrorCode MeshCheckFaceSets(DM dm, const char prefix[], const char s
    vertices out of order) or degenerate. */
 static PetscErrorCode MeshCheckCells(DM dm, const char prefix[], const char source[])
 {
-  PetscInt  cStart, cEnd, dim, bad = -1;
+  PetscInt  cStart, cEnd, dim, bad     = -1;
   PetscReal v0[3], J[9], invJ[9], detJ = 1, where[3] = {0, 0, 0}, worst = 1;
 
   PetscFunctionBeginUser;
@@ -49,12 +54,16 @@ static PetscErrorCode MeshCheckCells(DM dm, const char prefix[], const char sour
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &first, 1, MPI_INT, MPI_MIN, comm));
     if (first == size) PetscFunctionReturn(0);
     PetscCallMPI(MPI_Bcast(report, 5, MPIU_REAL, first, comm));
-    SETERRQ(comm, PETSC_ERR_ARG_WRONG, "%s mesh %s: cell %d with its first corner at (%g, %g, %g) is inverted or degenerate (Jacobian determinant %g)", prefix, source, (int)report[0], (double)report[2], (double)report[3], (double)report[4], (double)report[1]);
+    SETERRQ(comm, PETSC_ERR_ARG_WRONG,
+            "%s mesh %s: cell %d with its first corner at (%g, %g, %g) is inverted or degenerate (Jacobian determinant "
+            "%g)",
+            prefix, source, (int)report[0], (double)report[2], (double)report[3], (double)report[4], (double)report[1]);
   }
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode MeshCreate(MPI_Comm comm, const char prefix[], PetscInt refine, PetscInt dim, PetscInt nrequired, const PetscInt required[], DM *mesh)
+PetscErrorCode MeshCreate(MPI_Comm comm, const char prefix[], PetscInt refine, PetscInt dim, PetscInt nrequired,
+                          const PetscInt required[], DM *mesh)
 {
   DM          dm;
   char        option[256], filename[PETSC_MAX_PATH_LEN] = "";
@@ -74,13 +83,17 @@ PetscErrorCode MeshCreate(MPI_Comm comm, const char prefix[], PetscInt refine, P
     PetscErrorCode ierr = DMSetFromOptions(dm);
     if (ierr) {
       PetscCall(ErrorReportingForget());
-      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "%s mesh %s: cannot build the mesh (expected a gmsh 2.2/4.1 .msh file or -%sdm_plex_box_* options)", prefix, from_file ? filename : "(box)", prefix);
+      SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED,
+              "%s mesh %s: cannot build the mesh (expected a gmsh 2.2/4.1 .msh file or -%sdm_plex_box_* options)",
+              prefix, from_file ? filename : "(box)", prefix);
     }
   }
   {
     PetscInt got;
     PetscCall(DMGetDimension(dm, &got));
-    PetscCheck(!dim || got == dim, comm, PETSC_ERR_ARG_WRONG, "%s mesh %s: expected a %" PetscInt_FMT "D mesh for this scene, got a %" PetscInt_FMT "D one", prefix, from_file ? filename : "(box)", dim, got);
+    PetscCheck(!dim || got == dim, comm, PETSC_ERR_ARG_WRONG,
+               "%s mesh %s: expected a %" PetscInt_FMT "D mesh for this scene, got a %" PetscInt_FMT "D one", prefix,
+               from_file ? filename : "(box)", dim, got);
   }
   PetscCall(MeshCheckFaceSets(dm, prefix, from_file ? filename : "(box)", nrequired, required));
   PetscCall(MeshCheckCells(dm, prefix, from_file ? filename : "(box)"));

@@ -20,7 +20,11 @@
 
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 
-typedef enum { MOTION_HARMONIC, MOTION_ELASTIC, MOTION_BIHARMONIC } MotionType;
+typedef enum {
+  MOTION_HARMONIC,
+  MOTION_ELASTIC,
+  MOTION_BIHARMONIC
+} MotionType;
 static const char *const MotionTypes[] = {"harmonic", "elastic", "biharmonic", "MotionType", "MOTION_", NULL};
 
 struct _p_MeshMotion {
@@ -33,24 +37,31 @@ struct _p_MeshMotion {
   PetscReal      stiffening;
   PetscBool      incremental;
   Vec            coordinates_reference, start; /* incremental: the step's start d^{n-1}, coordinate layout */
-  DM             dm_stiffness; /* a P0 field: each cell's weight */
+  DM             dm_stiffness;                 /* a P0 field: each cell's weight */
   Vec            stiffness;
   DirichletDatum datums[FSIOPT_MAX_BOUNDARIES];
   PetscReal      time;
 };
 
-
 /* the cell's weight, an auxiliary P0 field when stiffened */
 #define WEIGHT (NfAux > 0 ? a[aOff[0]] : 1.0)
 
-static void G3Harmonic(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g3[])
+static void G3Harmonic(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                       const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[],
+                       const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[],
+                       PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants,
+                       const PetscScalar constants[], PetscScalar g3[])
 {
   for (PetscInt c = 0; c < dim; ++c)
     for (PetscInt d = 0; d < dim; ++d) g3[((c * dim + c) * dim + d) * dim + d] = WEIGHT;
 }
 
 /* linear elasticity with mu = lambda = 1 */
-static void G3Elastic(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g3[])
+static void G3Elastic(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                      const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[],
+                      const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[],
+                      PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants,
+                      const PetscScalar constants[], PetscScalar g3[])
 {
   for (PetscInt c = 0; c < dim; ++c)
     for (PetscInt d = 0; d < dim; ++d) {
@@ -63,13 +74,21 @@ static void G3Elastic(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt 
 /* Biharmonic, mixed: tested by d's (interior) functions phi, (weight grad w, grad phi) = 0
    (G3Harmonic), so that -div(weight grad Delta d) = 0; by w's (all) functions psi,
    (grad d, grad psi) - (w, psi) = 0. Symmetric without weights; MUMPS' LU takes either. */
-static void G3BiharmonicWD(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g3[])
+static void G3BiharmonicWD(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                           const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[],
+                           const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[],
+                           const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift,
+                           const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g3[])
 {
   for (PetscInt c = 0; c < dim; ++c)
     for (PetscInt d = 0; d < dim; ++d) g3[((c * dim + c) * dim + d) * dim + d] = 1.0;
 }
 
-static void G0BiharmonicWW(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g0[])
+static void G0BiharmonicWW(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                           const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[],
+                           const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[],
+                           const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift,
+                           const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g0[])
 {
   for (PetscInt c = 0; c < dim; ++c) g0[c * dim + c] = -1.0;
 }
@@ -133,7 +152,9 @@ static PetscErrorCode AssembleOperator(MeshMotion mm)
   PetscCall(MatZeroEntries(mm->operator_all));
   PetscCall(DMPlexSNESComputeJacobianFEM(mm->dm_all, zero, mm->operator_all, mm->operator_all, NULL));
   PetscCall(DMRestoreLocalVector(mm->dm_all, &zero));
-  if (mm->operator_free) PetscCall(MatCreateSubMatrix(mm->operator_all, mm->free_in_all, mm->free_in_all, MAT_REUSE_MATRIX, &mm->operator_free));
+  if (mm->operator_free)
+    PetscCall(
+      MatCreateSubMatrix(mm->operator_all, mm->free_in_all, mm->free_in_all, MAT_REUSE_MATRIX, &mm->operator_free));
   PetscFunctionReturn(0);
 }
 
@@ -150,7 +171,8 @@ static PetscErrorCode CreateFields(MeshMotion mm, DM dm)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfixed, const PetscInt fixed_faces[], MeshMotion *motion)
+PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfixed, const PetscInt fixed_faces[],
+                                MeshMotion *motion)
 {
   MeshMotion  mm;
   PhysicsData data;
@@ -159,9 +181,17 @@ PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfix
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&mm));
   PetscOptionsBegin(PetscObjectComm((PetscObject)fluid), NULL, "Mesh motion", "mesh");
-  PetscCall(PetscOptionsEnum("-mesh_motion", "Extension of the interface displacement into the fluid mesh", NULL, MotionTypes, (PetscEnum)mm->type, (PetscEnum *)&mm->type, NULL));
-  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-mesh_motion_stiffening", "weight each cell by (mean cell size / its size)^chi: small cells near a body move rigidly (0: none)", &mm->stiffening));
-  PetscCall(PetscOptionsBool("-mesh_motion_incremental", "extend each step's increment from the mesh of the step's start, with the operator and weights of that mesh (one assembly and factorization per step), instead of the total displacement from the reference mesh", NULL, mm->incremental, &mm->incremental, NULL));
+  PetscCall(PetscOptionsEnum("-mesh_motion", "Extension of the interface displacement into the fluid mesh", NULL,
+                             MotionTypes, (PetscEnum)mm->type, (PetscEnum *)&mm->type, NULL));
+  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-mesh_motion_stiffening",
+                                   "weight each cell by (mean cell size / its size)^chi: small cells near a body move "
+                                   "rigidly (0: none)",
+                                   &mm->stiffening));
+  PetscCall(PetscOptionsBool("-mesh_motion_incremental",
+                             "extend each step's increment from the mesh of the step's start, with the operator and "
+                             "weights of that mesh (one assembly and factorization per step), instead of the total "
+                             "displacement from the reference mesh",
+                             NULL, mm->incremental, &mm->incremental, NULL));
   PetscOptionsEnd();
   /* a quadrature of its own: PETSc 3.18 caches cell geometry by quadrature on the cell
      IS that clones share, and this mesh does not move */
@@ -196,7 +226,8 @@ PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfix
   PetscCall(DMCreateDS(mm->dm));
   PetscCall(FEMAddBoundaries(mm->dm, 0, &data, mm->datums, &mm->time));
   PetscCall(FEMFreeDofs(mm->dm, mm->dm_all, &mm->free_in_all));
-  PetscCall(MatCreateSubMatrix(mm->operator_all, mm->free_in_all, mm->free_in_all, MAT_INITIAL_MATRIX, &mm->operator_free));
+  PetscCall(
+    MatCreateSubMatrix(mm->operator_all, mm->free_in_all, mm->free_in_all, MAT_INITIAL_MATRIX, &mm->operator_free));
   PetscCall(KSPCreate(PetscObjectComm((PetscObject)fluid), &mm->ksp));
   PetscCall(KSPSetOptionsPrefix(mm->ksp, "mesh_"));
   PetscCall(KSPSetOperators(mm->ksp, mm->operator_free, mm->operator_free));
@@ -288,7 +319,8 @@ PetscErrorCode MeshMotionSolve(MeshMotion mm, Interface itf, Vec interface, Vec 
   PetscCall(VecScale(mm->rhs, -1.0));
   PetscCall(KSPSolve(mm->ksp, mm->rhs, mm->d));
   PetscCall(KSPGetConvergedReason(mm->ksp, &reason));
-  PetscCheck(reason > 0, PetscObjectComm((PetscObject)mm->dm), PETSC_ERR_NOT_CONVERGED, "mesh motion solve failed: KSP reason %s", KSPConvergedReasons[reason]);
+  PetscCheck(reason > 0, PetscObjectComm((PetscObject)mm->dm), PETSC_ERR_NOT_CONVERGED,
+             "mesh motion solve failed: KSP reason %s", KSPConvergedReasons[reason]);
   PetscCall(DMGetLocalVector(mm->dm, &dlocal));
   PetscCall(VecZeroEntries(dlocal));
   PetscCall(DMGlobalToLocal(mm->dm, mm->d, INSERT_VALUES, dlocal));

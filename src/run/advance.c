@@ -14,7 +14,8 @@ static PetscErrorCode WriteCheckpoint(Run run, PetscInt step)
   PetscFunctionBeginUser;
   PetscCall(OutputsGetProbes(run->outputs, &probes));
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CHECKPOINT, 0, 0, 0, 0));
-  PetscCall(RunCheckpoint(run->checkpoint.file, PETSC_FALSE, &saved, &run->params, &run->summary, run->fluid, run->structure, run->coupling, probes));
+  PetscCall(RunCheckpoint(run->checkpoint.file, PETSC_FALSE, &saved, &run->params, &run->summary, run->fluid,
+                          run->structure, run->coupling, probes));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CHECKPOINT, 0, 0, 0, 0));
   run->checkpoint.last = step;
   PetscFunctionReturn(0);
@@ -42,7 +43,9 @@ PetscErrorCode RunAdvance(Run run)
     PetscCall(InterruptTestAfterStep(step));
     PetscCall(InterruptCheck(PETSC_COMM_WORLD, &run->signal_caught));
     /* an interrupted run leaves a checkpoint of its last step when its set-up can */
-    if ((run->checkpoint.every && step % run->checkpoint.every == 0) || (run->signal_caught && run->checkpoint.possible && step < run->params.steps)) PetscCall(WriteCheckpoint(run, step));
+    if ((run->checkpoint.every && step % run->checkpoint.every == 0) ||
+        (run->signal_caught && run->checkpoint.possible && step < run->params.steps))
+      PetscCall(WriteCheckpoint(run, step));
     if (run->signal_caught) {
       s->steps_done  = step;
       s->interrupted = InterruptName(run->signal_caught);

@@ -31,9 +31,9 @@ struct _p_Run {
   PetscInt            first_step;
   PetscLogDouble      start;
   /* how the time loop ended */
-  const char     *failure;       /* the step that failed with the smallest dt, NULL: none */
-  int             signal_caught; /* 0: none */
-  char            stop_reason[2 * PETSC_MAX_PATH_LEN + 1024];
-  PetscErrorCode  stop_code;
+  const char    *failure;       /* the step that failed with the smallest dt, NULL: none */
+  int            signal_caught; /* 0: none */
+  char           stop_reason[2 * PETSC_MAX_PATH_LEN + 1024];
+  PetscErrorCode stop_code;
 };
 #endif

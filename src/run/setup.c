@@ -27,14 +27,19 @@ static PetscErrorCode RunParamsSetFromOptions(RunParams *p)
   PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-t_start", "initial time", &p->t_start));
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-t_final", "final time", &p->t_final));
   PetscCall(PetscSNPrintf(p->output_dir, sizeof(p->output_dir), "out/%s", p->scene));
-  PetscCall(PetscOptionsString("-output_dir", "directory for summary.json and the other outputs (default out/<scene>)", NULL, p->output_dir, p->output_dir, sizeof(p->output_dir), NULL));
+  PetscCall(PetscOptionsString("-output_dir", "directory for summary.json and the other outputs (default out/<scene>)",
+                               NULL, p->output_dir, p->output_dir, sizeof(p->output_dir), NULL));
   PetscOptionsEnd();
   PetscCall(CouplingCheckMethod(p->coupling));
-  PetscCheck(p->t_final > p->t_start, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "option -t_final: expected a time after -t_start (%g), got %g", (double)p->t_start, (double)p->t_final);
+  PetscCheck(p->t_final > p->t_start, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "option -t_final: expected a time after -t_start (%g), got %g", (double)p->t_start, (double)p->t_final);
   {
     const PetscReal ratio = (p->t_final - p->t_start) / p->dt;
     p->steps              = (PetscInt)PetscFloorReal(ratio + 0.5);
-    PetscCheck(p->steps >= 1 && PetscAbsReal(ratio - p->steps) < 1e-6 * PetscMax(1.0, ratio), PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "option -dt: expected a step that divides t_final - t_start = %g into whole steps, got %g", (double)(p->t_final - p->t_start), (double)p->dt);
+    PetscCheck(p->steps >= 1 && PetscAbsReal(ratio - p->steps) < 1e-6 * PetscMax(1.0, ratio), PETSC_COMM_WORLD,
+               PETSC_ERR_ARG_OUTOFRANGE,
+               "option -dt: expected a step that divides t_final - t_start = %g into whole steps, got %g",
+               (double)(p->t_final - p->t_start), (double)p->dt);
   }
   PetscFunctionReturn(0);
 }
@@ -51,7 +56,9 @@ static PetscErrorCode SplitRanks(Run run)
   PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
   PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Parallel layout", "fsiopt");
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-structure_ranks", "ranks of the structure, the rest go to the fluid (0: both on all ranks)", 0, size - 1, &K));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-structure_ranks",
+                              "ranks of the structure, the rest go to the fluid (0: both on all ranks)", 0, size - 1,
+                              &K));
   PetscOptionsEnd();
   run->fluid_comm     = PETSC_COMM_WORLD;
   run->structure_comm = PETSC_COMM_WORLD;
@@ -82,7 +89,8 @@ static PetscErrorCode FluidFromScene(Run run, DM *mesh)
   if (run->coupled) {
     ControlVariant variant;
     PetscCall(CouplingProblemGetControlVariant(&variant));
-    PetscCall(FluidSetInterface(run->fluid, run->scene.fluid.interface_face, variant == CONTROL_CONVECTIVE ? PETSC_TRUE : PETSC_FALSE));
+    PetscCall(FluidSetInterface(run->fluid, run->scene.fluid.interface_face,
+                                variant == CONTROL_CONVECTIVE ? PETSC_TRUE : PETSC_FALSE));
     if (run->scene.fluid.n_fixed_mesh_faces) PetscCall(FluidEnableMeshMotion(run->fluid));
   }
   PetscCall(SceneRequiredFaces(&run->scene.fluid, &nfaces, faces));
@@ -109,8 +117,9 @@ static PetscErrorCode StructureFromScene(Run run, DM *mesh)
 /* The checkpoint options, and the state of a restart (else the initial outputs). */
 static PetscErrorCode CheckpointOrStart(Run run)
 {
-  PetscBool restartable = PETSC_TRUE, fields, separate = run->coupled && (run->fluid_comm != PETSC_COMM_WORLD || run->structure_comm != PETSC_COMM_WORLD);
-  Probes    probes;
+  PetscBool restartable = PETSC_TRUE, fields,
+            separate = run->coupled && (run->fluid_comm != PETSC_COMM_WORLD || run->structure_comm != PETSC_COMM_WORLD);
+  Probes probes;
 
   PetscFunctionBeginUser;
   if (run->coupling) PetscCall(CouplingIsRestartable(run->coupling, &restartable));
@@ -120,7 +129,8 @@ static PetscErrorCode CheckpointOrStart(Run run)
   run->first_step = 1;
   if (run->checkpoint.restarting && !run->help) {
     PetscInt restart_step = 0;
-    PetscCall(RunCheckpoint(run->checkpoint.restart, PETSC_TRUE, &restart_step, &run->params, &run->summary, run->fluid, run->structure, run->coupling, probes));
+    PetscCall(RunCheckpoint(run->checkpoint.restart, PETSC_TRUE, &restart_step, &run->params, &run->summary, run->fluid,
+                            run->structure, run->coupling, probes));
     run->first_step = restart_step + 1;
   } else PetscCall(OutputsRecord(run->outputs, 0));
   PetscFunctionReturn(0);
@@ -147,8 +157,11 @@ PetscErrorCode RunCreate(Run *created)
   if (!scene_given) {
     char names[256];
     PetscCall(SceneListNames(names, sizeof(names)));
-    PetscCheck(run->help, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG, "option -scene: expected a scene name (%s), or an options file that sets it", names);
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "Scenes: %s. Add -scene <name> to -help to see the scene's and the solvers' options.\n", names));
+    PetscCheck(run->help, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
+               "option -scene: expected a scene name (%s), or an options file that sets it", names);
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD,
+                          "Scenes: %s. Add -scene <name> to -help to see the scene's and the solvers' options.\n",
+                          names));
     PetscCall(RunDestroy(&run));
     PetscFunctionReturn(0);
   }
@@ -162,15 +175,20 @@ PetscErrorCode RunCreate(Run *created)
   run->coupled = run->scene.has_fluid && run->scene.has_structure;
   PetscCall(SplitRanks(run));
   if (run->scene.has_fluid && run->fluid_comm != MPI_COMM_NULL) PetscCall(FluidFromScene(run, &fluid_mesh));
-  if (run->scene.has_structure && run->structure_comm != MPI_COMM_NULL) PetscCall(StructureFromScene(run, &structure_mesh));
+  if (run->scene.has_structure && run->structure_comm != MPI_COMM_NULL)
+    PetscCall(StructureFromScene(run, &structure_mesh));
   if (run->coupled) {
     PetscCall(PetscLogEventBegin(FSIOPT_EVENT_INTERFACE, 0, 0, 0, 0));
-    PetscCall(InterfaceCreate(PETSC_COMM_WORLD, fluid_mesh, run->scene.fluid.interface_face, structure_mesh, run->scene.structure.interface_face, &run->itf));
-    PetscCall(CouplingProblemCreate(PETSC_COMM_WORLD, run->fluid, run->structure, run->itf, &run->scene.fluid, &run->problem));
-    PetscCall(CouplingCreate(run->params.coupling, run->problem, run->params.output_dir, run->params.t_start, run->params.dt, &run->coupling));
+    PetscCall(InterfaceCreate(PETSC_COMM_WORLD, fluid_mesh, run->scene.fluid.interface_face, structure_mesh,
+                              run->scene.structure.interface_face, &run->itf));
+    PetscCall(
+      CouplingProblemCreate(PETSC_COMM_WORLD, run->fluid, run->structure, run->itf, &run->scene.fluid, &run->problem));
+    PetscCall(CouplingCreate(run->params.coupling, run->problem, run->params.output_dir, run->params.t_start,
+                             run->params.dt, &run->coupling));
     PetscCall(PetscLogEventEnd(FSIOPT_EVENT_INTERFACE, 0, 0, 0, 0));
   }
-  PetscCall(OutputsCreate(&run->params, &run->scene, run->summary.dim, run->fluid, run->structure, run->itf, run->problem, &run->outputs));
+  PetscCall(OutputsCreate(&run->params, &run->scene, run->summary.dim, run->fluid, run->structure, run->itf,
+                          run->problem, &run->outputs));
   PetscCall(StepRetryCreate(&run->params, run->fluid, run->structure, run->coupling, &run->retry));
   PetscCall(CheckpointOrStart(run));
   PetscCall(DMDestroy(&fluid_mesh));
@@ -206,8 +224,10 @@ PetscErrorCode RunDestroy(Run *destroyed)
   PetscCall(InterfaceDestroy(&run->itf));
   PetscCall(FluidDestroy(&run->fluid));
   PetscCall(StructureDestroy(&run->structure));
-  if (run->fluid_comm != PETSC_COMM_WORLD && run->fluid_comm != MPI_COMM_NULL) PetscCallMPI(MPI_Comm_free(&run->fluid_comm));
-  if (run->structure_comm != PETSC_COMM_WORLD && run->structure_comm != MPI_COMM_NULL) PetscCallMPI(MPI_Comm_free(&run->structure_comm));
+  if (run->fluid_comm != PETSC_COMM_WORLD && run->fluid_comm != MPI_COMM_NULL)
+    PetscCallMPI(MPI_Comm_free(&run->fluid_comm));
+  if (run->structure_comm != PETSC_COMM_WORLD && run->structure_comm != MPI_COMM_NULL)
+    PetscCallMPI(MPI_Comm_free(&run->structure_comm));
   PetscCall(SceneFinalize());
   PetscCall(CouplingFinalize());
   PetscCall(PetscFree(*destroyed));

@@ -6,7 +6,7 @@
 
 struct _p_StepRetry {
   const RunParams *params;
-  Fluid            fluid;     /* NULL on ranks without them */
+  Fluid            fluid; /* NULL on ranks without them */
   Structure        structure;
   Coupling         coupling; /* coupled runs step through it; NULL: single physics */
   PetscReal        dt_min;
@@ -15,7 +15,8 @@ struct _p_StepRetry {
   StepRetryStats   stats;
 };
 
-PetscErrorCode StepRetryCreate(const RunParams *params, Fluid fluid, Structure structure, Coupling coupling, StepRetry *retry)
+PetscErrorCode StepRetryCreate(const RunParams *params, Fluid fluid, Structure structure, Coupling coupling,
+                               StepRetry *retry)
 {
   StepRetry R;
 
@@ -27,12 +28,16 @@ PetscErrorCode StepRetryCreate(const RunParams *params, Fluid fluid, Structure s
   R->structure = structure;
   R->dt_min    = params->dt / 16;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Diverging steps", "fsiopt");
-  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-dt_min", "a failing step is retried as two steps of half its dt, down to this dt (default -dt/16; -dt: no retries)", &R->dt_min));
+  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-dt_min",
+                                "a failing step is retried as two steps of half its dt, down to this dt (default "
+                                "-dt/16; -dt: no retries)",
+                                &R->dt_min));
   PetscOptionsEnd();
-  PetscCheck(R->dt_min <= params->dt * (1 + 1e-12), PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "option -dt_min: expected at most -dt = %g, got %g", (double)params->dt, (double)R->dt_min);
+  PetscCheck(R->dt_min <= params->dt * (1 + 1e-12), PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "option -dt_min: expected at most -dt = %g, got %g", (double)params->dt, (double)R->dt_min);
   if (R->dt_min <= params->dt / 2 * (1 + 1e-12)) PetscCall(CheckpointCreateInMemory(&R->start));
   R->stats.smallest_dt = params->dt;
-  *retry = R;
+  *retry               = R;
   PetscFunctionReturn(0);
 }
 
@@ -100,8 +105,12 @@ static PetscErrorCode Attempt(StepRetry R, PetscInt step, PetscReal t, PetscReal
   retry = R->start && dt / 2 >= R->dt_min * (1 - 1e-12) ? PETSC_TRUE : PETSC_FALSE;
   if (R->coupling) PetscCall(CouplingLogRetry(R->coupling, step, retry ? "retry" : "failed"));
   if (!retry) {
-    if (!R->start) PetscCall(StepFailureSet(&R->failure, "%s (from t = %g with dt %g; no retries: -dt_min is -dt)", reason, (double)t, (double)dt));
-    else PetscCall(StepFailureSet(&R->failure, "%s (from t = %g with dt %g, halved down to -dt_min %g)", reason, (double)t, (double)dt, (double)R->dt_min));
+    if (!R->start)
+      PetscCall(StepFailureSet(&R->failure, "%s (from t = %g with dt %g; no retries: -dt_min is -dt)", reason,
+                               (double)t, (double)dt));
+    else
+      PetscCall(StepFailureSet(&R->failure, "%s (from t = %g with dt %g, halved down to -dt_min %g)", reason, (double)t,
+                               (double)dt, (double)R->dt_min));
     PetscFunctionReturn(0);
   }
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fsiopt: %s; retrying with dt = %g\n", reason, (double)(dt / 2)));

@@ -15,27 +15,39 @@
 
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 
-enum { INLET_AMPLITUDE = FLUID_NUM_CONSTANTS, INLET_DURATION };
+enum {
+  INLET_AMPLITUDE = FLUID_NUM_CONSTANTS,
+  INLET_DURATION
+};
 
 /* the traction on the inlet: constant along it, so PETSc's face integration is exact */
-static void InletTraction(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], const PetscReal n[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
+static void InletTraction(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                          const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[],
+                          const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[],
+                          const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[],
+                          const PetscReal n[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
 {
   const PetscReal time = PetscRealPart(constants[FLUID_TIME]), T = PetscRealPart(constants[INLET_DURATION]);
-  const PetscReal b    = time <= T ? PetscRealPart(constants[INLET_AMPLITUDE]) * (1.0 - PetscCosReal(2.0 * PETSC_PI * time / T)) : 0.0;
+  const PetscReal b = time <= T
+                      ? PetscRealPart(constants[INLET_AMPLITUDE]) * (1.0 - PetscCosReal(2.0 * PETSC_PI * time / T))
+                      : 0.0;
 
   f0[0] -= constants[FLUID_LOAD] * b;
 }
 
 PetscErrorCode SceneCreate_Channel2D(Scene *scene)
 {
-  PhysicsData *fluid = &scene->fluid;
+  PhysicsData *fluid     = &scene->fluid;
   PetscReal    amplitude = 1e3, duration = 0.025;
 
   PetscFunctionBeginUser;
   scene->dim = 2;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene channel2d: the seed's haemodynamic channel", "scene");
-  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-channel_inlet_amplitude", "amplitude A of the inlet traction pulse A (1 - cos(2 pi t/T)), dyn/cm^2", &amplitude));
-  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-channel_inlet_duration", "duration T of the inlet pulse, s", &duration));
+  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-channel_inlet_amplitude",
+                                   "amplitude A of the inlet traction pulse A (1 - cos(2 pi t/T)), dyn/cm^2",
+                                   &amplitude));
+  PetscCall(
+    OptionsPositiveReal(PetscOptionsObject, "-channel_inlet_duration", "duration T of the inlet pulse, s", &duration));
   PetscOptionsEnd();
   PetscCall(OptionsSetDefault("-fluid_dm_plex_simplex", "0"));
   PetscCall(OptionsSetDefault("-fluid_dm_plex_box_lower", "0,0"));
@@ -83,22 +95,22 @@ PetscErrorCode SceneCreate_Channel2D(Scene *scene)
      through the traction-free inlet after the pulse feeds an instability (t > 0.033) */
   PetscCall(OptionsSetDefault("-fluid_backflow_stabilization", "1"));
 
-  scene->has_fluid             = PETSC_TRUE;
-  fluid->n_dirichlet           = 1;
-  fluid->dirichlet_faces[0]    = FACE_BOTTOM;
-  fluid->dirichlet_fn[0]       = FEMZero;
-  fluid->n_traction            = 2;
-  fluid->traction_faces[0]     = FACE_LEFT;
-  fluid->traction_kernel[0]    = InletTraction;
-  fluid->traction_faces[1]     = FACE_RIGHT; /* traction-free outlet */
-  fluid->interface_face        = FACE_TOP;
-  fluid->n_fixed_mesh_faces    = 3;
-  fluid->fixed_mesh_faces[0]   = FACE_BOTTOM;
-  fluid->fixed_mesh_faces[1]   = FACE_LEFT;
-  fluid->fixed_mesh_faces[2]   = FACE_RIGHT;
-  fluid->n_extra               = 2;
-  fluid->extra[0]              = amplitude;
-  fluid->extra[1]              = duration;
+  scene->has_fluid           = PETSC_TRUE;
+  fluid->n_dirichlet         = 1;
+  fluid->dirichlet_faces[0]  = FACE_BOTTOM;
+  fluid->dirichlet_fn[0]     = FEMZero;
+  fluid->n_traction          = 2;
+  fluid->traction_faces[0]   = FACE_LEFT;
+  fluid->traction_kernel[0]  = InletTraction;
+  fluid->traction_faces[1]   = FACE_RIGHT; /* traction-free outlet */
+  fluid->interface_face      = FACE_TOP;
+  fluid->n_fixed_mesh_faces  = 3;
+  fluid->fixed_mesh_faces[0] = FACE_BOTTOM;
+  fluid->fixed_mesh_faces[1] = FACE_LEFT;
+  fluid->fixed_mesh_faces[2] = FACE_RIGHT;
+  fluid->n_extra             = 2;
+  fluid->extra[0]            = amplitude;
+  fluid->extra[1]            = duration;
 
   /* the wall: ends clamped, top traction-free, bottom on the fluid */
   PetscCall(SceneClampedWall(scene));

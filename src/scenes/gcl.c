@@ -47,9 +47,14 @@ PetscErrorCode SceneCreate_GCL(Scene *scene)
   gcl->amplitude = 0.15;
   gcl->frequency = 20.0;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene gcl: a uniform flow on a moving mesh", "scene");
-  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-gcl_amplitude", "amplitude of the mesh motion (beyond about 0.3 the cells of the default mesh invert)", &gcl->amplitude));
-  PetscCheck(gcl->amplitude <= 1.0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "option -gcl_amplitude: expected an amplitude of at most 1, got %g", (double)gcl->amplitude);
-  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-gcl_frequency", "angular frequency of the mesh motion", &gcl->frequency));
+  PetscCall(
+    OptionsNonNegativeReal(PetscOptionsObject, "-gcl_amplitude",
+                           "amplitude of the mesh motion (beyond about 0.3 the cells of the default mesh invert)",
+                           &gcl->amplitude));
+  PetscCheck(gcl->amplitude <= 1.0, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "option -gcl_amplitude: expected an amplitude of at most 1, got %g", (double)gcl->amplitude);
+  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-gcl_frequency", "angular frequency of the mesh motion",
+                                   &gcl->frequency));
   PetscOptionsEnd();
   PetscCall(OptionsSetDefault("-fluid_dm_plex_simplex", "0"));
   PetscCall(OptionsSetDefault("-fluid_dm_plex_box_faces", "8,8"));

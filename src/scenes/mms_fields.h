@@ -35,7 +35,8 @@ static inline void MMSFluidVelocityGradient(PetscReal t, const PetscReal x[], Pe
 /* rho (du/dt + (u . grad) u): the body force plus div sigma. When `discrete_time`,
    du/dt is replaced by the backward difference (u(t) - u(t-dt))/dt, so that the exact
    field also solves the time-discrete problem: the error left is the spatial one. */
-static inline void MMSFluidInertia(PetscReal t, const PetscReal x[], PetscReal rho, PetscBool convection, PetscBool discrete_time, PetscReal dt, PetscScalar f[])
+static inline void MMSFluidInertia(PetscReal t, const PetscReal x[], PetscReal rho, PetscBool convection,
+                                   PetscBool discrete_time, PetscReal dt, PetscScalar f[])
 {
   const PetscReal a = x[0] + t, b = x[1] + t;
   PetscScalar     u[2], dudt[2];
@@ -68,8 +69,8 @@ static inline void MMSStructureDisplacement(PetscReal t, const PetscReal x[], Pe
 static inline void MMSStructureVelocity(PetscReal t, const PetscReal x[], PetscScalar etadot[])
 {
   const PetscReal s = PetscSinReal(x[0] + x[1] + 2.0 * t);
-  etadot[0] = s;
-  etadot[1] = -s;
+  etadot[0]         = s;
+  etadot[1]         = -s;
 }
 
 static inline void MMSStructureDisplacementGradient(PetscReal t, const PetscReal x[], PetscScalar g[])

@@ -10,7 +10,9 @@
 /* PETSc fixes the signatures of pointwise kernels and callbacks; most use a few of their arguments. */
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 
-enum { MMS_DISCRETE_TIME = FLUID_NUM_CONSTANTS };
+enum {
+  MMS_DISCRETE_TIME = FLUID_NUM_CONSTANTS
+};
 
 static PetscErrorCode Velocity(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *u, void *ctx)
 {
@@ -24,7 +26,8 @@ static PetscErrorCode Pressure(PetscInt dim, PetscReal t, const PetscReal x[], P
   return 0;
 }
 
-static PetscErrorCode VelocityGradient(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *g, void *ctx)
+static PetscErrorCode VelocityGradient(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *g,
+                                       void *ctx)
 {
   MMSFluidVelocityGradient(t, x, g);
   return 0;
@@ -35,16 +38,26 @@ static PetscErrorCode VelocityGradient(PetscInt dim, PetscReal t, const PetscRea
    + (sigma, grad v) for every v vanishing on the Dirichlet sides. This is exact, and it
    avoids PETSc 3.18's boundary integration, which pairs the quadrature points of
    reversed quadrilateral faces (top, left) with mirrored basis values. */
-static void LoadValue(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
+static void LoadValue(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                      const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[],
+                      const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[],
+                      PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[],
+                      PetscScalar f0[])
 {
   PetscScalar f[2];
 
-  MMSFluidInertia(PetscRealPart(constants[FLUID_TIME]), x, PetscRealPart(constants[FLUID_RHO]), constants[FLUID_CONVECTION] != 0.0, constants[MMS_DISCRETE_TIME] != 0.0, PetscRealPart(constants[FLUID_DT]), f);
+  MMSFluidInertia(PetscRealPart(constants[FLUID_TIME]), x, PetscRealPart(constants[FLUID_RHO]),
+                  constants[FLUID_CONVECTION] != 0.0, constants[MMS_DISCRETE_TIME] != 0.0,
+                  PetscRealPart(constants[FLUID_DT]), f);
   for (PetscInt c = 0; c < dim; ++c) f0[c] -= constants[FLUID_LOAD] * f[c];
 }
 
 /* sigma = mu (grad u + grad u^T) - p I of the exact solution */
-static void LoadStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f1[])
+static void LoadStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                       const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[],
+                       const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[],
+                       PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[],
+                       PetscScalar f1[])
 {
   const PetscReal   time = PetscRealPart(constants[FLUID_TIME]);
   const PetscScalar mu = constants[FLUID_MU], p = MMSFluidPressure(time, x), load = constants[FLUID_LOAD];
@@ -79,10 +92,17 @@ PetscErrorCode SceneCreate_MMSFluid(Scene *scene)
   PetscCall(SceneCreateContext(sizeof(*mms), (void **)&mms));
   mms->motion_amplitude = 0.0;
   mms->motion_frequency = 10.0;
-  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene mms-fluid: the fluid alone against a manufactured solution", "scene");
-  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-mms_mesh_motion", "amplitude of a prescribed interior mesh motion (ALE check; 0: fixed mesh)", &mms->motion_amplitude));
-  PetscCheck(mms->motion_amplitude <= 0.2, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "option -mms_mesh_motion: expected an amplitude of at most 0.2 (cells would invert), got %g", (double)mms->motion_amplitude);
-  PetscCall(PetscOptionsBool("-mms_discrete_time", "Force with the backward difference of the exact velocity, leaving only the spatial error", NULL, discrete_time, &discrete_time, NULL));
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene mms-fluid: the fluid alone against a manufactured solution",
+                    "scene");
+  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-mms_mesh_motion",
+                                   "amplitude of a prescribed interior mesh motion (ALE check; 0: fixed mesh)",
+                                   &mms->motion_amplitude));
+  PetscCheck(mms->motion_amplitude <= 0.2, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "option -mms_mesh_motion: expected an amplitude of at most 0.2 (cells would invert), got %g",
+             (double)mms->motion_amplitude);
+  PetscCall(PetscOptionsBool("-mms_discrete_time",
+                             "Force with the backward difference of the exact velocity, leaving only the spatial error",
+                             NULL, discrete_time, &discrete_time, NULL));
   PetscOptionsEnd();
   if (discrete_time) {
     PetscInt order = 0;
@@ -90,14 +110,17 @@ PetscErrorCode SceneCreate_MMSFluid(Scene *scene)
        (not a copy of the fluid's own default) */
     PetscCall(OptionsSetDefault("-fluid_time_order", "1"));
     PetscCall(PetscOptionsGetInt(NULL, NULL, "-fluid_time_order", &order, NULL));
-    PetscCheck(order == 1, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP, "option -mms_discrete_time: its forcing is the backward-Euler difference; expected -fluid_time_order 1, got %" PetscInt_FMT, order);
+    PetscCheck(order == 1, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
+               "option -mms_discrete_time: its forcing is the backward-Euler difference; expected -fluid_time_order 1, "
+               "got %" PetscInt_FMT,
+               order);
   }
   PetscCall(SceneMMSFluidBox());
   PetscCall(OptionsSetDefault("-fluid_density", "1.0"));
   PetscCall(OptionsSetDefault("-fluid_viscosity", "1.0"));
 
-  scene->has_fluid       = PETSC_TRUE;
-  fluid->n_dirichlet     = 3;
+  scene->has_fluid          = PETSC_TRUE;
+  fluid->n_dirichlet        = 3;
   fluid->dirichlet_faces[0] = FACE_BOTTOM;
   fluid->dirichlet_faces[1] = FACE_RIGHT;
   fluid->dirichlet_faces[2] = FACE_LEFT;
@@ -115,7 +138,7 @@ PetscErrorCode SceneCreate_MMSFluid(Scene *scene)
      recorded drag and lift are those of the discrete solution minus the exact ones. */
   fluid->n_force_faces  = 1;
   fluid->force_faces[0] = FACE_BOTTOM;
-  fluid->n_extra            = 1;
-  fluid->extra[0]           = discrete_time ? 1.0 : 0.0;
+  fluid->n_extra        = 1;
+  fluid->extra[0]       = discrete_time ? 1.0 : 0.0;
   PetscFunctionReturn(0);
 }

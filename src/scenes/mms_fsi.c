@@ -10,7 +10,10 @@
 
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 
-enum { MMS_MU_S = FLUID_NUM_CONSTANTS, MMS_DISCRETE_TIME };
+enum {
+  MMS_MU_S = FLUID_NUM_CONSTANTS,
+  MMS_DISCRETE_TIME
+};
 
 /* The closed forms below need the physical parameters the solvers read; the scene reads
    the same options once at creation into its context. */
@@ -29,7 +32,8 @@ static PetscErrorCode Velocity(PetscInt dim, PetscReal t, const PetscReal x[], P
 static PetscScalar PressureAt(PetscReal mu, PetscReal mu_s, PetscReal t, const PetscReal x[])
 {
   const PetscReal a = x[0] + t, b = x[1] + t;
-  return 2 * mu * (PetscSinReal(a) * PetscSinReal(b) - PetscCosReal(a) * PetscCosReal(b)) + 2 * mu_s * PetscCosReal(a) * PetscSinReal(b);
+  return 2 * mu * (PetscSinReal(a) * PetscSinReal(b) - PetscCosReal(a) * PetscCosReal(b)) +
+         2 * mu_s * PetscCosReal(a) * PetscSinReal(b);
 }
 
 static PetscErrorCode Pressure(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *p, void *ctx)
@@ -40,7 +44,8 @@ static PetscErrorCode Pressure(PetscInt dim, PetscReal t, const PetscReal x[], P
   return 0;
 }
 
-static PetscErrorCode VelocityGradient(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *g, void *ctx)
+static PetscErrorCode VelocityGradient(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *g,
+                                       void *ctx)
 {
   const PetscReal c = PetscCosReal(x[0] + x[1] + 2 * t);
   g[0]              = c;
@@ -51,7 +56,8 @@ static PetscErrorCode VelocityGradient(PetscInt dim, PetscReal t, const PetscRea
 }
 
 /* g = sigma_f n_f on the interface y = 1 */
-static PetscErrorCode InterfaceTraction(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *g, void *ctx)
+static PetscErrorCode InterfaceTraction(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *g,
+                                        void *ctx)
 {
   const MMSFSI *mms = (const MMSFSI *)ctx;
   PetscScalar   grad[4];
@@ -64,7 +70,8 @@ static PetscErrorCode InterfaceTraction(PetscInt dim, PetscReal t, const PetscRe
 
 /* The fluid residual with the convective boundary term carries -1/2 rho ((u.n) u, v) on
    the interface; the exact solution needs this traction on top of g = sigma_f n_f. */
-static PetscErrorCode ConvectiveDatum(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *d, void *ctx)
+static PetscErrorCode ConvectiveDatum(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *d,
+                                      void *ctx)
 {
   const MMSFSI *mms = (const MMSFSI *)ctx;
   PetscScalar   u[2];
@@ -75,9 +82,14 @@ static PetscErrorCode ConvectiveDatum(PetscInt dim, PetscReal t, const PetscReal
   return 0;
 }
 
-static void FluidLoad(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a_[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t_, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
+static void FluidLoad(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                      const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[],
+                      const PetscInt aOff_x[], const PetscScalar a_[], const PetscScalar a_t[], const PetscScalar a_x[],
+                      PetscReal t_, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[],
+                      PetscScalar f0[])
 {
-  const PetscReal t = PetscRealPart(constants[FLUID_TIME]), rho = PetscRealPart(constants[FLUID_RHO]), mu = PetscRealPart(constants[FLUID_MU]), mu_s = PetscRealPart(constants[MMS_MU_S]);
+  const PetscReal t = PetscRealPart(constants[FLUID_TIME]), rho = PetscRealPart(constants[FLUID_RHO]),
+                  mu = PetscRealPart(constants[FLUID_MU]), mu_s = PetscRealPart(constants[MMS_MU_S]);
   const PetscReal a = x[0] + t, b = x[1] + t, s = PetscSinReal(a + b), c = PetscCosReal(a + b);
   PetscReal       dudt = 2 * c; /* u = (s, -s); (u.grad) u = 0 */
 
@@ -89,29 +101,36 @@ static void FluidLoad(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt 
   f0[1] -= constants[FLUID_LOAD] * (-rho * dudt + 2 * mu_s * PetscCosReal(a) * PetscCosReal(b));
 }
 
-static PetscErrorCode Displacement(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *eta, void *ctx)
+static PetscErrorCode Displacement(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *eta,
+                                   void *ctx)
 {
   const PetscReal a = x[0] + t, b = x[1] + t;
-  eta[0]            = PetscSinReal(a) * PetscSinReal(b);
-  eta[1]            = PetscCosReal(a) * PetscCosReal(b);
+  eta[0] = PetscSinReal(a) * PetscSinReal(b);
+  eta[1] = PetscCosReal(a) * PetscCosReal(b);
   return 0;
 }
 
-static PetscErrorCode DisplacementGradient(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *g, void *ctx)
+static PetscErrorCode DisplacementGradient(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *g,
+                                           void *ctx)
 {
   const PetscReal a = x[0] + t, b = x[1] + t;
-  g[0]              = PetscCosReal(a) * PetscSinReal(b);
-  g[1]              = PetscSinReal(a) * PetscCosReal(b);
-  g[2]              = -PetscSinReal(a) * PetscCosReal(b);
-  g[3]              = -PetscCosReal(a) * PetscSinReal(b);
+  g[0] = PetscCosReal(a) * PetscSinReal(b);
+  g[1] = PetscSinReal(a) * PetscCosReal(b);
+  g[2] = -PetscSinReal(a) * PetscCosReal(b);
+  g[3] = -PetscCosReal(a) * PetscSinReal(b);
   return 0;
 }
 
 /* f_s = rho_s eta_tt - div sigma_s = rho_s (2c, -2c) + 2 mu_s eta (div eta = 0) */
-static void StructureLoad(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a_[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t_, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
+static void StructureLoad(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                          const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[],
+                          const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a_[],
+                          const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t_, const PetscReal x[],
+                          PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
 {
-  const PetscReal t = PetscRealPart(constants[STRUCTURE_TIME]), rho = PetscRealPart(constants[STRUCTURE_RHO]), mu = PetscRealPart(constants[STRUCTURE_MU]);
-  const PetscReal c = PetscCosReal(x[0] + x[1] + 2 * t);
+  const PetscReal t = PetscRealPart(constants[STRUCTURE_TIME]), rho = PetscRealPart(constants[STRUCTURE_RHO]),
+                  mu = PetscRealPart(constants[STRUCTURE_MU]);
+  const PetscReal c  = PetscCosReal(x[0] + x[1] + 2 * t);
   PetscScalar     eta[2];
 
   (void)Displacement(dim, t, x, dim, eta, NULL);
@@ -140,7 +159,10 @@ PetscErrorCode SceneCreate_MMSFSI(Scene *scene, const char fluid_model[])
   PetscFunctionBeginUser;
   PetscCall(SceneCreateContext(sizeof(*mms), (void **)&mms));
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Manufactured FSI solution (mms-stokes, mms-ns)", "scene");
-  PetscCall(PetscOptionsBool("-mms_discrete_time", "Force the fluid with the backward difference of the exact velocity, leaving its spatial error only", NULL, discrete_time, &discrete_time, NULL));
+  PetscCall(PetscOptionsBool("-mms_discrete_time",
+                             "Force the fluid with the backward difference of the exact velocity, leaving its spatial "
+                             "error only",
+                             NULL, discrete_time, &discrete_time, NULL));
   PetscOptionsEnd();
   PetscCall(OptionsSetDefault("-fluid_model", fluid_model));
   PetscCall(SceneMMSFluidBox());
@@ -158,11 +180,11 @@ PetscErrorCode SceneCreate_MMSFSI(Scene *scene, const char fluid_model[])
   PetscCall(ReadReal("-structure_poisson_ratio", &nu));
   mms->mu_s = E / (2 * (1 + nu));
 
-  scene->has_fluid                  = PETSC_TRUE;
-  fluid->n_dirichlet                = 3;
-  fluid->dirichlet_faces[0]         = FACE_BOTTOM;
-  fluid->dirichlet_faces[1]         = FACE_RIGHT;
-  fluid->dirichlet_faces[2]         = FACE_LEFT;
+  scene->has_fluid          = PETSC_TRUE;
+  fluid->n_dirichlet        = 3;
+  fluid->dirichlet_faces[0] = FACE_BOTTOM;
+  fluid->dirichlet_faces[1] = FACE_RIGHT;
+  fluid->dirichlet_faces[2] = FACE_LEFT;
   for (PetscInt b = 0; b < 3; ++b) fluid->dirichlet_fn[b] = Velocity;
   fluid->interface_face             = FACE_TOP;
   fluid->interface_traction         = InterfaceTraction;

@@ -19,9 +19,13 @@ typedef struct {
   PetscReal amplitude;
 } MMSStructure;
 
-enum { MMS_AMPLITUDE = STRUCTURE_NUM_CONSTANTS, MMS_LINEAR_LOAD };
+enum {
+  MMS_AMPLITUDE = STRUCTURE_NUM_CONSTANTS,
+  MMS_LINEAR_LOAD
+};
 
-static PetscErrorCode Displacement(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *eta, void *ctx)
+static PetscErrorCode Displacement(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *eta,
+                                   void *ctx)
 {
   const MMSStructure *mms = (const MMSStructure *)ctx;
 
@@ -30,7 +34,8 @@ static PetscErrorCode Displacement(PetscInt dim, PetscReal t, const PetscReal x[
   return 0;
 }
 
-static PetscErrorCode Velocity(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *etadot, void *ctx)
+static PetscErrorCode Velocity(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *etadot,
+                               void *ctx)
 {
   const MMSStructure *mms = (const MMSStructure *)ctx;
 
@@ -39,7 +44,8 @@ static PetscErrorCode Velocity(PetscInt dim, PetscReal t, const PetscReal x[], P
   return 0;
 }
 
-static PetscErrorCode DisplacementGradient(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *g, void *ctx)
+static PetscErrorCode DisplacementGradient(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *g,
+                                           void *ctx)
 {
   const MMSStructure *mms = (const MMSStructure *)ctx;
 
@@ -50,7 +56,11 @@ static PetscErrorCode DisplacementGradient(PetscInt dim, PetscReal t, const Pets
 
 /* The data enter in volume form, as in mms-fluid (see there why):
    (f_s, xi) + (sigma n, xi)_{Gamma_N} = (rho_s eta_tt, xi) + (sigma, grad xi). */
-static void LoadValue(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
+static void LoadValue(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                      const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[],
+                      const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[],
+                      PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[],
+                      PetscScalar f0[])
 {
   PetscScalar f[2];
 
@@ -59,14 +69,20 @@ static void LoadValue(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt 
 }
 
 /* the stress of the exact solution, of the model being solved (linear or St. Venant-Kirchhoff) */
-static void LoadStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f1[])
+static void LoadStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                       const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[],
+                       const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[],
+                       PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[],
+                       PetscScalar f1[])
 {
   const PetscScalar load = constants[STRUCTURE_LOAD];
   PetscScalar       g[4], stress[4];
 
   MMSStructureDisplacementGradient(PetscRealPart(constants[STRUCTURE_TIME]), x, g);
   for (PetscInt i = 0; i < 4; ++i) g[i] *= constants[MMS_AMPLITUDE];
-  StructureStress(constants[MMS_LINEAR_LOAD] != 0.0 ? STRUCTURE_LINEAR : (StructureModel)PetscRealPart(constants[STRUCTURE_MODEL]), dim, PetscRealPart(constants[STRUCTURE_MU]), PetscRealPart(constants[STRUCTURE_LAMBDA]), g, stress);
+  StructureStress(constants[MMS_LINEAR_LOAD] != 0.0 ? STRUCTURE_LINEAR
+                                                    : (StructureModel)PetscRealPart(constants[STRUCTURE_MODEL]),
+                  dim, PetscRealPart(constants[STRUCTURE_MU]), PetscRealPart(constants[STRUCTURE_LAMBDA]), g, stress);
   for (PetscInt i = 0; i < 4; ++i) f1[i] -= load * stress[i];
 }
 
@@ -80,9 +96,14 @@ PetscErrorCode SceneCreate_MMSStructure(Scene *scene)
   scene->dim = 2;
   PetscCall(SceneCreateContext(sizeof(*mms), (void **)&mms));
   mms->amplitude = 1.0;
-  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene mms-structure: the structure against a manufactured displacement", "scene");
-  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-mms_amplitude", "factor on the manufactured displacement", &mms->amplitude));
-  PetscCall(PetscOptionsBool("-mms_linear_load", "load of linear elasticity whatever -structure_model (the solution is then manufactured for the linear wall only)", NULL, linear_load, &linear_load, NULL));
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene mms-structure: the structure against a manufactured displacement",
+                    "scene");
+  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-mms_amplitude", "factor on the manufactured displacement",
+                                &mms->amplitude));
+  PetscCall(PetscOptionsBool("-mms_linear_load",
+                             "load of linear elasticity whatever -structure_model (the solution is then manufactured "
+                             "for the linear wall only)",
+                             NULL, linear_load, &linear_load, NULL));
   PetscOptionsEnd();
   PetscCall(SceneMMSStructureBox());
 

@@ -4,10 +4,12 @@
 #define FSIOPT_PRESCRIBED_MOTION_H
 #include <petscsys.h>
 
-static inline void PrescribedMotion(PetscReal amplitude, PetscReal omega, PetscReal t, const PetscReal x[], PetscScalar d[])
+static inline void PrescribedMotion(PetscReal amplitude, PetscReal omega, PetscReal t, const PetscReal x[],
+                                    PetscScalar d[])
 {
-  const PetscReal s = amplitude * PetscSinReal(PETSC_PI * x[0]) * PetscSinReal(PETSC_PI * x[1]) * PetscSinReal(omega * t);
-  d[0]              = s;
-  d[1]              = -0.5 * s;
+  const PetscReal s = amplitude * PetscSinReal(PETSC_PI * x[0]) * PetscSinReal(PETSC_PI * x[1]) *
+                      PetscSinReal(omega * t);
+  d[0] = s;
+  d[1] = -0.5 * s;
 }
 #endif

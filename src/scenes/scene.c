@@ -22,7 +22,7 @@ PetscErrorCode SceneRegisterAll(void)
 PetscErrorCode SceneListNames(char names[], size_t len)
 {
   const char **list;
-  int                n;
+  int          n;
 
   PetscFunctionBeginUser;
   PetscCall(PetscFunctionListGet(scene_list, &list, &n));
@@ -44,7 +44,8 @@ PetscErrorCode SceneCreate(const char name[], Scene *scene)
   PetscCall(PetscFunctionListFind(scene_list, name, &create));
   if (!create) {
     PetscCall(SceneListNames(names, sizeof(names)));
-    SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_ARG_UNKNOWN_TYPE, "option -scene: unknown scene '%s'; expected one of: %s", name, names);
+    SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_ARG_UNKNOWN_TYPE, "option -scene: unknown scene '%s'; expected one of: %s",
+            name, names);
   }
   PetscCall(PetscMemzero(scene, sizeof(*scene)));
   PetscCall(PetscStrncpy(scene->name, name, sizeof(scene->name)));

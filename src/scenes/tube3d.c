@@ -11,26 +11,36 @@
 
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 
-enum { INLET_PRESSURE = FLUID_NUM_CONSTANTS, INLET_DURATION };
+enum {
+  INLET_PRESSURE = FLUID_NUM_CONSTANTS,
+  INLET_DURATION
+};
 
 /* the overpressure on the inlet disc: the traction -P n = P e_z there */
-static void InletTraction(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], const PetscReal n[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
+static void InletTraction(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                          const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[],
+                          const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[],
+                          const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[],
+                          const PetscReal n[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
 {
   const PetscReal time = PetscRealPart(constants[FLUID_TIME]);
 
-  if (time <= PetscRealPart(constants[INLET_DURATION]) * (1 + 1e-12)) f0[2] -= constants[FLUID_LOAD] * constants[INLET_PRESSURE];
+  if (time <= PetscRealPart(constants[INLET_DURATION]) * (1 + 1e-12))
+    f0[2] -= constants[FLUID_LOAD] * constants[INLET_PRESSURE];
 }
 
 PetscErrorCode SceneCreate_Tube3D(Scene *scene)
 {
-  PhysicsData *fluid = &scene->fluid;
+  PhysicsData *fluid    = &scene->fluid;
   PetscReal    pressure = 1.333e4, duration = 0.003;
 
   PetscFunctionBeginUser;
   scene->dim = 3;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene tube3d: the pressure wave in a straight tube", "scene");
-  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-tube_inlet_pressure", "overpressure P on the inlet, dyn/cm^2", &pressure));
-  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-tube_inlet_duration", "how long the overpressure acts, s", &duration));
+  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-tube_inlet_pressure", "overpressure P on the inlet, dyn/cm^2",
+                                   &pressure));
+  PetscCall(
+    OptionsPositiveReal(PetscOptionsObject, "-tube_inlet_duration", "how long the overpressure acts, s", &duration));
   PetscOptionsEnd();
   PetscCall(SceneSetDefaultMesh("-fluid_dm_plex_filename", "tube3d-fluid.msh"));
   PetscCall(SceneSetDefaultMesh("-structure_dm_plex_filename", "tube3d-wall.msh"));

@@ -19,10 +19,20 @@
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 
 /* face sets of meshes/turek-hron-*.geo beyond the box's four */
-enum { FACE_CYLINDER = 5, FACE_FLAG = 6 };
-enum { GRAVITY = STRUCTURE_NUM_CONSTANTS, GRAVITY_RAMP };
+enum {
+  FACE_CYLINDER = 5,
+  FACE_FLAG     = 6
+};
+enum {
+  GRAVITY = STRUCTURE_NUM_CONSTANTS,
+  GRAVITY_RAMP
+};
 
-typedef enum { CSM, CFD, FSI } CaseKind;
+typedef enum {
+  CSM,
+  CFD,
+  FSI
+} CaseKind;
 
 /* the flag's nu_s in every case: the default of -structure_poisson_ratio, and with the
    case's mu_s the default of -structure_youngs_modulus */
@@ -47,15 +57,15 @@ typedef struct {
    because time stepping says so: from rest to T = 10 (BDF2 and backward Euler, levels 1
    and 2) its lift's oscillation decays exponentially to the steady equations' state. */
 static const TurekCase cases[] = {
-  {"csm1", CSM, PETSC_FALSE, 0.0, 1000, 0.5e6, 2.0, "0.25", "1.25", "0", PETSC_FALSE},
-  {"csm2", CSM, PETSC_FALSE, 0.0, 1000, 2.0e6, 2.0, "0.25", "1.25", "0", PETSC_FALSE},
-  {"csm3", CSM, PETSC_TRUE, 0.0, 1000, 0.5e6, 2.0, "0.005", "10", "4", PETSC_FALSE},
-  {"cfd1", CFD, PETSC_FALSE, 0.2, 0, 0, 0, "0.5", "2.5", "0", PETSC_FALSE},
-  {"cfd2", CFD, PETSC_FALSE, 1.0, 0, 0, 0, "0.5", "2.5", "0", PETSC_FALSE},
-  {"cfd3", CFD, PETSC_TRUE, 2.0, 0, 0, 0, "0.002", "8", "1", PETSC_FALSE},
-  {"fsi1", FSI, PETSC_FALSE, 0.2, 1000, 0.5e6, 0, "0.1", "12", "0.5", PETSC_FALSE},
-  {"fsi2", FSI, PETSC_TRUE, 1.0, 10000, 0.5e6, 0, "0.002", "15", "2", PETSC_TRUE},
-  {"fsi3", FSI, PETSC_TRUE, 2.0, 1000, 2.0e6, 0, "0.001", "10", "1", PETSC_TRUE},
+  {"csm1", CSM, PETSC_FALSE, 0.0, 1000,  0.5e6, 2.0, "0.25",  "1.25", "0",   PETSC_FALSE},
+  {"csm2", CSM, PETSC_FALSE, 0.0, 1000,  2.0e6, 2.0, "0.25",  "1.25", "0",   PETSC_FALSE},
+  {"csm3", CSM, PETSC_TRUE,  0.0, 1000,  0.5e6, 2.0, "0.005", "10",   "4",   PETSC_FALSE},
+  {"cfd1", CFD, PETSC_FALSE, 0.2, 0,     0,     0,   "0.5",   "2.5",  "0",   PETSC_FALSE},
+  {"cfd2", CFD, PETSC_FALSE, 1.0, 0,     0,     0,   "0.5",   "2.5",  "0",   PETSC_FALSE},
+  {"cfd3", CFD, PETSC_TRUE,  2.0, 0,     0,     0,   "0.002", "8",    "1",   PETSC_FALSE},
+  {"fsi1", FSI, PETSC_FALSE, 0.2, 1000,  0.5e6, 0,   "0.1",   "12",   "0.5", PETSC_FALSE},
+  {"fsi2", FSI, PETSC_TRUE,  1.0, 10000, 0.5e6, 0,   "0.002", "15",   "2",   PETSC_TRUE },
+  {"fsi3", FSI, PETSC_TRUE,  2.0, 1000,  2.0e6, 0,   "0.001", "10",   "1",   PETSC_TRUE },
 };
 
 /* the scene's context: the inflow's parameters */
@@ -63,10 +73,12 @@ typedef struct {
   PetscReal mean_velocity, ramp_time;
 } Inflow;
 
-static PetscErrorCode InflowVelocity(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *u, void *ctx)
+static PetscErrorCode InflowVelocity(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *u,
+                                     void *ctx)
 {
   const Inflow   *inflow = (const Inflow *)ctx;
-  const PetscReal H = 0.41, ramp = t < inflow->ramp_time ? 0.5 * (1.0 - PetscCosReal(PETSC_PI * t / inflow->ramp_time)) : 1.0;
+  const PetscReal H      = 0.41,
+                  ramp   = t < inflow->ramp_time ? 0.5 * (1.0 - PetscCosReal(PETSC_PI * t / inflow->ramp_time)) : 1.0;
 
   u[0] = 1.5 * inflow->mean_velocity * x[1] * (H - x[1]) / (0.25 * H * H) * ramp;
   u[1] = 0.0;
@@ -76,7 +88,11 @@ static PetscErrorCode InflowVelocity(PetscInt dim, PetscReal t, const PetscReal 
 /* rho_s g on the flag, g = (0, -gravity): the load per reference volume; a static flag
    takes it in load steps, g t/T for t < T (Newton from rest under the full load diverges
    on the finer flags) */
-static void Gravity(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
+static void Gravity(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                    const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[],
+                    const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[],
+                    PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[],
+                    PetscScalar f0[])
 {
   const PetscReal time = PetscRealPart(constants[STRUCTURE_TIME]), ramp = PetscRealPart(constants[GRAVITY_RAMP]);
   const PetscReal scale = ramp > 0 && time < ramp ? time / ramp : 1.0;
@@ -129,16 +145,23 @@ PetscErrorCode SceneCreate_TurekHron(Scene *scene)
   for (PetscInt i = 0; i < ncases; ++i) names[i] = cases[i].name;
   PetscCall(SceneCreateContext(sizeof(*inflow), (void **)&inflow));
   inflow->ramp_time = 2.0;
-  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene turek-hron: the Turek-Hron benchmarks CSM1-3, CFD1-3, FSI1-3", "scene");
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene turek-hron: the Turek-Hron benchmarks CSM1-3, CFD1-3, FSI1-3",
+                    "scene");
   PetscCall(PetscOptionsEList("-turek_case", "benchmark", NULL, names, ncases, names[which], &which, NULL));
   c                     = &cases[which];
   inflow->mean_velocity = c->mean_velocity;
   gravity               = c->gravity;
   gravity_ramp          = c->kind == CSM && !c->periodic ? 1.0 : 0.0;
-  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-turek_mean_velocity", "mean inflow velocity U, m/s (default: the case's)", &inflow->mean_velocity));
-  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-turek_ramp_time", "the inflow rises as (1 - cos(pi t/T))/2 for t < T, s", &inflow->ramp_time));
-  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-turek_gravity", "gravity on the flag, m/s^2 (default: the case's)", &gravity));
-  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-turek_gravity_ramp", "gravity grows linearly to its value over this time, s (0: at once; default 1 for the static csm1, csm2)", &gravity_ramp));
+  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-turek_mean_velocity",
+                                   "mean inflow velocity U, m/s (default: the case's)", &inflow->mean_velocity));
+  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-turek_ramp_time",
+                                "the inflow rises as (1 - cos(pi t/T))/2 for t < T, s", &inflow->ramp_time));
+  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-turek_gravity",
+                                   "gravity on the flag, m/s^2 (default: the case's)", &gravity));
+  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-turek_gravity_ramp",
+                                   "gravity grows linearly to its value over this time, s (0: at once; default 1 for "
+                                   "the static csm1, csm2)",
+                                   &gravity_ramp));
   PetscOptionsEnd();
 
   PetscCall(OptionsSetDefault("-dt", c->dt));

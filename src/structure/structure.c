@@ -29,9 +29,9 @@ struct _p_Structure {
   StructureModel model;
   PetscBool      initial_projection;
   PetscReal      time, dt;
-  Vec            eta;             /* global displacement at `time` */
-  Vec            eta_local;       /* the same with its boundary values */
-  Vec            etadot_local;    /* velocity, all dofs */
+  Vec            eta;                             /* global displacement at `time` */
+  Vec            eta_local;                       /* the same with its boundary values */
+  Vec            etadot_local;                    /* velocity, all dofs */
   Vec            eta_old_local, etadot_old_local; /* the previous step's, during a step */
   Vec            work_local, history, work, rhs;
   Vec            load, load_old; /* interface load B_s g of this and of the previous step */
@@ -65,14 +65,24 @@ PetscErrorCode StructureSetFromOptions(Structure s)
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(s->comm, NULL, "Structure options", "structure");
-  PetscCall(PetscOptionsEList("-structure_model", "Constitutive law: linear elasticity or St. Venant-Kirchhoff (svk)", NULL, models, 2, models[model], &model, NULL));
+  PetscCall(PetscOptionsEList("-structure_model", "Constitutive law: linear elasticity or St. Venant-Kirchhoff (svk)",
+                              NULL, models, 2, models[model], &model, NULL));
   s->model = (StructureModel)model;
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-structure_density", "structure density rho_s", &s->rho));
-  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-structure_youngs_modulus", "Young's modulus E", &s->youngs_modulus));
-  PetscCall(OptionsRealInRange(PetscOptionsObject, "-structure_poisson_ratio", "Poisson ratio nu_s", -1.0, 0.5, &s->poisson_ratio));
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-structure_degree", "polynomial degree of the displacement", 1, 4, &s->degree));
-  PetscCall(PetscOptionsBool("-structure_initial_projection", "Start from the elastic (Ritz) projection of the scene's exact displacement instead of its interpolant", NULL, s->initial_projection, &s->initial_projection, NULL));
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-structure_time_order", "0: static (no inertia: each step is the equilibrium under the data of its time), 1: first order (seed eq. 2.42), 2: midpoint (seed eqs. 2.40-2.41)", 0, 2, &s->time_order));
+  PetscCall(
+    OptionsPositiveReal(PetscOptionsObject, "-structure_youngs_modulus", "Young's modulus E", &s->youngs_modulus));
+  PetscCall(OptionsRealInRange(PetscOptionsObject, "-structure_poisson_ratio", "Poisson ratio nu_s", -1.0, 0.5,
+                               &s->poisson_ratio));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-structure_degree", "polynomial degree of the displacement", 1, 4,
+                              &s->degree));
+  PetscCall(PetscOptionsBool("-structure_initial_projection",
+                             "Start from the elastic (Ritz) projection of the scene's exact displacement instead of "
+                             "its interpolant",
+                             NULL, s->initial_projection, &s->initial_projection, NULL));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-structure_time_order",
+                              "0: static (no inertia: each step is the equilibrium under the data of its time), 1: "
+                              "first order (seed eq. 2.42), 2: midpoint (seed eqs. 2.40-2.41)",
+                              0, 2, &s->time_order));
   PetscOptionsEnd();
   s->mu     = s->youngs_modulus / (2.0 * (1.0 + s->poisson_ratio));
   s->lambda = s->youngs_modulus * s->poisson_ratio / ((1.0 + s->poisson_ratio) * (1.0 - 2.0 * s->poisson_ratio));
@@ -94,20 +104,21 @@ static PetscErrorCode StructureSetConstants(Structure s, PetscReal mass, PetscRe
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode StructureSetConstantsFull(Structure s, PetscReal mass, PetscReal op, PetscReal load, PetscReal time, PetscReal projection)
+static PetscErrorCode StructureSetConstantsFull(Structure s, PetscReal mass, PetscReal op, PetscReal load,
+                                                PetscReal time, PetscReal projection)
 {
   PetscDS     ds;
   PetscScalar c[STRUCTURE_NUM_CONSTANTS + FSIOPT_MAX_EXTRA];
 
   PetscFunctionBeginUser;
-  c[STRUCTURE_RHO]      = s->rho;
-  c[STRUCTURE_MU]       = s->mu;
-  c[STRUCTURE_LAMBDA]   = s->lambda;
-  c[STRUCTURE_MASS]     = mass;
-  c[STRUCTURE_OPERATOR] = op;
-  c[STRUCTURE_LOAD]     = load;
-  c[STRUCTURE_TIME]     = time;
-  c[STRUCTURE_DT]       = s->dt;
+  c[STRUCTURE_RHO]        = s->rho;
+  c[STRUCTURE_MU]         = s->mu;
+  c[STRUCTURE_LAMBDA]     = s->lambda;
+  c[STRUCTURE_MASS]       = mass;
+  c[STRUCTURE_OPERATOR]   = op;
+  c[STRUCTURE_LOAD]       = load;
+  c[STRUCTURE_TIME]       = time;
+  c[STRUCTURE_DT]         = s->dt;
   c[STRUCTURE_PROJECTION] = projection;
   c[STRUCTURE_MODEL]      = s->model;
   for (PetscInt i = 0; i < s->data.n_extra; ++i) c[STRUCTURE_NUM_CONSTANTS + i] = s->data.extra[i];
@@ -137,7 +148,8 @@ static PetscErrorCode StructureSetUpWeakForm(Structure s)
     PetscCall(PetscDSSetJacobian(ds, 0, 0, StructureG0Mass, NULL, NULL, StructureG3LinearElasticity));
   }
   PetscCall(PetscDSGetWeakForm(ds, &wf));
-  if (s->data.load_value_kernel || s->data.load_stress_kernel) PetscCall(PetscWeakFormAddResidual(wf, NULL, 0, 0, 0, s->data.load_value_kernel, s->data.load_stress_kernel));
+  if (s->data.load_value_kernel || s->data.load_stress_kernel)
+    PetscCall(PetscWeakFormAddResidual(wf, NULL, 0, 0, 0, s->data.load_value_kernel, s->data.load_stress_kernel));
   PetscCall(FEMAddBoundaries(s->dm, 0, &s->data, s->datums, &s->time));
   PetscFunctionReturn(0);
 }
@@ -152,13 +164,18 @@ static struct {
   PetscReal  t;
 } projection_target;
 
-static void ProjectionStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f1[])
+static void ProjectionStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                             const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[],
+                             const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[],
+                             const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[],
+                             PetscInt numConstants, const PetscScalar constants[], PetscScalar f1[])
 {
   PetscScalar g[9] = {0}, stress[9];
 
   if (constants[STRUCTURE_PROJECTION] == 0.0) return;
   (void)projection_target.gradient(dim, projection_target.t, x, dim, g, projection_target.ctx);
-  StructureStress((StructureModel)PetscRealPart(constants[STRUCTURE_MODEL]), dim, PetscRealPart(constants[STRUCTURE_MU]), PetscRealPart(constants[STRUCTURE_LAMBDA]), g, stress);
+  StructureStress((StructureModel)PetscRealPart(constants[STRUCTURE_MODEL]), dim,
+                  PetscRealPart(constants[STRUCTURE_MU]), PetscRealPart(constants[STRUCTURE_LAMBDA]), g, stress);
   for (PetscInt i = 0; i < dim * dim; ++i) f1[i] -= stress[i];
 }
 
@@ -168,7 +185,8 @@ static PetscErrorCode StructureProjectExact(Structure s)
   PetscWeakForm wf;
 
   PetscFunctionBeginUser;
-  PetscCheck(s->data.exact_gradient[0], s->comm, PETSC_ERR_ARG_WRONG, "option -structure_initial_projection: the scene has no exact displacement gradient to project");
+  PetscCheck(s->data.exact_gradient[0], s->comm, PETSC_ERR_ARG_WRONG,
+             "option -structure_initial_projection: the scene has no exact displacement gradient to project");
   projection_target.gradient = s->data.exact_gradient[0];
   projection_target.ctx      = s->data.ctx;
   projection_target.t        = s->time;
@@ -208,7 +226,8 @@ PetscErrorCode StructureSetUp(Structure s, DM mesh, const PhysicsData *data, Pet
   s->dt   = dt;
   PetscCall(PetscObjectReference((PetscObject)mesh));
   PetscCall(StructureSetUpWeakForm(s));
-  PetscCall(FEMCreateSNES(s->dm, "structure_", s->model == STRUCTURE_SVK ? FEM_JACOBIAN_NEWTON : FEM_JACOBIAN_CONSTANT, &s->counts.factorizations, &s->snes));
+  PetscCall(FEMCreateSNES(s->dm, "structure_", s->model == STRUCTURE_SVK ? FEM_JACOBIAN_NEWTON : FEM_JACOBIAN_CONSTANT,
+                          &s->counts.factorizations, &s->snes));
   if (s->model == STRUCTURE_SVK) {
     /* A step starts near its solution and the wall's stiffness (E/h^2 against rho_s/dt^2)
        makes the residual's round-off floor 1e-8 or more of its start, where a test
@@ -241,10 +260,15 @@ PetscErrorCode StructureSetUp(Structure s, DM mesh, const PhysicsData *data, Pet
   if (data->exact[0]) {
     PetscCall(DMProjectFunctionLocal(s->dm, t0, &s->data.exact[0], &s->data.ctx, INSERT_ALL_VALUES, s->eta_local));
     PetscCall(DMLocalToGlobal(s->dm, s->eta_local, INSERT_VALUES, s->eta));
-    PetscCheck(!s->initial_projection || s->model == STRUCTURE_LINEAR, s->comm, PETSC_ERR_ARG_INCOMP, "option -structure_initial_projection: the elastic projection is defined for -structure_model linear only");
+    PetscCheck(!s->initial_projection || s->model == STRUCTURE_LINEAR, s->comm, PETSC_ERR_ARG_INCOMP,
+               "option -structure_initial_projection: the elastic projection is defined for -structure_model linear "
+               "only");
     if (s->initial_projection) PetscCall(StructureProjectExact(s));
-  } else PetscCheck(!s->initial_projection, s->comm, PETSC_ERR_ARG_WRONG, "option -structure_initial_projection: the scene has no exact solution to project");
-  if (data->exact_rate) PetscCall(DMProjectFunctionLocal(s->dm, t0, &s->data.exact_rate, &s->data.ctx, INSERT_ALL_VALUES, s->etadot_local));
+  } else
+    PetscCheck(!s->initial_projection, s->comm, PETSC_ERR_ARG_WRONG,
+               "option -structure_initial_projection: the scene has no exact solution to project");
+  if (data->exact_rate)
+    PetscCall(DMProjectFunctionLocal(s->dm, t0, &s->data.exact_rate, &s->data.ctx, INSERT_ALL_VALUES, s->etadot_local));
   PetscFunctionReturn(0);
 }
 
@@ -289,7 +313,10 @@ PetscErrorCode StructureSolve(Structure s, Vec load, PetscInt step)
   s->counts.nonlinear_solves += 1;
   if (reason <= 0) {
     PetscCall(SNESGetIterationNumber(s->snes, &newton_its));
-    PetscCall(StepFailureSet(&s->failure, "structure solve failed at step %" PetscInt_FMT " (t = %g) after %" PetscInt_FMT " Newton iterations: SNES reason %s", step, (double)s->time, newton_its, SNESConvergedReasons[reason]));
+    PetscCall(StepFailureSet(&s->failure,
+                             "structure solve failed at step %" PetscInt_FMT " (t = %g) after %" PetscInt_FMT
+                             " Newton iterations: SNES reason %s",
+                             step, (double)s->time, newton_its, SNESConvergedReasons[reason]));
     PetscCall(PetscLogEventEnd(FSIOPT_EVENT_STRUCTURE_SOLVE, 0, 0, 0, 0));
     PetscFunctionReturn(0);
   }
@@ -315,7 +342,8 @@ PetscErrorCode StructureVelocityLocal(Structure s, StructureVelocityMeasure meas
   /* c (eta^n - eta^{n-1}) [- etadot^{n-1} for the midpoint scheme's own velocity] */
   PetscCall(VecWAXPY(velocity_local, -1.0, s->eta_old_local, s->eta_local));
   PetscCall(VecScale(velocity_local, StructureVelocityCoefficient(s, measure)));
-  if (measure == STRUCTURE_VELOCITY_SCHEME && s->time_order == 2) PetscCall(VecAXPY(velocity_local, -1.0, s->etadot_old_local));
+  if (measure == STRUCTURE_VELOCITY_SCHEME && s->time_order == 2)
+    PetscCall(VecAXPY(velocity_local, -1.0, s->etadot_old_local));
   PetscFunctionReturn(0);
 }
 
@@ -422,7 +450,8 @@ PetscErrorCode StructureCreateNodeVector(Structure s, Vec *v, PetscInt *nnodes, 
   PetscCall(VecGetLocalSize(*v, &n));
   *nnodes = n / dim;
   PetscCall(PetscMalloc1(n, coords));
-  for (PetscInt i = 0; i < n; ++i) (*coords)[i] = PETSC_MAX_REAL; /* a node inside an edge or a cell: no probe finds it */
+  for (PetscInt i = 0; i < n; ++i)
+    (*coords)[i] = PETSC_MAX_REAL; /* a node inside an edge or a cell: no probe finds it */
   PetscCall(DMGetGlobalSection(s->dm_free, &global));
   PetscCall(DMPlexGetDepthStratum(s->dm_free, 0, &vStart, &vEnd));
   PetscCall(DMGetCoordinateSection(s->dm_free, &cs));

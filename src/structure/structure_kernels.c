@@ -14,24 +14,32 @@
 /* PETSc fixes the signatures of pointwise kernels; each uses a few of their arguments. */
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 
-
-void StructureF0Mass(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f0[])
+void StructureF0Mass(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                     const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[],
+                     const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[],
+                     PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[],
+                     PetscScalar f0[])
 {
   for (PetscInt c = 0; c < dim; ++c) f0[c] = constants[STRUCTURE_MASS] * u[uOff[0] + c];
 }
 
-void StructureF1LinearStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f1[])
+void StructureF1LinearStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                             const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[],
+                             const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[],
+                             const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[],
+                             PetscInt numConstants, const PetscScalar constants[], PetscScalar f1[])
 {
   const PetscScalar op = constants[STRUCTURE_OPERATOR];
   PetscScalar       sigma[9];
 
-  StructureStress(STRUCTURE_LINEAR, dim, PetscRealPart(constants[STRUCTURE_MU]), PetscRealPart(constants[STRUCTURE_LAMBDA]), &u_x[uOff_x[0]], sigma);
+  StructureStress(STRUCTURE_LINEAR, dim, PetscRealPart(constants[STRUCTURE_MU]),
+                  PetscRealPart(constants[STRUCTURE_LAMBDA]), &u_x[uOff_x[0]], sigma);
   for (PetscInt i = 0; i < dim * dim; ++i) f1[i] = op * sigma[i];
 }
 
-
 /* F = I + G and the second Piola stress S = lambda tr(E) I + 2 mu_s E, E = (F^T F - I)/2 */
-static void SVKDeformation(PetscInt dim, PetscScalar mu, PetscScalar lambda, const PetscScalar G[], PetscScalar F[], PetscScalar S[])
+static void SVKDeformation(PetscInt dim, PetscScalar mu, PetscScalar lambda, const PetscScalar G[], PetscScalar F[],
+                           PetscScalar S[])
 {
   PetscScalar trace = 0;
 
@@ -46,14 +54,16 @@ static void SVKDeformation(PetscInt dim, PetscScalar mu, PetscScalar lambda, con
   for (PetscInt d = 0; d < dim; ++d) S[d * dim + d] += lambda * trace;
 }
 
-void StructureStress(StructureModel model, PetscInt dim, PetscReal mu, PetscReal lambda, const PetscScalar G[], PetscScalar P[])
+void StructureStress(StructureModel model, PetscInt dim, PetscReal mu, PetscReal lambda, const PetscScalar G[],
+                     PetscScalar P[])
 {
   PetscScalar F[9], S[9], trace = 0;
 
   if (model == STRUCTURE_LINEAR) {
     for (PetscInt d = 0; d < dim; ++d) trace += G[d * dim + d];
     for (PetscInt c = 0; c < dim; ++c)
-      for (PetscInt d = 0; d < dim; ++d) P[c * dim + d] = mu * (G[c * dim + d] + G[d * dim + c]) + (c == d ? lambda * trace : 0.0);
+      for (PetscInt d = 0; d < dim; ++d)
+        P[c * dim + d] = mu * (G[c * dim + d] + G[d * dim + c]) + (c == d ? lambda * trace : 0.0);
     return;
   }
   SVKDeformation(dim, mu, lambda, G, F, S);
@@ -64,23 +74,38 @@ void StructureStress(StructureModel model, PetscInt dim, PetscReal mu, PetscReal
     }
 }
 
-void StructureF1SVKStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar f1[])
+void StructureF1SVKStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                          const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[],
+                          const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[],
+                          const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[],
+                          PetscInt numConstants, const PetscScalar constants[], PetscScalar f1[])
 {
   const PetscScalar op = constants[STRUCTURE_OPERATOR];
   PetscScalar       P[9];
 
-  StructureStress(STRUCTURE_SVK, dim, PetscRealPart(constants[STRUCTURE_MU]), PetscRealPart(constants[STRUCTURE_LAMBDA]), &u_x[uOff_x[0]], P);
+  StructureStress(STRUCTURE_SVK, dim, PetscRealPart(constants[STRUCTURE_MU]),
+                  PetscRealPart(constants[STRUCTURE_LAMBDA]), &u_x[uOff_x[0]], P);
   for (PetscInt i = 0; i < dim * dim; ++i) f1[i] = op * P[i];
 }
 
-void StructureG0Mass(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g0[])
+void StructureG0Mass(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                     const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[],
+                     const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[],
+                     PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants,
+                     const PetscScalar constants[], PetscScalar g0[])
 {
   for (PetscInt c = 0; c < dim; ++c) g0[c * dim + c] = constants[STRUCTURE_MASS];
 }
 
-void StructureG3LinearElasticity(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g3[])
+void StructureG3LinearElasticity(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[],
+                                 const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[],
+                                 const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[],
+                                 const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t,
+                                 PetscReal u_tShift, const PetscReal x[], PetscInt numConstants,
+                                 const PetscScalar constants[], PetscScalar g3[])
 {
-  const PetscScalar op = constants[STRUCTURE_OPERATOR], mu = op * constants[STRUCTURE_MU], lambda = op * constants[STRUCTURE_LAMBDA];
+  const PetscScalar op = constants[STRUCTURE_OPERATOR], mu = op * constants[STRUCTURE_MU],
+                    lambda = op * constants[STRUCTURE_LAMBDA];
 
   for (PetscInt c = 0; c < dim; ++c)
     for (PetscInt d = 0; d < dim; ++d) {
@@ -92,10 +117,15 @@ void StructureG3LinearElasticity(PetscInt dim, PetscInt Nf, PetscInt NfAux, cons
 
 /* dP_cd/dG_ef = delta_ce S_fd + lambda F_cd F_ef + mu_s F_cf F_ed + mu_s (F F^T)_ce delta_df
    (seed eq. 6.19), at g3[test c][trial e][test derivative d][trial derivative f]. */
-void StructureG3SVK(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], PetscScalar g3[])
+void StructureG3SVK(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                    const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[],
+                    const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[],
+                    PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants,
+                    const PetscScalar constants[], PetscScalar g3[])
 {
-  const PetscScalar  op = constants[STRUCTURE_OPERATOR], mu = constants[STRUCTURE_MU], lambda = constants[STRUCTURE_LAMBDA];
-  const PetscScalar *G  = &u_x[uOff_x[0]];
+  const PetscScalar op = constants[STRUCTURE_OPERATOR], mu = constants[STRUCTURE_MU],
+                    lambda = constants[STRUCTURE_LAMBDA];
+  const PetscScalar *G     = &u_x[uOff_x[0]];
   PetscScalar        F[9], S[9], FFt[9];
 
   SVKDeformation(dim, mu, lambda, G, F, S);
