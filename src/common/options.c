@@ -49,10 +49,22 @@ static PetscErrorCode RecordDefault(const char[]);
 
 PetscErrorCode OptionsSetDefault(const char opt[], const char value[])
 {
-  PetscBool set;
+  PetscBool set, used;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscOptionsUsed(NULL, opt, &used));
   PetscCall(PetscOptionsHasName(NULL, NULL, opt, &set));
+  if (set && !used) {
+    /* looking marked the user's option as read: set it again, unread, so that a set-up
+       that does not read it is told (OptionsCheckUnused) */
+    const char *value_now;
+    char       *copy = NULL;
+    PetscCall(PetscOptionsFindPair(NULL, NULL, opt, &value_now, &set));
+    if (value_now) PetscCall(PetscStrallocpy(value_now, &copy));
+    PetscCall(PetscOptionsClearValue(NULL, opt));
+    PetscCall(PetscOptionsSetValue(NULL, opt, copy));
+    PetscCall(PetscFree(copy));
+  }
   if (set) PetscFunctionReturn(0);
   PetscCall(PetscOptionsSetValue(NULL, opt, value));
   PetscCall(RecordDefault(opt));
