@@ -20,7 +20,7 @@ OBJ  := $(SRC:%.c=build/%.o)
 GEO  := $(wildcard meshes/*.geo)
 MSH  := $(GEO:.geo=.msh)
 
-.PHONY: all deps run test check-memory clean
+.PHONY: all deps run test test-quick check-memory clean
 
 all: bin/fsiopt $(MSH)
 
@@ -62,6 +62,11 @@ run: deps
 test: deps
 	$(MAKE) all
 	$(PYTHON) tests/run_tests.py
+
+# the fast tier (tests/run_tests.py --quick): a test of every area, under 90 s
+test-quick: deps
+	$(MAKE) all
+	$(PYTHON) tests/run_tests.py --quick
 
 # a fast subset of runs under valgrind memcheck and PETSc's malloc trace (a few minutes)
 check-memory: deps
