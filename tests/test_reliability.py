@@ -2,8 +2,8 @@
 diverging steps and their retries, summary.json, bad input, -help."""
 import csv, os, shutil, subprocess
 
-from harness import (CHANNEL, FLUID_SPACE, ROOT, TUREK, WORK, fail_text, fr, last_rows, read_probes, run,  # noqa: F401
-                     same_file, solve, test)
+from harness import (CHANNEL, FLUID_SPACE, ROOT, TUREK, WORK, fail_text, fr, last_rows, out_dir, read_probes,  # noqa: F401
+                     run, same_file, solve, test)
 
 
 def interrupted(name, step, nproc=1, extra=()):
@@ -295,7 +295,8 @@ def test_bad_input_restarts():
 def help_text(args):
     # errors="replace" (run_fsiopt): PETSc 3.18 prints an uninitialized buffer as the
     # default of -<prefix>dm_plex_boundary_label in DMPlex's own -help lines.
-    r = fr.run_fsiopt(["-help"] + args, timeout=120)
+    # -output_dir under WORK: a -help run still opens its (partial) output files
+    r = fr.run_fsiopt(["-help"] + args, out_dir=out_dir("help"), timeout=120)
     assert r.returncode == 0, "-help %s: exit %s" % (" ".join(args), r.returncode)
     return r.stdout
 
