@@ -20,7 +20,7 @@ OBJ  := $(SRC:%.c=build/%.o) build/known_options.o
 GEO  := $(wildcard meshes/*.geo)
 MSH  := $(GEO:.geo=.msh)
 
-.PHONY: all deps run test check-memory format clean
+.PHONY: all deps run test test-quick check-memory format clean
 
 all: bin/fsiopt $(MSH)
 
@@ -73,6 +73,11 @@ run: deps
 test: deps
 	$(MAKE) all
 	$(PYTHON) tests/run_tests.py
+
+# the fast tier (tests/run_tests.py --quick): a test of every area, under 90 s
+test-quick: deps
+	$(MAKE) all
+	$(PYTHON) tests/run_tests.py --quick
 
 # a fast subset of runs under valgrind memcheck and PETSc's malloc trace (a few minutes)
 check-memory: deps

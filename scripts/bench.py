@@ -55,7 +55,7 @@ import fsiopt_runs as fr   # noqa: E402
 from fsiopt_runs import (ROOT, error_line, execute, extra_tag, floats, fmt_num, ints, md_escape,   # noqa: E402
                          read_json, rel, say)
 
-FSIOPT = os.path.join(ROOT, "bin", "fsiopt")
+FSIOPT = fr.FSIOPT
 OPTIONS_FILE = "options/channel2d.yaml"
 OUTPUTS = ("summary.json", "probes.csv", "history.csv", "stdout.log")
 STAGES = ["Main Stage", "Setup", "Fluid", "Structure", "MeshMotion", "Output", "Optimizer", "Sensitivity", "Adjoint"]
@@ -224,10 +224,7 @@ def run_one(r, fsiopt, runs_dir, timeout=None, force=False, rerun_failed=False, 
 def run_all(runs, fsiopt, runs_dir, jobs=1, timeout=None, force=False, rerun_failed=False, retries=1):
     """Run the runs, jobs at a time (duplicates by name once); returns the unique runs."""
     unique = list({r.name: r for r in runs}.values())
-    env = dict(os.environ)
-    if jobs > 1:   # one core per run
-        for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
-            env.setdefault(k, "1")
+    env = fr.fsiopt_env(jobs=jobs)   # one thread per run when jobs > 1
     say("%d run(s) in %s, %d at a time%s" % (len(unique), rel(runs_dir), jobs,
                                              ", timeout %g s each" % timeout if timeout else ""))
     with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:

@@ -629,7 +629,7 @@ def main():
     out.add_argument("--out", default=os.path.join(ROOT, "out", "figures"), help="output directory (default out/figures)")
     runs = argparse.ArgumentParser(add_help=False)
     runs.add_argument("--t-final", type=float, default=0.1, help="end time of every run (default 0.1 = 1000 steps)")
-    runs.add_argument("--bin", default=os.path.join(ROOT, "bin", "fsiopt"), help="fsiopt binary (default bin/fsiopt)")
+    runs.add_argument("--bin", default=fr.FSIOPT, help="fsiopt binary (default bin/fsiopt)")
     runs.add_argument("--jobs", type=int, default=1, help="runs in parallel (default 1)")
     runs.add_argument("--extra", default="", help='options passed to every run, e.g. --extra="-refine 1"')
     runs.add_argument("--runs-dir", default=None, help="where the runs go (default <out>/runs)")

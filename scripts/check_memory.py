@@ -13,11 +13,11 @@ only touch Open MPI, HDF5 or PETSc internals are counted and shown, not failed o
 
 Last line: 'N passed, M failed'; exit status non-zero on any failure. Takes a few minutes.
 """
-import os, re, subprocess, sys, tempfile, time
+import os, re, sys, tempfile, time
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-FSIOPT = os.path.join(ROOT, "bin", "fsiopt")
-ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_rmaps_base_oversubscribe="1")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from fsiopt_runs import ROOT, run_fsiopt  # noqa: E402  (the binary, its environment, the launch)
+
 WORK = tempfile.mkdtemp(prefix="fsiopt-memory-")
 CHANNEL = ["-options_file", "options/channel2d.yaml"]
 TUREK = ["-options_file", "options/turek-hron.yaml"]
@@ -92,13 +92,14 @@ def main():
             continue  # arguments: only the runs whose names contain one of them
         out = os.path.join(WORK, "run-%d" % i)
         args = [checkpoint if a == "@checkpoint" else a for a in args]
-        cmd = ["valgrind", "--leak-check=full", "--show-leak-kinds=definite,indirect", "--num-callers=30",
-               "--log-file=" + os.path.join(WORK, "valgrind-%d.log" % i), FSIOPT] + args + \
-              ["-output_dir", out, "-no_signal_handler"]
+        valgrind = ["valgrind", "--leak-check=full", "--show-leak-kinds=definite,indirect", "--num-callers=30",
+                    "--log-file=" + os.path.join(WORK, "valgrind-%d.log" % i)]
         t0 = time.time()
-        p = subprocess.run(cmd, cwd=ROOT, env=ENV, capture_output=True, text=True, errors="replace", timeout=3000)
-        traced = subprocess.run([FSIOPT] + args + ["-output_dir", out + "-traced", "-malloc_debug", "-malloc_dump"], cwd=ROOT,
-                                env=ENV, capture_output=True, text=True, errors="replace", timeout=3000)
+        p = run_fsiopt(args + ["-output_dir", out, "-no_signal_handler"], wrapper=valgrind, timeout=3000)
+        traced = run_fsiopt(args + ["-output_dir", out + "-traced", "-malloc_debug", "-malloc_dump"], timeout=3000)
+        for q in (p, traced):
+            if q.timed_out:
+                raise TimeoutError("%s: no end after 3000 s" % " ".join(q.cmd))
         log = open(os.path.join(WORK, "valgrind-%d.log" % i), errors="replace").read()
         problems, foreign = [], 0
         for b in blocks(log):

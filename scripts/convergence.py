@@ -6,10 +6,10 @@ writes out/convergence/convergence.csv and out/convergence/convergence.md with o
 rates. The single-physics studies check the solvers; the coupled ones reproduce the
 seed's Tables 5.1-5.6 (mms-ns) and Fig 3.7 (mms-stokes).
 Usage: scripts/convergence.py [--levels N] [--set single|coupled|all]   (build first: make all)"""
-import argparse, csv, json, math, os, subprocess, tempfile
+import argparse, csv, json, math, os, sys, tempfile
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-FSIOPT = os.path.join(ROOT, "bin", "fsiopt")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from fsiopt_runs import ROOT, run_fsiopt  # noqa: E402  (the binary, its environment, the launch)
 
 STUDIES = [
     ("fluid (Q2,Q1) space", ["-scene", "mms-fluid", "-dt", "0.1", "-t_start", "0.5", "-t_final", "0.6", "-mms_discrete_time"], "refine", ["u_L2", "u_H1", "p_L2"]),
@@ -50,7 +50,7 @@ def main():
             knobs = {"refine": ["-refine", value], "dt": ["-dt", value],
                      "both": ["-refine", str(level), "-dt", "%g" % (0.1 / 2 ** level)]}[knob]
             with tempfile.TemporaryDirectory() as tmp:
-                subprocess.run([FSIOPT] + base + knobs + ["-output_dir", tmp], cwd=ROOT, check=True, capture_output=True)
+                run_fsiopt(base + knobs, out_dir=tmp, check=True)
                 summary = json.load(open(os.path.join(tmp, "summary.json")))
                 errors = summary["errors"]
             cells = []

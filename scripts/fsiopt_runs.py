@@ -46,13 +46,112 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 FSIOPT = os.path.join(ROOT, "bin", "fsiopt")
 
 
-def fsiopt_env(base=None, **extra):
-    """The environment fsiopt runs in: Open MPI allowed as root and oversubscribed (the
-    Makefile sets the same), plus `extra`."""
-    env = dict(os.environ if base is None else base, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-               OMPI_MCA_rmaps_base_oversubscribe="1")
+def fsiopt_env(base=None, oversubscribe=True, jobs=1, **extra):
+    """The environment fsiopt runs in: Open MPI allowed as root (ignored for other users)
+    and, unless oversubscribe is False, more ranks than cores allowed (the Makefile sets the
+    same); with jobs > 1 runs side by side, one thread per run (OMP_NUM_THREADS etc. unless
+    set); plus `extra`."""
+    env = dict(os.environ if base is None else base, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    if oversubscribe:
+        env["OMPI_MCA_rmaps_base_oversubscribe"] = "1"
+    if jobs > 1:   # one core per run
+        for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
+            env.setdefault(k, "1")
     env.update(extra)
     return env
+
+
+def fsiopt_command(args, nproc=1, out_dir=None, fsiopt=None, launcher=("mpiexec",), wrapper=()):
+    """The command line of one fsiopt run: [launcher -n nproc] [wrapper] fsiopt args
+    [-output_dir out_dir] (the launcher only when nproc > 1; wrapper: e.g. valgrind and
+    its options)."""
+    cmd = list(wrapper) + [fsiopt or FSIOPT] + list(args) + (["-output_dir", out_dir] if out_dir else [])
+    return list(launcher) + ["-n", str(nproc)] + cmd if nproc > 1 else cmd
+
+
+class FsioptRun:
+    """What run_fsiopt() returns: returncode (None: could not start, or timed out), stdout,
+    stderr (text, or None when not captured), summary (out_dir/summary.json, None without
+    one), out_dir, cmd, elapsed_s, timed_out, maxrss_mib (with rusage=True: the peak
+    resident memory of the process, from wait4; else None)."""
+
+    def __init__(self, **kw):
+        self.__dict__.update(kw)
+
+    def __iter__(self):   # rc, stdout, stderr, summary = run_fsiopt(...)
+        return iter((self.returncode, self.stdout, self.stderr, self.summary))
+
+
+def launch(cmd, env=None, cwd=ROOT, timeout=None, stdout=True, stderr=True, rusage=False):
+    """Runs a command line that starts fsiopt (fsiopt_command's, a Variant's) once, from cwd,
+    in fsiopt_env() unless env is given; the process is known to stop_runs() meanwhile.
+    stdout, stderr: True to capture (text, undecodable bytes replaced), False to discard
+    (None returned). timeout: seconds, then the process is killed. rusage: the peak
+    resident memory from wait4. Returns (returncode or None, stdout, stderr, elapsed s,
+    timed out, peak MiB or None); a command that cannot start gives returncode None and
+    the reason in stderr."""
+    t0, timed_out, maxrss = time.time(), False, None
+    out, err = ("" if stdout else None), ("" if stderr else None)
+    pipe = lambda capture: subprocess.PIPE if capture else subprocess.DEVNULL
+    try:
+        p = subprocess.Popen(cmd, cwd=cwd, env=fsiopt_env() if env is None else env, stdout=pipe(stdout),
+                             stderr=pipe(stderr), text=True, errors="replace")
+    except OSError as e:   # binary missing or busy (being re-linked)
+        return None, out, "cannot run %s: %s" % (cmd[0], e.strerror or e), time.time() - t0, False, None
+    with _children_lock:
+        _children.add(p)
+    try:
+        if rusage:   # wait4 for the peak memory; the pipes are read meanwhile
+            texts, readers = {}, []
+            for name, stream in (("out", p.stdout), ("err", p.stderr)):
+                if stream is not None:
+                    readers.append(threading.Thread(target=lambda n=name, f=stream: texts.__setitem__(n, f.read())))
+                    readers[-1].start()
+            killed = threading.Event()
+            timer = threading.Timer(timeout, lambda: (killed.set(), p.kill())) if timeout else None
+            if timer:
+                timer.start()
+            _, status, usage = os.wait4(p.pid, 0)
+            if timer:
+                timer.cancel()
+            timed_out = killed.is_set()
+            for r in readers:
+                r.join()
+            p.returncode = returncode = None if timed_out else os.waitstatus_to_exitcode(status)
+            out, err, maxrss = texts.get("out", out), texts.get("err", err), usage.ru_maxrss / 1024.0
+            for stream in (p.stdout, p.stderr):
+                if stream is not None:
+                    stream.close()
+        else:
+            try:
+                out, err = p.communicate(timeout=timeout or None)
+                returncode = p.returncode
+            except subprocess.TimeoutExpired:
+                p.kill()
+                out, err = p.communicate()
+                timed_out, returncode = True, None
+    finally:
+        with _children_lock:
+            _children.discard(p)
+    return returncode, out, err, time.time() - t0, timed_out, maxrss
+
+
+def run_fsiopt(args, nproc=1, out_dir=None, fsiopt=None, launcher=("mpiexec",), wrapper=(), env=None, cwd=ROOT,
+               timeout=None, stdout=True, stderr=True, rusage=False, check=False):
+    """Runs fsiopt once: fsiopt_command(args, nproc, out_dir, fsiopt, launcher, wrapper) by
+    launch() (env, cwd, timeout, stdout, stderr, rusage: its). Returns a FsioptRun, with
+    out_dir/summary.json read. check: raise subprocess.CalledProcessError unless it exits 0."""
+    cmd = fsiopt_command(args, nproc, out_dir, fsiopt, launcher, wrapper)
+    returncode, out, err, elapsed, timed_out, maxrss = launch(cmd, env, cwd, timeout, stdout, stderr, rusage)
+    summary = None
+    if out_dir and os.path.isfile(os.path.join(cwd, out_dir, "summary.json")):
+        summary = read_json(os.path.join(cwd, out_dir, "summary.json")) or None
+    if check and returncode != 0:
+        raise subprocess.CalledProcessError(returncode if returncode is not None else -1, cmd, out, err)
+    return FsioptRun(returncode=returncode, stdout=out, stderr=err, summary=summary, out_dir=out_dir, cmd=cmd,
+                     elapsed_s=elapsed, timed_out=timed_out, maxrss_mib=maxrss)
+
+
 OUTPUTS = ("summary.json", "probes.csv", "history.csv")
 # the files of a resumable run's directory besides its outputs (see the module docstring)
 CHECKPOINT, PENDING, ATTEMPTS, CURRENT = "checkpoint.h5", "cmd.pending", "attempts.json", "current_attempt.json"
@@ -179,28 +278,10 @@ def stop_runs(signum=None):
 
 
 def execute(cmd, run_dir, env=None, timeout=None):
-    """Runs cmd once from the repository root, keeps its output in run_dir/stdout.log and
-    stderr.log. Returns (returncode or None, stdout, stderr, elapsed s, timed out)."""
-    t0, timed_out = time.time(), False
-    try:
-        p = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
-    except OSError as e:   # binary missing or busy (being re-linked)
-        returncode, stdout, stderr = None, "", "cannot run %s: %s" % (cmd[0], e.strerror or e)
-    else:
-        with _children_lock:
-            _children.add(p)
-        try:
-            try:
-                stdout, stderr = p.communicate(timeout=timeout or None)
-                returncode = p.returncode
-            except subprocess.TimeoutExpired:
-                p.kill()
-                stdout, stderr = p.communicate()
-                timed_out, returncode = True, None
-        finally:
-            with _children_lock:
-                _children.discard(p)
-    elapsed = time.time() - t0
+    """Runs cmd once (launch(); env None: fsiopt_env()), keeps its output in
+    run_dir/stdout.log and stderr.log. Returns (returncode or None, stdout, stderr, elapsed
+    s, timed out)."""
+    returncode, stdout, stderr, elapsed, timed_out, _ = launch(cmd, env, ROOT, timeout)
     for name, text in (("stdout.log", stdout), ("stderr.log", stderr)):
         with open(os.path.join(run_dir, name), "w") as f:
             f.write(text)
@@ -506,13 +587,11 @@ def run_variant(v, fsiopt, runs_dir, force=False, retries=2, wait_s=5.0, env=Non
     return v
 
 
-def run_all(variants, fsiopt, runs_dir, jobs=1, force=False, retries=2):
-    """Run the variants (jobs at a time); duplicates by name are run once."""
+def run_all(variants, fsiopt, runs_dir, jobs=1, force=False, retries=2, oversubscribe=True):
+    """Run the variants (jobs at a time; in fsiopt_env(), oversubscribe: its); duplicates
+    by name are run once."""
     unique = list({v.name: v for v in variants}.values())
-    env = dict(os.environ)
-    if jobs > 1:   # one core per run
-        for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
-            env.setdefault(k, "1")
+    env = fsiopt_env(oversubscribe=oversubscribe, jobs=jobs)
     say("%d run(s) in %s, %d at a time" % (len(unique), rel(runs_dir), jobs))
     with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
         list(pool.map(lambda v: run_variant(v, fsiopt, runs_dir, force, retries, env=env), unique))

@@ -7,22 +7,19 @@ The two must write the same probes.csv: keeping the start changes no result.
 
   /usr/bin/python3 scripts/retry_overhead.py [--options options/channel2d.yaml]
       [--t-final 0.02] [--repeats 3] [--out out/retry-overhead] [-- extra fsiopt options]"""
-import argparse, json, os, statistics, subprocess, sys
+import argparse, json, os, statistics, sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from fsiopt_runs import ROOT, run_fsiopt  # noqa: E402  (the binary, its environment, the launch)
 
 
 def run(args, out):
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    p = subprocess.Popen([os.path.join(ROOT, "bin", "fsiopt")] + args + ["-output_dir", out], cwd=ROOT, env=env,
-                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
-    _, status, usage = os.wait4(p.pid, 0)
-    err = p.stderr.read().decode(errors="replace").strip()
-    p.stderr.close()
-    if os.waitstatus_to_exitcode(status) != 0:
-        sys.exit("retry_overhead: fsiopt failed: %s" % (err.splitlines()[-1] if err else "exit %d" % status))
+    r = run_fsiopt(args, out_dir=out, stdout=False, rusage=True)
+    err = (r.stderr or "").strip()
+    if r.returncode != 0:
+        sys.exit("retry_overhead: fsiopt failed: %s" % (err.splitlines()[-1] if err else "exit %s" % r.returncode))
     summary = json.load(open(os.path.join(out, "summary.json")))
-    return summary, usage.ru_maxrss / 1024.0, open(os.path.join(out, "probes.csv")).read()
+    return summary, r.maxrss_mib, open(os.path.join(out, "probes.csv")).read()
 
 
 def main():

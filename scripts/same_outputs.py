@@ -10,10 +10,10 @@ summary.json is compared without the keys that measure the machine, not the comp
   scripts/same_outputs.py --list                         # the cases and their options
 
 Exit 0 when every case agrees, 1 otherwise (each difference named)."""
-import argparse, json, os, shutil, subprocess, sys, time
+import argparse, json, os, shutil, sys, time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from fsiopt_runs import ROOT, FSIOPT, fsiopt_env  # noqa: E402
+from fsiopt_runs import FSIOPT, run_fsiopt  # noqa: E402  (the binary, its environment, the launch)
 
 CHANNEL = ["-options_file", "options/channel2d.yaml"]
 TUREK = ["-options_file", "options/turek-hron.yaml"]
@@ -36,9 +36,8 @@ def run_cases(fsiopt, out_dir):
         d = os.path.join(out_dir, name)
         shutil.rmtree(d, ignore_errors=True)
         t0 = time.time()
-        p = subprocess.run([fsiopt] + args + ["-output_dir", d], cwd=ROOT, env=fsiopt_env(), capture_output=True,
-                           text=True, errors="replace")
-        print("%-18s exit %d  %6.1fs" % (name, p.returncode, time.time() - t0), flush=True)
+        p = run_fsiopt(args, out_dir=d, fsiopt=fsiopt)
+        print("%-18s exit %s  %6.1fs" % (name, p.returncode, time.time() - t0), flush=True)
         if p.returncode:
             print("  " + (p.stderr or p.stdout).strip().splitlines()[-1], flush=True)
 

@@ -35,8 +35,9 @@ the script exits non-zero at the end; so is a run whose summary.json reports oth
 counts than its layout (a launcher that started P separate one-rank runs, e.g. srun with an
 MPI built without SLURM's PMI support).
 
-When running as root, the runs get OMPI_ALLOW_RUN_AS_ROOT=1 and
-OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 (Open MPI refuses root otherwise).
+The runs get OMPI_ALLOW_RUN_AS_ROOT=1 and OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+(fsiopt_runs.fsiopt_env, without oversubscription; Open MPI refuses root otherwise, other
+users ignore them).
 
 Examples (build first: make all):
   scripts/strong_scaling.py --level 1 --t-final 0.0003 --layouts 1:0,2:1

@@ -417,7 +417,7 @@ def main():
                     "those up to the run's end); the nearest written step is drawn")
     ap.add_argument("--t-final", type=float, default=0.003, help="end time of the run (default 0.003 = 30 steps: "
                     "the inlet pulse)")
-    ap.add_argument("--bin", default=os.path.join(ROOT, "bin", "fsiopt"), help="fsiopt binary (default bin/fsiopt)")
+    ap.add_argument("--bin", default=fr.FSIOPT, help="fsiopt binary (default bin/fsiopt)")
     ap.add_argument("--extra", default="", help='options passed to the run, e.g. --extra="-fluid_dm_plex_filename F '
                     '-structure_dm_plex_filename W"')
     ap.add_argument("--runs-dir", default=None, help="where the run goes (default <out>/runs)")

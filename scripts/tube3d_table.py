@@ -26,8 +26,9 @@ with K > 0 the Fluid and MeshMotion stages run on the P - K fluid ranks only and
 on the K wall ranks only, so the stage split here is scaled back to the average over the
 ranks that run the stage (x P/(P-K), x P/K; the CSV keeps PETSc's numbers as well). A run
 whose summary.json reports other rank counts than asked for counts as failed (the launcher
-started P one-rank runs). When running as root, the runs get OMPI_ALLOW_RUN_AS_ROOT=1 and
-OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1.
+started P one-rank runs). The runs get OMPI_ALLOW_RUN_AS_ROOT=1 and
+OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 (fsiopt_runs.fsiopt_env, without oversubscription; Open
+MPI refuses root otherwise, other users ignore them).
 
 Outputs under out/tube3d/ (--out): table6_1.csv and table6_1.md. Runs go to <out>/runs/<run>/
 (--runs-dir) with stdout.log (the -log_view), stderr.log and cmd.txt (written after a
@@ -48,7 +49,7 @@ import bench as B   # noqa: E402
 import fsiopt_runs as fr   # noqa: E402
 from fsiopt_runs import ROOT, rel, say   # noqa: E402
 
-FSIOPT = os.path.join(ROOT, "bin", "fsiopt")
+FSIOPT = fr.FSIOPT
 OPTIONS_FILE = "options/tube3d.yaml"
 GEO = {"fluid": "meshes/tube3d-fluid.geo", "wall": "meshes/tube3d-wall.geo"}
 GEO_INCLUDES = ["meshes/tube3d-section.geoinc"]
@@ -131,22 +132,15 @@ def forget_if_older(r, runs_dir, files):
         os.remove(cmd_txt)
 
 
-def mpi_environment():
-    """Open MPI refuses to start as root without these; harmless elsewhere."""
-    if hasattr(os, "geteuid") and os.geteuid() == 0:
-        os.environ.setdefault("OMPI_ALLOW_RUN_AS_ROOT", "1")
-        os.environ.setdefault("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
-
-
 def run_runs(runs, fsiopt, runs_dir, force=False, retries=2):
     """Runs the runs that are not failed already, one at a time (timings), and reads their
     -log_view stage times."""
-    mpi_environment()
     todo = [r for r in runs if r.status == "pending"]
     for r in todo:
         forget_if_older(r, runs_dir, r.params.get("meshes", {}).values())
     if todo:
-        fr.run_all(todo, fsiopt, runs_dir, jobs=1, force=force, retries=retries)
+        # fsiopt_env() without oversubscription: a layout larger than the machine fails, as before
+        fr.run_all(todo, fsiopt, runs_dir, jobs=1, force=force, retries=retries, oversubscribe=False)
     for r in runs:
         if r.run_dir and (r.ok or os.path.isfile(os.path.join(r.run_dir, "stdout.log"))):
             r.stages = B.read_stages(r.run_dir)

@@ -106,7 +106,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import fsiopt_runs as fr   # noqa: E402
 from fsiopt_runs import ROOT, extra_tag, fmt_num, ints, md_escape, number, rel, say   # noqa: E402
 
-FSIOPT = os.path.join(ROOT, "bin", "fsiopt")
+FSIOPT = fr.FSIOPT
 OPTIONS_FILE = "options/turek-hron.yaml"
 GEO = {"fluid": "meshes/turek-hron-fluid.geo", "flag": "meshes/turek-hron-flag.geo"}
 GEO_INCLUDES = ["meshes/turek-hron.geoinc"]
@@ -134,11 +134,10 @@ def binary_defaults(fsiopt, options):
     """{'dt', 't_final', 'window'} that a run of fsiopt with these options would use: its
     -help (which runs no step) prints them as `-dt <now : default>`. Raises DefaultsError."""
     with tempfile.TemporaryDirectory(prefix="turek-hron-help-") as tmp:
-        cmd = [fsiopt] + options + ["-help", "-output_dir", tmp]
-        try:
-            p = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, errors="replace", timeout=300)
-        except (OSError, subprocess.TimeoutExpired) as e:
-            raise DefaultsError("%s -help: %s" % (rel(fsiopt), getattr(e, "strerror", None) or e))
+        p = fr.run_fsiopt(options + ["-help", "-output_dir", tmp], fsiopt=fsiopt, timeout=300)
+        if p.returncode is None:   # it could not start, or timed out
+            raise DefaultsError("%s -help: %s" % (rel(fsiopt), "no end after 300 s" if p.timed_out else
+                                                  p.stderr.split(": ", 1)[-1]))
     found = {}
     for key, opt in (("dt", "dt"), ("t_final", "t_final"), ("window", "quantities_window")):
         m = re.search(r"^\s*-%s <(?:now )?([-+0-9.eE]+)" % opt, p.stdout, re.M)
@@ -216,10 +215,7 @@ def run_runs(runs, fsiopt, runs_dir, jobs=1, force=False, retries=2):
     todo = [v for v in runs if v.status == "pending"]
     for v in todo:
         forget_if_older(v, runs_dir)
-    env = dict(os.environ)
-    if jobs > 1:   # one core per run
-        for k in ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS"):
-            env.setdefault(k, "1")
+    env = fr.fsiopt_env(jobs=jobs)
     say("%d run(s) in %s, %d at a time" % (len(todo), rel(runs_dir), jobs))
     t0, done = time.time(), 0
     pool = ThreadPoolExecutor(max_workers=max(1, jobs))

@@ -25,7 +25,7 @@ checkpoint of the same case), so that the ratios say something.
   /usr/bin/python3 scripts/variant_cost.py [--compare mesh-motion] [--case fsi2]
       [--steps 20] [--repeats 3] [--restart CHECKPOINT] [--out out/variant-cost]
       [-- extra fsiopt options]"""
-import argparse, json, os, re, statistics, subprocess, sys
+import argparse, json, os, re, statistics, sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import fsiopt_runs as fr   # noqa: E402
@@ -57,13 +57,11 @@ def run(args, out, stage_name):
     path = os.path.join(out, "summary.json")
     if os.path.exists(path):  # the previous repeat's: a run that writes none must not read it
         os.remove(path)
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
-    p = subprocess.run([os.path.join(ROOT, "bin", "fsiopt")] + args + ["-output_dir", out, "-log_view"], cwd=ROOT,
-                       env=env, capture_output=True, text=True, errors="replace")
+    p = fr.run_fsiopt(args + ["-output_dir", out, "-log_view"])
     summary = json.load(open(path)) if os.path.exists(path) else None
     if p.returncode != 0 and not (summary and summary["failure"]):
-        err = p.stderr.strip()
-        sys.exit("variant_cost: fsiopt failed: %s" % (err.splitlines()[-1] if err else "exit %d" % p.returncode))
+        err = (p.stderr or "").strip()
+        sys.exit("variant_cost: fsiopt failed: %s" % (err.splitlines()[-1] if err else "exit %s" % p.returncode))
     stage = fr.parse_stages(p.stdout).get(stage_name)
     if stage is None:
         sys.exit("variant_cost: no %s stage in -log_view's output" % stage_name)
@@ -125,8 +123,7 @@ def failure_time(failure):
 
 def case_dt(base):
     """the case's time step, as fsiopt -help reports it"""
-    text = subprocess.run([os.path.join(ROOT, "bin", "fsiopt")] + base + ["-help"], cwd=ROOT, capture_output=True,
-                          text=True, errors="replace").stdout
+    text = fr.run_fsiopt(base + ["-help"]).stdout or ""
     found = re.search(r"^\s*-dt <(\S+)", text, re.M)
     if not found:
         sys.exit("variant_cost: fsiopt -help does not show -dt")

@@ -1,0 +1,123 @@
+"""The test suite's shared harness: registration (@test(title, quick=...)), the runs of
+fsiopt (scripts/fsiopt_runs.run_fsiopt), rates, probe files, the scenes' option lists,
+the result counting and the WORK directory. The tests live in tests/test_*.py, one file
+per area; tests/run_tests.py imports them and calls main()."""
+import csv, math, os, shutil, sys, tempfile, time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
+sys.dont_write_bytecode = True   # no __pycache__ next to the sources
+import fsiopt_runs as fr  # noqa: E402  (the one module that launches fsiopt)
+from fsiopt_runs import FSIOPT, probes_difference  # noqa: E402,F401
+
+WORK = tempfile.mkdtemp(prefix="fsiopt-tests-")
+TIMEOUT = 600     # s: a hang guard for every run, not a measure of speed
+TESTS = []        # (title, function, quick), in registration order
+
+# the scenes' option lists shared by the areas
+FLUID_SPACE = ["-scene", "mms-fluid", "-dt", "0.1", "-t_start", "0.5", "-t_final", "0.6", "-mms_discrete_time"]
+SVK = ["-scene", "mms-structure", "-structure_model", "svk"]
+NS_STEP = ["-options_file", "options/mms-ns.yaml"]        # one step of 1e-6 from t0 = 0.5
+SHORT = ["-scene", "mms-ns", "-t_start", "0.5", "-t_final", "0.52", "-dt", "0.01", "-refine", "1"]
+CHANNEL = ["-options_file", "options/channel2d.yaml"]
+TUREK = ["-options_file", "options/turek-hron.yaml"]
+REFERENCE = os.path.join(ROOT, "tests", "reference")
+
+
+def test(title, quick=False):
+    """Registers a test: title (what run_tests.py prints and selects on, with the
+    function's name), quick (part of the fast tier, run_tests.py --quick). The function
+    returns a line of detail (its measured values) or raises AssertionError."""
+    def register(fn):
+        TESTS.append((title, fn, quick))
+        return fn
+    return register
+
+
+def out_dir(tag="run"):
+    """A fresh directory name under WORK."""
+    return os.path.join(WORK, "%s-%d" % (tag, len(os.listdir(WORK))))
+
+
+def run(args, nproc=1, tag="run", out=None, **kw):
+    """Runs fsiopt, returns (returncode, stdout, stderr, summary or None)."""
+    r = fr.run_fsiopt(args, nproc, out or out_dir(tag), timeout=kw.pop("timeout", TIMEOUT), **kw)
+    if r.timed_out:
+        raise AssertionError("run hung (killed after %d s): %s" % (TIMEOUT, " ".join(args)))
+    return r.returncode, r.stdout, r.stderr, r.summary
+
+
+def solve(args, nproc=1, out=None):
+    """Runs fsiopt, returns its summary; AssertionError when it fails."""
+    rc, stdout, err, summary = run(args, nproc, out=out)
+    if rc != 0 or summary is None:
+        raise AssertionError("run failed (%s): %s" % (" ".join(args), (err or stdout).strip()[-300:]))
+    return summary
+
+
+def fail_text(rc, stdout, err):
+    return "run failed: %s" % (err or stdout).strip()[-300:]
+
+
+def rates(errors, key):
+    return [math.log2(errors[i][key] / errors[i + 1][key]) for i in range(len(errors) - 1)]
+
+
+def check_rates(errs, floors):
+    """Every rate of each key in floors (errors on successive halvings) at least its floor."""
+    got = {k: rates(errs, k) for k in floors}
+    for k, floor in floors.items():
+        assert min(got[k]) >= floor, "%s rates %s below %.2f (errors %s)" % (
+            k, ["%.2f" % r for r in got[k]], floor, ["%.2e" % e[k] for e in errs])
+    return "; ".join("%s %s" % (k, " ".join("%.2f" % r for r in v)) for k, v in got.items())
+
+
+def read_probes(path):
+    rows = list(csv.reader(open(path)))
+    return rows[0], [[float(v) for v in r] for r in rows[1:]]
+
+
+def last_rows(out, name="history.csv"):
+    """{step: the step's last row} of a run's history.csv."""
+    last = {}
+    for r in csv.DictReader(open(os.path.join(out, name))):
+        last[int(r["step"])] = r
+    return last
+
+
+def printed(stdout, prefix):
+    return [l for l in stdout.splitlines() if l.startswith(prefix)]
+
+
+def same_file(a, b):
+    return open(a, "rb").read() == open(b, "rb").read()
+
+
+def selected(argv):
+    """(tests to run, quick): --quick keeps the fast tier; the other arguments keep the
+    tests whose title or function name contains one of them (all without)."""
+    quick = "--quick" in argv
+    words = [a for a in argv if a != "--quick"]
+    chosen = [(t, fn, q) for t, fn, q in TESTS if (q or not quick) and
+              (not words or any(w in t or w in fn.__name__ for w in words))]
+    return chosen, quick
+
+
+def main(argv):
+    """Runs the selected tests, one line each; last line 'N passed, M failed'; the exit
+    status (1 on any failure)."""
+    t0, passed, failed = time.time(), 0, 0
+    chosen, quick = selected(argv)
+    for title, fn, _ in chosen:
+        t1 = time.time()
+        try:
+            detail = fn()
+            passed += 1
+            print("PASS %-42s %6.1fs  %s" % (title, time.time() - t1, detail or ""), flush=True)
+        except Exception as e:  # a crash or a hang is a failure, not an abort of the suite
+            failed += 1
+            print("FAIL %-42s %6.1fs  %s: %s" % (title, time.time() - t1, fn.__name__, e), flush=True)
+    shutil.rmtree(WORK, ignore_errors=True)
+    print("total time %.0fs%s" % (time.time() - t0, " (quick tier)" if quick else ""))
+    print("%d passed, %d failed" % (passed, failed))
+    return 1 if failed else 0

@@ -1,0 +1,196 @@
+"""Coupled problems: the derivatives (adjoint identity, Taylor remainder), Gauss-Newton,
+the coupled rates, the parallel layouts, the explicit Jacobian, the extrapolated start and
+the agreement of the optimization-based and the partitioned couplings."""
+import csv, math, os
+
+from harness import (CHANNEL, NS_STEP, SHORT, WORK, check_rates, fail_text, last_rows, printed,  # noqa: F401
+                     probes_difference, read_probes, run, solve, test)
+
+
+def adjoint_cases(nproc):
+    worst, done = 0.0, 0
+    for control in ("traction", "convective"):
+        for order in ("1", "2"):
+            for velocity in ("scheme", "difference"):
+                args = SHORT + ["-coupling_control", control, "-structure_time_order", order, "-coupling_velocity", velocity,
+                                "-coupling_test_adjoint", "-t_final", "0.51"]
+                if nproc == 2:
+                    args += ["-structure_ranks", "1"]
+                rc, stdout, err, _ = run(args, nproc=nproc, tag="adjoint")
+                assert rc == 0, fail_text(rc, stdout, err)
+                line = printed(stdout, "adjoint test:")
+                assert len(line) == 1, "no adjoint test line in %s" % stdout[-300:]
+                rel = float(line[0].split()[-1])
+                assert rel <= 1e-10, "%s, order %s, %s: relative difference %.2e" % (control, order, velocity, rel)
+                worst = max(worst, rel)
+                done += 1
+    return "%d cases, worst %.1e" % (done, worst)
+
+
+@test("adjoint: <Jh,r> = <h,J^T r>, 1 rank", quick=True)
+def test_adjoint_identity_one_rank():
+    return adjoint_cases(1)
+
+
+@test("adjoint: <Jh,r> = <h,J^T r>, fluid | structure")
+def test_adjoint_identity_split_ranks():
+    return adjoint_cases(2)
+
+
+def taylor_ratios(stdout):
+    return [float(l.split()[-1]) for l in printed(stdout, "Taylor test:") if "ratio" in l]
+
+
+@test("Taylor remainder is second order (mms-ns)", quick=True)
+def test_taylor_remainder_second_order():
+    rc, stdout, err, _ = run(SHORT + ["-coupling_test_taylor", "-t_final", "0.51"], tag="taylor")
+    assert rc == 0, fail_text(rc, stdout, err)
+    ratios = taylor_ratios(stdout)
+    assert len(ratios) >= 4, "too few Taylor lines: %s" % stdout[-300:]
+    assert all(3.8 <= r <= 4.2 for r in ratios), "ratios %s" % ratios
+    return "ratios " + " ".join("%.3f" % r for r in ratios)
+
+
+@test("SVK: adjoint identity and second-order Taylor remainder (mms-ns)")
+def test_svk_adjoint_and_taylor():
+    rc, stdout, err, _ = run(SHORT + ["-structure_model", "svk", "-structure_time_order", "2", "-coupling_test_adjoint",
+                                      "-coupling_test_taylor", "-t_final", "0.51"], tag="svk-adjoint")
+    assert rc == 0, fail_text(rc, stdout, err)
+    adjoint = [float(l.split()[-1]) for l in printed(stdout, "adjoint test:")]
+    ratios = taylor_ratios(stdout)
+    assert len(adjoint) == 1 and adjoint[0] <= 1e-10, "adjoint test %s" % adjoint
+    assert len(ratios) >= 4 and all(3.8 <= r <= 4.2 for r in ratios), "Taylor ratios %s" % ratios
+    return "adjoint %.1e, Taylor ratios %s" % (adjoint[0], " ".join("%.3f" % r for r in ratios))
+
+
+@test("Gauss-Newton: one iteration per step, ||F|| <= 1e-10 (linear mms-stokes)", quick=True)
+def test_gauss_newton_exact_on_linear_stokes():
+    # Stokes and a linear wall on fixed domains: F is affine in the control, so the
+    # Gauss-Newton model is exact and one iteration solves each step (to CG's tolerance)
+    out = os.path.join(WORK, "gn")
+    s = solve(["-options_file", "options/mms-stokes.yaml"], out=out)
+    last = last_rows(out)
+    assert len(last) == s["steps"], "history has %d steps of %d" % (len(last), s["steps"])
+    assert s["coupling_iterations"] == s["steps"], "%d Gauss-Newton iterations for %d steps" % (s["coupling_iterations"], s["steps"])
+    for step, r in last.items():
+        F = math.sqrt(2 * float(r["objective"]))
+        assert int(r["iteration"]) == 1 and F <= 1e-10 and float(r["jump"]) <= 1e-10, "step %d: %s" % (step, r)
+    assert s["factorizations"] == {"fluid": 1, "structure": 1}, "factorizations %s" % s["factorizations"]
+    assert s["converged"] is True and s["max_interface_jump"] <= 1e-10
+    return "%d GN iterations for %d steps, %.1f CG its per GN it, max jump %.1e" % (
+        s["coupling_iterations"], s["steps"], s["inner_iterations"] / s["coupling_iterations"], s["max_interface_jump"])
+
+
+@test("mms-ns one-step spatial rates, <= 1 fluid factorization per GN it")
+def test_mms_ns_spatial_rates():
+    runs = [solve(NS_STEP + ["-refine", str(r)]) for r in range(1, 4)]
+    for s in runs:
+        assert s["factorizations"]["structure"] == 1, "structure factored %d times" % s["factorizations"]["structure"]
+        assert s["factorizations"]["fluid"] <= s["coupling_iterations"] + 1, "fluid factored %d times for %d GN its" % (
+            s["factorizations"]["fluid"], s["coupling_iterations"])
+    return check_rates([s["errors"] for s in runs], {"u_L2": 2.8, "eta_L2": 2.8, "u_H1": 1.8, "p_L2": 1.8, "eta_H1": 1.8})
+
+
+@test("mms-stokes temporal rate")
+def test_mms_stokes_temporal_rate():
+    errs = [solve(["-options_file", "options/mms-stokes.yaml", "-dt", str(dt)])["errors"] for dt in (0.1, 0.05, 0.025)]
+    return check_rates(errs, {"u_L2": 0.9, "p_L2": 0.9, "eta_H1": 0.9})
+
+
+@test("2 ranks (fluid | structure) reproduce 1 rank: mms-ns", quick=True)
+def test_split_ranks_mms_ns():
+    one, two = solve(SHORT + ["-coupling_tol", "1e-12"]), solve(SHORT + ["-coupling_tol", "1e-12", "-structure_ranks", "1"], nproc=2)
+    assert two["ranks"] == {"fluid": 1, "structure": 1, "total": 2}, "ranks %s" % two["ranks"]
+    worst = 0.0
+    for k, v in one["errors"].items():
+        rel = abs(two["errors"][k] - v) / abs(v)
+        worst = max(worst, rel)
+        assert rel <= 1e-9, "%s: 1 rank %.15e, 2 ranks %.15e (rel %.1e)" % (k, v, two["errors"][k], rel)
+    return "max relative difference %.1e" % worst
+
+
+@test("channel2d: least-squares start saves GN iterations, same probes (10 x tol)")
+def test_least_squares_start():
+    runs = {}
+    for points in ["3", "6"]:  # the quadratic through the last 3 steps (the plain start), fitted to the last 6
+        out = os.path.join(WORK, "start-%s" % points)
+        s = solve(CHANNEL + ["-t_final", "0.005", "-coupling_extrapolation", "2", "-coupling_extrapolation_points", points], out=out)
+        runs[points] = (s["coupling_iterations"], read_probes(os.path.join(out, "probes.csv"))[1])
+    (n3, p3), (n6, p6) = runs["3"], runs["6"]
+    diff = max(max(abs(a[c] - b[c]) for a, b in zip(p3, p6)) / max(abs(a[c]) for a in p3) for c in (2, 4, 6))
+    # a margin, not one iteration: at least a tenth of the plain start's iterations saved
+    assert n6 <= 0.9 * n3, "GN iterations: %d fitted to 6 steps, %d through 3 (ratio %.2f > 0.9)" % (n6, n3, n6 / n3)
+    assert diff <= 10 * 1e-4, "probes differ by %.2e of their amplitude" % diff
+    return "GN iterations %d (6 steps) vs %d (3 steps): ratio %.2f; probes within %.1e" % (n6, n3, n6 / n3, diff)
+
+
+@test("channel2d: fluid | structure ranks = 1 rank (opt, iqnils)")
+def test_channel2d_split_ranks():
+    worst = {}
+    for m in ["opt", "iqnils"]:
+        args = CHANNEL + ["-t_final", "0.001", "-coupling", m]
+        outs = [os.path.join(WORK, "ch1-" + m), os.path.join(WORK, "ch2-" + m)]
+        solve(args, out=outs[0])
+        two = solve(args + ["-structure_ranks", "1"], nproc=2, out=outs[1])
+        assert two["ranks"] == {"fluid": 1, "structure": 1, "total": 2}, "ranks %s" % two["ranks"]
+        (_, a), (_, b) = read_probes(os.path.join(outs[0], "probes.csv")), read_probes(os.path.join(outs[1], "probes.csv"))
+        worst[m] = max(abs(x - y) / max(abs(x), 1e-300) for ra, rb in zip(a, b) for x, y in zip(ra[1:], rb[1:]) if x != 0)
+        assert worst[m] <= 1e-8, "%s: 2 ranks differ by %.2e relative" % (m, worst[m])
+    return "max relative difference: " + ", ".join("%s %.1e" % kv for kv in worst.items())
+
+
+@test("explicit Jacobian by blocks of controls = one control at a time (1 and 3 ranks)")
+def test_explicit_jacobian_blocks():
+    # rebuilt every step, so that every step's CG is preconditioned by a block-built J
+    args = CHANNEL + ["-t_final", "0.001", "-coupling_explicit_jacobian", "1"]
+    runs = {}
+    for tag, block, nproc in [("single", "1", 1), ("block", "7", 1), ("block-3ranks", "7", 3)]:
+        out = os.path.join(WORK, "explicit-" + tag)
+        extra = ["-structure_ranks", "1"] if nproc == 3 else []
+        solve(args + ["-coupling_explicit_jacobian_block", block] + extra, nproc=nproc, out=out)
+        inner = [int(r["inner_iterations"]) for r in csv.DictReader(open(os.path.join(out, "history.csv")))]
+        runs[tag] = (inner, read_probes(os.path.join(out, "probes.csv"))[1])
+    single_inner, single = runs["single"]
+    worst = {}
+    for tag in ["block", "block-3ranks"]:
+        inner, probes = runs[tag]
+        assert inner == single_inner, "%s: inner CG iterations %s, one column at a time %s" % (tag, inner, single_inner)
+        # a J0 that differed would change CG's iterates at its tolerance (1e-4), far above this
+        worst[tag] = probes_difference(probes, single)
+        assert worst[tag] <= 1e-10, "%s: probes differ by %.2e of their amplitude" % (tag, worst[tag])
+    return "%d CG iterations in each; probes within %.1e (1 rank), %.1e (3 ranks)" % (sum(single_inner), worst["block"], worst["block-3ranks"])
+
+
+_partitioned = {}
+
+
+def partitioned_runs():
+    """channel2d, 10 steps, with the optimization-based and two partitioned couplings (the
+    latter to a relative traction change of 1e-6, so that opt's tolerance dominates)."""
+    if not _partitioned:
+        for m in ["opt", "aitken", "iqnils"]:
+            out = os.path.join(WORK, "pt-" + m)
+            s = solve(CHANNEL + ["-t_final", "0.001", "-coupling", m] + (["-coupling_rtol", "1e-6"] if m != "opt" else []), out=out)
+            _partitioned[m] = (s, read_probes(os.path.join(out, "probes.csv"))[1])
+    return _partitioned
+
+
+@test("opt, aitken, iqnils agree on channel2d probes (10 x tol)")
+def test_opt_aitken_iqnils_agree():
+    runs, tol = partitioned_runs(), 1e-4  # -coupling_tol of options/channel2d.yaml
+    _, ref = runs["opt"]
+    worst = {}
+    for m in ["aitken", "iqnils"]:
+        _, got = runs[m]
+        worst[m] = max(max(abs(g[c] - r[c]) for g, r in zip(got, ref)) / max(abs(r[c]) for r in ref) for c in (2, 4, 6))
+        assert worst[m] <= 10 * tol, "%s differs from opt by %.2e of the probe amplitude" % (m, worst[m])
+        assert runs[m][0]["max_interface_jump"] <= 1e-10, "%s: velocity jump %.2e" % (m, runs[m][0]["max_interface_jump"])
+    return ", ".join("%s %.1e" % kv for kv in worst.items())
+
+
+@test("iqnils needs fewer coupling iterations than aitken")
+def test_iqnils_fewer_iterations_than_aitken():
+    runs = partitioned_runs()
+    a, q = runs["aitken"][0]["avg_coupling_iterations"], runs["iqnils"][0]["avg_coupling_iterations"]
+    assert q < a, "iqnils %.2f, aitken %.2f sweeps per step" % (q, a)
+    return "sweeps per step: iqnils %.2f, aitken %.2f, opt %.2f GN" % (q, a, runs["opt"][0]["avg_coupling_iterations"])

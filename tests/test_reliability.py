@@ -1,0 +1,324 @@
+"""Reliability: signals (deterministic, -interrupt_test_step), checkpoints and restarts,
+diverging steps and their retries, summary.json, bad input, -help."""
+import csv, os, shutil, subprocess
+
+from harness import (CHANNEL, FLUID_SPACE, ROOT, TUREK, WORK, fail_text, fr, last_rows, out_dir, read_probes,  # noqa: F401
+                     run, same_file, solve, test)
+
+
+def interrupted(name, step, nproc=1, extra=()):
+    """channel2d sending itself the signal `name` after step `step`: (returncode, stderr, outputs dir)."""
+    out = os.path.join(WORK, "signal-%s-%d" % (name, nproc))
+    rc, _, err, _ = run(CHANNEL + list(extra) + ["-interrupt_test_step", str(step), "-interrupt_test_signal", name],
+                        nproc=nproc, out=out)
+    return rc, err, out
+
+
+@test("SIGINT, SIGTERM: the run stops after the step, outputs complete, converged false, exit != 0", quick=True)
+def test_sigint_sigterm_stop_after_the_step():
+    details = []
+    for name, step, nproc in (("SIGINT", 7, 1), ("SIGTERM", 10, 2)):
+        rc, err, out = interrupted(name, step, nproc)
+        lines = [l for l in err.splitlines() if l.strip()]
+        if nproc > 1:   # mpiexec adds its own lines about the ranks' exit status
+            lines = [l for l in lines if l.startswith("fsiopt")]
+        assert rc != 0, "%s: exit 0" % name
+        assert len(lines) == 1 and lines[0].startswith("fsiopt: error: interrupted by %s after step %d " % (name, step)) \
+            and "-restart" in lines[0], "%s: stderr %s" % (name, lines)
+        s = fr.read_summary(out)
+        assert s["converged"] is False and s["interrupted"] == name, "%s: summary %s" % (name, s)
+        assert s["steps_done"] == step, "%s after step %d: steps_done %d" % (name, step, s["steps_done"])
+        assert fr.checkpoint_step(os.path.join(out, "checkpoint.h5")) == step, "%s: the checkpoint is not of step %d" % (name, step)
+        head, rows = read_probes(os.path.join(out, "probes.csv"))  # complete, not .partial
+        assert len(rows) == step + 1 and abs(rows[-1][0] - step * s["dt"]) < 1e-12, \
+            "%s: %d probe rows, the last at t = %g" % (name, len(rows), rows[-1][0])
+        # the checkpoint it left continues the run
+        end = step + 3
+        more = solve(CHANNEL + ["-t_final", repr(end * s["dt"]), "-restart", os.path.join(out, "checkpoint.h5")], nproc=nproc)
+        assert more["first_step"] == step + 1 and more["steps_done"] == end, "%s: restart %s" % (name, more)
+        details.append("%s on %d rank%s: stopped after step %d exactly, restarted at step %d" % (
+            name, nproc, "s" if nproc > 1 else "", step, more["first_step"]))
+    return ", ".join(details)
+
+
+@test("restart from a checkpoint continues exactly, also after SIGKILL")
+def test_restart_after_sigkill():
+    every = ["-t_final", "0.01", "-checkpoint_every", "5"]
+    full = os.path.join(WORK, "ck-full")
+    solve(CHANNEL + every, out=full)
+    # killed outright after step 33: the checkpoint of step 30, written before, stays
+    rc, err, killed = interrupted("SIGKILL", 33, extra=every)
+    assert rc == -9, "exit status %s after SIGKILL (stderr %s)" % (rc, err.strip()[-200:])
+    assert not os.path.exists(os.path.join(killed, "summary.json")), "a killed run wrote summary.json"
+    ck = os.path.join(killed, "checkpoint.h5")
+    step = fr.checkpoint_step(ck)
+    assert step == 30, "the killed run's checkpoint is of step %d, not 30" % step
+    restarted = os.path.join(WORK, "ck-restarted")
+    s = solve(CHANNEL + every + ["-restart", ck], out=restarted)
+    assert s["first_step"] == 31 and s["steps_done"] == 100, "restart at step %s, done %s" % (s["first_step"], s["steps_done"])
+    assert same_file(os.path.join(full, "probes.csv"), os.path.join(restarted, "probes.csv")), \
+        "the restarted run's probes.csv differs from the uninterrupted run's"
+    return "killed after step 33, its checkpoint of step 30; restarted at step 31: probes.csv byte for byte the uninterrupted run's"
+
+
+def diverging_cases():
+    return [
+        ("mesh motion inverting cells", ["-scene", "gcl", "-dt", "0.01", "-t_final", "0.1", "-gcl_amplitude", "0.6"], "inverted or degenerate at step 3"),
+        ("mesh motion inverting hexahedra", ["-scene", "gcl", "-dt", "0.01", "-t_final", "0.1", "-gcl_amplitude", "0.6",
+                                             "-fluid_dm_plex_dim", "3", "-fluid_dm_plex_box_faces", "4,4,2"], "inverted or degenerate at step 3"),
+        # a soft, heavy wall: it bends before the fluid's velocities defeat its solver
+        ("over-sized load inverts the channel's cells", CHANNEL + ["-t_final", "0.005", "-channel_inlet_amplitude", "1e6",
+                                                                   "-structure_youngs_modulus", "3e3", "-structure_density", "10"],
+         "inverted or degenerate at step"),
+        ("unrelaxed Dirichlet-Neumann diverges (added mass)", CHANNEL + ["-t_final", "0.001", "-coupling", "dn"], "coupling dn diverged at step 1"),
+        ("diverging relaxed descent", ["-options_file", "options/mms-stokes.yaml", "-t_final", "0.6", "-tao_type", "sdrelaxed",
+                                       "-coupling_tikhonov", "1e-4", "-tao_sdrelaxed_alpha", "0.5"], "at step 1, iteration"),
+        ("structure Newton without retries", ["-options_file", "options/mms-structure.yaml", "-structure_model", "svk", "-dt", "0.05",
+                                              "-structure_snes_max_it", "5", "-dt_min", "0.05"], "structure solve failed at step 1"),
+    ]
+
+
+@test("diverging step past -dt_min: says where, converged false, outputs to the step before")
+def test_diverging_steps():
+    problems = []
+    cases = diverging_cases()
+    for i, (name, args, token) in enumerate(cases):
+        out = os.path.join(WORK, "diverging-%d" % i)
+        shutil.rmtree(out, ignore_errors=True)
+        rc, stdout, err, s = run(args, out=out)
+        lines = [l for l in err.splitlines() if l.strip()]
+        why = []
+        if rc == 0: why.append("exit 0")
+        if "PETSC ERROR" in stdout + err: why.append("PETSc traceback")
+        if len(lines) != 1 or not lines[0].startswith("fsiopt: error: ") or token not in lines[0] or "from t = " not in lines[0]:
+            why.append("stderr %s lacks one error line with '%s' and 'from t = '" % (lines, token))
+        if s is None: why.append("no summary.json")
+        else:
+            if s["converged"] is not False or token not in (s["failure"] or ""): why.append("summary converged %s, failure %s" % (s["converged"], s["failure"]))
+            if not 0 <= s["steps_done"] < s["steps"]: why.append("steps_done %s of %s" % (s["steps_done"], s["steps"]))
+            if s["errors"]: why.append("errors of a failed state reported")
+            probes = os.path.join(out, "probes.csv")
+            if os.path.exists(probes) and len(read_probes(probes)[1]) != s["steps_done"] + 1:
+                why.append("probes.csv rows != steps_done + 1")
+            retries = "no retries" not in lines[0] if lines else False
+            if retries and ("-dt_min" not in lines[0] or s["failed_attempts"] < 2): why.append("not retried down to -dt_min")
+        if why: problems.append("%s: %s" % (name, ", ".join(why)))
+    assert not problems, "; ".join(problems)
+    return "%d cases" % len(cases)
+
+
+@test("diverging steps retried with dt/2: = the run at dt/2 (SVK), near the smallest dt's run (channel2d)")
+def test_retried_steps():
+    svk = ["-options_file", "options/mms-structure.yaml", "-structure_model", "svk"]
+    # Newton needs 6-7 iterations per step at dt 0.05, 5 at 0.025: every step fails once
+    retried = solve(svk + ["-dt", "0.05", "-structure_snes_max_it", "5"])
+    half = solve(svk + ["-dt", "0.025", "-structure_snes_max_it", "5"])
+    full = solve(svk + ["-dt", "0.05"])
+    assert retried["retried_steps"] == retried["steps"] == retried["failed_attempts"] and retried["smallest_dt"] == 0.025, \
+        "retried %d of %d steps, %d failed attempts, smallest dt %g" % (retried["retried_steps"], retried["steps"], retried["failed_attempts"], retried["smallest_dt"])
+    assert half["failed_attempts"] == 0 and retried["converged"], "the dt/2 run failed too"
+    for k in retried["errors"]:
+        a, b, c = retried["errors"][k], half["errors"][k], full["errors"][k]
+        assert abs(a - b) <= 1e-8 * b, "%s: retried %.10e, dt/2 %.10e" % (k, a, b)
+        assert c > 2 * b, "%s: dt and dt/2 runs too close to tell apart (%.3e, %.3e)" % (k, c, b)
+    # coupled (opt): one Gauss-Newton iteration allowed; the steps that need two at dt are halved
+    base = CHANNEL + ["-t_final", "0.0015", "-coupling_tol", "1e-6"]
+    out = os.path.join(WORK, "retry-coupled")
+    s = solve(base + ["-dt", "5e-4", "-coupling_max_it", "1"], out=out)
+    assert s["converged"] and s["retried_steps"] >= 1 and s["max_interface_jump"] <= 1e-6, "coupled: %s" % s
+    rows = list(csv.DictReader(open(os.path.join(out, "history.csv"))))
+    retries = [r for r in rows if r["event"] == "retry"]
+    assert len(retries) == s["failed_attempts"] and all(float(r["dt"]) > s["smallest_dt"] for r in retries), "history retry rows"
+    last = {int(r["step"]): float(r["jump"]) for r in rows if r["event"] == ""}
+    assert sorted(last) == [1, 2, 3] and max(last.values()) <= 1e-6, "last jumps %s" % last
+    head, got = read_probes(os.path.join(out, "probes.csv"))
+    assert [r[0] for r in got] == [0, 5e-4, 1e-3, 1.5e-3], "probe times %s" % [r[0] for r in got]
+    split = os.path.join(WORK, "retry-split")
+    solve(base + ["-dt", "5e-4", "-coupling_max_it", "1", "-structure_ranks", "1"], nproc=2, out=split)
+    assert same_file(os.path.join(split, "probes.csv"), os.path.join(out, "probes.csv")), \
+        "fluid | structure ranks retry differently from 1 rank"
+    ends = []
+    for tag, dt in (("fine", repr(s["smallest_dt"])), ("coarse", "5e-4")):
+        solve(base + ["-dt", dt], out=os.path.join(WORK, "retry-" + tag))
+        ends.append(read_probes(os.path.join(WORK, "retry-" + tag, "probes.csv"))[1][-1])
+    fine, coarse = ends
+    # most of the retried run's steps were taken at the smallest dt: its end is near that run's
+    scale = [max(abs(fine[c]), abs(coarse[c])) for c in range(len(head))]
+    to_fine = sum(abs(got[-1][c] - fine[c]) / scale[c] for c in range(1, len(head)))
+    to_coarse = sum(abs(got[-1][c] - coarse[c]) / scale[c] for c in range(1, len(head)))
+    assert to_fine < 0.25 * to_coarse, "retried run's probes: %.3f from the smallest-dt run, %.3f from the dt run" % (to_fine, to_coarse)
+    return "SVK: all %d steps halved = dt/2 run to 1e-8; channel2d: %d steps retried (dt down to %g; 2 ranks identical), probes %.3f from that dt's run, %.3f from dt's" % (
+        retried["steps"], s["retried_steps"], s["smallest_dt"], to_fine, to_coarse)
+
+
+@test("summary.json has every DESIGN key", quick=True)
+def test_summary_keys():
+    s = solve(FLUID_SPACE)
+    keys = ["scene", "coupling", "optimizer", "dim", "steps", "dt", "t_final", "wall_time_s", "fluid_solves",
+            "fluid_linear_solves", "structure_solves", "coupling_iterations", "avg_coupling_iterations",
+            "work_factor", "max_interface_jump", "factorizations", "converged", "errors", "quantities", "ranks"]
+    missing = [k for k in keys if k not in s]
+    assert not missing, "missing keys %s" % missing
+    assert s["scene"] == "mms-fluid" and s["dim"] == 2 and s["steps"] == 1 and s["converged"] is True
+    assert s["fluid_solves"] == 1 and s["structure_solves"] == 0 and s["coupling"] == "none"
+    assert s["worst_corner_ratio"] is None and s["worst_corner_time"] is None, "a fixed mesh has no worst corner"
+    return "%d keys" % len(keys)
+
+
+# ---- bad input: one line 'fsiopt: error: ...' naming the culprit, non-zero exit, no summary ----
+F, S = ["-scene", "mms-fluid"], ["-scene", "mms-structure"]
+
+
+def refused(cases):
+    problems = []
+    for name, args, token in cases:
+        rc, stdout, err, summary = run(args, tag="bad")
+        lines = [l for l in (stdout + err).splitlines() if l.strip()]
+        why = []
+        if rc == 0: why.append("exit 0")
+        if summary is not None: why.append("summary.json written")
+        if "PETSC ERROR" in stdout + err: why.append("PETSc traceback")
+        if len(lines) != 1: why.append("%d lines" % len(lines))
+        elif token not in lines[0] or not lines[0].startswith("fsiopt: error:"): why.append("message '%s' lacks '%s'" % (lines[0], token))
+        if why: problems.append("%s: %s" % (name, ", ".join(why)))
+    assert not problems, "; ".join(problems)
+    return "%d cases" % len(cases)
+
+
+def inputs_dir():
+    d = os.path.join(WORK, "inputs")
+    os.makedirs(d, exist_ok=True)
+    return d
+
+
+@test("bad input: scenes, options files, methods and models", quick=True)
+def test_bad_input_choices():
+    empty = os.path.join(inputs_dir(), "empty.yaml")
+    open(empty, "w").close()
+    return refused([
+        ("unknown scene", ["-scene", "nosuchscene"], "-scene"),
+        ("no scene", ["-dt", "0.1"], "-scene"),
+        ("unknown coupling", F + ["-coupling", "magic"], "-coupling"),
+        ("missing options file", ["-options_file", "options/nosuch.yaml"], "nosuch.yaml"),
+        ("options file is a directory", ["-options_file", "options"], "-options_file"),
+        ("empty options file", ["-options_file", empty], "empty.yaml"),
+        ("unstable element pair", F + ["-fluid_pressure_degree", "2"], "-fluid_pressure_degree"),
+        ("Dirichlet-Neumann with the convective control", CHANNEL + ["-coupling", "aitken", "-coupling_control", "convective"], "-coupling_control"),
+        ("Dirichlet-Neumann on an enclosed fluid", ["-scene", "mms-stokes", "-coupling", "iqnils"], "incompressibility"),
+        ("elastic projection of a St. Venant-Kirchhoff wall", ["-scene", "mms-structure", "-structure_model", "svk", "-structure_initial_projection"], "-structure_initial_projection"),
+        ("unknown structure model", ["-scene", "mms-structure", "-structure_model", "neo-hookean"], "-structure_model"),
+        ("too many structure ranks", ["-scene", "mms-stokes", "-structure_ranks", "3"], "-structure_ranks"),
+        ("relaxed descent without Tikhonov", ["-scene", "mms-stokes", "-tao_type", "sdrelaxed"], "-coupling_tikhonov"),
+        ("BDF2 with a backward-Euler forcing", F + ["-mms_discrete_time", "-fluid_time_order", "2"], "-mms_discrete_time"),
+        ("third-order fluid time scheme", F + ["-fluid_time_order", "3"], "-fluid_time_order"),
+        ("unknown Turek-Hron case", TUREK + ["-turek_case", "fsi4"], "-turek_case"),
+        ("steady fluid on a moving mesh", TUREK + ["-turek_case", "fsi1", "-fluid_steady"], "-fluid_steady"),
+        ("unknown mesh motion", CHANNEL + ["-mesh_motion", "biharmonc"], "-mesh_motion. Available options: harmonic elastic biharmonic"),
+    ])
+
+
+@test("bad input: physical parameters, time steps, tolerances")
+def test_bad_input_numbers():
+    return refused([
+        ("zero fluid density", F + ["-fluid_density", "0"], "-fluid_density"),
+        ("negative fluid viscosity", F + ["-fluid_viscosity", "-1"], "-fluid_viscosity"),
+        ("zero viscosity", F + ["-fluid_viscosity", "0"], "-fluid_viscosity"),
+        ("zero structure density", S + ["-structure_density", "0"], "-structure_density"),
+        ("negative Young's modulus", S + ["-structure_youngs_modulus", "-5"], "-structure_youngs_modulus"),
+        ("Poisson ratio 0.5", S + ["-structure_poisson_ratio", "0.5"], "-structure_poisson_ratio"),
+        ("Poisson ratio above 0.5", S + ["-structure_poisson_ratio", "0.7"], "-structure_poisson_ratio"),
+        ("zero dt", F + ["-dt", "0"], "-dt"),
+        ("negative dt", F + ["-dt", "-0.01"], "-dt"),
+        ("dt not dividing the interval", F + ["-dt", "0.03", "-t_start", "0", "-t_final", "0.1"], "-dt"),
+        ("t_final before t_start", F + ["-t_start", "1", "-t_final", "0.5"], "-t_final"),
+        ("negative refine", F + ["-refine", "-1"], "-refine"),
+        ("too few extrapolation points", CHANNEL + ["-coupling_extrapolation", "2", "-coupling_extrapolation_points", "2"], "-coupling_extrapolation_points"),
+        ("zero relaxation", ["-scene", "mms-stokes", "-coupling", "dn", "-coupling_omega", "0"], "-coupling_omega"),
+        ("negative Tikhonov weight", ["-scene", "mms-stokes", "-coupling_tikhonov", "-1"], "-coupling_tikhonov"),
+        ("zero coupling tolerance", ["-scene", "mms-stokes", "-coupling_tol", "0"], "-coupling_tol"),
+        ("zero -dt_min", F + ["-dt_min", "0"], "-dt_min"),
+        ("negative -dt_min", F + ["-dt_min", "-1e-3"], "-dt_min"),
+        ("-dt_min above -dt", F + ["-dt", "0.1", "-dt_min", "0.2"], "-dt_min"),
+        ("negative inflow velocity", TUREK + ["-turek_case", "cfd1", "-turek_mean_velocity", "-1"], "-turek_mean_velocity"),
+        ("negative mesh stiffening", TUREK + ["-turek_case", "fsi1", "-mesh_motion_stiffening", "-1"], "-mesh_motion_stiffening"),
+        ("negative quantities window", TUREK + ["-turek_case", "csm1", "-quantities_window", "-1"], "-quantities_window"),
+    ])
+
+
+@test("bad input: meshes and interfaces")
+def test_bad_input_meshes():
+    d = inputs_dir()
+    junk = os.path.join(d, "junk.msh")
+    open(junk, "w").write("this is not a mesh\n")
+    nolabel_geo, nolabel = os.path.join(d, "nolabels.geo"), os.path.join(d, "nolabels.msh")
+    open(nolabel_geo, "w").write("Point(1)={0,0,0,0.5};Point(2)={1,0,0,0.5};Point(3)={1,1,0,0.5};Point(4)={0,1,0,0.5};"
+                                 "Line(1)={1,2};Line(2)={2,3};Line(3)={3,4};Line(4)={4,1};Curve Loop(1)={1,2,3,4};"
+                                 "Plane Surface(1)={1};Physical Curve(1)={1};Physical Surface(1)={1};\n")
+    subprocess.run(["gmsh", "-2", "-format", "msh22", "-v", "0", "-o", nolabel, nolabel_geo], check=True, capture_output=True)
+    # two quadrilaterals on the unit square with the face sets 1-4; the second listed clockwise
+    inverted = os.path.join(d, "inverted.msh")
+    open(inverted, "w").write("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n6\n1 0 0 0\n2 0.5 0 0\n3 1 0 0\n"
+                              "4 1 1 0\n5 0.5 1 0\n6 0 1 0\n$EndNodes\n$Elements\n8\n1 1 2 1 1 1 2\n2 1 2 1 1 2 3\n"
+                              "3 1 2 2 2 3 4\n4 1 2 3 3 4 5\n5 1 2 3 3 5 6\n6 1 2 4 4 6 1\n7 3 2 1 1 1 2 5 6\n"
+                              "8 3 2 1 1 2 5 4 3\n$EndElements\n")
+    truncated = os.path.join(d, "truncated.msh")
+    open(truncated, "w").write(open(os.path.join(ROOT, "meshes", "wall.msh")).read()[:600])
+    return refused([
+        ("missing mesh file", F + ["-fluid_dm_plex_filename", "meshes/nosuch.msh"], "nosuch.msh"),
+        ("unreadable mesh file", F + ["-fluid_dm_plex_filename", junk], "junk.msh"),
+        ("mesh lacking labels", F + ["-fluid_dm_plex_filename", nolabel], "Face Sets"),
+        ("mesh with an inverted cell", F + ["-fluid_dm_plex_filename", inverted], "inverted or degenerate"),
+        ("truncated mesh file", S + ["-structure_dm_plex_filename", truncated], "truncated.msh"),
+        ("3D mesh for a 2D scene", F + ["-fluid_dm_plex_filename", "meshes/tube3d-fluid.msh"], "expected a 2D mesh"),
+        ("non-conforming interface (counts)", ["-scene", "mms-stokes", "-structure_dm_plex_box_faces", "5,2"], "do not conform"),
+        ("non-conforming interface (shifted)", ["-scene", "mms-stokes", "-structure_dm_plex_box_lower", "0.01,1", "-structure_dm_plex_box_upper", "1.01,1.5"], "fluid node (0"),
+    ])
+
+
+@test("bad input: restarts")
+def test_bad_input_restarts():
+    d = inputs_dir()
+    not_hdf5 = os.path.join(d, "junk.h5")
+    open(not_hdf5, "w").write("not hdf5\n")
+    solve(CHANNEL + ["-t_final", "0.0002", "-checkpoint_every", "1"], out=os.path.join(d, "ck"))
+    checkpoint = os.path.join(d, "ck", "checkpoint.h5")
+    return refused([
+        ("restart from a file that is not HDF5", CHANNEL + ["-restart", not_hdf5], "not an HDF5 file"),
+        ("restart from a missing file", CHANNEL + ["-restart", os.path.join(d, "nosuch.h5")], "-restart"),
+        ("restart with another dt", CHANNEL + ["-t_final", "0.001", "-dt", "5e-5", "-restart", checkpoint], "dt"),
+        ("restart of another mesh", CHANNEL + ["-t_final", "0.002", "-refine", "1", "-restart", checkpoint], "-restart"),
+        ("restart with a partitioned method", CHANNEL + ["-t_final", "0.002", "-coupling", "iqnils", "-restart", checkpoint], "-coupling opt"),
+        ("restart past the end", CHANNEL + ["-t_final", "0.0001", "-restart", checkpoint], "-restart"),
+    ])
+
+
+def help_text(args):
+    # errors="replace" (run_fsiopt): PETSc 3.18 prints an uninitialized buffer as the
+    # default of -<prefix>dm_plex_boundary_label in DMPlex's own -help lines.
+    # -output_dir under WORK: a -help run still opens its (partial) output files
+    r = fr.run_fsiopt(["-help"] + args, out_dir=out_dir("help"), timeout=120)
+    assert r.returncode == 0, "-help %s: exit %s" % (" ".join(args), r.returncode)
+    return r.stdout
+
+
+@test("-help lists scenes and options", quick=True)
+def test_help_lists_options():
+    text = help_text(["-scene", "mms-fluid"])
+    for opt in ["-scene", "-coupling", "-refine", "-dt", "-t_start", "-t_final", "-output_dir", "-fluid_density",
+                "-fluid_viscosity", "-fluid_model", "-mms_discrete_time", "-write_fields", "-write_fields_interval",
+                "-fluid_rhs_rtol", "-fluid_extrapolate"]:
+        assert opt in text, "%s not in -help" % opt
+    # a coupled moving-mesh scene with a partitioned method lists the coupling's options too
+    text = help_text(["-options_file", "options/channel2d.yaml", "-coupling", "iqnils"])
+    for opt in ["-coupling_domain", "-coupling_predictor", "-coupling_mesh_extrapolate", "-coupling_extrapolation",
+                "-coupling_extrapolation_points",
+                "-coupling_omega", "-coupling_rtol", "-coupling_atol", "-coupling_iqn_reuse", "-mesh_motion",
+                "-channel_inlet_amplitude", "-fluid_backflow_stabilization", "-structure_model"]:
+        assert opt in text, "%s not in -help of channel2d with -coupling iqnils" % opt
+    text = help_text(TUREK)
+    for opt in ["-turek_case", "-turek_mean_velocity", "-turek_ramp_time", "-turek_gravity", "-turek_gravity_ramp",
+                "-quantities_window", "-checkpoint_every", "-checkpoint_file", "-restart", "-fluid_steady",
+                "-mesh_motion_stiffening", "-mesh_motion_incremental", "-dt_min", "-fluid_time_order",
+                "-coupling_explicit_jacobian_rebuild_its", "-interrupt_test_step", "-interrupt_test_signal"]:
+        assert opt in text, "%s not in -help of turek-hron" % opt
+    return "3 scenes' -help"
