@@ -1,0 +1,81 @@
+"""Strict inputs (issue 22): options nothing reads, on the command line and as YAML keys,
+stop the run before its first step with one line naming them and the nearest known
+option, and leave no outputs; -options_allow_unused lets them through with a warning; an
+option fsiopt reads in another set-up is a warning."""
+import os
+from harness import test, run, out_dir, WORK, NS_STEP, CHANNEL
+
+# (misspelled option or YAML key, its value, the suggestion the line must name)
+TYPOS = [
+    ("-coupling_tl", "1e-8", "-coupling_tol"),
+    ("-fluid_densty", "1", "-fluid_density"),
+    ("-fluid_viscocity", "2", "-fluid_viscosity"),
+    ("-structure_youngs_modulos", "7.8", "-structure_youngs_modulus"),
+    ("-structure_poison_ratio", "0.3", "-structure_poisson_ratio"),
+    ("-coupling_tikonov", "1e-6", "-coupling_tikhonov"),
+    ("-coupling_max_iter", "5", "-coupling_max_it"),
+    ("-refin", "1", "-refine"),
+    ("-ouput_dir", "x", "-output_dir"),
+    ("-fluid_snes_rtl", "1e-6", "-fluid_snes_rtol"),
+    ("-checkpoint_evry", "5", "-checkpoint_every"),
+    ("-fluidd_snes_converged_reason", "", "-fluid_snes_converged_reason"),
+]
+# YAML keys, nested as a user writes them: (yaml text after the scene's lines, bad option, suggestion)
+YAML_TYPOS = [
+    ("fluid:\n  viscocity: 2\n", "-fluid_viscocity", "-fluid_viscosity"),
+    ("structure:\n  densty: 1.9\n", "-structure_densty", "-structure_density"),
+    ("coupling_tl: 1e-8\n", "-coupling_tl", "-coupling_tol"),
+    ("tao_typ: lmvm\n", "-tao_typ", "-tao_type"),
+]
+NS_YAML = "scene: mms-ns\nt_start: 0.5\nt_final: 0.500001\ndt: 1e-6\nrefine: 2\ncoupling_control: convective\n"
+
+
+def refused(args, option, suggestion):
+    """The run's problems: not one line, exit 0, no suggestion, outputs left behind."""
+    out = out_dir("typo")
+    rc, stdout, err, summary = run(args, out=out)
+    lines = [l for l in (stdout + err).splitlines() if l.strip()]
+    why = []
+    if rc == 0:
+        why.append("exit 0")
+    if len(lines) != 1:
+        why.append("%d lines" % len(lines))
+    elif not (lines[0].startswith("fsiopt: error: option") and option in lines[0] and "nearest known: " + suggestion in lines[0]):
+        why.append("line '%s' lacks %s or the suggestion %s" % (lines[0], option, suggestion))
+    left = [f for f in os.listdir(out)] if os.path.isdir(out) else []
+    if left:
+        why.append("left %s" % ", ".join(left))
+    return ("%s: %s" % (option, "; ".join(why))) if why else None
+
+
+@test("misspelled options and YAML keys: one line with the nearest known option, exit 1, no outputs", quick=True)
+def test_misspelled_options_refused():
+    problems = []
+    for option, value, suggestion in TYPOS:
+        problems.append(refused(NS_STEP + [option] + ([value] if value else []), option, suggestion))
+    for i, (text, option, suggestion) in enumerate(YAML_TYPOS):
+        path = os.path.join(WORK, "typo-%d.yaml" % i)
+        open(path, "w").write(NS_YAML + text)
+        problems.append(refused(["-options_file", path], option, suggestion))
+    problems = [p for p in problems if p]
+    assert not problems, "; ".join(problems)
+    return "%d options, %d YAML keys refused with their suggestion" % (len(TYPOS), len(YAML_TYPOS))
+
+
+@test("-options_allow_unused lets a misspelled option through with a warning; another set-up's option warns", quick=True)
+def test_allow_unused_and_other_setups():
+    rc, stdout, err, summary = run(NS_STEP + ["-coupling_tl", "1e-8", "-options_allow_unused"])
+    assert rc == 0 and summary is not None, "run with -options_allow_unused failed: %s" % (err or stdout)[-300:]
+    warnings = [l for l in stdout.splitlines() if l.startswith("fsiopt: warning:")]
+    assert len(warnings) == 1 and "-coupling_tl" in warnings[0] and "-coupling_tol" in warnings[0], "warnings %s" % warnings
+    # a partitioned method's option with opt, and opt's tolerance with a partitioned method
+    rc, stdout, err, summary = run(NS_STEP + ["-coupling_omega", "0.5"])
+    warned = [l for l in stdout.splitlines() if l.startswith("fsiopt: warning:") and "-coupling_omega" in l]
+    assert rc == 0 and summary is not None and len(warned) == 1, "-coupling_omega with opt: exit %d, %s" % (rc, warned)
+    rc, stdout, err, summary = run(CHANNEL + ["-t_final", "2e-4", "-coupling", "aitken", "-coupling_tol", "1e-5"])
+    warned = [l for l in stdout.splitlines() if l.startswith("fsiopt: warning:") and "-coupling_tol" in l]
+    assert rc == 0 and summary is not None and len(warned) == 1, "-coupling_tol with aitken: exit %d, %s" % (rc, warned)
+    # a scene's own defaults that a method leaves unread are no warning (channel2d's opt settings under aitken)
+    rc, stdout, err, summary = run(CHANNEL + ["-t_final", "2e-4", "-coupling", "aitken"])
+    assert rc == 0 and not [l for l in stdout.splitlines() if "warning" in l], "channel2d with aitken warns: %s" % stdout
+    return "allowed with one warning; -coupling_omega under opt and -coupling_tol under aitken warned; scene defaults silent"
