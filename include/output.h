@@ -15,9 +15,9 @@ typedef struct {
 
 PetscErrorCode PartialFileOpen(MPI_Comm, const char dir[], const char name[], PartialFile *);
 
-/* The files the set-up opens (the .partial outputs) are removed when the run stops before
-   its first step: a refused set-up leaves no outputs. After OutputSetUpDone they stay, the
-   record of the steps done. */
+/* The files the set-up opens (the .partial outputs) are removed when the run stops with an
+   error before its first step is recorded and its options checked: a refused set-up leaves
+   no outputs. After OutputSetUpDone they stay, the record of the steps done. */
 PetscErrorCode OutputRegisterSetUpFile(const char path[]);
 void           OutputSetUpDone(void);
 void           OutputRemoveSetUpFiles(void); /* main's error path: no PETSc calls */

@@ -27,7 +27,6 @@ PetscErrorCode RunAdvance(Run run)
 
   PetscFunctionBeginUser;
   PetscCall(InterruptInstall());
-  OutputSetUpDone();
   s->steps_done = run->params.steps;
   s->first_step = run->first_step;
   for (PetscInt step = run->first_step; step <= run->params.steps; ++step) {
@@ -39,7 +38,11 @@ PetscErrorCode RunAdvance(Run run)
       break;
     }
     PetscCall(OutputsRecord(run->outputs, step));
-    if (step == run->first_step) PetscCall(OptionsCheckUnused(PETSC_COMM_WORLD, PETSC_TRUE));
+    if (step == run->first_step) {
+      /* options PETSc reads in its solves have been read now; a refusal still leaves no outputs */
+      PetscCall(OptionsCheckUnused(PETSC_COMM_WORLD, PETSC_TRUE));
+      OutputSetUpDone();
+    }
     PetscCall(InterruptTestAfterStep(step));
     PetscCall(InterruptCheck(PETSC_COMM_WORLD, &run->signal_caught));
     /* an interrupted run leaves a checkpoint of its last step when its set-up can */
