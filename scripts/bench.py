@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Side-by-side benchmark of the coupling methods of fsiopt on one scene (default channel2d).
 
 Runs bin/fsiopt once per method (-coupling NAME plus the method's own options, the same

@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Figures and tables of the seed dissertation for the haemodynamic channel (scene channel2d).
 
 The channel: fluid [0,6]x[0,1], elastic wall [0,6]x[1,1.1] on top, inlet pressure pulse,

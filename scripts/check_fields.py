@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Checks <output_dir>/fields.xdmf against <output_dir>/fields.h5 (fsiopt -write_fields).
 
 usage: scripts/check_fields.py OUTPUT_DIR

@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """make check-memory: a fast subset of fsiopt runs under valgrind memcheck.
 
 Each run goes through `valgrind --leak-check=full`, and once more without valgrind under

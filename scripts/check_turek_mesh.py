@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Consistency check of the Turek-Hron fluid and flag meshes (gmsh msh 2.2 ASCII).
 
 Usage: check_turek_mesh.py FLUID.msh FLAG.msh

@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Manufactured-solution convergence tables.
 
 Runs bin/fsiopt over refinements (space), time steps (time) or both (space-time) and

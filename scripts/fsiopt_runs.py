@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Shared helpers for scripts that run bin/fsiopt over several variants.
 
 A variant is one fsiopt command line with its own output directory. A run directory is

@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """What keeping each step's start in memory (for the Δt-halving retries, -dt_min < -dt)
 costs: the same run with the default -dt_min and with -dt_min = -dt (no copy kept),
 alternated --repeats times in one invocation, reported as ratios of the median wall time

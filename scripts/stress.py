@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Stability stress test of the coupling methods: density ratio x time step on channel2d.
 
 For every method (default opt, dn:-coupling_omega 0.05, aitken, iqnils; NAME[:options] as

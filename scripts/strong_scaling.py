@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Strong scaling of fsiopt on the 3D pressure-wave tube (scene tube3d): one mesh level, one
 short horizon, several rank layouts.
 

@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """Figures 6.3-6.4 of the seed dissertation: the pressure wave in the 3D tube (scene tube3d).
 
 The tube: fluid cylinder r <= 0.5, z in [0,5], in an elastic wall 0.5 <= r <= 0.6 (hexahedral

@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """The seed's Table 6.1: the 3D pressure-wave tube (scene tube3d) over mesh refinements.
 
 For every refinement level n (--levels, default 1,2,3) generates the fluid and the wall

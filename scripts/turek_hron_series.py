@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """The time series of Turek-Hron runs (probes.csv of scene turek-hron): windows, quantities, plots.
 
 A run is a directory with probes.csv (a finished or stopped run) or probes.csv.partial (a run

@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """The Turek-Hron benchmarks (scene turek-hron) over mesh refinements: our values in a table.
 
 For every case (--cases, default all nine: csm1,csm2,csm3,cfd1,cfd2,cfd3,fsi1,fsi2,fsi3) and

@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """What a choice of method costs on a Turek-Hron run, side by side: the same run (default
 fsi2 level 1, 20 steps) with each variant of one comparison, alternated --repeats times
 in one invocation.

@@ -1,4 +1,4 @@
-#!/usr/bin/python3
+#!/usr/bin/env python3
 """fsiopt test suite: every test asserts a property (a convergence rate, agreement
 between runs, a solver count, a clean refusal of bad input). Run by `make test` (all) and
 `make test-quick` (the fast tier).
