@@ -110,6 +110,24 @@ static PetscErrorCode SetDefaultReal(const char option[], PetscReal value)
   PetscFunctionReturn(0);
 }
 
+/* How the fluid mesh follows the flag in the FSI cases. */
+static PetscErrorCode MeshMotionDefaults(const TurekCase *c)
+{
+  PetscFunctionBeginUser;
+  /* the harmonic extension with each cell weighted by (mean size / its size): without it
+     the flag's tip inverts the small cells next to it once it swings by ~3 cm (fsi2 at
+     t = 8.11 s, fsi3 at t = 4.10 s on level 1) */
+  PetscCall(OptionsSetDefault("-mesh_motion_stiffening", c->biharmonic_mesh ? "2" : "1"));
+  /* fsi2's tip swings by ~8.5 cm and rotates: on level 1 the stiffened harmonic and the
+     elastic extension inverted a cell next to it (t = 8.908, 9.424), the elastic one by
+     increments at t = 10.66 (chi = 2) and the biharmonic one by increments, whose mesh
+     drifts from period to period, at t = 12.53; the biharmonic one from the reference
+     mesh (chi = 2), clamped at the flag, keeps its cells. fsi3 kept them with the stiffened
+     harmonic one on level 1, not on level 2 (t = 3.931, a cell above the tip) */
+  if (c->biharmonic_mesh) PetscCall(OptionsSetDefault("-mesh_motion", "biharmonic"));
+  PetscFunctionReturn(0);
+}
+
 /* The solvers of every case: the fluid's Newton tolerances, and Gauss-Newton on the
    interface traction as in channel2d; a case without fluid or coupling reads none of them. */
 static PetscErrorCode SolverDefaults(void)
@@ -183,19 +201,7 @@ PetscErrorCode SceneCreate_TurekHron(Scene *scene)
   /* against BDF2, backward Euler lost 21 % of cfd3's lift amplitude (level 1, dt = 0.002)
      and 4.1 % of fsi3's uy(A) amplitude (level 1, dt = 0.001) */
   if (c->kind != CSM && c->periodic) PetscCall(OptionsSetDefault("-fluid_time_order", "2"));
-  if (c->kind == FSI) {
-    /* the harmonic extension with each cell weighted by (mean size / its size): without it
-       the flag's tip inverts the small cells next to it once it swings by ~3 cm (fsi2 at
-       t = 8.11 s, fsi3 at t = 4.10 s on level 1) */
-    PetscCall(OptionsSetDefault("-mesh_motion_stiffening", c->biharmonic_mesh ? "2" : "1"));
-    /* fsi2's tip swings by ~8.5 cm and rotates: on level 1 the stiffened harmonic and the
-       elastic extension inverted a cell next to it (t = 8.908, 9.424), the elastic one by
-       increments at t = 10.66 (chi = 2) and the biharmonic one by increments, whose mesh
-       drifts from period to period, at t = 12.53; the biharmonic one from the reference
-       mesh (chi = 2), clamped at the flag, keeps its cells. fsi3 kept them with the stiffened
-       harmonic one on level 1, not on level 2 (t = 3.931, a cell above the tip) */
-    if (c->biharmonic_mesh) PetscCall(OptionsSetDefault("-mesh_motion", "biharmonic"));
-  }
+  if (c->kind == FSI) PetscCall(MeshMotionDefaults(c));
   if (c->kind == CFD && c->periodic) {
     /* chord steps on a Jacobian rebuilt every 20 Newton iterations: a step changes the
        flow little, and the solve is 2.8 times faster (cfd3, 20 steps) to the same tolerance */
