@@ -16,11 +16,11 @@ CFLAGS  += -Wall -Wextra -std=c11 -D_POSIX_C_SOURCE=200809L -DFSIOPT_ROOT='"$(CU
 LDLIBS  += $(shell pkg-config --libs PETSc 2>/dev/null) $(shell pkg-config --libs hdf5-openmpi 2>/dev/null) -lm
 
 SRC  := $(wildcard src/*.c src/*/*.c)
-OBJ  := $(SRC:%.c=build/%.o) build/known_options.o
+OBJ  := $(SRC:%.c=build/%.o) build/known_options.o build/version.o
 GEO  := $(wildcard meshes/*.geo)
 MSH  := $(GEO:.geo=.msh)
 
-.PHONY: all deps run test test-quick check-memory format clean
+.PHONY: all deps run test test-quick check-memory format clean FORCE
 
 all: bin/fsiopt $(MSH)
 
@@ -52,6 +52,17 @@ build/known_options.c: $(SRC)
 
 build/known_options.o: build/known_options.c
 	$(CC) -c -o $@ $<
+
+# summary.json's "version": git describe of the tree built (rewritten only when it changes)
+build/version.c: FORCE
+	@mkdir -p build
+	@v=$$(git -C $(CURDIR) describe --always --dirty 2>/dev/null || echo "unknown (built outside git)"); \
+	  echo "const char fsiopt_version[] = \"$$v\";" > $@.new; cmp -s $@.new $@ || mv $@.new $@; rm -f $@.new
+
+build/version.o: build/version.c
+	$(CC) -c -o $@ $<
+
+FORCE:
 
 meshes/%.msh: meshes/%.geo
 	gmsh -2 -format msh22 -v 2 -o $@ $< >/dev/null

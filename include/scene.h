@@ -15,6 +15,7 @@ typedef struct {
   PetscBool   has_fluid, has_structure;
   PetscInt    dim; /* of its meshes; 0: any */
   PhysicsData fluid, structure;
+  const char *units;    /* of its parameters and outputs, for summary.json: "SI", "cgs", "nondimensional" */
   PetscInt    n_probes; /* interface points whose structure displacement goes to probes.csv */
   PetscReal   probes[8][3];
 } Scene;

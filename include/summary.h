@@ -28,6 +28,9 @@ typedef struct {
   ErrorTable       errors;
   QuantityTable    quantities;
   PetscMPIInt      fluid_ranks, structure_ranks, total_ranks;
+  const char      *units;          /* the scene's */
+  char             start_time[32]; /* UTC, ISO 8601 */
+  char             host[256];
 } RunSummary;
 
 /* Fills the counts, errors, ranks and quantities of coupling and solvers (collective; fluid,

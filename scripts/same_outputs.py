@@ -3,7 +3,7 @@
 one fsiopt binary and compares probes.csv, history.csv and summary.json byte for byte
 with another run of the same cases (a directory written earlier, or a second binary).
 summary.json is compared without the keys that measure the machine, not the computation
-(wall time, start time, host, version).
+(wall time, start time, host, version); keys the reference lacks are listed, not compared.
 
   scripts/same_outputs.py record DIR [--fsiopt BIN]      # the reference outputs
   scripts/same_outputs.py compare DIR [--fsiopt BIN] [--now DIR2]  # a run now against DIR
@@ -49,7 +49,7 @@ def summary_without_machine(path):
     return s
 
 
-def compare(reference, now):
+def compare(reference, now, added):
     problems = []
     for name in CASES:
         for f in FILES:
@@ -60,9 +60,11 @@ def compare(reference, now):
                 problems.append("%s/%s: present in only one run" % (name, f))
             elif f == "summary.json":
                 sa, sb = summary_without_machine(a), summary_without_machine(b)
-                diff = sorted(k for k in set(sa) | set(sb) if sa.get(k) != sb.get(k))
+                diff = sorted(k for k in set(sa) & set(sb) if sa[k] != sb[k]) + sorted(set(sa) - set(sb))
                 if diff:
                     problems.append("%s/summary.json: %s differ" % (name, ", ".join(diff)))
+                if set(sb) - set(sa):   # keys the change adds: reported, not a difference
+                    added.update(set(sb) - set(sa))
             elif open(a, "rb").read() != open(b, "rb").read():
                 problems.append("%s/%s: bytes differ" % (name, f))
     return problems
@@ -87,7 +89,10 @@ def main():
         return 0
     now = a.now or a.dir.rstrip("/") + ".now"
     run_cases(a.fsiopt, now)
-    problems = compare(a.dir, now)
+    added = set()
+    problems = compare(a.dir, now, added)
+    if added:
+        print("summary.json keys new since the reference (not compared): %s" % ", ".join(sorted(added)))
     for p in problems:
         print("DIFFERENT " + p)
     print("%d cases: %s" % (len(CASES), "probes, history and summary identical" if not problems else "%d differences" % len(problems)))

@@ -79,3 +79,17 @@ def test_allow_unused_and_other_setups():
     rc, stdout, err, summary = run(CHANNEL + ["-t_final", "2e-4", "-coupling", "aitken"])
     assert rc == 0 and not [l for l in stdout.splitlines() if "warning" in l], "channel2d with aitken warns: %s" % stdout
     return "allowed with one warning; -coupling_omega under opt and -coupling_tol under aitken warned; scene defaults silent"
+
+
+@test("summary.json: the options in effect, the version, the units, start time and host", quick=True)
+def test_summary_provenance():
+    rc, stdout, err, s = run(NS_STEP + ["-fluid_density", "2"])
+    assert rc == 0 and s is not None, "run failed: %s" % (err or stdout)[-300:]
+    for key in ("options", "version", "units", "start_time", "host"):
+        assert s.get(key), "summary.json lacks %s" % key
+    assert s["options"].get("-fluid_density") == "2", "options: -fluid_density is %r" % s["options"].get("-fluid_density")
+    assert s["options"].get("-scene") == "mms-ns" and s["units"] == "nondimensional", "options %s, units %s" % (s["options"].get("-scene"), s["units"])
+    rc, stdout, err, t = run(["-options_file", "options/turek-hron.yaml", "-turek_case", "csm1"])
+    assert rc == 0 and t["units"] == "SI" and t["options"].get("-structure_model") == "svk", "turek-hron: units %s, model %s" % (
+        t and t["units"], t and t["options"].get("-structure_model"))
+    return "version %s; %d options (-fluid_density 2 among them); units %s, %s" % (s["version"], len(s["options"]), s["units"], t["units"])

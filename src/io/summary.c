@@ -1,6 +1,8 @@
 #include "summary.h"
 #include "output.h"
 #include "logging.h"
+
+extern const char fsiopt_version[]; /* build/version.c, made by make: git describe of the build */
 #include <stdio.h>
 
 PetscErrorCode ErrorTableAdd(ErrorTable *table, const char name[], PetscReal value)
@@ -47,6 +49,60 @@ static void WriteQuantities(FILE *fp, const QuantityTable *q)
     } else fprintf(fp, "}");
   }
   fprintf(fp, "},\n");
+}
+
+static void WriteEscaped(FILE *fp, const char *text, size_t n)
+{
+  fputc('"', fp);
+  for (size_t i = 0; i < n && text[i]; ++i) {
+    if (text[i] == '"' || text[i] == '\\') fputc('\\', fp);
+    if ((unsigned char)text[i] >= 0x20) fputc(text[i], fp);
+  }
+  fputc('"', fp);
+}
+
+/* A dash and a letter after a blank start an option's name (a negative number is a value). */
+static PetscBool StartsOption(const char *c, const char *start)
+{
+  return c[0] == '-' && ((c[1] >= 'a' && c[1] <= 'z') || (c[1] >= 'A' && c[1] <= 'Z')) && (c == start || c[-1] == ' ')
+         ? PETSC_TRUE
+         : PETSC_FALSE;
+}
+
+/* "options": every option in the database as the run saw it (the command line, options
+   files, the scene's defaults): {"-name": "value", ...}, "" for a flag without a value */
+static PetscErrorCode WriteOptions(FILE *fp)
+{
+  char       *all;
+  const char *c;
+  PetscBool   first = PETSC_TRUE;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetAll(NULL, &all));
+  fprintf(fp, "  \"options\": {");
+  for (c = all; *c;) {
+    const char *name, *value;
+    size_t      name_len, value_len;
+
+    while (*c == ' ') ++c;
+    if (!*c) break;
+    name = c;
+    while (*c && *c != ' ') ++c;
+    name_len = (size_t)(c - name);
+    while (*c == ' ') ++c;
+    value = c;
+    while (*c && !StartsOption(c, value)) ++c;
+    value_len = (size_t)(c - value);
+    while (value_len && value[value_len - 1] == ' ') --value_len;
+    fprintf(fp, "%s\n    ", first ? "" : ",");
+    WriteEscaped(fp, name, name_len);
+    fprintf(fp, ": ");
+    WriteEscaped(fp, value, value_len);
+    first = PETSC_FALSE;
+  }
+  fprintf(fp, "}\n");
+  PetscCall(PetscFree(all));
+  PetscFunctionReturn(0);
 }
 
 PetscErrorCode OutputMakeDirectories(const char dir[])
@@ -125,8 +181,13 @@ PetscErrorCode SummaryWrite(MPI_Comm comm, const char dir[], const RunSummary *s
     fprintf(fp, "%s\"%s\": %.10e", i ? ", " : "", s->errors.name[i], (double)s->errors.value[i]);
   fprintf(fp, "},\n");
   WriteQuantities(fp, &s->quantities);
-  fprintf(fp, "  \"ranks\": {\"fluid\": %d, \"structure\": %d, \"total\": %d}\n", (int)s->fluid_ranks,
+  fprintf(fp, "  \"ranks\": {\"fluid\": %d, \"structure\": %d, \"total\": %d},\n", (int)s->fluid_ranks,
           (int)s->structure_ranks, (int)s->total_ranks);
+  WriteStringOrNull(fp, "version", fsiopt_version);
+  WriteStringOrNull(fp, "units", s->units);
+  WriteStringOrNull(fp, "start_time", s->start_time);
+  WriteStringOrNull(fp, "host", s->host);
+  PetscCall(WriteOptions(fp));
   fprintf(fp, "}\n");
   PetscCheck(fclose(fp) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "option -output_dir %s: writing %s failed", dir,
              tmp);

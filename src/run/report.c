@@ -64,6 +64,7 @@ PetscErrorCode RunReport(Run run)
   PetscCall(OutputsFinish(run->outputs, &s->quantities));
   PetscCall(PetscTime(&end));
   s->params      = &run->params;
+  s->units       = run->scene.units;
   s->wall_time_s = end - run->start;
   s->converged   = s->stalled_steps == 0 && !run->signal_caught && !run->failure ? PETSC_TRUE : PETSC_FALSE;
   PetscCall(SummaryWrite(PETSC_COMM_WORLD, run->params.output_dir, s));

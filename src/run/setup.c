@@ -1,5 +1,6 @@
 /* A run's set-up (run.h): the run options, the ranks' layout, the scene and its solvers,
    the coupling, the outputs, a restart; and the run's destruction. */
+#include <time.h>
 #include "run_impl.h"
 #include "options.h"
 #include "logging.h"
@@ -136,6 +137,18 @@ static PetscErrorCode CheckpointOrStart(Run run)
   PetscFunctionReturn(0);
 }
 
+/* When and where, for summary.json */
+static PetscErrorCode RecordStart(RunSummary *s)
+{
+  const time_t now = time(NULL);
+  struct tm    utc;
+
+  PetscFunctionBeginUser;
+  if (gmtime_r(&now, &utc)) (void)strftime(s->start_time, sizeof(s->start_time), "%Y-%m-%dT%H:%M:%SZ", &utc);
+  PetscCall(PetscGetHostName(s->host, sizeof(s->host)));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode RunCreate(Run *created)
 {
   Run       run;
@@ -148,6 +161,7 @@ PetscErrorCode RunCreate(Run *created)
   run->fluid_comm     = MPI_COMM_NULL;
   run->structure_comm = MPI_COMM_NULL;
   PetscCall(PetscTime(&run->start));
+  PetscCall(RecordStart(&run->summary));
   run->stop_code = PETSC_ERR_NOT_CONVERGED;
   PetscCall(FsioptLogRegister());
   PetscCall(SceneRegisterAll());

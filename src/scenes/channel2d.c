@@ -41,7 +41,8 @@ PetscErrorCode SceneCreate_Channel2D(Scene *scene)
   PetscReal    amplitude = 1e3, duration = 0.025;
 
   PetscFunctionBeginUser;
-  scene->dim = 2;
+  scene->dim   = 2;
+  scene->units = "cgs";
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene channel2d: the seed's haemodynamic channel", "scene");
   PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-channel_inlet_amplitude",
                                    "amplitude A of the inlet traction pulse A (1 - cos(2 pi t/T)), dyn/cm^2",

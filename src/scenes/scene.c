@@ -49,6 +49,7 @@ PetscErrorCode SceneCreate(const char name[], Scene *scene)
   }
   PetscCall(PetscMemzero(scene, sizeof(*scene)));
   PetscCall(PetscStrncpy(scene->name, name, sizeof(scene->name)));
+  scene->units = "nondimensional";
   PetscCall((*create)(scene));
   PetscFunctionReturn(0);
 }

@@ -35,7 +35,8 @@ PetscErrorCode SceneCreate_Tube3D(Scene *scene)
   PetscReal    pressure = 1.333e4, duration = 0.003;
 
   PetscFunctionBeginUser;
-  scene->dim = 3;
+  scene->dim   = 3;
+  scene->units = "cgs";
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene tube3d: the pressure wave in a straight tube", "scene");
   PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-tube_inlet_pressure", "overpressure P on the inlet, dyn/cm^2",
                                    &pressure));

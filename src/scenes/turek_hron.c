@@ -159,7 +159,8 @@ PetscErrorCode SceneCreate_TurekHron(Scene *scene)
   Inflow          *inflow;
 
   PetscFunctionBeginUser;
-  scene->dim = 2;
+  scene->dim   = 2;
+  scene->units = "SI";
   for (PetscInt i = 0; i < ncases; ++i) names[i] = cases[i].name;
   PetscCall(SceneCreateContext(sizeof(*inflow), (void **)&inflow));
   inflow->ramp_time = 2.0;
