@@ -9,6 +9,8 @@ PetscErrorCode OptionsRealInRange(PetscOptionItems *, const char opt[], const ch
                                   PetscReal *value);
 PetscErrorCode OptionsIntInRange(PetscOptionItems *, const char opt[], const char text[], PetscInt lo, PetscInt hi,
                                  PetscInt *value);
+/* The names of a registry (scenes, coupling methods), comma separated, for messages and -help */
+PetscErrorCode OptionsListNames(PetscFunctionList, char names[], size_t len);
 /* Sets an option only when the user has not: how scenes give their defaults. */
 PetscErrorCode OptionsSetDefault(const char opt[], const char value[]);
 /* Before the first step: an option (command line, options file, YAML key, PETSC_OPTIONS)

@@ -47,6 +47,23 @@ PetscErrorCode OptionsIntInRange(PetscOptionItems *PetscOptionsObject, const cha
 
 static PetscErrorCode RecordDefault(const char[]);
 
+PetscErrorCode OptionsListNames(PetscFunctionList list, char names[], size_t len)
+{
+  const char **entries;
+  int          n;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscFunctionListGet(list, &entries, &n));
+  names[0] = 0;
+  for (int i = 0; i < n; ++i) {
+    if (!entries[i] || !entries[i][0]) continue; /* PETSc 3.18 counts one entry more than it fills */
+    if (names[0]) PetscCall(PetscStrlcat(names, ", ", len));
+    PetscCall(PetscStrlcat(names, entries[i], len));
+  }
+  PetscCall(PetscFree(entries));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode OptionsSetDefault(const char opt[], const char value[])
 {
   PetscBool set, used;
@@ -328,17 +345,15 @@ PetscErrorCode OptionsCheckUnused(MPI_Comm comm, PetscBool after_first_step)
                           strchr(unread, ',') ? "s" : "", unread, strchr(unread, ',') ? "they belong" : "it belongs"));
   if (!n_unknown) PetscFunctionReturn(0);
   {
-    char message[3072];
+    char        message[3072];
+    const char *pronoun = n_unknown > 1 ? "them" : "it";
     PetscCall(
-      PetscSNPrintf(message, sizeof(message), "option%s %s: nothing %s%s%s%s%s", n_unknown > 1 ? "s" : "", unknown,
-                    after_first_step ? "read it in the first step, where the solvers read their viewers and tests"
-                                     : "reads it",
-                    n_unknown > 1 ? " (them)" : "", n_suggested ? " (the nearest known: " : "", nearest,
-                    n_suggested ? ")" : ""));
+      PetscSNPrintf(message, sizeof(message), "option%s %s: nothing %s %s%s%s%s%s", n_unknown > 1 ? "s" : "", unknown,
+                    after_first_step ? "read" : "reads", pronoun,
+                    after_first_step ? " in the first step, where the solvers read their viewers and tests" : "",
+                    n_suggested ? " (the nearest known: " : "", nearest, n_suggested ? ")" : ""));
     if (allow) PetscCall(PetscPrintf(comm, "fsiopt: warning: %s; let through by -options_allow_unused\n", message));
-    else
-      SETERRQ(comm, PETSC_ERR_ARG_WRONG, "%s; -options_allow_unused lets %s through", message,
-              n_unknown > 1 ? "them" : "it");
+    else SETERRQ(comm, PETSC_ERR_ARG_WRONG, "%s; -options_allow_unused lets %s through", message, pronoun);
   }
   PetscFunctionReturn(0);
 }

@@ -27,17 +27,8 @@ PetscErrorCode CouplingRegisterAll(void)
 
 PetscErrorCode CouplingListNames(char names[], size_t len)
 {
-  const char **list;
-  int          n;
-
   PetscFunctionBeginUser;
-  PetscCall(PetscFunctionListGet(CouplingList, &list, &n));
-  names[0] = 0;
-  for (int i = 0; i < n; ++i) {
-    if (i) PetscCall(PetscStrlcat(names, ", ", len));
-    PetscCall(PetscStrlcat(names, list[i], len));
-  }
-  PetscCall(PetscFree(list));
+  PetscCall(OptionsListNames(CouplingList, names, len));
   PetscFunctionReturn(0);
 }
 
@@ -69,8 +60,8 @@ PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, cons
   PetscErrorCode (*create)(Coupling) = NULL;
 
   PetscFunctionBeginUser;
-  PetscCall(CouplingCheckMethod(method));
   PetscCall(PetscFunctionListFind(CouplingList, method, &create));
+  if (!create) PetscCall(CouplingCheckMethod(method)); /* the error naming the known methods */
   PetscCall(PetscNew(&C));
   PetscCall(PetscStrncpy(C->method, method, sizeof(C->method)));
   C->problem = problem;

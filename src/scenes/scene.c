@@ -21,17 +21,8 @@ PetscErrorCode SceneRegisterAll(void)
 
 PetscErrorCode SceneListNames(char names[], size_t len)
 {
-  const char **list;
-  int          n;
-
   PetscFunctionBeginUser;
-  PetscCall(PetscFunctionListGet(scene_list, &list, &n));
-  names[0] = 0;
-  for (int i = 0; i < n; ++i) {
-    if (i) PetscCall(PetscStrlcat(names, ", ", len));
-    PetscCall(PetscStrlcat(names, list[i], len));
-  }
-  PetscCall(PetscFree(list));
+  PetscCall(OptionsListNames(scene_list, names, len));
   PetscFunctionReturn(0);
 }
 
