@@ -5,7 +5,7 @@ export OMPI_MCA_rmaps_base_oversubscribe := 1
 
 # libopenblas0-serial: MUMPS's dense kernels; with Debian's reference BLAS the 3D tube's
 # fluid factorization took 28 s instead of 5 s (46k unknowns). Serial: one thread per MPI rank.
-DEB_PACKAGES := petsc-dev libhdf5-openmpi-dev gmsh pkg-config make python3-numpy python3-matplotlib python3-h5py libopenblas0-serial valgrind
+DEB_PACKAGES := petsc-dev libyaml-dev libhdf5-openmpi-dev gmsh pkg-config make python3-numpy python3-matplotlib python3-h5py libopenblas0-serial valgrind
 PYTHON := /usr/bin/python3
 
 CC      := mpicc
@@ -13,7 +13,7 @@ CFLAGS  ?= -O2 -g
 # petscviewerhdf5.h includes hdf5.h, which Debian keeps under the MPI flavour's directory
 # FSIOPT_ROOT: where a scene finds its default meshes when run from another directory
 CFLAGS  += -Wall -Wextra -std=c11 -D_POSIX_C_SOURCE=200809L -DFSIOPT_ROOT='"$(CURDIR)"' -Iinclude -Isrc/scenes $(shell pkg-config --cflags PETSc 2>/dev/null) $(shell pkg-config --cflags hdf5-openmpi 2>/dev/null)
-LDLIBS  += $(shell pkg-config --libs PETSc 2>/dev/null) $(shell pkg-config --libs hdf5-openmpi 2>/dev/null) -lm
+LDLIBS  += $(shell pkg-config --libs PETSc 2>/dev/null) $(shell pkg-config --libs hdf5-openmpi 2>/dev/null) -lyaml -lm
 
 SRC  := $(wildcard src/*.c src/*/*.c)
 OBJ  := $(SRC:%.c=build/%.o) build/known_options.o build/version.o
@@ -44,11 +44,14 @@ build/%.o: %.c
 
 # the options fsiopt reads, from the string literals of its sources: an option nothing
 # reads is refused with the nearest of these (src/common/options.c)
-build/known_options.c: $(SRC)
+build/known_options.c: $(SRC) Makefile
 	@mkdir -p build
 	@{ echo '/* made by make from the option names in src/ */'; echo '#include <stddef.h>'; \
 	  echo 'const char *const fsiopt_known_options[] = {'; \
-	  grep -ohE '"-[a-z][a-z0-9_]*"' $(SRC) | sort -u | sed 's/$$/,/'; echo 'NULL};'; } > $@
+	  grep -ohE '"-[a-z][a-z0-9_]*"' $(SRC) | sort -u | sed 's/$$/,/'; echo 'NULL};'; \
+	  echo 'const char *const fsiopt_flag_options[] = {'; \
+	  grep -ohE 'PetscOptions(Get)?Bool[A-Za-z]*\([^"]*"-[a-z0-9_]+"' $(SRC) | grep -oE '"-[a-z0-9_]+"' | sort -u | sed 's/$$/,/'; \
+	  echo 'NULL};'; } > $@
 
 build/known_options.o: build/known_options.c
 	$(CC) -c -o $@ $<

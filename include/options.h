@@ -20,11 +20,20 @@ PetscErrorCode OptionsSetDefault(const char opt[], const char value[]);
    Viewers, convergence reasons and Jacobian tests, which PETSc reads inside its solves,
    are checked after the first step (after_first_step). */
 PetscErrorCode OptionsCheckUnused(MPI_Comm, PetscBool after_first_step);
+/* At the start: an option that takes a value given without one (PETSc would take it as not
+   given, and the run would use the default) stops the run, naming it. */
+PetscErrorCode OptionsCheckValuesGiven(MPI_Comm);
 /* Fails with a one-line message when a file cannot be read. FileProblem (usable before
    PetscInitialize) returns 0 when the file is a readable, non-empty regular file. */
 int            FileProblem(const char path[]);
 const char    *FileProblemText(int problem);
 PetscErrorCode CheckReadableFile(MPI_Comm, const char opt[], const char path[]);
+
+/* Before PetscInitialize, which reads them: every options file of the run (petscrc files,
+   PETSC_OPTIONS, -options_file, and the files they include) is a readable text file, valid
+   YAML with a mapping at the top or PETSc's -name value lines, and includes no file that
+   includes it. Returns 0, or 1 with one line in message naming the file and the line. */
+int OptionsFilesCheck(int argc, char **argv, char message[], size_t len);
 
 /* One-line error reporting instead of PETSc's traceback banner. */
 PetscErrorCode ErrorReportingPush(void);

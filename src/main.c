@@ -2,6 +2,7 @@
    main reads like the table of contents: a run is set up (src/run/setup.c), advanced
    (advance.c) and reported (report.c); errors end it with one line. */
 #include <stdio.h>
+#include <stdlib.h>
 #include "run.h"
 #include "options.h"
 #include "output.h"
@@ -36,23 +37,15 @@ static PetscErrorCode RunMain(void)
   PetscFunctionReturn(0);
 }
 
-/* PETSc reads options files inside PetscInitialize and answers a missing one with its
-   traceback banner; check them first so the user gets one line instead. */
+/* One line from the first rank only: MPI is not running yet, the launcher says which rank we are. */
 static int CheckOptionsFiles(int argc, char **argv)
 {
-  for (int i = 1; i < argc; ++i) {
-    if (strcmp(argv[i], "-options_file") && strcmp(argv[i], "-options_file_yaml")) continue;
-    if (i + 1 >= argc) {
-      fprintf(stderr, "fsiopt: error: option %s: expected a file name\n", argv[i]);
-      return 1;
-    }
-    const int problem = FileProblem(argv[i + 1]);
-    if (problem) {
-      fprintf(stderr, "fsiopt: error: option %s %s: %s\n", argv[i], argv[i + 1], FileProblemText(problem));
-      return 1;
-    }
-  }
-  return 0;
+  char        message[8192];
+  const char *rank = getenv("OMPI_COMM_WORLD_RANK") ? getenv("OMPI_COMM_WORLD_RANK") : getenv("PMI_RANK");
+
+  if (!OptionsFilesCheck(argc, argv, message, sizeof(message))) return 0;
+  if (!rank || !strcmp(rank, "0")) fprintf(stderr, "fsiopt: error: %s\n", message);
+  return 1;
 }
 
 int main(int argc, char **argv)

@@ -93,3 +93,75 @@ def test_summary_provenance():
     assert rc == 0 and t["units"] == "SI" and t["options"].get("-structure_model") == "svk", "turek-hron: units %s, model %s" % (
         t and t["units"], t and t["options"].get("-structure_model"))
     return "version %s; %d options (-fluid_density 2 among them); units %s, %s" % (s["version"], len(s["options"]), s["units"], t["units"])
+
+
+# (file name, its bytes, words the line must contain): each a mistake PETSc answers with
+# its banner, a stack overflow or silence
+MALFORMED = [
+    ("tab.yaml", b"scene: mms-ns\n\tdt: 0.1\n", ["line 2", "tab"]),
+    ("list.yaml", b"- scene\n- mms-ns\n", ["line 1", "mapping", "list"]),
+    ("scalar.yaml", b"mms-ns\n", ["line 1", "mapping", "single value"]),
+    ("bracket.yaml", b"scene: mms-ns\nfluid: {density: [1, 2}\n", ["line 2", "not valid YAML"]),
+    ("binary.yaml", b"scene: mms-ns\n\x00\x01\xff\xfe\n", ["line 2", "binary"]),
+    ("twice.yaml", b"scene: mms-ns\ndt: 0.1\ndt: 0.2\n", ["line 3", "'dt' given again", "line 2"]),
+    ("nested.yaml", b"scene: mms-ns\nfluid: [[1, 2], [3]]\n", ["line 2", "list inside a list"]),
+    ("include.yaml", b"scene: mms-ns\noptions_file: other.yaml\n", ["line 2", "cannot include"]),
+    ("empty.yaml", b"", ["empty"]),
+    ("comments.yaml", b"# only a comment\n", ["no options"]),
+    ("self.opts", None, ["includes itself"]),
+    ("loop-a.opts", None, ["loop-b.opts", "includes it again"]),
+    ("nodash.opts", b"scene mms-ns\n", ["line 1", "'scene'", "start with -"]),
+    ("extra.opts", b"-scene mms-ns\n-dt 0.1 0.2\n", ["line 2", "'0.2'"]),
+    ("a-directory.yaml", "dir", ["regular file"]),
+    ("missing.yaml", "absent", ["cannot open"]),
+]
+
+
+@test("malformed options files: one line naming the file (and line), exit 1, no banner, no outputs", quick=True)
+def test_malformed_options_files():
+    problems = []
+    base = os.path.join(WORK, "malformed")
+    os.makedirs(base, exist_ok=True)
+    open(os.path.join(base, "self.opts"), "w").write("-options_file %s\n" % os.path.join(base, "self.opts"))
+    open(os.path.join(base, "loop-a.opts"), "w").write("-scene mms-ns\n-options_file %s\n" % os.path.join(base, "loop-b.opts"))
+    open(os.path.join(base, "loop-b.opts"), "w").write("-options_file %s\n" % os.path.join(base, "loop-a.opts"))
+    for name, text, words in MALFORMED:
+        path = os.path.join(base, name)
+        if text == "dir":
+            os.makedirs(path, exist_ok=True)
+        elif isinstance(text, bytes):
+            open(path, "wb").write(text)
+        out = out_dir("malformed")
+        rc, stdout, err, summary = run(["-options_file", path], out=out)
+        lines = [l for l in (stdout + err).splitlines() if l.strip()]
+        why = []
+        if rc == 0 or rc < 0:
+            why.append("exit %d" % rc)
+        if len(lines) != 1:
+            why.append("%d lines: %s" % (len(lines), " | ".join(lines[:3])[:300]))
+        elif not lines[0].startswith("fsiopt: error: ") or name not in lines[0] or \
+                not all(w in lines[0] for w in words):
+            why.append("line '%s' lacks the file name or one of %s" % (lines[0], words))
+        if os.path.isdir(out) and os.listdir(out):
+            why.append("left %s" % ", ".join(os.listdir(out)))
+        if why:
+            problems.append("%s: %s" % (name, "; ".join(why)))
+    assert not problems, "; ".join(problems)
+    return "%d malformed files refused with one line each" % len(MALFORMED)
+
+
+@test("an option given without its value (-fluid_density alone, a YAML key with nothing after it) is refused", quick=True)
+def test_option_without_value():
+    rc, stdout, err, _ = run(NS_STEP + ["-fluid_density"])
+    line = (stdout + err).strip()
+    assert rc != 0 and line == "fsiopt: error: option -fluid_density: expected a value after the name", \
+        "-fluid_density alone: exit %d, %r" % (rc, line[-300:])
+    path = os.path.join(WORK, "novalue.yaml")
+    open(path, "w").write(NS_YAML + "fluid:\n  viscosity:\n")
+    rc, stdout, err, _ = run(["-options_file", path])
+    line = (stdout + err).strip()
+    assert rc != 0 and "-fluid_viscosity: expected a value" in line, "YAML key without value: exit %d, %r" % (rc, line[-300:])
+    # a flag needs none
+    rc, stdout, err, s = run(NS_STEP + ["-fluid_extrapolate"])
+    assert rc == 0 and s is not None, "a flag without value refused: %s" % (stdout + err)[-300:]
+    return "-fluid_density and a bare YAML key refused; the flag -fluid_extrapolate accepted"

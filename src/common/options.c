@@ -1,3 +1,4 @@
+#include <ctype.h>
 #include "options.h"
 #include <stdio.h>
 #include <string.h>
@@ -301,6 +302,56 @@ static PetscBool IsReadInSolves(const char name[])
   for (const char *const *l = lazy; *l; ++l)
     if (strstr(name, *l)) return PETSC_TRUE;
   return PETSC_FALSE;
+}
+
+extern const char *const fsiopt_flag_options[];
+
+static PetscBool IsFlag(const char name[])
+{
+  for (const char *const *f = fsiopt_flag_options; *f; ++f)
+    if (!strcmp(*f, name)) return PETSC_TRUE;
+  return PETSC_FALSE;
+}
+
+/* An option of fsiopt's that takes a value, or a solver option of the list above that does */
+static PetscBool TakesValue(const char name[])
+{
+  char candidate[256];
+
+  if (IsKnown(name + 1)) return IsFlag(name) ? PETSC_FALSE : PETSC_TRUE;
+  for (const char *const *p = solver_prefixes; *p; ++p)
+    for (const char *const *o = solver_options; *o; ++o) {
+      if (IsReadInSolves(*o) || !strcmp(*o, "log_view") || !strcmp(*o, "options_left") || !strncmp(*o, "malloc", 6) ||
+          !strcmp(*o, "info"))
+        continue;
+      (void)PetscSNPrintf(candidate, sizeof(candidate), "-%s%s", *p, *o);
+      if (!strcmp(candidate, name)) return PETSC_TRUE;
+    }
+  return PETSC_FALSE;
+}
+
+/* PETSc reads an option given without its value as not given: "-fluid_density" alone, or a
+   YAML key with nothing after the colon, would run with the default. Read from the whole
+   table, which marks no option as used. */
+PetscErrorCode OptionsCheckValuesGiven(MPI_Comm comm)
+{
+  char *all, *token, *save, *name = NULL, missing[1024] = "";
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetAll(NULL, &all));
+  for (token = strtok_r(all, " ", &save);; token = strtok_r(NULL, " ", &save)) {
+    const PetscBool is_name = token && token[0] == '-' && isalpha((unsigned char)token[1]) ? PETSC_TRUE : PETSC_FALSE;
+    if (name && (!token || is_name) && TakesValue(name)) {
+      PetscCall(PetscStrlcat(missing, missing[0] ? ", " : "", sizeof(missing)));
+      PetscCall(PetscStrlcat(missing, name, sizeof(missing)));
+    }
+    if (!token) break;
+    name = is_name ? token : NULL;
+  }
+  PetscCall(PetscFree(all));
+  PetscCheck(!missing[0], comm, PETSC_ERR_ARG_WRONG, "option%s %s: expected a value after the name",
+             strchr(missing, ',') ? "s" : "", missing);
+  PetscFunctionReturn(0);
 }
 
 PetscErrorCode OptionsCheckUnused(MPI_Comm comm, PetscBool after_first_step)

@@ -166,6 +166,7 @@ PetscErrorCode RunCreate(Run *created)
   PetscCall(FsioptLogRegister());
   PetscCall(SceneRegisterAll());
   PetscCall(CouplingRegisterAll());
+  PetscCall(OptionsCheckValuesGiven(PETSC_COMM_WORLD));
   PetscCall(PetscOptionsHasHelp(NULL, &run->help));
   PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", run->params.scene, sizeof(run->params.scene), &scene_given));
   if (!scene_given) {
