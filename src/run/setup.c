@@ -2,6 +2,7 @@
    the coupling, the outputs, a restart; and the run's destruction. */
 #include <time.h>
 #include "run_impl.h"
+#include "help.h"
 #include "options.h"
 #include "logging.h"
 #include "mesh.h"
@@ -167,6 +168,7 @@ PetscErrorCode RunCreate(Run *created)
   PetscCall(SceneRegisterAll());
   PetscCall(CouplingRegisterAll());
   PetscCall(OptionsCheckValuesGiven(PETSC_COMM_WORLD));
+  PetscCall(HelpListingBegin());
   PetscCall(PetscOptionsHasHelp(NULL, &run->help));
   PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", run->params.scene, sizeof(run->params.scene), &scene_given));
   if (!scene_given) {
@@ -177,6 +179,7 @@ PetscErrorCode RunCreate(Run *created)
     PetscCall(PetscPrintf(PETSC_COMM_WORLD,
                           "Scenes: %s. Add -scene <name> to -help to see the scene's and the solvers' options.\n",
                           names));
+    PetscCall(HelpListingEnd(NULL));
     PetscCall(RunDestroy(&run));
     PetscFunctionReturn(0);
   }
@@ -212,6 +215,7 @@ PetscErrorCode RunCreate(Run *created)
   if (!run->help) PetscCall(OptionsCheckUnused(PETSC_COMM_WORLD, PETSC_FALSE));
   if (run->help) {
     /* every object has read its options by now: the listing is complete */
+    PetscCall(HelpListingEnd(run->scene.units));
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fsiopt: -help: the options above; no time step was run\n"));
     run->params.steps = 0;
   }

@@ -1,0 +1,190 @@
+/* -help: PETSc prints each object's options as the object reads them, so fsiopt's own are
+   scattered between the solvers'. Their lines are held back and printed at the end grouped
+   by prefix, with the unit each value has in the scene's system. */
+#include <stdarg.h>
+#include "help.h"
+
+extern const char *const fsiopt_known_options[];
+
+typedef enum {
+  NONE,
+  DENSITY,
+  VISCOSITY,
+  PRESSURE,
+  TIME,
+  VELOCITY,
+  ACCELERATION,
+  JUMP
+} Dimension;
+
+static const struct {
+  const char *name;
+  Dimension   dimension;
+} dimensional[] = {
+  {"-fluid_density",            DENSITY     },
+  {"-structure_density",        DENSITY     },
+  {"-fluid_viscosity",          VISCOSITY   },
+  {"-structure_youngs_modulus", PRESSURE    },
+  {"-channel_inlet_amplitude",  PRESSURE    },
+  {"-tube_inlet_pressure",      PRESSURE    },
+  {"-dt",                       TIME        },
+  {"-dt_min",                   TIME        },
+  {"-t_start",                  TIME        },
+  {"-t_final",                  TIME        },
+  {"-quantities_window",        TIME        },
+  {"-channel_inlet_duration",   TIME        },
+  {"-tube_inlet_duration",      TIME        },
+  {"-turek_ramp_time",          TIME        },
+  {"-turek_gravity_ramp",       TIME        },
+  {"-turek_mean_velocity",      VELOCITY    },
+  {"-turek_gravity",            ACCELERATION},
+  {"-coupling_tol",             JUMP        },
+};
+
+static const char *Unit(const char units[], Dimension d)
+{
+  const PetscBool si = !strcmp(units, "SI") ? PETSC_TRUE : PETSC_FALSE;
+
+  if (!strcmp(units, "nondimensional")) return NULL;
+  switch (d) {
+  case DENSITY:
+    return si ? "kg/m^3" : "g/cm^3";
+  case VISCOSITY:
+    return si ? "Pa s" : "g/(cm s)";
+  case PRESSURE:
+    return si ? "Pa" : "dyn/cm^2";
+  case TIME:
+    return "s";
+  case VELOCITY:
+    return si ? "m/s" : "cm/s";
+  case ACCELERATION:
+    return si ? "m/s^2" : "cm/s^2";
+  case JUMP:
+    return si ? "m/s in the L2 norm over the interface" : "cm/s in the L2 norm over the interface";
+  default:
+    return NULL;
+  }
+}
+
+#define MAX_HELD 512
+static PetscErrorCode (*petsc_help_printf)(MPI_Comm, const char[], ...) = NULL;
+static char    *held[MAX_HELD], pending_header[256], partial[4096];
+static int      n_held = 0;
+static MPI_Comm help_comm;
+
+static PetscBool IsOwn(const char line[])
+{
+  char name[256];
+  int  n = 0;
+
+  if (strncmp(line, "  -", 3)) return PETSC_FALSE;
+  while (line[2 + n] && line[2 + n] != ' ' && line[2 + n] != '\n' && n < 255) {
+    name[n] = line[2 + n];
+    ++n;
+  }
+  name[n] = 0;
+  for (const char *const *k = fsiopt_known_options; *k; ++k)
+    if (!strcmp(*k, name)) return PETSC_TRUE;
+  return PETSC_FALSE;
+}
+
+/* One complete line: fsiopt's kept, a header kept until a line of its block is printed. */
+static PetscErrorCode Line(const char line[])
+{
+  PetscFunctionBeginUser;
+  if (IsOwn(line)) {
+    if (n_held < MAX_HELD) PetscCall(PetscStrallocpy(line, &held[n_held++]));
+  } else if (!strncmp(line, "-----", 5)) {
+    PetscCall(PetscStrncpy(pending_header, line, sizeof(pending_header)));
+  } else if (pending_header[0] && line[0] != ' ' && strlen(line) > 1 && line[strlen(line) - 2] == ':') {
+    PetscCall(PetscStrlcat(pending_header, line, sizeof(pending_header)));
+  } else {
+    if (pending_header[0]) PetscCall(petsc_help_printf(help_comm, "%s", pending_header));
+    pending_header[0] = 0;
+    PetscCall(petsc_help_printf(help_comm, "%s", line));
+  }
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Collect(MPI_Comm comm, const char format[], ...)
+{
+  va_list args;
+  size_t  used = strlen(partial);
+  char   *start, *end;
+
+  PetscFunctionBeginUser;
+  help_comm = comm;
+  va_start(args, format);
+  vsnprintf(partial + used, sizeof(partial) - used, format, args);
+  va_end(args);
+  for (start = partial; (end = strchr(start, '\n'));) {
+    const char saved = end[1];
+    end[1]           = 0;
+    PetscCall(Line(start));
+    end[1] = saved;
+    start  = end + 1;
+  }
+  memmove(partial, start, strlen(start) + 1);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode HelpListingBegin(void)
+{
+  PetscBool help;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsHasHelp(NULL, &help));
+  if (!help || petsc_help_printf) PetscFunctionReturn(0);
+  petsc_help_printf = PetscHelpPrintf;
+  PetscHelpPrintf   = Collect;
+  help_comm         = PETSC_COMM_WORLD;
+  PetscFunctionReturn(0);
+}
+
+/* the prefixes of the groups, in the order printed; an option under none is the run's */
+static const char *const groups[] = {"",         "fluid_", "structure_", "coupling_", "tao_", "mesh_", "checkpoint_",
+                                     "channel_", "tube_",  "turek_",     "mms_",      NULL};
+
+static PetscBool InGroup(const char line[], const char group[])
+{
+  if (group[0]) return !strncmp(line + 3, group, strlen(group)) ? PETSC_TRUE : PETSC_FALSE;
+  for (const char *const *g = groups + 1; *g; ++g)
+    if (!strncmp(line + 3, *g, strlen(*g))) return PETSC_FALSE;
+  return PETSC_TRUE;
+}
+
+PetscErrorCode HelpListingEnd(const char units[])
+{
+  PetscFunctionBeginUser;
+  if (!petsc_help_printf) PetscFunctionReturn(0);
+  if (partial[0]) PetscCall(Line(partial));
+  PetscHelpPrintf   = petsc_help_printf;
+  petsc_help_printf = NULL;
+  if (!n_held) PetscFunctionReturn(0);
+  if (!units) units = "nondimensional";
+  PetscCall(PetscHelpPrintf(help_comm,
+                            "----------------------------------------\nfsiopt's options, by prefix (values in %s%s):\n",
+                            units, strcmp(units, "nondimensional") ? " units" : " form"));
+  for (const char *const *g = groups; *g; ++g) {
+    PetscBool any = PETSC_FALSE;
+    for (int j = 0; j < n_held; ++j) {
+      char       *line = held[j], *tail;
+      const char *unit = NULL;
+      if (!InGroup(line, *g)) continue;
+      if (!any) PetscCall(PetscHelpPrintf(help_comm, " %s\n", (*g)[0] ? *g : "the run (no prefix)"));
+      any = PETSC_TRUE;
+      for (size_t k = 0; k < sizeof(dimensional) / sizeof(dimensional[0]); ++k)
+        if (!strncmp(line + 2, dimensional[k].name, strlen(dimensional[k].name)) &&
+            line[2 + strlen(dimensional[k].name)] == ' ')
+          unit = Unit(units, dimensional[k].dimension);
+      if ((tail = strstr(line, " (None)\n"))) *tail = 0; /* PETSc names a manual page here; ours have none */
+      else if ((tail = strrchr(line, '\n'))) *tail = 0;
+      if (unit && strlen(line) > strlen(unit) && !strcmp(line + strlen(line) - strlen(unit), unit))
+        unit = NULL; /* the text ends with it */
+      PetscCall(PetscHelpPrintf(help_comm, "%s%s%s%s\n", line, unit ? " [" : "", unit ? unit : "", unit ? "]" : ""));
+    }
+  }
+  for (int i = 0; i < n_held; ++i) PetscCall(PetscFree(held[i]));
+  n_held = 0;
+  PetscFunctionReturn(0);
+}
