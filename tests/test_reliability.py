@@ -295,10 +295,22 @@ def test_bad_input_restarts():
 def help_text(args):
     # errors="replace" (run_fsiopt): PETSc 3.18 prints an uninitialized buffer as the
     # default of -<prefix>dm_plex_boundary_label in DMPlex's own -help lines.
-    # -output_dir under WORK: a -help run still opens its (partial) output files
-    r = fr.run_fsiopt(["-help"] + args, out_dir=out_dir("help"), timeout=120)
+    out = out_dir("help")
+    r = fr.run_fsiopt(["-help"] + args, out_dir=out, timeout=120)
     assert r.returncode == 0, "-help %s: exit %s" % (" ".join(args), r.returncode)
+    assert not os.path.exists(out), "-help %s left %s: %s" % (" ".join(args), out, os.listdir(out))
     return r.stdout
+
+
+def own_section(text):
+    """fsiopt's options as -help groups them at its end: {group line: [option lines]}."""
+    groups, current = {}, None
+    for line in text.split("fsiopt's options, by prefix")[-1].splitlines()[1:]:
+        if line.startswith("  -"):
+            groups.setdefault(current, []).append(line)
+        elif line.startswith(" ") and not line.startswith("  "):
+            current = line.strip()
+    return groups
 
 
 @test("-help lists scenes and options", quick=True)
@@ -321,4 +333,12 @@ def test_help_lists_options():
                 "-mesh_motion_stiffening", "-mesh_motion_incremental", "-dt_min", "-fluid_time_order",
                 "-coupling_explicit_jacobian_rebuild_its", "-interrupt_test_step", "-interrupt_test_signal"]:
         assert opt in text, "%s not in -help of turek-hron" % opt
-    return "3 scenes' -help"
+    # fsiopt's own options at the end, by prefix, with units in the scene's system
+    groups = own_section(text)
+    fluid = " ".join(groups.get("fluid_", []))
+    assert "-fluid_density" in fluid and "[kg/m^3]" in fluid and "[Pa s]" in fluid, "turek-hron's fluid_ group: %s" % fluid[:300]
+    assert not [l for g, lines in groups.items() if g != "the run (no prefix)" for l in lines if not l.startswith("  -" + g)], \
+        "an option outside its group: %s" % groups
+    channel = own_section(help_text(["-options_file", "options/channel2d.yaml"]))
+    assert "[g/cm^3]" in " ".join(channel.get("structure_", [])), "channel2d's structure_ group: %s" % channel.get("structure_")
+    return "3 scenes' -help, no files left; fsiopt's options in %d groups with SI and cgs units" % len(groups)
