@@ -68,6 +68,8 @@ PetscErrorCode CouplingProblemEndStep(CouplingProblem, Vec x);
    interface velocity prescribed, and x_new: the control whose load equals the fluid's
    reaction on the interface. A fixed point is a solution of the coupled step. */
 PetscErrorCode CouplingProblemSweep(CouplingProblem, Vec x, Vec x_new);
+/* At set-up: the sweep needs the traction control and a fluid boundary with a traction. */
+PetscErrorCode CouplingProblemCheckSweepable(CouplingProblem);
 /* The same sweep started from the fluid (the seed's arrangement, relaxing the wall's
    motion): the fluid with the interface velocity v prescribed on the mesh of the last
    structure solve, x the control equal to its reaction, the structure under x and v_new
@@ -91,7 +93,8 @@ typedef struct {
   PetscInt  linearized_pairs; /* iterations that also solved the linearized and adjoint problems */
   PetscInt  inner_iterations;
   PetscInt  stalled_steps;
-  PetscReal max_jump; /* largest final interface jump (opt) or traction residual (partitioned) of a step */
+  PetscReal max_jump;  /* largest final interface jump (opt) or traction residual (partitioned) of a step */
+  PetscReal last_jump; /* that of the last step completed */
 } CouplingStats;
 
 /* The methods by name (-coupling), as the scenes are: CouplingRegisterAll() adds opt, dn,

@@ -3,7 +3,7 @@ stop the run before its first step with one line naming them and the nearest kno
 option, and leave no outputs; -options_allow_unused lets them through with a warning; an
 option fsiopt reads in another set-up is a warning."""
 import os
-from harness import test, run, out_dir, WORK, NS_STEP, CHANNEL
+from harness import test, run, out_dir, fr, WORK, NS_STEP, CHANNEL
 
 # (misspelled option or YAML key, its value, the suggestion the line must name)
 TYPOS = [
@@ -165,3 +165,31 @@ def test_option_without_value():
     rc, stdout, err, s = run(NS_STEP + ["-fluid_extrapolate"])
     assert rc == 0 and s is not None, "a flag without value refused: %s" % (stdout + err)[-300:]
     return "-fluid_density and a bare YAML key refused; the flag -fluid_extrapolate accepted"
+
+
+@test("a 100-step run prints its first line before step 1 and progress lines while it runs; -quiet prints none", quick=True)
+def test_progress_lines():
+    import subprocess, time
+    out = out_dir("progress")
+    cmd = fr.fsiopt_command(CHANNEL + ["-t_final", "0.01", "-progress_interval", "10"], 1, out)
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=fr.ROOT,
+                            env=fr.fsiopt_env())
+    lines = []   # (line, whether the run was still going when it arrived)
+    for line in proc.stdout:
+        lines.append((line.rstrip("\n"), proc.poll() is None and not os.path.exists(os.path.join(out, "summary.json"))))
+    proc.wait(timeout=300)
+    err = proc.stderr.read()
+    assert proc.returncode == 0, "run failed: %s" % err[-300:]
+    texts = [l for l, _ in lines]
+    steps = [l for l in texts if l.startswith("fsiopt: step ")]
+    assert texts and texts[0].startswith("fsiopt: channel2d: fluid ") and "unknowns" in texts[0] and \
+        "steps 1 to 100 of dt 0.0001" in texts[0], "first line: %r" % texts[:1]
+    assert [l.split()[2].rstrip(",") for l in steps] == ["%d/100" % k for k in range(10, 100, 10)], "progress lines %s" % steps
+    for field in ("t = ", "coupling iterations ", "per step", "jump ", "wall ", "ETA "):
+        assert all(field in l for l in steps), "a progress line lacks %r: %s" % (field, steps[0])
+    early = [l for l, going in lines if going and l.startswith("fsiopt: step ")]
+    assert len(early) >= 5, "only %d of %d progress lines arrived before the run ended (buffered?)" % (len(early), len(steps))
+    rc, stdout, err, s = run(CHANNEL + ["-t_final", "0.002", "-progress_interval", "1", "-quiet"])
+    assert rc == 0 and not [l for l in stdout.splitlines() if l.startswith("fsiopt: step ") or "unknowns" in l], \
+        "-quiet printed: %s" % stdout[:300]
+    return "first line before step 1, %d progress lines (%d while the run went); -quiet none" % (len(steps), len(early))

@@ -149,7 +149,8 @@ PetscErrorCode CouplingStep(Coupling C, PetscInt step)
                           " iterations (%s) at interface jump %.3e\n",
                           step, it.iterations, label, (double)it.jump));
   }
-  C->stats.max_jump = PetscMax(C->stats.max_jump, it.jump);
+  C->stats.max_jump  = PetscMax(C->stats.max_jump, it.jump);
+  C->stats.last_jump = it.jump;
   PetscFunctionReturn(0);
 }
 

@@ -267,6 +267,10 @@ static PetscErrorCode OptSetUp(Coupling C)
   {
     PetscBool issd;
     PetscCall(PetscObjectTypeCompare((PetscObject)opt->tao, "sdrelaxed", &issd));
+    /* refused here, at set-up, rather than in the first step's solve */
+    PetscCheck(!issd || opt->tikhonov > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
+               "option -tao_type sdrelaxed: the relaxed steepest descent steps by alpha/delta; expected "
+               "-coupling_tikhonov > 0");
     if (issd) PetscCall(TaoRelaxedSDSetTikhonov(opt->tao, opt->tikhonov));
   }
   PetscCall(TaoSetConvergenceTest(opt->inner, ConvergenceTest, C));

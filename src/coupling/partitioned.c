@@ -141,6 +141,7 @@ static PetscErrorCode PartitionedSetUp(Coupling C)
   Partitioned *pt = (Partitioned *)C->data;
 
   PetscFunctionBeginUser;
+  PetscCall(CouplingProblemCheckSweepable(C->problem));
   pt->rtol = 1e-5;
   pt->atol = 1e-7;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Partitioned (Dirichlet-Neumann) coupling", "coupling");

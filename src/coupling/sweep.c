@@ -6,7 +6,7 @@
 #include "fem.h"
 #include "logging.h"
 
-static PetscErrorCode SweepCheck(CouplingProblem P)
+PetscErrorCode CouplingProblemCheckSweepable(CouplingProblem P)
 {
   PetscFunctionBeginUser;
   PetscCheck(P->variant == CONTROL_TRACTION, P->comm, PETSC_ERR_SUP,
@@ -18,6 +18,12 @@ static PetscErrorCode SweepCheck(CouplingProblem P)
              "option -coupling: the Dirichlet-Neumann methods (dn, aitken, iqnils) need a fluid boundary with a "
              "traction condition besides the interface; this scene's fluid is enclosed (incompressibility dilemma): "
              "use -coupling opt");
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode SweepBegin(CouplingProblem P)
+{
+  PetscFunctionBeginUser;
   P->state_valid = PETSC_FALSE; /* the state will not be the traction-controlled one */
   P->swept       = PETSC_TRUE;
   PetscFunctionReturn(0);
@@ -63,7 +69,7 @@ PetscErrorCode CouplingProblemSweep(CouplingProblem P, Vec x, Vec x_new)
   PetscBool failed;
 
   PetscFunctionBeginUser;
-  PetscCall(SweepCheck(P));
+  PetscCall(SweepBegin(P));
   PetscCall(StructureUnderControl(P, x, P->all_b));
   PetscCall(CollectFailure(P, &failed));
   if (!failed) PetscCall(MoveMesh(P));
@@ -77,7 +83,7 @@ PetscErrorCode CouplingProblemSweepVelocity(CouplingProblem P, Vec v, Vec x, Vec
   PetscBool failed;
 
   PetscFunctionBeginUser;
-  PetscCall(SweepCheck(P));
+  PetscCall(SweepBegin(P));
   PetscCall(MoveMesh(P)); /* the wall of the last structure solve: the domain lags one sweep */
   if (!StepFailed(&P->failure)) PetscCall(FluidUnderVelocity(P, v, x));
   PetscCall(CollectFailure(P, &failed));

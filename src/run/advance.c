@@ -29,6 +29,9 @@ PetscErrorCode RunAdvance(Run run)
   PetscCall(InterruptInstall());
   s->steps_done = run->params.steps;
   s->first_step = run->first_step;
+  if (run->first_step <= run->params.steps)
+    PetscCall(ProgressStart(run->progress, &run->params, run->first_step, s->fluid_dofs, s->structure_dofs,
+                            run->coupled ? run->params.coupling : NULL));
   for (PetscInt step = run->first_step; step <= run->params.steps; ++step) {
     PetscCall(StepRetryAdvance(run->retry, step, &run->failure));
     if (run->failure) {
@@ -43,6 +46,7 @@ PetscErrorCode RunAdvance(Run run)
       PetscCall(OptionsCheckUnused(PETSC_COMM_WORLD, PETSC_TRUE));
       OutputSetUpDone();
     }
+    PetscCall(ProgressStep(run->progress, step, run->coupling));
     PetscCall(InterruptTestAfterStep(step));
     PetscCall(InterruptCheck(PETSC_COMM_WORLD, &run->signal_caught));
     /* an interrupted run leaves a checkpoint of its last step when its set-up can */

@@ -11,6 +11,7 @@
 #include "summary.h"
 #include "run_checkpoint.h"
 #include "step_retry.h"
+#include "progress.h"
 
 /* The objects of a run (setup.c), what the time loop did (advance.c), and the report
    (report.c). Fluid and structure are NULL on the ranks that do not hold them. */
@@ -27,6 +28,7 @@ struct _p_Run {
   Coupling            coupling;
   Outputs             outputs;
   StepRetry           retry;
+  Progress            progress;
   RunCheckpointParams checkpoint;
   PetscInt            first_step;
   PetscLogDouble      start;

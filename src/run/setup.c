@@ -208,6 +208,7 @@ PetscErrorCode RunCreate(Run *created)
   PetscCall(OutputsCreate(&run->params, &run->scene, run->summary.dim, run->fluid, run->structure, run->itf,
                           run->problem, &run->outputs));
   PetscCall(StepRetryCreate(&run->params, run->fluid, run->structure, run->coupling, &run->retry));
+  PetscCall(ProgressCreate(PETSC_COMM_WORLD, &run->progress));
   PetscCall(CheckpointOrStart(run));
   PetscCall(DMDestroy(&fluid_mesh));
   PetscCall(DMDestroy(&structure_mesh));
@@ -237,6 +238,7 @@ PetscErrorCode RunDestroy(Run *destroyed)
   PetscFunctionBeginUser;
   if (!run) PetscFunctionReturn(0);
   PetscCall(StepRetryDestroy(&run->retry));
+  PetscCall(ProgressDestroy(&run->progress));
   PetscCall(CouplingDestroy(&run->coupling));
   PetscCall(OutputsDestroy(&run->outputs));
   PetscCall(CouplingProblemDestroy(&run->problem));
