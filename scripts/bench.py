@@ -227,8 +227,15 @@ def run_all(runs, fsiopt, runs_dir, jobs=1, timeout=None, force=False, rerun_fai
     env = fr.fsiopt_env(jobs=jobs)   # one thread per run when jobs > 1
     say("%d run(s) in %s, %d at a time%s" % (len(unique), rel(runs_dir), jobs,
                                              ", timeout %g s each" % timeout if timeout else ""))
+    progress = fr.StudyProgress(len(unique))
+
+    def one(r):
+        progress.begin(r.name)
+        run_one(r, fsiopt, runs_dir, timeout, force, rerun_failed, retries, env=env)
+        progress.end(r.reused)
+
     with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
-        list(pool.map(lambda r: run_one(r, fsiopt, runs_dir, timeout, force, rerun_failed, retries, env=env), unique))
+        list(pool.map(one, unique))
     return unique
 
 

@@ -9,7 +9,7 @@ Usage: scripts/convergence.py [--levels N] [--set single|coupled|all]   (build f
 import argparse, csv, json, math, os, sys, tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from fsiopt_runs import ROOT, run_fsiopt  # noqa: E402  (the binary, its environment, the launch)
+from fsiopt_runs import ROOT, StudyProgress, run_fsiopt  # noqa: E402  (the binary, its environment, the launch)
 
 STUDIES = [
     ("fluid (Q2,Q1) space", ["-scene", "mms-fluid", "-dt", "0.1", "-t_start", "0.5", "-t_final", "0.6", "-mms_discrete_time"], "refine", ["u_L2", "u_H1", "p_L2"]),
@@ -40,6 +40,7 @@ def main():
     outdir = os.path.join(ROOT, "out", "convergence")
     os.makedirs(outdir, exist_ok=True)
     rows, md = [], ["# Manufactured-solution convergence", ""]
+    progress = StudyProgress(len(studies) * args.levels)
     for name, base, knob, keys in studies:
         coupled = any(name == c[0] for c in COUPLED)
         extra = ["GN its/step", "inner its/GN it", "factorizations fluid/structure", "wall s"] if coupled else []
@@ -49,8 +50,10 @@ def main():
             value = str(level) if knob == "refine" else "%g" % (0.1 / 2 ** level)
             knobs = {"refine": ["-refine", value], "dt": ["-dt", value],
                      "both": ["-refine", str(level), "-dt", "%g" % (0.1 / 2 ** level)]}[knob]
+            progress.begin("%s, %s %s" % (name, knob, value))
             with tempfile.TemporaryDirectory() as tmp:
                 run_fsiopt(base + knobs, out_dir=tmp, check=True)
+                progress.end()
                 summary = json.load(open(os.path.join(tmp, "summary.json")))
                 errors = summary["errors"]
             cells = []

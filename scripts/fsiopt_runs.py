@@ -579,12 +579,48 @@ def run_variant(v, fsiopt, runs_dir, force=False, retries=2, wait_s=5.0, env=Non
     return v
 
 
+def clock(seconds):
+    """h:mm:ss or m:ss"""
+    s = int(round(max(0.0, seconds)))
+    return "%d:%02d:%02d" % (s // 3600, s // 60 % 60, s % 60) if s >= 3600 else "%d:%02d" % (s // 60, s % 60)
+
+
+class StudyProgress:
+    """Prints "run i of n" as each run starts, with an ETA from the runs that ran so far
+    (re-used runs take no time and count for none). Thread-safe: runs may go in parallel."""
+
+    def __init__(self, total):
+        self.total, self.started, self.ran, self.reused = total, 0, 0, 0
+        self.t0, self.lock = time.time(), threading.Lock()
+
+    def begin(self, name):
+        with self.lock:
+            self.started += 1
+            i, left = self.started, self.total - self.ran - self.reused
+            eta = " (ETA %s)" % clock((time.time() - self.t0) / self.ran * left) if self.ran else ""
+        say("run %d of %d: %s%s" % (i, self.total, name, eta))
+
+    def end(self, reused=False):
+        with self.lock:
+            if reused:
+                self.reused += 1
+            else:
+                self.ran += 1
+
+
 def run_all(variants, fsiopt, runs_dir, jobs=1, force=False, retries=2, oversubscribe=True):
     """Run the variants (jobs at a time; in fsiopt_env(), oversubscribe: its); duplicates
     by name are run once."""
     unique = list({v.name: v for v in variants}.values())
     env = fsiopt_env(oversubscribe=oversubscribe, jobs=jobs)
     say("%d run(s) in %s, %d at a time" % (len(unique), rel(runs_dir), jobs))
+    progress = StudyProgress(len(unique))
+
+    def one(v):
+        progress.begin(v.name)
+        run_variant(v, fsiopt, runs_dir, force, retries, env=env)
+        progress.end(v.status == "reused")
+
     with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
-        list(pool.map(lambda v: run_variant(v, fsiopt, runs_dir, force, retries, env=env), unique))
+        list(pool.map(one, unique))
     return unique

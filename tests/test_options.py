@@ -193,3 +193,28 @@ def test_progress_lines():
     assert rc == 0 and not [l for l in stdout.splitlines() if l.startswith("fsiopt: step ") or "unknowns" in l], \
         "-quiet printed: %s" % stdout[:300]
     return "first line before step 1, %d progress lines (%d while the run went); -quiet none" % (len(steps), len(early))
+
+
+@test("the SLURM job stops with one line naming what is missing (srun, gmsh, Python with numpy)", quick=True)
+def test_slurm_job_checks_tools():
+    import subprocess
+    job = os.path.join(fr.ROOT, "scripts", "slurm", "tube3d.sbatch")
+    fake = os.path.join(WORK, "fake-bin")
+    os.makedirs(fake, exist_ok=True)
+    for tool in ("srun", "gmsh"):
+        path = os.path.join(fake, tool)
+        open(path, "w").write("#!/bin/sh\nexit 0\n")
+        os.chmod(path, 0o755)
+    found = []
+    for path_dirs, python, expect, present in (
+            ("/usr/bin:/bin", "/usr/bin/python3", "srun", "/usr/bin/python3"),
+            (fake + ":/usr/bin:/bin", "/nonexistent/python3", "/nonexistent/python3", "srun")):
+        env = {"PATH": path_dirs, "PYTHON": python, "SLURM_SUBMIT_DIR": fr.ROOT, "HOME": WORK}
+        r = subprocess.run(["/bin/bash", job], env=env, cwd=WORK, capture_output=True, text=True, timeout=60)
+        lines = [l for l in (r.stdout + r.stderr).splitlines() if l.strip()]
+        assert r.returncode != 0 and len(lines) == 1 and lines[0].startswith("missing on ") and expect in lines[0], \
+            "PATH=%s PYTHON=%s: exit %d, %s" % (path_dirs, python, r.returncode, lines)
+        named = lines[0].split(":", 1)[1].split("(load")[0].split()
+        assert present not in named, "names %s, which is there: %s" % (present, lines[0])
+        found.append(" ".join(named))
+    return "; ".join(found)
