@@ -6,4 +6,12 @@
    printed at its end grouped by prefix, with their units in the scene's system (End). */
 PetscErrorCode HelpListingBegin(void);
 PetscErrorCode HelpListingEnd(const char units[]);
+/* Around a run's set-up without -help: the options every object reads, with the values
+   they take (given or default), for summary.json (OptionsCapturedGet: n pairs, in the
+   order read; names with their dash). */
+PetscErrorCode OptionsCaptureBegin(void);
+PetscErrorCode OptionsCaptureEnd(void);
+/* main's error path (no PETSc call): stdout as it was */
+void           OptionsCaptureAbandon(void);
+PetscErrorCode OptionsCapturedGet(PetscInt *n, char *const **names, char *const **values);
 #endif

@@ -23,6 +23,9 @@ PetscErrorCode OptionsCheckUnused(MPI_Comm, PetscBool after_first_step);
 /* At the start: an option that takes a value given without one (PETSc would take it as not
    given, and the run would use the default) stops the run, naming it. */
 PetscErrorCode OptionsCheckValuesGiven(MPI_Comm);
+/* Whether the user asked for -help (the answer of the first call: a run's set-up sets -help
+   for a while to learn the options in effect, help.h). */
+PetscBool OptionsHelpRequested(void);
 /* Fails with a one-line message when a file cannot be read. FileProblem (usable before
    PetscInitialize) returns 0 when the file is a readable, non-empty regular file. */
 int            FileProblem(const char path[]);

@@ -6,6 +6,7 @@
 #include "run.h"
 #include "options.h"
 #include "output.h"
+#include "help.h"
 
 static const char
   help[] = "fsiopt: fluid-structure interaction by optimization-based decoupling.\n"
@@ -62,6 +63,7 @@ int main(int argc, char **argv)
     MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
     MPI_Comm_size(PETSC_COMM_WORLD, &size);
     if (!rank) fprintf(stderr, "fsiopt: error: %s\n", ErrorReportingFirstMessage());
+    OptionsCaptureAbandon();
     OutputRemoveSetUpFiles();
     fflush(stderr);
     /* On one rank finish cleanly; on several, a rank that did not fail may wait in a

@@ -89,10 +89,18 @@ def test_summary_provenance():
         assert s.get(key), "summary.json lacks %s" % key
     assert s["options"].get("-fluid_density") == "2", "options: -fluid_density is %r" % s["options"].get("-fluid_density")
     assert s["options"].get("-scene") == "mms-ns" and s["units"] == "nondimensional", "options %s, units %s" % (s["options"].get("-scene"), s["units"])
+    # after defaults: options nobody gave, with the values the objects took
+    given, effect = s.get("options_given", {}), s["options"]
+    for name, value in (("-fluid_snes_type", "newtonls"), ("-fluid_pc_type", "lu"), ("-coupling_max_it", None),
+                        ("-structure_poisson_ratio", None), ("-fluid_viscosity", None)):
+        assert name in effect and (value is None or effect[name] == value), "options[%s] = %r" % (name, effect.get(name))
+    assert "-fluid_snes_type" not in given and given.get("-fluid_density") == "2", "options_given %s" % sorted(given)[:20]
+    assert set(given) <= set(effect), "given but not in effect: %s" % (set(given) - set(effect))
     rc, stdout, err, t = run(["-options_file", "options/turek-hron.yaml", "-turek_case", "csm1"])
     assert rc == 0 and t["units"] == "SI" and t["options"].get("-structure_model") == "svk", "turek-hron: units %s, model %s" % (
         t and t["units"], t and t["options"].get("-structure_model"))
-    return "version %s; %d options (-fluid_density 2 among them); units %s, %s" % (s["version"], len(s["options"]), s["units"], t["units"])
+    return "version %s; %d options in effect, %d given (-fluid_density 2 among them); units %s, %s" % (
+        s["version"], len(s["options"]), len(given), s["units"], t["units"])
 
 
 # (file name, its bytes, words the line must contain): each a mistake PETSc answers with

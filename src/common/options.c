@@ -306,6 +306,18 @@ static PetscBool IsReadInSolves(const char name[])
 
 extern const char *const fsiopt_flag_options[];
 
+PetscBool OptionsHelpRequested(void)
+{
+  static int asked = -1; /* the answer of the first call, before a capture sets -help */
+
+  if (asked < 0) {
+    PetscBool help = PETSC_FALSE;
+    (void)PetscOptionsHasHelp(NULL, &help);
+    asked = help ? 1 : 0;
+  }
+  return asked ? PETSC_TRUE : PETSC_FALSE;
+}
+
 static PetscBool IsFlag(const char name[])
 {
   for (const char *const *f = fsiopt_flag_options; *f; ++f)
@@ -318,6 +330,7 @@ static PetscBool TakesValue(const char name[])
 {
   char candidate[256];
 
+  if (!strcmp(name, "-help")) return PETSC_FALSE; /* PETSc's, named in help_listing.c */
   if (IsKnown(name + 1)) return IsFlag(name) ? PETSC_FALSE : PETSC_TRUE;
   for (const char *const *p = solver_prefixes; *p; ++p)
     for (const char *const *o = solver_options; *o; ++o) {

@@ -246,7 +246,7 @@ PetscErrorCode FieldWriterCreate(MPI_Comm comm, const RunParams *params, Fluid f
                               "write the fields every K-th step (the first and the last always)", 1, PETSC_MAX_INT,
                               &interval));
   PetscOptionsEnd();
-  PetscCall(PetscOptionsHasHelp(NULL, &help));
+  help = OptionsHelpRequested();
   if (!on || help) PetscFunctionReturn(0); /* a -help run runs no step: nothing to show */
   PetscCall(PetscNew(&w));
   w->comm      = comm;

@@ -2,7 +2,10 @@
    scattered between the solvers'. Their lines are held back and printed at the end grouped
    by prefix, with the unit each value has in the scene's system. */
 #include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include "help.h"
+#include "options.h"
 
 extern const char *const fsiopt_known_options[];
 
@@ -88,11 +91,55 @@ static PetscBool IsOwn(const char line[])
   return PETSC_FALSE;
 }
 
+/* Capture: the options every object read while the run was set up, with the values they
+   took (given or default), parsed from the lines "  -name <now value : formerly default>". */
+#define MAX_CAPTURED 2048
+static PetscBool capturing = PETSC_FALSE;
+static char     *captured_name[MAX_CAPTURED], *captured_value[MAX_CAPTURED];
+static PetscInt  n_captured = 0;
+
+static PetscErrorCode Captured(const char name[], const char value[])
+{
+  PetscFunctionBeginUser;
+  if (n_captured == MAX_CAPTURED) PetscFunctionReturn(0);
+  for (PetscInt i = 0; i < n_captured; ++i)
+    if (!strcmp(captured_name[i], name)) PetscFunctionReturn(0);
+  PetscCall(PetscStrallocpy(name, &captured_name[n_captured]));
+  PetscCall(PetscStrallocpy(value, &captured_value[n_captured++]));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode CaptureLine(const char line[])
+{
+  const char *name = line + 2, *open, *end;
+  char        value[1024], option[256];
+  size_t      name_len;
+
+  PetscFunctionBeginUser;
+  if (strncmp(line, "  -", 3) || n_captured == MAX_CAPTURED) PetscFunctionReturn(0);
+  name_len = strcspn(name, " :\n");
+  open     = name + name_len;
+  if (*open == ':') ++open;
+  if (strncmp(open, " <", 2)) PetscFunctionReturn(0); /* a viewer's forms, a text: no value */
+  open += 2;
+  if (!strncmp(open, "now ", 4)) open += 4;
+  end = strstr(open, " : ");
+  if (!end || (strchr(open, '>') && strchr(open, '>') < end && strncmp(open, "<unspecified>", 13)))
+    end = strchr(open, '>');
+  if (!end) PetscFunctionReturn(0);
+  PetscCall(PetscStrncpy(value, open, PetscMin(sizeof(value), (size_t)(end - open + 1))));
+  if (!strcmp(value, "<unspecified>")) PetscFunctionReturn(0);
+  PetscCall(PetscStrncpy(option, name, PetscMin(sizeof(option), name_len + 1)));
+  PetscCall(Captured(option, value));
+  PetscFunctionReturn(0);
+}
+
 /* One complete line: fsiopt's kept, a header kept until a line of its block is printed. */
 static PetscErrorCode Line(const char line[])
 {
   PetscFunctionBeginUser;
-  if (IsOwn(line)) {
+  if (capturing) PetscCall(CaptureLine(line));
+  else if (IsOwn(line)) {
     if (n_held < MAX_HELD) PetscCall(PetscStrallocpy(line, &held[n_held++]));
   } else if (!strncmp(line, "-----", 5)) {
     PetscCall(PetscStrncpy(pending_header, line, sizeof(pending_header)));
@@ -130,11 +177,8 @@ static PetscErrorCode Collect(MPI_Comm comm, const char format[], ...)
 
 PetscErrorCode HelpListingBegin(void)
 {
-  PetscBool help;
-
   PetscFunctionBeginUser;
-  PetscCall(PetscOptionsHasHelp(NULL, &help));
-  if (!help || petsc_help_printf) PetscFunctionReturn(0);
+  if (!OptionsHelpRequested() || petsc_help_printf) PetscFunctionReturn(0);
   petsc_help_printf = PetscHelpPrintf;
   PetscHelpPrintf   = Collect;
   help_comm         = PETSC_COMM_WORLD;
@@ -186,5 +230,120 @@ PetscErrorCode HelpListingEnd(const char units[])
   }
   for (int i = 0; i < n_held; ++i) PetscCall(PetscFree(held[i]));
   n_held = 0;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode ForgetCaptured(void)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < n_captured; ++i) {
+    PetscCall(PetscFree(captured_name[i]));
+    PetscCall(PetscFree(captured_value[i]));
+  }
+  n_captured = 0;
+  PetscFunctionReturn(0);
+}
+
+/* PETSc prints the choices of a type (PetscFunctionListPrintTypes) with fprintf to the C
+   library's stdout, not through PetscHelpPrintf: glibc lets stdout be reassigned, so those
+   lines go to memory during the capture while PETSc's PETSC_STDOUT (PetscPrintf) still
+   writes where it did. */
+static FILE  *real_stdout = NULL, *type_lines = NULL;
+static char  *type_text = NULL;
+static size_t type_len  = 0;
+
+void OptionsCaptureAbandon(void)
+{
+  if (!real_stdout) return;
+  fclose(type_lines);
+  free(type_text);
+  stdout      = real_stdout;
+  real_stdout = NULL;
+}
+
+PetscErrorCode OptionsCaptureBegin(void)
+{
+  PetscFunctionBeginUser;
+  if (OptionsHelpRequested() || petsc_help_printf) PetscFunctionReturn(0);
+  fflush(stdout);
+  PetscCheck(type_lines = open_memstream(&type_text, &type_len), PETSC_COMM_SELF, PETSC_ERR_MEM,
+             "cannot open a memory stream");
+  real_stdout = stdout;
+  stdout      = type_lines;
+  /* PETSc objects print the options they read, with the values they took, only under
+     -help: set it for the set-up, and keep what they print instead of printing it */
+  PetscCall(PetscOptionsSetValue(NULL, "-help", NULL));
+  PetscCall(PetscRegisterFinalize(ForgetCaptured));
+  petsc_help_printf = PetscHelpPrintf;
+  PetscHelpPrintf   = Collect;
+  capturing         = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+/* Objects that live on some ranks only (the structure's, with -structure_ranks) print
+   their options there: rank 0, which writes summary.json, gathers them. */
+static PetscErrorCode GatherOnFirstRank(MPI_Comm comm)
+{
+  PetscMPIInt rank, size, mine = 0, *lengths = NULL, *offsets = NULL;
+  char       *packed, *all = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  if (size == 1) PetscFunctionReturn(0);
+  for (PetscInt i = 0; i < n_captured; ++i)
+    mine += (PetscMPIInt)(strlen(captured_name[i]) + strlen(captured_value[i]) + 2);
+  PetscCall(PetscMalloc1(mine + 1, &packed));
+  for (PetscInt i = 0, at = 0; i < n_captured; ++i) {
+    at += sprintf(packed + at, "%s", captured_name[i]) + 1;
+    at += sprintf(packed + at, "%s", captured_value[i]) + 1;
+  }
+  if (!rank) PetscCall(PetscMalloc2(size, &lengths, size + 1, &offsets));
+  PetscCallMPI(MPI_Gather(&mine, 1, MPI_INT, lengths, 1, MPI_INT, 0, comm));
+  if (!rank) {
+    offsets[0] = 0;
+    for (PetscMPIInt r = 0; r < size; ++r) offsets[r + 1] = offsets[r] + lengths[r];
+    PetscCall(PetscMalloc1(offsets[size] + 1, &all));
+  }
+  PetscCallMPI(MPI_Gatherv(packed, mine, MPI_CHAR, all, lengths, offsets, MPI_CHAR, 0, comm));
+  if (!rank)
+    for (char *c = all + lengths[0]; c < all + offsets[size];) {
+      const char *name = c, *value = c + strlen(c) + 1;
+      PetscCall(Captured(name, value));
+      c = (char *)value + strlen(value) + 1;
+    }
+  PetscCall(PetscFree(packed));
+  if (!rank) PetscCall(PetscFree2(lengths, offsets));
+  PetscCall(PetscFree(all));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode OptionsCaptureEnd(void)
+{
+  PetscFunctionBeginUser;
+  if (!capturing) PetscFunctionReturn(0);
+  if (partial[0]) PetscCall(CaptureLine(partial));
+  fflush(type_lines);
+  for (char *line = type_text, *next; line && *line; line = next) {
+    next = strchr(line, '\n');
+    if (next) *next++ = 0;
+    PetscCall(CaptureLine(line));
+  }
+  OptionsCaptureAbandon();
+  partial[0]        = 0;
+  PetscHelpPrintf   = petsc_help_printf;
+  petsc_help_printf = NULL;
+  capturing         = PETSC_FALSE;
+  PetscCall(PetscOptionsClearValue(NULL, "-help"));
+  PetscCall(GatherOnFirstRank(PETSC_COMM_WORLD));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode OptionsCapturedGet(PetscInt *n, char *const **names, char *const **values)
+{
+  PetscFunctionBeginUser;
+  *n      = n_captured;
+  *names  = captured_name;
+  *values = captured_value;
   PetscFunctionReturn(0);
 }

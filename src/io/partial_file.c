@@ -1,4 +1,5 @@
 #include "output.h"
+#include "options.h"
 #include <unistd.h>
 
 #define MAX_SETUP_FILES 8
@@ -33,7 +34,7 @@ PetscErrorCode PartialFileOpen(MPI_Comm comm, const char dir[], const char name[
 
   PetscFunctionBeginUser;
   file->comm = comm;
-  PetscCall(PetscOptionsHasHelp(NULL, &help));
+  help       = OptionsHelpRequested();
   if (help) { /* -help runs no step and leaves no trace: the writers write to nothing */
     file->path[0] = file->partial[0] = 0;
     PetscCall(PetscFOpen(comm, "/dev/null", "w", &file->fp));

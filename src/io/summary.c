@@ -1,6 +1,7 @@
 #include "summary.h"
 #include "output.h"
 #include "logging.h"
+#include "help.h"
 
 extern const char fsiopt_version[]; /* build/version.c, made by make: git describe of the build */
 #include <stdio.h>
@@ -69,39 +70,86 @@ static PetscBool StartsOption(const char *c, const char *start)
          : PETSC_FALSE;
 }
 
-/* "options": every option in the database as the run saw it (the command line, options
-   files, the scene's defaults): {"-name": "value", ...}, "" for a flag without a value */
-static PetscErrorCode WriteOptions(FILE *fp)
+#define MAX_GIVEN 1024
+typedef struct {
+  PetscInt    n;
+  const char *name[MAX_GIVEN], *value[MAX_GIVEN];
+  size_t      name_len[MAX_GIVEN], value_len[MAX_GIVEN];
+} OptionPairs;
+
+/* The database's "-a 1 -b -c x y" as pairs pointing into it */
+static void ParseDatabase(const char *all, OptionPairs *pairs)
 {
-  char       *all;
-  const char *c;
-  PetscBool   first = PETSC_TRUE;
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscOptionsGetAll(NULL, &all));
-  fprintf(fp, "  \"options\": {");
-  for (c = all; *c;) {
-    const char *name, *value;
-    size_t      name_len, value_len;
-
+  pairs->n = 0;
+  for (const char *c = all; *c && pairs->n < MAX_GIVEN;) {
+    const PetscInt i = pairs->n;
     while (*c == ' ') ++c;
     if (!*c) break;
-    name = c;
+    pairs->name[i] = c;
     while (*c && *c != ' ') ++c;
-    name_len = (size_t)(c - name);
+    pairs->name_len[i] = (size_t)(c - pairs->name[i]);
     while (*c == ' ') ++c;
-    value = c;
-    while (*c && !StartsOption(c, value)) ++c;
-    value_len = (size_t)(c - value);
-    while (value_len && value[value_len - 1] == ' ') --value_len;
-    fprintf(fp, "%s\n    ", first ? "" : ",");
-    WriteEscaped(fp, name, name_len);
-    fprintf(fp, ": ");
-    WriteEscaped(fp, value, value_len);
-    first = PETSC_FALSE;
+    pairs->value[i] = c;
+    while (*c && !StartsOption(c, pairs->value[i])) ++c;
+    pairs->value_len[i] = (size_t)(c - pairs->value[i]);
+    while (pairs->value_len[i] && pairs->value[i][pairs->value_len[i] - 1] == ' ') --pairs->value_len[i];
+    pairs->n++;
   }
+}
+
+static PetscInt FindGiven(const OptionPairs *given, const char name[])
+{
+  for (PetscInt i = 0; i < given->n; ++i)
+    if (given->name_len[i] == strlen(name) && !strncmp(given->name[i], name, given->name_len[i])) return i;
+  return -1;
+}
+
+static void WritePair(FILE *fp, PetscBool *first, const char *name, size_t name_len, const char *value,
+                      size_t value_len)
+{
+  fprintf(fp, "%s\n    ", *first ? "" : ",");
+  WriteEscaped(fp, name, name_len);
+  fprintf(fp, ": ");
+  WriteEscaped(fp, value, value_len);
+  *first = PETSC_FALSE;
+}
+
+/* "options": every option in effect, as the objects read it while the run was set up
+   (given or their default; help.h), and every given one; "options_given": those of the
+   database (command line, options files, environment, the scene's defaults). Values as
+   strings, "" for a flag without a value. */
+static PetscErrorCode WriteOptions(FILE *fp)
+{
+  char        *all;
+  OptionPairs *given;
+  PetscInt     n;
+  char *const *names, *const *values;
+  PetscBool first = PETSC_TRUE;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&given));
+  PetscCall(PetscOptionsGetAll(NULL, &all));
+  ParseDatabase(all, given);
+  PetscCall(OptionsCapturedGet(&n, &names, &values));
+  fprintf(fp, "  \"options\": {");
+  for (PetscInt i = 0; i < n; ++i) {
+    const PetscInt g = FindGiven(given, names[i]);
+    if (g >= 0) WritePair(fp, &first, given->name[g], given->name_len[g], given->value[g], given->value_len[g]);
+    else WritePair(fp, &first, names[i], strlen(names[i]), values[i], strlen(values[i]));
+  }
+  for (PetscInt g = 0; g < given->n; ++g) {
+    PetscBool read = PETSC_FALSE;
+    for (PetscInt i = 0; i < n && !read; ++i)
+      read = given->name_len[g] == strlen(names[i]) && !strncmp(given->name[g], names[i], given->name_len[g]);
+    if (!read) WritePair(fp, &first, given->name[g], given->name_len[g], given->value[g], given->value_len[g]);
+  }
+  fprintf(fp, "},\n  \"options_given\": {");
+  first = PETSC_TRUE;
+  for (PetscInt g = 0; g < given->n; ++g)
+    WritePair(fp, &first, given->name[g], given->name_len[g], given->value[g], given->value_len[g]);
   fprintf(fp, "}\n");
   PetscCall(PetscFree(all));
+  PetscCall(PetscFree(given));
   PetscFunctionReturn(0);
 }
 

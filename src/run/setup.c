@@ -168,8 +168,9 @@ PetscErrorCode RunCreate(Run *created)
   PetscCall(SceneRegisterAll());
   PetscCall(CouplingRegisterAll());
   PetscCall(OptionsCheckValuesGiven(PETSC_COMM_WORLD));
+  run->help = OptionsHelpRequested();
   PetscCall(HelpListingBegin());
-  PetscCall(PetscOptionsHasHelp(NULL, &run->help));
+  PetscCall(OptionsCaptureBegin());
   PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", run->params.scene, sizeof(run->params.scene), &scene_given));
   if (!scene_given) {
     char names[256];
@@ -213,6 +214,7 @@ PetscErrorCode RunCreate(Run *created)
   PetscCall(DMDestroy(&fluid_mesh));
   PetscCall(DMDestroy(&structure_mesh));
   PetscCall(PetscLogStagePop());
+  PetscCall(OptionsCaptureEnd());
   if (!run->help) PetscCall(OptionsCheckUnused(PETSC_COMM_WORLD, PETSC_FALSE));
   if (run->help) {
     /* every object has read its options by now: the listing is complete */
