@@ -24,7 +24,7 @@ typedef struct {
    of size dim of the vectors ProbesRecord gets (NULL when there are no points). */
 PetscErrorCode ProbesCreate(MPI_Comm, PetscInt dim, PetscInt nodes, const PetscReal coords[], PetscInt npoints,
                             const PetscReal points[][3], PetscInt nextra, const char *const extra_names[],
-                            const char dir[], Probes *);
+                            const char units[], const char dir[], Probes *);
 PetscErrorCode ProbesRecord(Probes, PetscReal t, Vec displacement, const PetscReal extra[]);
 /* The quantities of every column, on rank 0 (window from -quantities_window). */
 PetscErrorCode ProbesQuantities(Probes, QuantityTable *);

@@ -245,9 +245,9 @@ def read_probes(run_dir):
     path = os.path.join(run_dir, "probes.csv")
     with open(path, newline="") as f:
         rows = [r for r in csv.reader(f) if r]
-    if len(rows) < 2 or rows[0][0].strip() != "t":
+    names = [fr.column_name(n) for n in rows[0]] if rows else []
+    if len(rows) < 2 or names[0] != "t":
         raise ValueError("%s: no data or no first column t" % rel(path))
-    names = [n.strip() for n in rows[0]]
     data = np.array([[float(x) for x in r] for r in rows[1:]])
     dy = {n: data[:, i] for i, n in enumerate(names) if n.startswith("dy(")}
     if not dy:

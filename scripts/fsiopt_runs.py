@@ -44,7 +44,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from fsiopt_tables import (  # noqa: E402,F401  (the text side, re-exported for the scripts)
-    ROOT, MeshError, RUN_FIELDS, ensure_gmsh_mesh, extra_tag, fields_file, fields_interval, finish_report, floats,
+    ROOT, MeshError, RUN_FIELDS, column_name, ensure_gmsh_mesh, extra_tag, fields_file, fields_interval, finish_report, floats,
     fmt_num, ints, md_escape, number, read_table, rel, run_row, run_time_grid, say, write_csv, write_report,
     write_runs_csv)
 

@@ -52,6 +52,12 @@ def write_runs_csv(path, variants):
             w.writerow(run_row(v))
 
 
+def column_name(header):
+    """A probes.csv header without its unit: 'dy(1.5;1.) [cm]' -> 'dy(1.5;1.)' (files
+    written before the headers had units pass unchanged)."""
+    return re.sub(r"\s*\[[^\]]*\]$", "", header.strip())
+
+
 def read_table(path, growing=False):
     """A CSV with a header row of names and numeric rows: (names, list of float columns).
     growing: the file is still being written (fsiopt's *.partial), so a last line without
@@ -63,7 +69,7 @@ def read_table(path, growing=False):
     rows = list(csv.reader(text.splitlines()))
     if not rows:
         raise ValueError("%s is empty" % path)
-    names = [n.strip() for n in rows[0]]
+    names = [column_name(n) for n in rows[0]]
     data = [[float(x) for x in r] for r in rows[1:] if r]
     cols = [[r[i] for r in data] for i in range(len(names))]
     return names, cols

@@ -73,8 +73,9 @@ def check_rates(errs, floors):
 
 
 def read_probes(path):
+    """(column names without their units, rows of numbers)"""
     rows = list(csv.reader(open(path)))
-    return rows[0], [[float(v) for v in r] for r in rows[1:]]
+    return [fr.column_name(n) for n in rows[0]], [[float(v) for v in r] for r in rows[1:]]
 
 
 def last_rows(out, name="history.csv"):

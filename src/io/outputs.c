@@ -35,7 +35,7 @@ static PetscErrorCode ProbesSetUp(Outputs out, PetscInt dim, Interface itf)
   } else if (scene->n_probes && out->structure && !scene->has_fluid)
     PetscCall(StructureCreateNodeVector(out->structure, &out->displacement, &nodes, &coords));
   PetscCall(ProbesCreate(PETSC_COMM_WORLD, dim, nodes, coords, out->displacement ? scene->n_probes : 0, scene->probes,
-                         nforce, force_names, out->params->output_dir, &out->probes));
+                         nforce, force_names, scene->units, out->params->output_dir, &out->probes));
   PetscCall(PetscFree(coords));
   PetscFunctionReturn(0);
 }

@@ -42,7 +42,7 @@ static PetscErrorCode FindPoints(Probes P, Vec layout, PetscInt nodes, const Pet
 
 PetscErrorCode ProbesCreate(MPI_Comm comm, PetscInt dim, PetscInt nodes, const PetscReal coords[], PetscInt npoints,
                             const PetscReal points[][3], PetscInt nextra, const char *const extra_names[],
-                            const char dir[], Probes *probes)
+                            const char units[], const char dir[], Probes *probes)
 {
   Probes      P;
   PetscMPIInt rank;
@@ -92,8 +92,17 @@ PetscErrorCode ProbesCreate(MPI_Comm comm, PetscInt dim, PetscInt nodes, const P
     PetscCall(VecDestroy(&layout));
   }
   PetscCall(PartialFileOpen(comm, dir, "probes.csv", &P->file));
-  PetscCall(PetscFPrintf(comm, P->file.fp, "t"));
-  for (PetscInt c = 0; c < P->ncolumns; ++c) PetscCall(PetscFPrintf(comm, P->file.fp, ",%s", P->names[c]));
+  {
+    /* each header says its unit in the scene's system: "dy(1.5;1) [cm]"; the forces on a 2D
+       body are per unit depth */
+    const PetscBool si  = !strcmp(units, "SI") ? PETSC_TRUE : PETSC_FALSE,
+                    cgs = !strcmp(units, "cgs") ? PETSC_TRUE : PETSC_FALSE;
+    const char *time = si || cgs ? "s" : "1", *length = si ? "m" : (cgs ? "cm" : "1"),
+               *force = si ? (dim == 2 ? "N/m" : "N") : (cgs ? (dim == 2 ? "dyn/cm" : "dyn") : "1");
+    PetscCall(PetscFPrintf(comm, P->file.fp, "t [%s]", time));
+    for (PetscInt c = 0; c < P->ncolumns; ++c)
+      PetscCall(PetscFPrintf(comm, P->file.fp, ",%s [%s]", P->names[c], c < npoints * dim ? length : force));
+  }
   PetscCall(PetscFPrintf(comm, P->file.fp, "\n"));
   *probes = P;
   PetscFunctionReturn(0);
