@@ -87,7 +87,7 @@ def main():
             continue
         text = open(os.path.join(r.run_dir, "stdout.log")).read()
         events, wall = parse_events(text), r.summary.get("wall_time_s") or float("nan")
-        unknowns = {"Fluid": r.summary["fluid_dofs"], "Setup": r.summary["fluid_dofs"], "Sensitivity": r.summary["fluid_dofs"],
+        unknowns = {"Fluid": r.summary["fluid_dofs"], "Sensitivity": r.summary["fluid_dofs"],
                     "Adjoint": r.summary["fluid_dofs"], "Structure": r.summary["structure_dofs"]}
         for stage in STAGES:
             got = events.get(stage, {})
