@@ -5,15 +5,21 @@ export OMPI_MCA_rmaps_base_oversubscribe := 1
 
 # libopenblas0-serial: MUMPS's dense kernels; with Debian's reference BLAS the 3D tube's
 # fluid factorization took 28 s instead of 5 s (46k unknowns). Serial: one thread per MPI rank.
-DEB_PACKAGES := petsc-dev libyaml-dev libhdf5-openmpi-dev gmsh pkg-config make python3-numpy python3-matplotlib python3-h5py libopenblas0-serial valgrind
+DEB_PACKAGES := petsc-dev libyaml-dev python3-venv libhdf5-openmpi-dev gmsh pkg-config make python3-numpy python3-matplotlib python3-h5py libopenblas0-serial valgrind
 PYTHON := /usr/bin/python3
+# libCEED (the fast FE operators, src/ceed/): PyPI's wheel carries the C library, its headers
+# and ceed.pc; it goes into a private venv, and bin/fsiopt finds it by an rpath
+CEED_VERSION := 0.12.0
+VENV := $(CURDIR)/.deps/venv
+CEED_DIR = $(firstword $(wildcard $(VENV)/lib/python3*/site-packages/libceed))
+CEED_PC = PKG_CONFIG_PATH=$(CEED_DIR)/lib/pkgconfig pkg-config --define-variable=prefix=$(CEED_DIR)
 
 CC      := mpicc
 CFLAGS  ?= -O2 -g
 # petscviewerhdf5.h includes hdf5.h, which Debian keeps under the MPI flavour's directory
 # FSIOPT_ROOT: where a scene finds its default meshes when run from another directory
-CFLAGS  += -Wall -Wextra -std=c11 -D_POSIX_C_SOURCE=200809L -DFSIOPT_ROOT='"$(CURDIR)"' -Iinclude -Isrc/scenes $(shell pkg-config --cflags PETSc 2>/dev/null) $(shell pkg-config --cflags hdf5-openmpi 2>/dev/null)
-LDLIBS  += $(shell pkg-config --libs PETSc 2>/dev/null) $(shell pkg-config --libs hdf5-openmpi 2>/dev/null) -lyaml -lm
+CFLAGS  += -Wall -Wextra -std=c11 -D_POSIX_C_SOURCE=200809L -DFSIOPT_ROOT='"$(CURDIR)"' -Iinclude -Isrc/scenes $(shell pkg-config --cflags PETSc 2>/dev/null) $(shell pkg-config --cflags hdf5-openmpi 2>/dev/null) $(shell $(CEED_PC) --cflags ceed 2>/dev/null)
+LDLIBS  += $(shell pkg-config --libs PETSc 2>/dev/null) $(shell pkg-config --libs hdf5-openmpi 2>/dev/null) $(shell $(CEED_PC) --libs ceed 2>/dev/null) -Wl,-rpath,$(CEED_DIR)/lib -lyaml -lm
 
 SRC  := $(wildcard src/*.c src/*/*.c)
 OBJ  := $(SRC:%.c=build/%.o) build/known_options.o build/version.o
@@ -30,8 +36,12 @@ deps:
 	  echo "make deps: installing$$missing"; \
 	  apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing >/dev/null; \
 	else echo "make deps: all packages present"; fi
+	@test -n "$(CEED_DIR)" -a -f "$(CEED_DIR)/lib/libceed.so" || { \
+	  echo "make deps: libCEED $(CEED_VERSION) from PyPI into $(VENV)"; \
+	  $(PYTHON) -m venv $(VENV) && $(VENV)/bin/pip install -q --no-deps libceed==$(CEED_VERSION); }
 
 bin/fsiopt: $(OBJ)
+	@test -n "$(CEED_DIR)" || { echo "libCEED is missing: run make deps" >&2; exit 1; }
 	@mkdir -p bin
 	$(CC) -o $@ $(OBJ) $(LDLIBS)
 

@@ -3,6 +3,7 @@
 #include <time.h>
 #include "run_impl.h"
 #include "help.h"
+#include "fem_ceed.h"
 #include "options.h"
 #include "logging.h"
 #include "mesh.h"
@@ -117,6 +118,31 @@ static PetscErrorCode StructureFromScene(Run run, DM *mesh)
 }
 
 /* The checkpoint options, and the state of a restart (else the initial outputs). */
+/* -ceed_check_spaces: the libCEED bridge (src/ceed/) checked on this run's spaces */
+static PetscErrorCode CheckCeedSpaces(Run run)
+{
+  PetscBool check = PETSC_FALSE;
+  DM        dm;
+
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "libCEED operators", "fem");
+  PetscCall(PetscOptionsBool("-ceed_check_spaces",
+                             "assemble the mass and Laplacian of every finite-element space with libCEED and compare "
+                             "them with PETSc's (stops above 1e-12 relative)",
+                             NULL, check, &check, NULL));
+  PetscOptionsEnd();
+  if (!check) PetscFunctionReturn(0);
+  if (run->fluid) {
+    PetscCall(FluidGetDM(run->fluid, &dm));
+    PetscCall(FEMCeedCheckSpaces(dm, "fluid", 1e-12));
+  }
+  if (run->structure) {
+    PetscCall(StructureGetDM(run->structure, &dm));
+    PetscCall(FEMCeedCheckSpaces(dm, "structure", 1e-12));
+  }
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode CheckpointOrStart(Run run)
 {
   PetscBool restartable = PETSC_TRUE, fields,
@@ -209,6 +235,7 @@ PetscErrorCode RunCreate(Run *created)
   PetscCall(OutputsCreate(&run->params, &run->scene, run->summary.dim, run->fluid, run->structure, run->itf,
                           run->problem, &run->outputs));
   PetscCall(StepRetryCreate(&run->params, run->fluid, run->structure, run->coupling, &run->retry));
+  PetscCall(CheckCeedSpaces(run));
   PetscCall(ProgressCreate(PETSC_COMM_WORLD, &run->progress));
   PetscCall(CheckpointOrStart(run));
   PetscCall(DMDestroy(&fluid_mesh));

@@ -1,0 +1,37 @@
+#ifndef FSIOPT_FEM_CEED_H
+#define FSIOPT_FEM_CEED_H
+#include <petscdmplex.h>
+#include <ceed.h>
+
+/* libCEED, the fast backend of the finite-element operators (DESIGN §5): the pieces of a
+   CeedOperator taken from a DMPlex and its PetscFE, so that an operator integrates what
+   PETSc's integration does, at the same quadrature points with the same basis values. */
+
+/* A libCEED call checked: its error becomes a PETSc error with libCEED's message. */
+#define PetscCallCeed(ceed, call) \
+  do { \
+    if ((call) != CEED_ERROR_SUCCESS) { \
+      const char *ceed_message = "(no message)"; \
+      if (ceed) CeedGetErrorMessage(ceed, &ceed_message); \
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "libCEED: %s", ceed_message); \
+    } \
+  } while (0)
+
+/* The run's Ceed, of the backend -ceed (default /cpu/self/opt/blocked); made on first use. */
+PetscErrorCode FEMCeedGet(Ceed *);
+
+/* The element restriction of field `field` of dm's local vectors (DMPlexGetLocalOffsets:
+   the nodes of each cell in closure order, components interlaced). */
+PetscErrorCode FEMCeedRestriction(Ceed, DM dm, PetscInt field, CeedElemRestriction *);
+/* The H1 basis of fe at fe's quadrature: the values and reference gradients PETSc tabulates
+   (one scalar basis for every component), the same points and weights. */
+PetscErrorCode FEMCeedBasis(Ceed, DM dm, PetscFE fe, CeedBasis *);
+/* The cells' coordinates: their restriction and basis at fe's quadrature, and the local
+   coordinate vector as a CeedVector. */
+PetscErrorCode FEMCeedCoordinates(Ceed, DM dm, PetscFE fe, CeedElemRestriction *, CeedBasis *, CeedVector *);
+
+/* -ceed_check_spaces: every field of dm, its mass and Laplacian matrices assembled by libCEED
+   (CeedOperatorLinearAssemble into the PETSc matrix by COO) against PETSc's; prints the
+   relative differences and fails above tol. */
+PetscErrorCode FEMCeedCheckSpaces(DM dm, const char name[], PetscReal tol);
+#endif

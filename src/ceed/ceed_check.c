@@ -1,0 +1,207 @@
+/* -ceed_check_spaces (fem_ceed.h): the bridge of ceed_space.c checked where it matters, in
+   assembled matrices. A wrong node order, basis, quadrature or geometry changes them. */
+#include <petscds.h>
+#include <petscsnes.h>
+#include "fem_ceed.h"
+#include "qfunctions_check.h"
+
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+static void IdentityMass(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                         const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[],
+                         const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[],
+                         const PetscScalar a_x[], PetscReal t, PetscReal u_tShift, const PetscReal x[],
+                         PetscInt numConstants, const PetscScalar constants[], PetscScalar g0[])
+{
+  const PetscInt nc = uOff[1] - uOff[0];
+  for (PetscInt c = 0; c < nc; ++c) g0[c * nc + c] = 1;
+}
+
+static void IdentityLaplacian(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                              const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[],
+                              const PetscInt aOff[], const PetscInt aOff_x[], const PetscScalar a[],
+                              const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, PetscReal u_tShift,
+                              const PetscReal x[], PetscInt numConstants, const PetscScalar constants[],
+                              PetscScalar g3[])
+{
+  const PetscInt nc = uOff[1] - uOff[0];
+  for (PetscInt c = 0; c < nc; ++c)
+    for (PetscInt d = 0; d < dim; ++d) g3[((c * nc + c) * dim + d) * dim + d] = 1;
+}
+#pragma GCC diagnostic pop
+
+typedef enum {
+  MASS,
+  LAPLACIAN
+} CheckKind;
+
+/* The libCEED operator of the kind on dm's one field fe, assembled into A by COO */
+static PetscErrorCode AssembleWithCeed(DM dm, PetscFE fe, CheckKind kind, Mat A)
+{
+  Ceed                   ceed;
+  CeedElemRestriction    r_u, r_x, r_q;
+  CeedBasis              b_u, b_x;
+  CeedVector             coordinates, qdata, values;
+  CeedQFunction          qf_setup, qf_apply;
+  CeedQFunctionContext   context;
+  CeedOperator           op_setup, op_apply;
+  CeedInt                ncells, nq;
+  CeedSize               nentries;
+  CeedInt               *rows, *cols;
+  PetscInt              *grows, *gcols, dim, ncomp;
+  ISLocalToGlobalMapping ltog;
+  const CeedScalar      *v;
+  SpaceShape             shape;
+
+  PetscFunctionBeginUser;
+  PetscCall(FEMCeedGet(&ceed));
+  PetscCall(DMGetDimension(dm, &dim));
+  PetscCall(PetscFEGetNumComponents(fe, &ncomp));
+  shape.dim           = (CeedInt)dim;
+  shape.ncomp         = (CeedInt)ncomp;
+  const CeedInt qsize = kind == MASS ? 1 : shape.dim * shape.dim;
+  PetscCall(FEMCeedRestriction(ceed, dm, 0, &r_u));
+  PetscCall(FEMCeedBasis(ceed, dm, fe, &b_u));
+  PetscCall(FEMCeedCoordinates(ceed, dm, fe, &r_x, &b_x, &coordinates));
+  PetscCallCeed(ceed, CeedElemRestrictionGetNumElements(r_u, &ncells));
+  PetscCallCeed(ceed, CeedBasisGetNumQuadraturePoints(b_u, &nq));
+  PetscCallCeed(ceed, CeedElemRestrictionCreateStrided(ceed, ncells, nq, qsize, (CeedSize)ncells * nq * qsize,
+                                                       CEED_STRIDES_BACKEND, &r_q));
+  PetscCallCeed(ceed, CeedVectorCreate(ceed, (CeedSize)ncells * nq * qsize, &qdata));
+  PetscCallCeed(ceed, CeedQFunctionContextCreate(ceed, &context));
+  PetscCallCeed(ceed, CeedQFunctionContextSetData(context, CEED_MEM_HOST, CEED_COPY_VALUES, sizeof(shape), &shape));
+  if (kind == MASS) {
+    PetscCallCeed(ceed, CeedQFunctionCreateInterior(ceed, 1, SetupMass, SetupMass_loc, &qf_setup));
+    PetscCallCeed(ceed, CeedQFunctionCreateInterior(ceed, 1, ApplyMass, ApplyMass_loc, &qf_apply));
+  } else {
+    PetscCallCeed(ceed, CeedQFunctionCreateInterior(ceed, 1, SetupLaplacian, SetupLaplacian_loc, &qf_setup));
+    PetscCallCeed(ceed, CeedQFunctionCreateInterior(ceed, 1, ApplyLaplacian, ApplyLaplacian_loc, &qf_apply));
+  }
+  PetscCallCeed(ceed, CeedQFunctionAddInput(qf_setup, "dx", shape.dim * shape.dim, CEED_EVAL_GRAD));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(qf_setup, "weight", 1, CEED_EVAL_WEIGHT));
+  PetscCallCeed(ceed, CeedQFunctionAddOutput(qf_setup, "qdata", qsize, CEED_EVAL_NONE));
+  PetscCallCeed(ceed, CeedQFunctionSetContext(qf_setup, context));
+  const CeedEvalMode mode = kind == MASS ? CEED_EVAL_INTERP : CEED_EVAL_GRAD;
+  const CeedInt      size = kind == MASS ? shape.ncomp : shape.ncomp * shape.dim;
+  PetscCallCeed(ceed, CeedQFunctionAddInput(qf_apply, "u", size, mode));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(qf_apply, "qdata", qsize, CEED_EVAL_NONE));
+  PetscCallCeed(ceed, CeedQFunctionAddOutput(qf_apply, "v", size, mode));
+  PetscCallCeed(ceed, CeedQFunctionSetContext(qf_apply, context));
+
+  PetscCallCeed(ceed, CeedOperatorCreate(ceed, qf_setup, NULL, NULL, &op_setup));
+  PetscCallCeed(ceed, CeedOperatorSetField(op_setup, "dx", r_x, b_x, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(op_setup, "weight", CEED_ELEMRESTRICTION_NONE, b_x, CEED_VECTOR_NONE));
+  PetscCallCeed(ceed, CeedOperatorSetField(op_setup, "qdata", r_q, CEED_BASIS_NONE, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorApply(op_setup, coordinates, qdata, CEED_REQUEST_IMMEDIATE));
+  PetscCallCeed(ceed, CeedOperatorCreate(ceed, qf_apply, NULL, NULL, &op_apply));
+  PetscCallCeed(ceed, CeedOperatorSetField(op_apply, "u", r_u, b_u, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(op_apply, "qdata", r_q, CEED_BASIS_NONE, qdata));
+  PetscCallCeed(ceed, CeedOperatorSetField(op_apply, "v", r_u, b_u, CEED_VECTOR_ACTIVE));
+
+  /* COO: the entries' local (L-vector) rows and columns, numbered globally */
+  PetscCallCeed(ceed, CeedOperatorLinearAssembleSymbolic(op_apply, &nentries, &rows, &cols));
+  PetscCall(PetscMalloc2(nentries, &grows, nentries, &gcols));
+  for (CeedSize i = 0; i < nentries; ++i) {
+    grows[i] = rows[i];
+    gcols[i] = cols[i];
+  }
+  PetscCall(DMGetLocalToGlobalMapping(dm, &ltog));
+  PetscCall(ISLocalToGlobalMappingApply(ltog, (PetscInt)nentries, grows, grows));
+  PetscCall(ISLocalToGlobalMappingApply(ltog, (PetscInt)nentries, gcols, gcols));
+  PetscCall(MatSetPreallocationCOO(A, (PetscCount)nentries, grows, gcols));
+  PetscCallCeed(ceed, CeedVectorCreate(ceed, nentries, &values));
+  PetscCallCeed(ceed, CeedOperatorLinearAssemble(op_apply, values));
+  PetscCallCeed(ceed, CeedVectorGetArrayRead(values, CEED_MEM_HOST, &v));
+  PetscCall(MatSetValuesCOO(A, v, INSERT_VALUES));
+  PetscCallCeed(ceed, CeedVectorRestoreArrayRead(values, &v));
+
+  PetscCall(PetscFree2(grows, gcols));
+  free(rows);
+  free(cols);
+  PetscCallCeed(ceed, CeedVectorDestroy(&values));
+  PetscCallCeed(ceed, CeedOperatorDestroy(&op_apply));
+  PetscCallCeed(ceed, CeedOperatorDestroy(&op_setup));
+  PetscCallCeed(ceed, CeedQFunctionDestroy(&qf_apply));
+  PetscCallCeed(ceed, CeedQFunctionDestroy(&qf_setup));
+  PetscCallCeed(ceed, CeedQFunctionContextDestroy(&context));
+  PetscCallCeed(ceed, CeedVectorDestroy(&qdata));
+  PetscCallCeed(ceed, CeedVectorDestroy(&coordinates));
+  PetscCallCeed(ceed, CeedElemRestrictionDestroy(&r_q));
+  PetscCallCeed(ceed, CeedElemRestrictionDestroy(&r_x));
+  PetscCallCeed(ceed, CeedElemRestrictionDestroy(&r_u));
+  PetscCallCeed(ceed, CeedBasisDestroy(&b_x));
+  PetscCallCeed(ceed, CeedBasisDestroy(&b_u));
+  PetscFunctionReturn(0);
+}
+
+/* ||A_ceed - A_petsc||_F / ||A_petsc||_F for the kind on dm's one field */
+static PetscErrorCode Compare(DM dm, PetscFE fe, CheckKind kind, PetscReal *difference)
+{
+  PetscDS   ds;
+  Mat       petsc, ceed;
+  Vec       zero;
+  PetscReal norm;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetDS(dm, &ds));
+  PetscCall(PetscDSSetJacobian(ds, 0, 0, kind == MASS ? IdentityMass : NULL, NULL, NULL,
+                               kind == LAPLACIAN ? IdentityLaplacian : NULL));
+  PetscCall(DMCreateMatrix(dm, &petsc));
+  PetscCall(DMGetLocalVector(dm, &zero));
+  PetscCall(VecZeroEntries(zero));
+  PetscCall(DMPlexSNESComputeJacobianFEM(dm, zero, petsc, petsc, NULL));
+  PetscCall(DMRestoreLocalVector(dm, &zero));
+  PetscCall(DMCreateMatrix(dm, &ceed));
+  PetscCall(AssembleWithCeed(dm, fe, kind, ceed));
+  PetscCall(MatNorm(petsc, NORM_FROBENIUS, &norm));
+  PetscCall(MatAXPY(ceed, -1.0, petsc, DIFFERENT_NONZERO_PATTERN));
+  PetscCall(MatNorm(ceed, NORM_FROBENIUS, difference));
+  *difference /= norm;
+  PetscCall(MatDestroy(&petsc));
+  PetscCall(MatDestroy(&ceed));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMCeedCheckSpaces(DM dm, const char name[], PetscReal tol)
+{
+  PetscInt nfields;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetNumFields(dm, &nfields));
+  for (PetscInt f = 0; f < nfields; ++f) {
+    PetscObject    field;
+    PetscClassId   id;
+    DM             one;
+    PetscReal      mass, laplacian;
+    PetscInt       ncomp, dim, start;
+    DMPolytopeType type;
+    const char    *field_name;
+
+    PetscCall(DMGetField(dm, f, NULL, &field));
+    PetscCall(PetscObjectGetClassId(field, &id));
+    if (id != PETSCFE_CLASSID) continue;
+    PetscCall(PetscObjectGetName(field, &field_name));
+    /* the field alone, without boundary conditions (every node free), and a fresh weak form
+       for each matrix: PetscDSSetJacobian keeps a kernel it is given NULL for */
+    for (CheckKind kind = MASS; kind <= LAPLACIAN; ++kind) {
+      PetscCall(DMClone(dm, &one));
+      PetscCall(DMSetField(one, 0, NULL, field));
+      PetscCall(DMCreateDS(one));
+      PetscCall(Compare(one, (PetscFE)field, kind, kind == MASS ? &mass : &laplacian));
+      PetscCall(DMDestroy(&one));
+    }
+    PetscCall(PetscFEGetNumComponents((PetscFE)field, &ncomp));
+    PetscCall(DMGetDimension(dm, &dim));
+    PetscCall(DMPlexGetHeightStratum(dm, 0, &start, NULL));
+    PetscCall(DMPlexGetCellType(dm, start, &type));
+    PetscCall(PetscPrintf(PetscObjectComm((PetscObject)dm),
+                          "fsiopt: libCEED check: %s field %" PetscInt_FMT " (%s, %" PetscInt_FMT
+                          " components, %" PetscInt_FMT "D %s cells): mass %.2e, Laplacian %.2e relative to PETSc's\n",
+                          name, f, field_name, ncomp, dim, DMPolytopeTypes[type], (double)mass, (double)laplacian));
+    PetscCheck(mass <= tol && laplacian <= tol, PetscObjectComm((PetscObject)dm), PETSC_ERR_PLIB,
+               "libCEED check: %s field %" PetscInt_FMT
+               ": mass %.2e, Laplacian %.2e differ from PETSc's by more than %g",
+               name, f, (double)mass, (double)laplacian, (double)tol);
+  }
+  PetscFunctionReturn(0);
+}

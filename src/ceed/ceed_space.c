@@ -1,0 +1,135 @@
+/* Restrictions, bases and coordinates of a DMPlex for libCEED (fem_ceed.h). PETSc's own
+   tabulation at its own quadrature is handed to CeedBasisCreateH1, so that a libCEED
+   operator and PETSc's integration see the same numbers at the same points. */
+#include "fem_ceed.h"
+
+PetscErrorCode FEMCeedRestriction(Ceed ceed, DM dm, PetscInt field, CeedElemRestriction *restriction)
+{
+  PetscInt ncells, cell_size, ncomp, l_size, *offsets;
+  CeedInt *ceed_offsets;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMPlexGetLocalOffsets(dm, NULL, 0, 0, field, &ncells, &cell_size, &ncomp, &l_size, &offsets));
+  PetscCall(PetscMalloc1(ncells * cell_size, &ceed_offsets));
+  for (PetscInt i = 0; i < ncells * cell_size; ++i) ceed_offsets[i] = (CeedInt)offsets[i];
+  PetscCallCeed(ceed, CeedElemRestrictionCreate(ceed, ncells, cell_size, ncomp, 1, l_size, CEED_MEM_HOST,
+                                                CEED_COPY_VALUES, ceed_offsets, restriction));
+  PetscCall(PetscFree(ceed_offsets));
+  PetscCall(PetscFree(offsets));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Topology(DM dm, CeedElemTopology *topology)
+{
+  PetscInt       start;
+  DMPolytopeType type;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMPlexGetHeightStratum(dm, 0, &start, NULL));
+  PetscCall(DMPlexGetCellType(dm, start, &type));
+  switch (type) {
+  case DM_POLYTOPE_TRIANGLE:
+    *topology = CEED_TOPOLOGY_TRIANGLE;
+    break;
+  case DM_POLYTOPE_QUADRILATERAL:
+    *topology = CEED_TOPOLOGY_QUAD;
+    break;
+  case DM_POLYTOPE_TETRAHEDRON:
+    *topology = CEED_TOPOLOGY_TET;
+    break;
+  case DM_POLYTOPE_HEXAHEDRON:
+    *topology = CEED_TOPOLOGY_HEX;
+    break;
+  default:
+    SETERRQ(PetscObjectComm((PetscObject)dm), PETSC_ERR_SUP, "libCEED operators: cells of type %s are not supported",
+            DMPolytopeTypes[type]);
+  }
+  PetscFunctionReturn(0);
+}
+
+/* The scalar basis of a tabulation of an Nc-component PetscFE: PETSc orders its functions
+   node by node, one per component, each nonzero in its own component only. */
+static PetscErrorCode BasisFromTabulation(Ceed ceed, DM dm, PetscTabulation T, PetscInt dim, const PetscReal points[],
+                                          const PetscReal weights[], CeedBasis *basis)
+{
+  const PetscInt   nq = T->Np, nb = T->Nb, nc = T->Nc, nodes = nb / nc;
+  CeedScalar      *interp, *grad, *qref, *qweight;
+  CeedElemTopology topology = CEED_TOPOLOGY_QUAD;
+
+  PetscFunctionBeginUser;
+  PetscCall(Topology(dm, &topology));
+  PetscCall(PetscMalloc4(nq * nodes, &interp, dim * nq * nodes, &grad, nq * dim, &qref, nq, &qweight));
+  for (PetscInt q = 0; q < nq; ++q) {
+    for (PetscInt s = 0; s < nodes; ++s) {
+      const PetscInt function = q * nb + s * nc; /* the node's function of component 0 */
+      interp[q * nodes + s]   = T->T[0][function * nc];
+      for (PetscInt d = 0; d < dim; ++d) grad[(d * nq + q) * nodes + s] = T->T[1][function * nc * dim + d];
+    }
+    for (PetscInt d = 0; d < dim; ++d) qref[q * dim + d] = points[q * dim + d];
+    qweight[q] = weights[q];
+  }
+  PetscCallCeed(ceed, CeedBasisCreateH1(ceed, topology, nc, nodes, nq, interp, grad, qref, qweight, basis));
+  PetscCall(PetscFree4(interp, grad, qref, qweight));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMCeedBasis(Ceed ceed, DM dm, PetscFE fe, CeedBasis *basis)
+{
+  PetscQuadrature  quadrature;
+  PetscTabulation  T;
+  PetscInt         dim, nq;
+  const PetscReal *points, *weights;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscFEGetQuadrature(fe, &quadrature));
+  PetscCall(PetscQuadratureGetData(quadrature, &dim, NULL, &nq, &points, &weights));
+  PetscCall(PetscFEGetCellTabulation(fe, 1, &T));
+  PetscCall(BasisFromTabulation(ceed, dm, T, dim, points, weights, basis));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMCeedCoordinates(Ceed ceed, DM dm, PetscFE fe, CeedElemRestriction *restriction, CeedBasis *basis,
+                                  CeedVector *coordinates)
+{
+  DM                 cdm;
+  PetscFE            coordinate_fe;
+  PetscObject        field;
+  PetscClassId       id = 0;
+  PetscQuadrature    quadrature;
+  PetscTabulation    T;
+  PetscInt           dim, nq, n;
+  const PetscReal   *points, *weights;
+  Vec                local;
+  const PetscScalar *x;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetCoordinateDM(dm, &cdm));
+  PetscCall(DMGetField(cdm, 0, NULL, &field));
+  if (field) PetscCall(PetscObjectGetClassId(field, &id));
+  if (id == PETSCFE_CLASSID) {
+    coordinate_fe = (PetscFE)field;
+    PetscCall(PetscObjectReference(field));
+  } else {
+    PetscInt       cdim, start;
+    DMPolytopeType type;
+    PetscCall(DMGetCoordinateDim(dm, &cdim));
+    PetscCall(DMPlexGetHeightStratum(dm, 0, &start, NULL));
+    PetscCall(DMPlexGetCellType(dm, start, &type));
+    PetscCall(PetscFECreateLagrange(PETSC_COMM_SELF, cdim, cdim, DMPolytopeTypeGetNumVertices(type) == cdim + 1, 1,
+                                    PETSC_DETERMINE, &coordinate_fe));
+  }
+  PetscCall(PetscFEGetQuadrature(fe, &quadrature));
+  PetscCall(PetscQuadratureGetData(quadrature, &dim, NULL, &nq, &points, &weights));
+  PetscCall(PetscFECreateTabulation(coordinate_fe, 1, nq, points, 1, &T));
+  PetscCall(BasisFromTabulation(ceed, dm, T, dim, points, weights, basis));
+  PetscCall(PetscTabulationDestroy(&T));
+  PetscCall(PetscFEDestroy(&coordinate_fe));
+  PetscCall(FEMCeedRestriction(ceed, cdm, 0, restriction));
+  PetscCall(DMGetCoordinatesLocal(dm, &local));
+  PetscCall(VecGetLocalSize(local, &n));
+  PetscCallCeed(ceed, CeedVectorCreate(ceed, n, coordinates));
+  PetscCall(VecGetArrayRead(local, &x));
+  PetscCallCeed(ceed, CeedVectorSetArray(*coordinates, CEED_MEM_HOST, CEED_COPY_VALUES, (CeedScalar *)x));
+  PetscCall(VecRestoreArrayRead(local, &x));
+  PetscFunctionReturn(0);
+}
