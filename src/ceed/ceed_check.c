@@ -176,11 +176,13 @@ PetscErrorCode FEMCeedCheckSpaces(DM dm, const char name[], PetscReal tol)
     PetscInt       ncomp, dim, start;
     DMPolytopeType type;
     const char    *field_name;
+    char           label[64];
 
     PetscCall(DMGetField(dm, f, NULL, &field));
     PetscCall(PetscObjectGetClassId(field, &id));
     if (id != PETSCFE_CLASSID) continue;
     PetscCall(PetscObjectGetName(field, &field_name));
+    PetscCall(PetscStrncpy(label, field_name, sizeof(label))); /* the clones below may rename the field */
     /* the field alone, without boundary conditions (every node free), and a fresh weak form
        for each matrix: PetscDSSetJacobian keeps a kernel it is given NULL for */
     for (CheckKind kind = MASS; kind <= LAPLACIAN; ++kind) {
@@ -197,7 +199,7 @@ PetscErrorCode FEMCeedCheckSpaces(DM dm, const char name[], PetscReal tol)
     PetscCall(PetscPrintf(PetscObjectComm((PetscObject)dm),
                           "fsiopt: libCEED check: %s field %" PetscInt_FMT " (%s, %" PetscInt_FMT
                           " components, %" PetscInt_FMT "D %s cells): mass %.2e, Laplacian %.2e relative to PETSc's\n",
-                          name, f, field_name, ncomp, dim, DMPolytopeTypes[type], (double)mass, (double)laplacian));
+                          name, f, label, ncomp, dim, DMPolytopeTypes[type], (double)mass, (double)laplacian));
     PetscCheck(mass <= tol && laplacian <= tol, PetscObjectComm((PetscObject)dm), PETSC_ERR_PLIB,
                "libCEED check: %s field %" PetscInt_FMT
                ": mass %.2e, Laplacian %.2e differ from PETSc's by more than %g",
