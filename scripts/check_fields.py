@@ -115,7 +115,7 @@ def paraview_readers():
         from vtkmodules.vtkIOXdmf2 import vtkXdmfReader
         from vtkmodules.vtkIOXdmf3 import vtkXdmf3Reader
     except ImportError as e:
-        return None, f"no VTK XDMF readers ({e}; Debian: python3-paraview)"
+        return None, f"no VTK XDMF readers ({e}), Debian: python3-paraview"
 
     def xdmf2(path):
         r = vtkXdmfReader()
