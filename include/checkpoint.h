@@ -32,6 +32,8 @@ PetscErrorCode CheckpointInt(Checkpoint, const char name[], PetscInt *, PetscBoo
 /* in the current group; for state a set-up may add to an older checkpoint's */
 PetscErrorCode CheckpointHasAttribute(Checkpoint, const char name[], PetscBool *has);
 PetscErrorCode CheckpointReal(Checkpoint, const char name[], PetscReal *, PetscBool load);
+/* files only: value[len], cut to len - 1 characters on load */
+PetscErrorCode CheckpointString(Checkpoint, const char name[], char value[], size_t len, PetscBool load);
 /* A local vector in a DM's local layout (in a file through its global vector: the owners'
    values). */
 PetscErrorCode CheckpointLocalVec(Checkpoint, const char name[], DM, Vec local, PetscBool load);

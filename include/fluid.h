@@ -55,6 +55,8 @@ PetscErrorCode FluidGetTime(Fluid, PetscReal *);
 PetscErrorCode FluidEnableMeshMotion(Fluid); /* before FluidSetUp */
 PetscErrorCode FluidSetMeshDisplacement(Fluid, Vec displacement);
 PetscErrorCode FluidGetMeshDisplacement(Fluid, Vec *displacement);
+/* the mesh velocity of the last step, a local vector of its own DM (NULL, NULL: fixed mesh) */
+PetscErrorCode FluidGetMeshVelocity(Fluid, DM *, Vec *local);
 PetscErrorCode FluidErrors(Fluid, ErrorTable *);
 PetscErrorCode FluidGetCounts(Fluid, SolverCounts *);
 /* moving meshes: the smallest ratio of a cell corner's area (3D: volume) to its reference

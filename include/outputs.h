@@ -7,6 +7,7 @@
 #include "interface.h"
 #include "coupling.h"
 #include "probes.h"
+#include "fields.h"
 /* What a run writes at each step it completes (probes.csv, the fields of -write_fields),
    behind one object, so that a new per-step output is added here and nowhere else.
    history.csv is the coupling method's (coupling.c), summary.json the report's. */
@@ -17,7 +18,9 @@ PetscErrorCode OutputsCreate(const RunParams *, const Scene *, PetscInt dim, Flu
 /* the state at the end of `step` (0: the initial state) */
 PetscErrorCode OutputsRecord(Outputs, PetscInt step);
 PetscErrorCode OutputsGetProbes(Outputs, Probes *);      /* for checkpoints; may be NULL */
-PetscErrorCode OutputsWriteFields(Outputs, PetscBool *); /* -write_fields */
+PetscErrorCode OutputsGetFields(Outputs, FieldWriter *); /* for checkpoints; NULL without -write_fields */
+/* the files a restart continues, once its checkpoint is loaded; else new ones, before step 0 */
+PetscErrorCode OutputsOpen(Outputs);
 /* completes the files under their final names; the quantities of summary.json */
 PetscErrorCode OutputsFinish(Outputs, QuantityTable *);
 PetscErrorCode OutputsDestroy(Outputs *); /* leaves unfinished files as .partial */

@@ -5,6 +5,7 @@
 #include "structure.h"
 #include "coupling.h"
 #include "probes.h"
+#include "fields.h"
 #include "summary.h"
 
 /* A run's checkpoints (checkpoint.h): the options, and the whole state to or from a file. */
@@ -18,10 +19,10 @@ typedef struct {
 } RunCheckpointParams;
 
 /* restartable: the coupling method (if any) keeps all its state in checkpoints. */
-PetscErrorCode RunCheckpointSetFromOptions(const RunParams *, PetscBool separate_ranks, PetscBool fields,
-                                           PetscBool restartable, RunCheckpointParams *);
+PetscErrorCode RunCheckpointSetFromOptions(const RunParams *, PetscBool separate_ranks, PetscBool restartable,
+                                           RunCheckpointParams *);
 /* What the next step needs, to or from `path`; `step` is the step the state ends. A load
    checks that the file was written with the same dt, unknowns and ranks. */
 PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, const RunParams *, const RunSummary *,
-                             Fluid, Structure, Coupling, Probes);
+                             Fluid, Structure, Coupling, Probes, FieldWriter);
 #endif

@@ -1,18 +1,30 @@
 #!/usr/bin/env python3
 """Checks <output_dir>/fields.xdmf against <output_dir>/fields.h5 (fsiopt -write_fields).
 
-usage: scripts/check_fields.py OUTPUT_DIR
+usage: scripts/check_fields.py [--readers auto|require|off] OUTPUT_DIR
 
-Fails (exit 1, one line) when the XDMF does not parse, refers to a dataset the HDF5 file
-lacks or gives it other dimensions, when a topology refers to a vertex the geometry lacks,
-or when a value is not finite. Otherwise prints a summary: times, grids, max |velocity|."""
+Fails (exit 1, one line) when the XDMF does not parse, names a grid twice, lists a time
+twice or out of order, refers to a dataset the HDF5 file lacks or gives it other
+dimensions, declares an attribute ParaView would not colour by (not Center="Node", a
+Vector without 3 components, a Scalar with more than one), when a topology refers to a
+vertex the geometry lacks, or when a value is not finite.
+Then it opens the XDMF with the three readers ParaView offers for it: XDMFReader
+(vtkXdmfReader, Xdmf2), Xdmf3ReaderS and Xdmf3ReaderT (vtkXdmf3Reader with
+FileSeriesAsTime 0 and 1), and fails unless each gives every time, each grid with its
+points (the geometry), cells and attributes equal to the HDF5 datasets (1e-12). The
+readers come with Debian's python3-paraview; without them (--readers auto) that check is
+skipped and the summary says so; --readers require fails instead, off skips it.
+Otherwise prints a summary: times, grids, max |velocity|, the readers' verdict."""
 import math
 import os
+import re
 import sys
 import xml.etree.ElementTree as ET
 
 import h5py
 import numpy as np
+
+TOLERANCE = 1e-12  # relative: the readers copy the doubles, nothing is computed
 
 
 def fail(message):
@@ -39,15 +51,13 @@ def dataset(h5, item, where):
     return data
 
 
-def main():
-    if len(sys.argv) != 2:
-        fail("usage: check_fields.py OUTPUT_DIR")
-    out = sys.argv[1]
-    xdmf, h5name = os.path.join(out, "fields.xdmf"), os.path.join(out, "fields.h5")
-    for path in (xdmf, h5name):
-        if not os.path.isfile(path):
-            partial = " (fields.*.partial only: the run did not complete)" if any(os.path.isfile(p + ".partial") for p in (xdmf, h5name)) else ""
-            fail(f"{path}: no such file{partial}")
+def base_name(name):
+    """fluid_step_00010 -> fluid: the grid a per-time name belongs to"""
+    return re.sub(r"_step_\d+$", "", name)
+
+
+def read_series(xdmf, h5name):
+    """[(time, [(grid name, cells, geometry, {attribute: data})])] after the XML-vs-HDF5 checks"""
     try:
         root = ET.parse(xdmf).getroot()
     except ET.ParseError as e:
@@ -55,23 +65,24 @@ def main():
     series = root.find("Domain/Grid")
     if series is None or series.get("CollectionType") != "Temporal":
         fail(f"{xdmf}: expected Domain/Grid with CollectionType=\"Temporal\"")
-
-    times, grids, vmax = [], set(), {}
+    names = [g.get("Name") for g in root.iter("Grid")]
+    twice = sorted({n for n in names if names.count(n) > 1})
+    if twice:
+        fail(f"{xdmf}: grid names used more than once: {', '.join(map(str, twice))}")
+    out = []
     with h5py.File(h5name, "r") as h5:
         for step in series.findall("Grid"):
             time = step.find("Time")
             if time is None:
                 fail(f"{xdmf}: grid {step.get('Name')} has no Time")
             t = float(time.get("Value"))
-            if times and t <= times[-1]:
-                fail(f"{xdmf}: grid {step.get('Name')}: time {t} does not increase")
-            times.append(t)
+            if out and t <= out[-1][0]:
+                fail(f"{xdmf}: grid {step.get('Name')}: time {t} is listed after {out[-1][0]}")
+            grids = []
             for grid in step.findall("Grid"):
                 name = grid.get("Name")
                 where = f"{step.get('Name')}/{name}"
-                grids.add(name)
-                topology = grid.find("Topology")
-                geometry = grid.find("Geometry")
+                topology, geometry = grid.find("Topology"), grid.find("Geometry")
                 if topology is None or geometry is None:
                     fail(f"{where}: needs a Topology and a Geometry")
                 cells = dataset(h5, topology.find("DataItem"), where + " topology")
@@ -80,16 +91,133 @@ def main():
                 x = dataset(h5, geometry.find("DataItem"), where + " geometry")
                 if cells.size and (cells.min() < 0 or cells.max() >= x.shape[0]):
                     fail(f"{where}: topology refers to vertices outside 0..{x.shape[0] - 1}")
+                attributes = {}
                 for attribute in grid.findall("Attribute"):
-                    a = dataset(h5, attribute.find("DataItem"), f"{where} {attribute.get('Name')}")
+                    aname, kind = attribute.get("Name"), attribute.get("AttributeType")
+                    a = dataset(h5, attribute.find("DataItem"), f"{where} {aname}")
                     if a.shape[0] != x.shape[0]:
-                        fail(f"{where}: attribute {attribute.get('Name')} has {a.shape[0]} values for {x.shape[0]} vertices")
-                    if attribute.get("Name") == "velocity":
-                        vmax[name] = max(vmax.get(name, 0.0), float(np.max(np.linalg.norm(a, axis=1))) if a.size else 0.0)
-    if not times:
+                        fail(f"{where}: attribute {aname} has {a.shape[0]} values for {x.shape[0]} vertices")
+                    columns = a.shape[1] if a.ndim > 1 else 1
+                    if attribute.get("Center") != "Node" or (kind, columns) not in (("Scalar", 1), ("Vector", 3)):
+                        fail(f"{where}: attribute {aname}: Center {attribute.get('Center')}, {kind} of {columns} "
+                             "components; ParaView colours by Node Scalars of 1 and Vectors of 3")
+                    attributes[aname] = a
+                grids.append((name, cells, x, attributes))
+            out.append((t, grids))
+    if not out:
         fail(f"{xdmf}: no time in the series")
+    return out
+
+
+def paraview_readers():
+    """{ParaView's name: a function making the reader of a file}, or the reason there is none"""
+    try:
+        from vtkmodules.vtkIOXdmf2 import vtkXdmfReader
+        from vtkmodules.vtkIOXdmf3 import vtkXdmf3Reader
+    except ImportError as e:
+        return None, f"no VTK XDMF readers ({e}), Debian: python3-paraview"
+
+    def xdmf2(path):
+        r = vtkXdmfReader()
+        r.SetFileName(path)
+        return r
+
+    def xdmf3(as_time):
+        def make(path):
+            r = vtkXdmf3Reader()
+            r.SetFileName(path)
+            r.SetFileSeriesAsTime(as_time)  # what ParaView's Xdmf3ReaderS (0) and Xdmf3ReaderT (1) set
+            return r
+        return make
+    return {"XDMFReader": xdmf2, "Xdmf3ReaderS": xdmf3(0), "Xdmf3ReaderT": xdmf3(1)}, None
+
+
+def leaves(data):
+    """[(name or None, dataset)] of a composite output, in order"""
+    from vtkmodules.vtkCommonDataModel import vtkCompositeDataSet, vtkDataObjectTreeIterator
+    it = vtkDataObjectTreeIterator()
+    it.SetDataSet(data)
+    it.InitTraversal()
+    found = []
+    while not it.IsDoneWithTraversal():
+        meta = it.GetCurrentMetaData()
+        name = meta.Get(vtkCompositeDataSet.NAME()) if meta is not None and meta.Has(vtkCompositeDataSet.NAME()) else None
+        found.append((name, it.GetCurrentDataObject()))
+        it.GoToNextItem()
+    return found
+
+
+def differs(got, want):
+    scale = max(1.0, float(np.abs(want).max()) if want.size else 0.0)
+    return got.shape != want.shape or (want.size and float(np.abs(got - want).max()) > TOLERANCE * scale)
+
+
+def check_reader(label, make, xdmf, series):
+    """Every time, grid, point, cell and attribute as the HDF5 datasets have them."""
+    from vtkmodules.util.numpy_support import vtk_to_numpy
+    from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
+    reader = make(xdmf)
+    reader.UpdateInformation()
+    info, key = reader.GetOutputInformation(0), vtkStreamingDemandDrivenPipeline.TIME_STEPS()
+    times = list(info.Get(key)) if info.Has(key) else []
+    want = [t for t, _ in series]
+    if len(times) != len(want) or any(abs(a - b) > TOLERANCE * max(1.0, abs(b)) for a, b in zip(times, want)):
+        fail(f"{label}: times {times}, the XDMF lists {want}")
+    for t, grids in series:
+        reader.UpdateTimeStep(t)
+        blocks = leaves(reader.GetOutputDataObject(0))
+        if len(blocks) != len(grids):
+            fail(f"{label} at t = {t:g}: {len(blocks)} blocks for {len(grids)} grids")
+        for (name, data), (gname, cells, x, attributes) in zip(blocks, grids):
+            where = f"{label} at t = {t:g}, {gname}"
+            if name is not None and name != gname:
+                fail(f"{where}: the reader names the block {name}")
+            if data.GetNumberOfCells() != cells.shape[0]:
+                fail(f"{where}: {data.GetNumberOfCells()} cells, the HDF5 topology has {cells.shape[0]}")
+            points = vtk_to_numpy(data.GetPoints().GetData())[:, :x.shape[1]] if data.GetPoints() else np.zeros((0, 3))
+            if differs(points, x):
+                fail(f"{where}: points differ from the HDF5 geometry ({points.shape[0]} for {x.shape[0]})")
+            for aname, a in attributes.items():
+                array = data.GetPointData().GetArray(aname)
+                if array is None:
+                    fail(f"{where}: no point array {aname}")
+                if differs(vtk_to_numpy(array).reshape(a.shape), a):
+                    fail(f"{where}: point array {aname} differs from the HDF5 dataset")
+
+
+def main():
+    args = sys.argv[1:]
+    mode = "auto"
+    if len(args) == 3 and args[0] == "--readers" and args[1] in ("auto", "require", "off"):
+        mode, args = args[1], args[2:]
+    if len(args) != 1:
+        fail("usage: check_fields.py [--readers auto|require|off] OUTPUT_DIR")
+    out = args[0]
+    xdmf, h5name = os.path.join(out, "fields.xdmf"), os.path.join(out, "fields.h5")
+    for path in (xdmf, h5name):
+        if not os.path.isfile(path):
+            partial = " (fields.*.partial only: the run did not complete)" if any(os.path.isfile(p + ".partial") for p in (xdmf, h5name)) else ""
+            fail(f"{path}: no such file{partial}")
+    series = read_series(xdmf, h5name)
+    vmax, grids = {}, set()
+    for _, step in series:
+        for name, _, _, attributes in step:
+            grids.add(base_name(name))
+            if "velocity" in attributes and attributes["velocity"].size:
+                v = float(np.max(np.linalg.norm(attributes["velocity"], axis=1)))
+                vmax[base_name(name)] = max(vmax.get(base_name(name), 0.0), v)
+    readers, why = (None, "--readers off") if mode == "off" else paraview_readers()
+    if readers is None and mode == "require":
+        fail(f"readers: {why}")
+    if readers:
+        for label, make in readers.items():
+            check_reader(label, make, xdmf, series)
+        verdict = f"readers {', '.join(readers)} agree with the HDF5 datasets"
+    else:
+        verdict = f"readers skipped: {why}"
+    times = [t for t, _ in series]
     print(f"check_fields: {out}: {len(times)} times in [{times[0]:g}, {times[-1]:g}], grids {', '.join(sorted(grids))}"
-          + "".join(f", max |velocity| ({g}) {v:.6e}" for g, v in sorted(vmax.items())))
+          + "".join(f", max |velocity| ({g}) {v:.6e}" for g, v in sorted(vmax.items())) + f"; {verdict}")
     return 0 if all(math.isfinite(v) for v in vmax.values()) else 1
 
 

@@ -405,6 +405,14 @@ PetscErrorCode FluidGetMeshDisplacement(Fluid f, Vec *displacement)
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode FluidGetMeshVelocity(Fluid f, DM *dm, Vec *local)
+{
+  PetscFunctionBeginUser;
+  *dm    = f->moving ? f->dm_aux : NULL;
+  *local = f->moving ? f->z_local : NULL;
+  PetscFunctionReturn(0);
+}
+
 /* The scene's closed-form motion d(X, t) at the reference vertices, with the scene's context. */
 PetscErrorCode FluidPrescribedDisplacement(Fluid f, FieldFn motion, PetscReal t, Vec displacement)
 {

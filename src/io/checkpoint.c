@@ -199,6 +199,27 @@ PetscErrorCode CheckpointReal(Checkpoint cp, const char name[], PetscReal *value
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode CheckpointString(Checkpoint cp, const char name[], char value[], size_t len, PetscBool load)
+{
+  PetscViewer viewer = cp->viewer;
+  PetscBool   has;
+  char       *read = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCheck(viewer, PETSC_COMM_SELF, PETSC_ERR_SUP, "a checkpoint in memory keeps no strings ('%s')", name);
+  if (!load) {
+    PetscCall(PetscViewerHDF5WriteAttribute(viewer, NULL, name, PETSC_STRING, value));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(PetscViewerHDF5HasAttribute(viewer, NULL, name, &has));
+  PetscCheck(has, PetscObjectComm((PetscObject)viewer), PETSC_ERR_FILE_UNEXPECTED,
+             "option -restart: the checkpoint has no attribute '%s': not an fsiopt checkpoint of this set-up", name);
+  PetscCall(PetscViewerHDF5ReadAttribute(viewer, NULL, name, PETSC_STRING, NULL, &read));
+  PetscCall(PetscStrncpy(value, read, len));
+  PetscCall(PetscFree(read));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode CheckpointLocalVec(Checkpoint cp, const char name[], DM dm, Vec local, PetscBool load)
 {
   Vec global;

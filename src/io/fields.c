@@ -1,32 +1,9 @@
-#include "fields.h"
+#include <time.h>
+#include <unistd.h>
+#include "fields_impl.h"
 #include "fem.h"
 #include "options.h"
 #include "output.h"
-#include <petscviewerhdf5.h>
-
-/* One grid. Vertices are gathered on the root and put in the DM's global vertex order,
-   so the topology is written once although the fluid's coordinates change every step. */
-typedef struct {
-  const char *name, *field[2];
-  PetscBool   deform; /* geometry = coordinates + first field */
-  PetscInt    nfields, nc[2];
-  PetscInt    dim, nv, ncells, nvertices; /* the same on every rank */
-  PetscInt    nown, *own;                 /* vertex points this rank owns */
-  PetscInt   *index;                      /* root: global number of each gathered vertex */
-} Part;
-
-struct _p_FieldWriter {
-  MPI_Comm      comm;
-  PetscMPIInt   rank;
-  Fluid         fluid;
-  Structure     structure;
-  Part          part[2];
-  PetscInt      interval, steps, nwritten, *written;
-  PetscReal     t0, dt;
-  char          dir[PETSC_MAX_PATH_LEN], path[PETSC_MAX_PATH_LEN], partial[PETSC_MAX_PATH_LEN];
-  PetscViewer   viewer; /* root only */
-  PetscLogEvent event;
-};
 
 /* Concatenates every rank's n values on the root, in rank order. */
 static PetscErrorCode GatherOnRoot(MPI_Comm comm, PetscInt n, MPI_Datatype type, const void *send, void **recv,
@@ -64,23 +41,78 @@ static PetscErrorCode WriteArray(PetscViewer viewer, const char name[], PetscInt
   PetscFunctionReturn(0);
 }
 
+/* Where a grid's fields live on this rank: each in a local vector with its own section
+   (the fluid's mesh velocity is on a DM of its own). */
+typedef struct {
+  DM           dm; /* NULL: this rank holds no part of the grid */
+  PetscSection section[FIELDS_MAX];
+  PetscInt     number[FIELDS_MAX]; /* the field's number in its section */
+  Vec          local[FIELDS_MAX];
+  Vec          borrowed; /* the fluid's local solution, returned by SourcesRestore */
+} Sources;
+
+/* values = PETSC_FALSE: the sections only */
+static PetscErrorCode SourcesGet(FieldWriter w, PetscInt p, PetscBool values, Sources *s)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(s, sizeof(*s)));
+  if (p == 0 && w->fluid) {
+    DM  aux;
+    Vec z, x;
+
+    PetscCall(FluidGetDM(w->fluid, &s->dm));
+    PetscCall(DMGetLocalSection(s->dm, &s->section[0]));
+    s->section[1] = s->section[0];
+    s->number[1]  = 1;
+    if (values) {
+      /* the global solution lacks the Dirichlet values */
+      PetscCall(FluidGetSolution(w->fluid, &x));
+      PetscCall(DMGetLocalVector(s->dm, &s->borrowed));
+      PetscCall(FEMGlobalToLocal(s->dm, x, s->borrowed));
+      s->local[0] = s->local[1] = s->borrowed;
+    }
+    PetscCall(FluidGetMeshVelocity(w->fluid, &aux, &z));
+    if (aux) {
+      PetscCall(DMGetLocalSection(aux, &s->section[2]));
+      s->local[2] = z;
+    }
+  } else if (p == 1 && w->structure) {
+    PetscCall(StructureGetDM(w->structure, &s->dm));
+    PetscCall(DMGetLocalSection(s->dm, &s->section[0]));
+    if (values) PetscCall(StructureGetDisplacementLocal(w->structure, &s->local[0]));
+  }
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode SourcesRestore(Sources *s)
+{
+  PetscFunctionBeginUser;
+  if (s->borrowed) PetscCall(DMRestoreLocalVector(s->dm, &s->borrowed));
+  PetscFunctionReturn(0);
+}
+
+void FieldsDataset(const Part *P, PetscInt k, const char **name, PetscInt *columns)
+{
+  *name    = k ? P->field[k - 1] : "geometry";
+  *columns = k ? (P->nc[k - 1] > 1 ? 3 : P->nc[k - 1]) : P->dim;
+}
+
 #define MAX_CELL_VERTICES 8
 
-/* dm is NULL on ranks that do not hold this part. Writes /<name>/topology. */
-static PetscErrorCode PartSetUp(FieldWriter w, Part *P, DM dm)
+/* The grid's cells and owned vertices; its topology is kept on the root for FieldsWriteHeader. */
+static PetscErrorCode PartSetUp(FieldWriter w, Part *P, const Sources *src)
 {
-  PetscInt  info[2] = {0, 0}, ncells = 0, *cells = NULL, *global = NULL, *gathered, total;
+  PetscInt  info[2] = {0, 0}, ncells = 0, *cells = NULL, *global = NULL, total;
   PetscBool bad = PETSC_FALSE;
+  DM        dm  = src->dm;
 
   PetscFunctionBeginUser;
   if (dm) {
     IS              vnum, cnum;
     const PetscInt *vn, *cn;
     PetscInt        vStart, vEnd, cStart, cEnd;
-    PetscSection    s;
 
     PetscCall(DMGetCoordinateDim(dm, &info[0]));
-    PetscCall(DMGetLocalSection(dm, &s));
     PetscCall(DMPlexGetDepthStratum(dm, 0, &vStart, &vEnd));
     PetscCall(DMPlexGetHeightStratum(dm, 0, &cStart, &cEnd));
     PetscCall(DMPlexGetVertexNumbering(dm, &vnum));
@@ -96,7 +128,7 @@ static PetscErrorCode PartSetUp(FieldWriter w, Part *P, DM dm)
       /* a Lagrange field keeps its vertex value at the vertex point: one dof per component */
       for (PetscInt f = 0; f < P->nfields; ++f) {
         PetscInt ndof;
-        PetscCall(PetscSectionGetFieldDof(s, v, f, &ndof));
+        PetscCall(PetscSectionGetFieldDof(src->section[f], v, src->number[f], &ndof));
         if (ndof != (P->nc[f] < 0 ? info[0] : P->nc[f])) bad = PETSC_TRUE;
       }
     }
@@ -141,52 +173,60 @@ static PetscErrorCode PartSetUp(FieldWriter w, Part *P, DM dm)
     /* DMPlex lists a hexahedron's bottom face with its normal outward, XDMF (VTK) inward */
     if (P->nv == 8) PetscCall(DMPlexInvertCell(DM_POLYTOPE_HEXAHEDRON, &cells[c * P->nv]));
   }
-  PetscCall(GatherOnRoot(w->comm, ncells * P->nv, MPIU_INT, cells, (void **)&gathered, &total));
+  PetscCall(GatherOnRoot(w->comm, ncells * P->nv, MPIU_INT, cells, (void **)&P->cells, &total));
   P->ncells = total / P->nv;
-  if (!w->rank) {
-    IS   is;
-    char group[64];
-
-    PetscCall(PetscSNPrintf(group, sizeof(group), "/%s", P->name));
-    PetscCall(ISCreateGeneral(PETSC_COMM_SELF, total, gathered, PETSC_USE_POINTER, &is));
-    PetscCall(ISSetBlockSize(is, P->nv));
-    PetscCall(PetscObjectSetName((PetscObject)is, "topology"));
-    PetscCall(PetscViewerHDF5PushGroup(w->viewer, group));
-    PetscCall(ISView(is, w->viewer));
-    PetscCall(PetscViewerHDF5PopGroup(w->viewer));
-    PetscCall(ISDestroy(&is));
-  }
   PetscCall(GatherOnRoot(w->comm, P->nown, MPIU_INT, global, (void **)&P->index, &P->nvertices));
   PetscCallMPI(MPI_Bcast(&P->nvertices, 1, MPIU_INT, 0, w->comm));
   PetscCallMPI(MPI_Bcast(&P->ncells, 1, MPIU_INT, 0, w->comm));
-  PetscCall(PetscFree(gathered));
   PetscCall(PetscFree(cells));
   PetscCall(PetscFree(global));
   PetscFunctionReturn(0);
 }
 
-/* dm and local are NULL on ranks that do not hold this part. */
-static PetscErrorCode PartWrite(FieldWriter w, const Part *P, DM dm, Vec local, const char group[], PetscReal t)
+PetscErrorCode FieldsWriteHeader(FieldWriter w, PetscViewer viewer)
 {
-  const char    *name[3] = {"geometry", P->field[0], P->field[1]};
-  const PetscInt nq = 1 + P->nfields, bs[3] = {P->dim, P->nc[0], P->nfields > 1 ? P->nc[1] : 0};
-  const PetscInt ncomp = bs[0] + bs[1] + bs[2];
-  /* ParaView takes an XDMF Vector for three components: 2D vectors get a zero z */
-  const PetscInt obs[3] = {bs[0], bs[1] > 1 ? 3 : bs[1], bs[2] > 1 ? 3 : bs[2]};
-  PetscScalar *buf = NULL, *all;
-  PetscInt       total;
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "origin", PETSC_STRING, w->origin));
+  for (PetscInt p = 0; p < 2; ++p) {
+    const Part *P = &w->part[p];
+    IS          is;
+    char        group[64];
+
+    if (!P->nvertices) continue;
+    PetscCall(PetscSNPrintf(group, sizeof(group), "/%s", P->name));
+    PetscCall(ISCreateGeneral(PETSC_COMM_SELF, P->ncells * P->nv, P->cells, PETSC_USE_POINTER, &is));
+    PetscCall(ISSetBlockSize(is, P->nv));
+    PetscCall(PetscObjectSetName((PetscObject)is, "topology"));
+    PetscCall(PetscViewerHDF5PushGroup(viewer, group));
+    PetscCall(ISView(is, viewer));
+    PetscCall(PetscViewerHDF5PopGroup(viewer));
+    PetscCall(ISDestroy(&is));
+  }
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode PartWrite(FieldWriter w, const Part *P, const Sources *src, const char group[], PetscReal t)
+{
+  const PetscInt nq = 1 + P->nfields;
+  PetscInt       bs[1 + FIELDS_MAX], obs[1 + FIELDS_MAX], ncomp = 0, total;
+  const char    *name[1 + FIELDS_MAX];
+  PetscScalar   *buf = NULL, *all;
 
   PetscFunctionBeginUser;
-  if (dm) {
+  for (PetscInt k = 0; k < nq; ++k) {
+    FieldsDataset(P, k, &name[k], &obs[k]);
+    bs[k] = k ? P->nc[k - 1] : P->dim;
+    ncomp += bs[k];
+  }
+  if (src->dm) {
     Vec                X;
-    PetscSection       cs, s;
-    const PetscScalar *x, *u;
+    PetscSection       cs;
+    const PetscScalar *x, *u[FIELDS_MAX];
 
-    PetscCall(DMGetCoordinatesLocal(dm, &X));
-    PetscCall(DMGetCoordinateSection(dm, &cs));
-    PetscCall(DMGetLocalSection(dm, &s));
+    PetscCall(DMGetCoordinatesLocal(src->dm, &X));
+    PetscCall(DMGetCoordinateSection(src->dm, &cs));
     PetscCall(VecGetArrayRead(X, &x));
-    PetscCall(VecGetArrayRead(local, &u));
+    for (PetscInt f = 0; f < P->nfields; ++f) PetscCall(VecGetArrayRead(src->local[f], &u[f]));
     PetscCall(PetscMalloc1(P->nown * ncomp, &buf));
     for (PetscInt i = 0; i < P->nown; ++i) {
       PetscScalar *b = buf + i * ncomp;
@@ -195,17 +235,17 @@ static PetscErrorCode PartWrite(FieldWriter w, const Part *P, DM dm, Vec local, 
       PetscCall(PetscSectionGetOffset(cs, P->own[i], &off));
       for (PetscInt d = 0; d < P->dim; ++d) *b++ = x[off + d];
       for (PetscInt f = 0; f < P->nfields; ++f) {
-        PetscCall(PetscSectionGetFieldOffset(s, P->own[i], f, &off));
-        for (PetscInt c = 0; c < P->nc[f]; ++c) *b++ = u[off + c];
+        PetscCall(PetscSectionGetFieldOffset(src->section[f], P->own[i], src->number[f], &off));
+        for (PetscInt c = 0; c < P->nc[f]; ++c) *b++ = u[f][off + c];
       }
     }
-    PetscCall(VecRestoreArrayRead(local, &u));
+    for (PetscInt f = 0; f < P->nfields; ++f) PetscCall(VecRestoreArrayRead(src->local[f], &u[f]));
     PetscCall(VecRestoreArrayRead(X, &x));
   }
   PetscCall(GatherOnRoot(w->comm, P->nown * ncomp, MPIU_SCALAR, buf, (void **)&all, &total));
   if (!w->rank) {
-    const PetscInt N    = P->nvertices;
-    PetscScalar   *q[3] = {NULL, NULL, NULL};
+    const PetscInt N                 = P->nvertices;
+    PetscScalar   *q[1 + FIELDS_MAX] = {NULL};
 
     for (PetscInt k = 0; k < nq; ++k) PetscCall(PetscCalloc1(N * obs[k], &q[k]));
     for (PetscInt j = 0; j < N; ++j) {
@@ -228,11 +268,24 @@ static PetscErrorCode PartWrite(FieldWriter w, const Part *P, DM dm, Vec local, 
   PetscFunctionReturn(0);
 }
 
+/* Distinguishes this run's fields file from another run's that a restart might find. */
+static PetscErrorCode MakeOrigin(FieldWriter w)
+{
+  PetscFunctionBeginUser;
+  if (!w->rank) {
+    char host[64];
+    PetscCall(PetscGetHostName(host, sizeof(host)));
+    PetscCall(PetscSNPrintf(w->origin, sizeof(w->origin), "%s pid %d at %ld", host, (int)getpid(), (long)time(NULL)));
+  }
+  PetscCallMPI(MPI_Bcast(w->origin, sizeof(w->origin), MPI_CHAR, 0, w->comm));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FieldWriterCreate(MPI_Comm comm, const RunParams *params, Fluid fluid, Structure structure,
                                  FieldWriter *writer)
 {
   FieldWriter w;
-  PetscBool   on = PETSC_FALSE, help, ok = PETSC_TRUE,
+  PetscBool   on = PETSC_FALSE, help, moving = PETSC_FALSE,
             exists[2] = {fluid ? PETSC_TRUE : PETSC_FALSE, structure ? PETSC_TRUE : PETSC_FALSE};
   PetscInt interval   = 10;
 
@@ -248,6 +301,13 @@ PetscErrorCode FieldWriterCreate(MPI_Comm comm, const RunParams *params, Fluid f
   PetscOptionsEnd();
   help = OptionsHelpRequested();
   if (!on || help) PetscFunctionReturn(0); /* a -help run runs no step: nothing to show */
+  if (fluid) {
+    DM  aux;
+    Vec z;
+    PetscCall(FluidGetMeshVelocity(fluid, &aux, &z));
+    moving = aux ? PETSC_TRUE : PETSC_FALSE;
+  }
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &moving, 1, MPIU_BOOL, MPI_LOR, comm));
   PetscCall(PetscNew(&w));
   w->comm      = comm;
   w->fluid     = fluid;
@@ -257,14 +317,10 @@ PetscErrorCode FieldWriterCreate(MPI_Comm comm, const RunParams *params, Fluid f
   w->t0        = params->t_start;
   w->dt        = params->dt;
   w->part[0]   = (Part){
-      .name = "fluid", .field = {"velocity", "pressure"},
-           .nfields = 2, .nc = {-1,         1         }
+      .name = "fluid", .field = {"velocity", "pressure", "mesh_velocity"},
+           .nfields = moving ? 3 : 2, .nc = {-1,         1,          -1             }
   };
-  w->part[1] = (Part){
-    .name = "structure", .field = {"displacement", NULL},
-         .nfields = 1, .nc = {-1,             0   },
-         .deform = PETSC_TRUE
-  };
+  w->part[1] = (Part){.name = "structure", .field = {"displacement"}, .nfields = 1, .nc = {-1}, .deform = PETSC_TRUE};
   PetscCall(PetscMalloc1(w->steps + 1, &w->written));
   PetscCall(PetscStrncpy(w->dir, params->output_dir, sizeof(w->dir)));
   PetscCall(PetscSNPrintf(w->path, sizeof(w->path), "%s/fields.h5", w->dir));
@@ -272,30 +328,41 @@ PetscErrorCode FieldWriterCreate(MPI_Comm comm, const RunParams *params, Fluid f
   PetscCall(PetscLogEventRegister("FieldsWrite", PETSC_VIEWER_CLASSID, &w->event));
   PetscCallMPI(MPI_Comm_rank(comm, &w->rank));
   *writer = w; /* from here on FieldWriterDestroy cleans up after a failure */
-  if (!w->rank) {
-    FILE *fp;
-
-    PetscCall(OutputMakeDirectories(w->dir));
-    /* HDF5's own failure is a multi-line trace: test the path first */
-    fp = fopen(w->partial, "w");
-    ok = fp ? PETSC_TRUE : PETSC_FALSE;
-    if (fp) fclose(fp);
-  }
-  PetscCallMPI(MPI_Bcast(&ok, 1, MPIU_BOOL, 0, comm));
-  PetscCheck(ok, comm, PETSC_ERR_FILE_OPEN, "option -write_fields: cannot create %s", w->partial);
-  if (!w->rank) PetscCall(PetscViewerHDF5Open(PETSC_COMM_SELF, w->partial, FILE_MODE_WRITE, &w->viewer));
-  PetscCall(OutputRegisterSetUpFile(w->partial));
+  PetscCall(MakeOrigin(w));
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, exists, 2, MPIU_BOOL, MPI_LOR, comm));
-  if (exists[0]) {
-    DM dm = NULL;
-    if (fluid) PetscCall(FluidGetDM(fluid, &dm));
-    PetscCall(PartSetUp(w, &w->part[0], dm));
+  for (PetscInt p = 0; p < 2; ++p) {
+    Sources src;
+    if (!exists[p]) continue;
+    PetscCall(SourcesGet(w, p, PETSC_FALSE, &src));
+    PetscCall(PartSetUp(w, &w->part[p], &src));
   }
-  if (exists[1]) {
-    DM dm = NULL;
-    if (structure) PetscCall(StructureGetDM(structure, &dm));
-    PetscCall(PartSetUp(w, &w->part[1], dm));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FieldWriterOpen(FieldWriter w)
+{
+  PetscBool ok = PETSC_TRUE;
+
+  PetscFunctionBeginUser;
+  if (!w || w->opened) PetscFunctionReturn(0);
+  if (w->restarting) PetscCall(FieldsRestartOpen(w));
+  else {
+    if (!w->rank) {
+      FILE *fp;
+
+      PetscCall(OutputMakeDirectories(w->dir));
+      /* HDF5's own failure is a multi-line trace: test the path first */
+      fp = fopen(w->partial, "w");
+      ok = fp ? PETSC_TRUE : PETSC_FALSE;
+      if (fp) fclose(fp);
+    }
+    PetscCallMPI(MPI_Bcast(&ok, 1, MPIU_BOOL, 0, w->comm));
+    PetscCheck(ok, w->comm, PETSC_ERR_FILE_OPEN, "option -write_fields: cannot create %s", w->partial);
+    if (!w->rank) PetscCall(PetscViewerHDF5Open(PETSC_COMM_SELF, w->partial, FILE_MODE_WRITE, &w->viewer));
+    PetscCall(OutputRegisterSetUpFile(w->partial));
+    if (!w->rank) PetscCall(FieldsWriteHeader(w, w->viewer));
   }
+  w->opened = PETSC_TRUE;
   PetscFunctionReturn(0);
 }
 
@@ -304,27 +371,17 @@ PetscErrorCode FieldWriterWrite(FieldWriter w, PetscInt step)
   PetscFunctionBeginUser;
   if (!w || (step % w->interval && step != 0 && step != w->steps)) PetscFunctionReturn(0);
   if (step > w->steps || (w->nwritten && w->written[w->nwritten - 1] >= step)) PetscFunctionReturn(0);
+  PetscCheck(w->opened, w->comm, PETSC_ERR_ORDER, "FieldWriterOpen before FieldWriterWrite");
   PetscCall(PetscLogEventBegin(w->event, 0, 0, 0, 0));
   for (PetscInt p = 0; p < 2; ++p) {
-    DM   dm    = NULL;
-    Vec  local = NULL, x;
-    char group[64];
+    Sources src;
+    char    group[64];
 
     if (!w->part[p].nvertices) continue; /* not in this scene */
-    if (p == 0 && w->fluid) {
-      /* the global solution lacks the Dirichlet values */
-      PetscCall(FluidGetDM(w->fluid, &dm));
-      PetscCall(FluidGetSolution(w->fluid, &x));
-      PetscCall(DMGetLocalVector(dm, &local));
-      PetscCall(FEMGlobalToLocal(dm, x, local));
-    }
-    if (p == 1 && w->structure) {
-      PetscCall(StructureGetDM(w->structure, &dm));
-      PetscCall(StructureGetDisplacementLocal(w->structure, &local));
-    }
+    PetscCall(SourcesGet(w, p, PETSC_TRUE, &src));
     PetscCall(PetscSNPrintf(group, sizeof(group), "/%s/step_%05" PetscInt_FMT, w->part[p].name, step));
-    PetscCall(PartWrite(w, &w->part[p], dm, local, group, w->t0 + step * w->dt));
-    if (p == 0 && w->fluid) PetscCall(DMRestoreLocalVector(dm, &local));
+    PetscCall(PartWrite(w, &w->part[p], &src, group, w->t0 + step * w->dt));
+    PetscCall(SourcesRestore(&src));
   }
   if (!w->rank) PetscCall(PetscViewerFlush(w->viewer));
   w->written[w->nwritten++] = step;
@@ -343,6 +400,8 @@ static PetscErrorCode XdmfItem(MPI_Comm comm, FILE *fp, const char *indent, Pets
   PetscFunctionReturn(0);
 }
 
+/* A grid name per time (fluid_step_00010): with the same name at every time, ParaView's
+   XDMF (Xdmf2) reader and Xdmf3ReaderT list the blocks as fluid, fluid[1], fluid[2], ... */
 static PetscErrorCode XdmfGrid(MPI_Comm comm, FILE *fp, const Part *P, PetscInt step)
 {
   const char *topology = P->dim == 3 ? (P->nv == 8 ? "Hexahedron" : "Tetrahedron")
@@ -351,7 +410,8 @@ static PetscErrorCode XdmfGrid(MPI_Comm comm, FILE *fp, const Part *P, PetscInt 
   char        path[128];
 
   PetscFunctionBeginUser;
-  PetscCall(PetscFPrintf(comm, fp, "      <Grid Name=\"%s\" GridType=\"Uniform\">\n", P->name));
+  PetscCall(
+    PetscFPrintf(comm, fp, "      <Grid Name=\"%s_step_%05" PetscInt_FMT "\" GridType=\"Uniform\">\n", P->name, step));
   PetscCall(PetscFPrintf(comm, fp,
                          "        <Topology TopologyType=\"%s\" NumberOfElements=\"%" PetscInt_FMT
                          "\" NodesPerElement=\"%" PetscInt_FMT "\">\n",
@@ -363,11 +423,15 @@ static PetscErrorCode XdmfGrid(MPI_Comm comm, FILE *fp, const Part *P, PetscInt 
   PetscCall(PetscSNPrintf(path, sizeof(path), "/%s/step_%05" PetscInt_FMT "/geometry", P->name, step));
   PetscCall(XdmfItem(comm, fp, "          ", P->nvertices, P->dim, "Float", sizeof(PetscScalar), path));
   PetscCall(PetscFPrintf(comm, fp, "        </Geometry>\n"));
-  for (PetscInt f = 0; f < P->nfields; ++f) {
-    PetscCall(PetscFPrintf(comm, fp, "        <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"Node\">\n",
-                           P->field[f], P->nc[f] > 1 ? "Vector" : "Scalar"));
-    PetscCall(PetscSNPrintf(path, sizeof(path), "/%s/step_%05" PetscInt_FMT "/%s", P->name, step, P->field[f]));
-    PetscCall(XdmfItem(comm, fp, "          ", P->nvertices, P->nc[f] > 1 ? 3 : 1, "Float", sizeof(PetscScalar), path));
+  for (PetscInt k = 1; k <= P->nfields; ++k) {
+    const char *name;
+    PetscInt    columns;
+
+    FieldsDataset(P, k, &name, &columns);
+    PetscCall(PetscFPrintf(comm, fp, "        <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"Node\">\n", name,
+                           columns > 1 ? "Vector" : "Scalar"));
+    PetscCall(PetscSNPrintf(path, sizeof(path), "/%s/step_%05" PetscInt_FMT "/%s", P->name, step, name));
+    PetscCall(XdmfItem(comm, fp, "          ", P->nvertices, columns, "Float", sizeof(PetscScalar), path));
     PetscCall(PetscFPrintf(comm, fp, "        </Attribute>\n"));
   }
   PetscCall(PetscFPrintf(comm, fp, "      </Grid>\n"));
@@ -381,7 +445,7 @@ PetscErrorCode FieldWriterFinish(FieldWriter w)
   PetscBool   renamed = PETSC_TRUE;
 
   PetscFunctionBeginUser;
-  if (!w) PetscFunctionReturn(0);
+  if (!w || !w->opened) PetscFunctionReturn(0);
   if (!w->rank) {
     PetscCall(PetscViewerDestroy(&w->viewer));
     renamed = rename(w->partial, w->path) == 0 ? PETSC_TRUE : PETSC_FALSE;
@@ -422,6 +486,7 @@ PetscErrorCode FieldWriterDestroy(FieldWriter *writer)
   for (PetscInt p = 0; p < 2; ++p) {
     PetscCall(PetscFree(w->part[p].own));
     PetscCall(PetscFree(w->part[p].index));
+    PetscCall(PetscFree(w->part[p].cells));
   }
   PetscCall(PetscFree(w->written));
   PetscCall(PetscFree(*writer));

@@ -89,10 +89,17 @@ PetscErrorCode OutputsGetProbes(Outputs out, Probes *probes)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode OutputsWriteFields(Outputs out, PetscBool *fields)
+PetscErrorCode OutputsGetFields(Outputs out, FieldWriter *fields)
 {
   PetscFunctionBeginUser;
-  *fields = out->fields ? PETSC_TRUE : PETSC_FALSE;
+  *fields = out->fields;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode OutputsOpen(Outputs out)
+{
+  PetscFunctionBeginUser;
+  PetscCall(FieldWriterOpen(out->fields));
   PetscFunctionReturn(0);
 }
 

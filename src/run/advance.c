@@ -8,14 +8,16 @@
 
 static PetscErrorCode WriteCheckpoint(Run run, PetscInt step)
 {
-  PetscInt saved = step;
-  Probes   probes;
+  PetscInt    saved = step;
+  Probes      probes;
+  FieldWriter fields;
 
   PetscFunctionBeginUser;
   PetscCall(OutputsGetProbes(run->outputs, &probes));
+  PetscCall(OutputsGetFields(run->outputs, &fields));
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CHECKPOINT, 0, 0, 0, 0));
   PetscCall(RunCheckpoint(run->checkpoint.file, PETSC_FALSE, &saved, &run->params, &run->summary, run->fluid,
-                          run->structure, run->coupling, probes));
+                          run->structure, run->coupling, probes, fields));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CHECKPOINT, 0, 0, 0, 0));
   run->checkpoint.last = step;
   PetscFunctionReturn(0);

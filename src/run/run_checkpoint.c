@@ -3,8 +3,8 @@
 #include "checkpoint.h"
 #include "options.h"
 
-PetscErrorCode RunCheckpointSetFromOptions(const RunParams *params, PetscBool separate_ranks, PetscBool fields,
-                                           PetscBool restartable, RunCheckpointParams *cp)
+PetscErrorCode RunCheckpointSetFromOptions(const RunParams *params, PetscBool separate_ranks, PetscBool restartable,
+                                           RunCheckpointParams *cp)
 {
   PetscFunctionBeginUser;
   cp->every      = 0;
@@ -22,15 +22,13 @@ PetscErrorCode RunCheckpointSetFromOptions(const RunParams *params, PetscBool se
   PetscCheck(!(cp->every || cp->restarting) || !separate_ranks, PETSC_COMM_WORLD, PETSC_ERR_SUP,
              "option %s: checkpoints need fluid and structure on the same ranks (-structure_ranks 0)",
              cp->restarting ? "-restart" : "-checkpoint_every");
-  cp->possible = !separate_ranks && !fields && restartable ? PETSC_TRUE : PETSC_FALSE;
-  PetscCheck(!cp->restarting || !fields, PETSC_COMM_WORLD, PETSC_ERR_SUP,
-             "option -restart: not with -write_fields (the fields file of a run is written from its start)");
+  cp->possible = !separate_ranks && restartable ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, const RunParams *params,
                              const RunSummary *summary, Fluid fluid, Structure structure, Coupling coupling,
-                             Probes probes)
+                             Probes probes, FieldWriter fields)
 {
   Checkpoint cp;
   PetscReal  dt         = params->dt;
@@ -66,6 +64,7 @@ PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, 
   if (structure) PetscCall(StructureCheckpoint(structure, cp, load));
   if (coupling) PetscCall(CouplingCheckpoint(coupling, cp, load));
   if (probes) PetscCall(ProbesCheckpoint(probes, cp, load));
+  PetscCall(FieldWriterCheckpoint(fields, cp, load));
   PetscCall(CheckpointClose(PETSC_COMM_WORLD, path, load, &cp));
   PetscFunctionReturn(0);
 }

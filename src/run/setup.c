@@ -145,22 +145,26 @@ static PetscErrorCode CheckCeedSpaces(Run run)
 
 static PetscErrorCode CheckpointOrStart(Run run)
 {
-  PetscBool restartable = PETSC_TRUE, fields,
+  PetscBool restartable = PETSC_TRUE, restart,
             separate = run->coupled && (run->fluid_comm != PETSC_COMM_WORLD || run->structure_comm != PETSC_COMM_WORLD);
-  Probes probes;
+  Probes      probes;
+  FieldWriter fields;
 
   PetscFunctionBeginUser;
   if (run->coupling) PetscCall(CouplingIsRestartable(run->coupling, &restartable));
   PetscCall(OutputsGetProbes(run->outputs, &probes));
-  PetscCall(OutputsWriteFields(run->outputs, &fields));
-  PetscCall(RunCheckpointSetFromOptions(&run->params, separate, fields, restartable, &run->checkpoint));
+  PetscCall(OutputsGetFields(run->outputs, &fields));
+  PetscCall(RunCheckpointSetFromOptions(&run->params, separate, restartable, &run->checkpoint));
+  restart         = run->checkpoint.restarting && !run->help;
   run->first_step = 1;
-  if (run->checkpoint.restarting && !run->help) {
+  if (restart) {
     PetscInt restart_step = 0;
     PetscCall(RunCheckpoint(run->checkpoint.restart, PETSC_TRUE, &restart_step, &run->params, &run->summary, run->fluid,
-                            run->structure, run->coupling, probes));
+                            run->structure, run->coupling, probes, fields));
     run->first_step = restart_step + 1;
-  } else PetscCall(OutputsRecord(run->outputs, 0));
+  }
+  PetscCall(OutputsOpen(run->outputs));
+  if (!restart) PetscCall(OutputsRecord(run->outputs, 0));
   PetscFunctionReturn(0);
 }
 
