@@ -59,8 +59,9 @@ build/known_options.c: $(SRC) Makefile
 	@{ echo '/* made by make from the option names in src/ */'; echo '#include <stddef.h>'; \
 	  echo 'const char *const fsiopt_known_options[] = {'; \
 	  grep -ohE '"-[a-z][a-z0-9_]*"' $(SRC) | sort -u | sed 's/$$/,/'; echo 'NULL};'; \
-	  echo 'const char *const fsiopt_flag_options[] = {'; \
-	  grep -ohE 'PetscOptions(Get)?Bool[A-Za-z]*\([^"]*"-[a-z0-9_]+"' $(SRC) | grep -oE '"-[a-z0-9_]+"' | sort -u | sed 's/$$/,/'; \
+	  echo 'const char *const fsiopt_value_options[] = {'; \
+	  grep -ohE '(Options(PositiveReal|NonNegativeReal|RealInRange|IntInRange)\(PetscOptionsObject, *|PetscOptions(Real|Int|Enum|String|EList|IntArray|RealArray|ScalarArray|FList)\(|PetscOptionsGet(Real|Int|String|Enum|IntArray|RealArray|EList)\([^"]*)"-[a-z0-9_]+"' $(SRC) \
+	    | grep -oE '"-[a-z0-9_]+"' | sort -u | sed 's/$$/,/'; \
 	  echo 'NULL};'; } > $@
 
 build/known_options.o: build/known_options.c

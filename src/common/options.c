@@ -304,7 +304,8 @@ static PetscBool IsReadInSolves(const char name[])
   return PETSC_FALSE;
 }
 
-extern const char *const fsiopt_flag_options[];
+/* the options fsiopt reads as numbers, names or strings (build/known_options.c) */
+extern const char *const fsiopt_value_options[];
 
 PetscBool OptionsHelpRequested(void)
 {
@@ -318,20 +319,14 @@ PetscBool OptionsHelpRequested(void)
   return asked ? PETSC_TRUE : PETSC_FALSE;
 }
 
-static PetscBool IsFlag(const char name[])
-{
-  for (const char *const *f = fsiopt_flag_options; *f; ++f)
-    if (!strcmp(*f, name)) return PETSC_TRUE;
-  return PETSC_FALSE;
-}
-
-/* An option of fsiopt's that takes a value, or a solver option of the list above that does */
+/* An option fsiopt reads as a value, or a solver option of the list above that takes one
+   (a literal of src/ that fsiopt only passes on, a PETSc flag among them, is not checked) */
 static PetscBool TakesValue(const char name[])
 {
   char candidate[256];
 
-  if (!strcmp(name, "-help")) return PETSC_FALSE; /* PETSc's, named in help_listing.c */
-  if (IsKnown(name + 1)) return IsFlag(name) ? PETSC_FALSE : PETSC_TRUE;
+  for (const char *const *v = fsiopt_value_options; *v; ++v)
+    if (!strcmp(*v, name)) return PETSC_TRUE;
   for (const char *const *p = solver_prefixes; *p; ++p)
     for (const char *const *o = solver_options; *o; ++o) {
       if (IsReadInSolves(*o) || !strcmp(*o, "log_view") || !strcmp(*o, "options_left") || !strncmp(*o, "malloc", 6) ||
