@@ -141,7 +141,6 @@ static PetscErrorCode PartitionedSetUp(Coupling C)
   Partitioned *pt = (Partitioned *)C->data;
 
   PetscFunctionBeginUser;
-  PetscCall(CouplingProblemCheckSweepable(C->problem));
   pt->rtol = 1e-5;
   pt->atol = 1e-7;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Partitioned (Dirichlet-Neumann) coupling", "coupling");
@@ -162,6 +161,7 @@ static PetscErrorCode PartitionedSetUp(Coupling C)
                              "seed's arrangement) instead of the traction",
                              NULL, pt->relax_velocity, &pt->relax_velocity, NULL));
   PetscOptionsEnd();
+  PetscCall(CouplingProblemCheckSweepable(C->problem)); /* after the options: a bad value is named first */
   pt->u = C->x;
   if (pt->relax_velocity) {
     PetscCall(CouplingProblemCreateInterfaceVector(C->problem, &pt->v));

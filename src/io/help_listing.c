@@ -5,69 +5,34 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include "help.h"
+#include "units.h"
 #include "options.h"
 
 extern const char *const fsiopt_known_options[];
 
-typedef enum {
-  NONE,
-  DENSITY,
-  VISCOSITY,
-  PRESSURE,
-  TIME,
-  VELOCITY,
-  ACCELERATION,
-  JUMP
-} Dimension;
-
 static const struct {
-  const char *name;
-  Dimension   dimension;
+  const char   *name;
+  UnitDimension dimension;
 } dimensional[] = {
-  {"-fluid_density",            DENSITY     },
-  {"-structure_density",        DENSITY     },
-  {"-fluid_viscosity",          VISCOSITY   },
-  {"-structure_youngs_modulus", PRESSURE    },
-  {"-channel_inlet_amplitude",  PRESSURE    },
-  {"-tube_inlet_pressure",      PRESSURE    },
-  {"-dt",                       TIME        },
-  {"-dt_min",                   TIME        },
-  {"-t_start",                  TIME        },
-  {"-t_final",                  TIME        },
-  {"-quantities_window",        TIME        },
-  {"-channel_inlet_duration",   TIME        },
-  {"-tube_inlet_duration",      TIME        },
-  {"-turek_ramp_time",          TIME        },
-  {"-turek_gravity_ramp",       TIME        },
-  {"-turek_mean_velocity",      VELOCITY    },
-  {"-turek_gravity",            ACCELERATION},
-  {"-coupling_tol",             JUMP        },
+  {"-fluid_density",            UNIT_DENSITY     },
+  {"-structure_density",        UNIT_DENSITY     },
+  {"-fluid_viscosity",          UNIT_VISCOSITY   },
+  {"-structure_youngs_modulus", UNIT_PRESSURE    },
+  {"-channel_inlet_amplitude",  UNIT_PRESSURE    },
+  {"-tube_inlet_pressure",      UNIT_PRESSURE    },
+  {"-dt",                       UNIT_TIME        },
+  {"-dt_min",                   UNIT_TIME        },
+  {"-t_start",                  UNIT_TIME        },
+  {"-t_final",                  UNIT_TIME        },
+  {"-quantities_window",        UNIT_TIME        },
+  {"-channel_inlet_duration",   UNIT_TIME        },
+  {"-tube_inlet_duration",      UNIT_TIME        },
+  {"-turek_ramp_time",          UNIT_TIME        },
+  {"-turek_gravity_ramp",       UNIT_TIME        },
+  {"-turek_mean_velocity",      UNIT_VELOCITY    },
+  {"-turek_gravity",            UNIT_ACCELERATION},
+  {"-coupling_tol",             UNIT_JUMP        },
 };
-
-static const char *Unit(const char units[], Dimension d)
-{
-  const PetscBool si = !strcmp(units, "SI") ? PETSC_TRUE : PETSC_FALSE;
-
-  if (!strcmp(units, "nondimensional")) return NULL;
-  switch (d) {
-  case DENSITY:
-    return si ? "kg/m^3" : "g/cm^3";
-  case VISCOSITY:
-    return si ? "Pa s" : "g/(cm s)";
-  case PRESSURE:
-    return si ? "Pa" : "dyn/cm^2";
-  case TIME:
-    return "s";
-  case VELOCITY:
-    return si ? "m/s" : "cm/s";
-  case ACCELERATION:
-    return si ? "m/s^2" : "cm/s^2";
-  case JUMP:
-    return si ? "m/s in the L2 norm over the interface" : "cm/s in the L2 norm over the interface";
-  default:
-    return NULL;
-  }
-}
 
 #define MAX_HELD 512
 static PetscErrorCode (*petsc_help_printf)(MPI_Comm, const char[], ...) = NULL;
@@ -223,7 +188,7 @@ PetscErrorCode HelpListingEnd(const char units[])
       for (size_t k = 0; k < sizeof(dimensional) / sizeof(dimensional[0]); ++k)
         if (!strncmp(line + 2, dimensional[k].name, strlen(dimensional[k].name)) &&
             line[2 + strlen(dimensional[k].name)] == ' ')
-          unit = Unit(units, dimensional[k].dimension);
+          unit = UnitName(units, dimensional[k].dimension);
       if ((tail = strstr(line, " (None)\n"))) *tail = 0; /* PETSc names a manual page here; ours have none */
       else if ((tail = strrchr(line, '\n'))) *tail = 0;
       if (unit && strlen(line) > strlen(unit) && !strcmp(line + strlen(line) - strlen(unit), unit))

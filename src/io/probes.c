@@ -1,4 +1,5 @@
 #include "probes.h"
+#include "units.h"
 #include "output.h"
 #include "options.h"
 #include "checkpoint.h"
@@ -95,10 +96,9 @@ PetscErrorCode ProbesCreate(MPI_Comm comm, PetscInt dim, PetscInt nodes, const P
   {
     /* each header says its unit in the scene's system: "dy(1.5;1) [cm]"; the forces on a 2D
        body are per unit depth */
-    const PetscBool si  = !strcmp(units, "SI") ? PETSC_TRUE : PETSC_FALSE,
-                    cgs = !strcmp(units, "cgs") ? PETSC_TRUE : PETSC_FALSE;
-    const char *time = si || cgs ? "s" : "1", *length = si ? "m" : (cgs ? "cm" : "1"),
-               *force = si ? (dim == 2 ? "N/m" : "N") : (cgs ? (dim == 2 ? "dyn/cm" : "dyn") : "1");
+    const char *time = UnitName(units, UNIT_TIME), *length = UnitName(units, UNIT_LENGTH),
+               *force = UnitName(units, dim == 2 ? UNIT_FORCE_PER_DEPTH : UNIT_FORCE);
+    if (!time) time = length = force = "1";
     PetscCall(PetscFPrintf(comm, P->file.fp, "t [%s]", time));
     for (PetscInt c = 0; c < P->ncolumns; ++c)
       PetscCall(PetscFPrintf(comm, P->file.fp, ",%s [%s]", P->names[c], c < npoints * dim ? length : force));

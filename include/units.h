@@ -1,0 +1,20 @@
+#ifndef FSIOPT_UNITS_H
+#define FSIOPT_UNITS_H
+
+/* The unit of a quantity in a scene's system of units (Scene.units: "SI", "cgs",
+   "nondimensional"), for -help and the headers of probes.csv; NULL when nondimensional. */
+typedef enum {
+  UNIT_DENSITY,
+  UNIT_VISCOSITY,
+  UNIT_PRESSURE,
+  UNIT_TIME,
+  UNIT_LENGTH,
+  UNIT_VELOCITY,
+  UNIT_ACCELERATION,
+  UNIT_FORCE_PER_DEPTH, /* a force on a 2D body, per unit depth */
+  UNIT_FORCE,
+  UNIT_JUMP /* the interface jump ||u - v_s||_{L2(Gamma_I)} */
+} UnitDimension;
+
+const char *UnitName(const char system[], UnitDimension);
+#endif

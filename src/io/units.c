@@ -1,0 +1,32 @@
+#include <string.h>
+#include "units.h"
+
+const char *UnitName(const char system[], UnitDimension d)
+{
+  const int si = !strcmp(system, "SI");
+
+  if (strcmp(system, "SI") && strcmp(system, "cgs")) return NULL;
+  switch (d) {
+  case UNIT_DENSITY:
+    return si ? "kg/m^3" : "g/cm^3";
+  case UNIT_VISCOSITY:
+    return si ? "Pa s" : "g/(cm s)";
+  case UNIT_PRESSURE:
+    return si ? "Pa" : "dyn/cm^2";
+  case UNIT_TIME:
+    return "s";
+  case UNIT_LENGTH:
+    return si ? "m" : "cm";
+  case UNIT_VELOCITY:
+    return si ? "m/s" : "cm/s";
+  case UNIT_ACCELERATION:
+    return si ? "m/s^2" : "cm/s^2";
+  case UNIT_FORCE_PER_DEPTH:
+    return si ? "N/m" : "dyn/cm";
+  case UNIT_FORCE:
+    return si ? "N" : "dyn";
+  case UNIT_JUMP:
+    return si ? "m/s in the L2 norm over the interface" : "cm/s in the L2 norm over the interface";
+  }
+  return NULL;
+}
