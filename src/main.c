@@ -1,6 +1,7 @@
 /* fsiopt: fluid-structure interaction by optimization-based decoupling.
    main reads like the table of contents: a run is set up (src/run/setup.c), advanced
    (advance.c) and reported (report.c); errors end it with one line. */
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include "run.h"
@@ -56,6 +57,9 @@ int main(int argc, char **argv)
   if (CheckOptionsFiles(argc, argv)) return 1;
   ierr = PetscInitialize(&argc, &argv, NULL, help);
   if (ierr) return 1;
+  /* a reader that stops reading (fsiopt -help | head) ends the run quietly, as it ends any
+     Unix tool, instead of PETSc's signal banner */
+  signal(SIGPIPE, SIG_DFL);
   ierr = ErrorReportingPush();
   if (!ierr) ierr = RunMain();
   if (ierr) {

@@ -179,7 +179,8 @@ def test_option_without_value():
 def test_progress_lines():
     import subprocess, time
     out = out_dir("progress")
-    cmd = fr.fsiopt_command(CHANNEL + ["-t_final", "0.01", "-progress_interval", "10"], 1, out)
+    cmd = fr.fsiopt_command(["-options_file", "options/mms-stokes.yaml", "-dt", "1e-3", "-t_final", "0.6",
+                             "-progress_interval", "10"], 1, out)
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=fr.ROOT,
                             env=fr.fsiopt_env())
     lines = []   # (line, whether the run was still going when it arrived)
@@ -190,8 +191,8 @@ def test_progress_lines():
     assert proc.returncode == 0, "run failed: %s" % err[-300:]
     texts = [l for l, _ in lines]
     steps = [l for l in texts if l.startswith("fsiopt: step ")]
-    assert texts and texts[0].startswith("fsiopt: channel2d: fluid ") and "unknowns" in texts[0] and \
-        "steps 1 to 100 of dt 0.0001" in texts[0], "first line: %r" % texts[:1]
+    assert texts and texts[0].startswith("fsiopt: mms-stokes: fluid ") and "unknowns" in texts[0] and \
+        "steps 1 to 100 of dt 0.001" in texts[0], "first line: %r" % texts[:1]
     assert [l.split()[2].rstrip(",") for l in steps] == ["%d/100" % k for k in range(10, 100, 10)], "progress lines %s" % steps
     for field in ("t = ", "coupling iterations ", "per step", "jump ", "wall ", "ETA "):
         assert all(field in l for l in steps), "a progress line lacks %r: %s" % (field, steps[0])
