@@ -3,7 +3,7 @@
 repository root, printing from several threads, number formats, the runs' CSV and
 markdown tables and reports, run-time grids, field files and the gmsh meshes of other
 refinement levels. Only the standard library: no fsiopt run starts here."""
-import csv, math, os, re, shlex, subprocess, sys, threading
+import csv, hashlib, math, os, re, shlex, subprocess, sys, threading
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 _print_lock = threading.Lock()

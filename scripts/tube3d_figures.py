@@ -52,6 +52,7 @@ import numpy as np
 sys.dont_write_bytecode = True   # no scripts/__pycache__ next to the sources
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import channel2d_figures as C   # noqa: E402
+import channel2d_pressure as P   # noqa: E402  (the pressure figure's frame)
 import fsiopt_runs as fr   # noqa: E402
 
 ROOT = fr.ROOT
@@ -330,7 +331,7 @@ def plot_snapshots(snaps, topo, wall_topo, x_ref, wall_ref, tol, run_dir, png, s
         if color_scale != "shared":
             fig.colorbar(im, ax=ax, label="pressure (dyn/cm$^2$)", fraction=0.03, pad=0.015)
     axes[-1, 0].set_xlabel("z (cm)")
-    C.finish_pressure_figure(fig, axes, im, color_scale, "tube3d: fluid pressure on the cut y = 0", scale, run_dir, png)
+    P.finish_pressure_figure(fig, axes, im, color_scale, "tube3d: fluid pressure on the cut y = 0", scale, run_dir, png)
 
 
 def write_wave_csv(path, snaps, waves, tol):
