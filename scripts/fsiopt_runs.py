@@ -44,7 +44,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from fsiopt_tables import (  # noqa: E402,F401  (the text side, re-exported for the scripts)
-    ROOT, MeshError, RUN_FIELDS, column_name, ensure_gmsh_mesh, extra_tag, fields_file, fields_interval, finish_report, floats,
+    ROOT, MeshError, RUN_FIELDS, StudyProgress, clock, column_name, ensure_gmsh_mesh, extra_tag, fields_file, fields_interval, finish_report, floats,
     fmt_num, ints, md_escape, number, read_table, rel, run_row, run_time_grid, say, write_csv, write_report,
     write_runs_csv)
 
@@ -577,35 +577,6 @@ def run_variant(v, fsiopt, runs_dir, force=False, retries=2, wait_s=5.0, env=Non
         _clear_outputs(v)
     say("  %-28s FAILED: %s" % (v.name, v.error), err=True)
     return v
-
-
-def clock(seconds):
-    """h:mm:ss or m:ss"""
-    s = int(round(max(0.0, seconds)))
-    return "%d:%02d:%02d" % (s // 3600, s // 60 % 60, s % 60) if s >= 3600 else "%d:%02d" % (s // 60, s % 60)
-
-
-class StudyProgress:
-    """Prints "run i of n" as each run starts, with an ETA from the runs that ran so far
-    (re-used runs take no time and count for none). Thread-safe: runs may go in parallel."""
-
-    def __init__(self, total):
-        self.total, self.started, self.ran, self.reused = total, 0, 0, 0
-        self.t0, self.lock = time.time(), threading.Lock()
-
-    def begin(self, name):
-        with self.lock:
-            self.started += 1
-            i, left = self.started, self.total - self.ran - self.reused
-            eta = " (ETA %s)" % clock((time.time() - self.t0) / self.ran * left) if self.ran else ""
-        say("run %d of %d: %s%s" % (i, self.total, name, eta))
-
-    def end(self, reused=False):
-        with self.lock:
-            if reused:
-                self.reused += 1
-            else:
-                self.ran += 1
 
 
 def run_all(variants, fsiopt, runs_dir, jobs=1, force=False, retries=2, oversubscribe=True):

@@ -3,7 +3,7 @@
 repository root, printing from several threads, number formats, the runs' CSV and
 markdown tables and reports, run-time grids, field files and the gmsh meshes of other
 refinement levels. Only the standard library: no fsiopt run starts here."""
-import csv, hashlib, math, os, re, shlex, subprocess, sys, threading
+import csv, hashlib, math, os, re, shlex, subprocess, sys, threading, time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 _print_lock = threading.Lock()
@@ -50,6 +50,35 @@ def write_runs_csv(path, variants):
         w.writeheader()
         for v in variants:
             w.writerow(run_row(v))
+
+
+def clock(seconds):
+    """h:mm:ss or m:ss"""
+    s = int(round(max(0.0, seconds)))
+    return "%d:%02d:%02d" % (s // 3600, s // 60 % 60, s % 60) if s >= 3600 else "%d:%02d" % (s // 60, s % 60)
+
+
+class StudyProgress:
+    """Prints "run i of n" as each run starts, with an ETA from the runs that ran so far
+    (re-used runs take no time and count for none). Thread-safe: runs may go in parallel."""
+
+    def __init__(self, total):
+        self.total, self.started, self.ran, self.reused = total, 0, 0, 0
+        self.t0, self.lock = time.time(), threading.Lock()
+
+    def begin(self, name):
+        with self.lock:
+            self.started += 1
+            i, left = self.started, self.total - self.ran - self.reused
+            eta = " (ETA %s)" % clock((time.time() - self.t0) / self.ran * left) if self.ran else ""
+        say("run %d of %d: %s%s" % (i, self.total, name, eta))
+
+    def end(self, reused=False):
+        with self.lock:
+            if reused:
+                self.reused += 1
+            else:
+                self.ran += 1
 
 
 def column_name(header):
