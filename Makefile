@@ -104,7 +104,7 @@ test-quick: deps
 	$(MAKE) all
 	$(PYTHON) tests/run_tests.py --quick
 
-# a fast subset of runs under valgrind memcheck and PETSc's malloc trace (a few minutes)
+# a subset of runs under valgrind memcheck and PETSc's malloc trace (about 40 minutes: docs/limits.md)
 check-memory: deps
 	$(MAKE) all
 	$(PYTHON) scripts/check_memory.py

@@ -93,7 +93,7 @@ typedef struct {
   PetscInt  linearized_pairs; /* iterations that also solved the linearized and adjoint problems */
   PetscInt  inner_iterations;
   PetscInt  stalled_steps;
-  PetscReal max_jump;  /* largest final interface jump (opt) or traction residual (partitioned) of a step */
+  PetscReal max_jump;  /* largest final interface velocity jump of a step (partitioned: zero to the solvers' tolerance) */
   PetscReal last_jump; /* that of the last step completed */
 } CouplingStats;
 
