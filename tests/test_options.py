@@ -62,7 +62,7 @@ def test_misspelled_options_refused():
     return "%d options, %d YAML keys refused with their suggestion" % (len(TYPOS), len(YAML_TYPOS))
 
 
-@test("-options_allow_unused lets a misspelled option through with a warning; another set-up's option warns", quick=True)
+@test("-options_allow_unused lets a misspelled option through with a warning; another set-up's option warns")
 def test_allow_unused_and_other_setups():
     rc, stdout, err, summary = run(NS_STEP + ["-coupling_tl", "1e-8", "-options_allow_unused"])
     assert rc == 0 and summary is not None, "run with -options_allow_unused failed: %s" % (err or stdout)[-300:]

@@ -112,7 +112,7 @@ def stored_level3(case, parts, columns, extra, reference):
                      for c, v, r in zip(columns, zip(*values), ratios))
 
 
-@test("turek-hron CSM1: levels 1, 2, 3 converge (ratio <= 0.5), level 3 within 6%/10% of the beam estimate", quick=True)
+@test("turek-hron CSM1: levels 1, 2, 3 converge (ratio <= 0.5), level 3 within 6%/10% of the beam estimate")
 def test_turek_hron_csm1_levels():
     columns = ["dx(0.6;0.2)", "dy(0.6;0.2)"]
     values, ratios = turek_levels("csm1", ["flag"], columns)
