@@ -89,11 +89,12 @@ PetscErrorCode CouplingProblemTestTaylor(CouplingProblem, Vec x);
 /* A coupling method advances the coupled system by one step (one file per method). */
 typedef struct _p_Coupling *Coupling;
 typedef struct {
-  PetscInt  iterations;       /* coupling iterations (Gauss-Newton or sweeps), summed over steps */
-  PetscInt  linearized_pairs; /* iterations that also solved the linearized and adjoint problems */
-  PetscInt  inner_iterations;
-  PetscInt  stalled_steps;
-  PetscReal max_jump;  /* largest final interface velocity jump of a step (partitioned: zero to the solvers' tolerance) */
+  PetscInt iterations;       /* coupling iterations (Gauss-Newton or sweeps), summed over steps */
+  PetscInt linearized_pairs; /* iterations that also solved the linearized and adjoint problems */
+  PetscInt inner_iterations;
+  PetscInt stalled_steps;
+  PetscReal
+    max_jump; /* largest final interface velocity jump of a step (partitioned: zero to the solvers' tolerance) */
   PetscReal last_jump; /* that of the last step completed */
 } CouplingStats;
 

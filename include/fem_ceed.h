@@ -34,4 +34,8 @@ PetscErrorCode FEMCeedCoordinates(Ceed, DM dm, PetscFE fe, CeedElemRestriction *
    (CeedOperatorLinearAssemble into the PETSc matrix by COO) against PETSc's; prints the
    relative differences and fails above tol. */
 PetscErrorCode FEMCeedCheckSpaces(DM dm, const char name[], PetscReal tol);
+/* -ceed_check_fluid: the fluid's volume residual (Navier-Stokes, fixed mesh, the weak form of
+   fluid_kernels.c) by libCEED against PETSc's at a random state on each rank's cells, and
+   the time of each per residual; fails above tol. */
+PetscErrorCode FEMCeedCheckFluidResidual(DM fluid_dm, PetscReal tol);
 #endif

@@ -1,0 +1,62 @@
+/* libCEED pointwise functions of the fluid's volume residual (the weak form of
+   fluid_kernels.c on a fixed mesh): m (u, v) + op [rho conv ((u . grad) u, v)
+   + 2 mu (D(u), D(v)) - (p, div v) - (q, div u)]. Gradients are [direction][component][point]. */
+#ifndef FSIOPT_QFUNCTIONS_FLUID_H
+#define FSIOPT_QFUNCTIONS_FLUID_H
+#include "qfunctions_geometry.h"
+
+typedef struct {
+  CeedInt    dim;
+  CeedScalar rho, mu, mass, op, convection;
+} FluidVolume;
+
+/* qdata: w |det A|, then B = A^{-1} (b[j][k] = dxi_j/dx_k) */
+CEED_QFUNCTION(SetupFluidGeometry)(void *ctx, CeedInt Q, const CeedScalar *const *in, CeedScalar *const *out)
+{
+  const FluidVolume *fv  = (const FluidVolume *)ctx;
+  const CeedInt      dim = fv->dim;
+  CeedScalar         B[3][3];
+
+  for (CeedInt i = 0; i < Q; ++i) {
+    out[0][i] = in[1][i] * fabs(Invert(dim, in[0], i, Q, B));
+    for (CeedInt j = 0; j < dim; ++j)
+      for (CeedInt k = 0; k < dim; ++k) out[0][(1 + j * dim + k) * Q + i] = B[j][k];
+  }
+  return 0;
+}
+
+CEED_QFUNCTION(FluidVolumeResidual)(void *ctx, CeedInt Q, const CeedScalar *const *in, CeedScalar *const *out)
+{
+  const FluidVolume *fv  = (const FluidVolume *)ctx;
+  const CeedInt      dim = fv->dim;
+  const CeedScalar  *u = in[0], *du = in[1], *p = in[2], *qdata = in[3];
+  CeedScalar        *v = out[0], *dv = out[1], *q = out[2];
+
+  for (CeedInt i = 0; i < Q; ++i) {
+    const CeedScalar wdet = qdata[i];
+    CeedScalar       B[3][3], G[3][3], f1[3][3], divergence = 0;
+    for (CeedInt j = 0; j < dim; ++j)
+      for (CeedInt k = 0; k < dim; ++k) B[j][k] = qdata[(1 + j * dim + k) * Q + i];
+    for (CeedInt c = 0; c < dim; ++c)
+      for (CeedInt k = 0; k < dim; ++k) {
+        G[c][k] = 0; /* du_c/dx_k */
+        for (CeedInt j = 0; j < dim; ++j) G[c][k] += du[(j * dim + c) * Q + i] * B[j][k];
+      }
+    for (CeedInt d = 0; d < dim; ++d) divergence += G[d][d];
+    for (CeedInt c = 0; c < dim; ++c) {
+      CeedScalar convection = 0;
+      for (CeedInt d = 0; d < dim; ++d) convection += u[d * Q + i] * G[c][d];
+      v[c * Q + i] = wdet * (fv->mass * u[c * Q + i] + fv->rho * fv->op * fv->convection * convection);
+      for (CeedInt d = 0; d < dim; ++d) f1[c][d] = fv->op * (fv->mu * (G[c][d] + G[d][c]) - (c == d ? p[i] : 0.0));
+    }
+    for (CeedInt j = 0; j < dim; ++j)
+      for (CeedInt c = 0; c < dim; ++c) {
+        CeedScalar s = 0;
+        for (CeedInt k = 0; k < dim; ++k) s += f1[c][k] * B[j][k];
+        dv[(j * dim + c) * Q + i] = wdet * s;
+      }
+    q[i] = -wdet * fv->op * divergence;
+  }
+  return 0;
+}
+#endif
