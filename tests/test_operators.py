@@ -43,11 +43,11 @@ def test_ceed_spaces_match_petsc():
     return "%d spaces on %s: worst %.1e; -ceed /gpu/none refused" % (spaces, ", ".join(sorted(cells)), worst)
 
 
-FLUID = re.compile(r"fsiopt: libCEED check: fluid volume residual \(Navier-Stokes, (\dD)\) at a random state: "
+FLUID = re.compile(r"fsiopt: libCEED check: fluid volume (residual|Jacobian) \(Navier-Stokes, (\dD)\) at a random state: "
                    r"([0-9.e+-]+) relative to PETSc's")
 
 
-@test("libCEED fluid volume residual (Navier-Stokes) = PETSc's at a random state to 1e-14 (Q2/Q1, P2/P1, Q1/Q1 3D; 2 ranks)")
+@test("libCEED fluid volume residual and Jacobian (Navier-Stokes, COO by blocks) = PETSc's at a random state to 1e-14 (Q2/Q1, P2/P1, Q1/Q1 3D; 2 ranks)")
 def test_ceed_fluid_residual_matches_petsc():
     cases = [(["-options_file", "options/mms-ns.yaml"], 1),
              (["-options_file", "options/mms-fluid.yaml", "-fluid_dm_plex_filename", "meshes/square.msh"], 1),
@@ -59,8 +59,8 @@ def test_ceed_fluid_residual_matches_petsc():
         rc, stdout, err, _ = run(args + ["-ceed_check_fluid"], nproc=nproc)
         assert rc == 0, "%s: exit %d: %s" % (" ".join(args), rc, (err or stdout)[-300:])
         lines = FLUID.findall(stdout)
-        assert len(lines) == nproc, "%s: %d check lines on %d ranks" % (" ".join(args), len(lines), nproc)
-        for dim, difference in lines:
-            assert float(difference) <= 1e-14, "%s: %s relative to PETSc's" % (" ".join(args), difference)
+        assert len(lines) == 2 * nproc, "%s: %d check lines on %d ranks" % (" ".join(args), len(lines), nproc)
+        for what, dim, difference in lines:
+            assert float(difference) <= 1e-14, "%s: %s %s relative to PETSc's" % (" ".join(args), what, difference)
             found.append(float(difference))
-    return "%d residuals (5 meshes, 2 ranks once), worst %.1e relative to PETSc's" % (len(found), max(found))
+    return "%d residuals and Jacobians (5 meshes, 2 ranks once), worst %.1e relative to PETSc's" % (len(found), max(found))

@@ -59,4 +59,77 @@ CEED_QFUNCTION(FluidVolumeResidual)(void *ctx, CeedInt Q, const CeedScalar *cons
   }
   return 0;
 }
+/* physical gradients G[c][k] = du_c/dx_k of a reference gradient at point i */
+CEED_QFUNCTION_HELPER void PhysicalGradient(CeedInt dim, const CeedScalar *du, const CeedScalar *qdata, CeedInt i,
+                                            CeedInt Q, CeedScalar B[3][3], CeedScalar G[3][3])
+{
+  for (CeedInt j = 0; j < dim; ++j)
+    for (CeedInt k = 0; k < dim; ++k) B[j][k] = qdata[(1 + j * dim + k) * Q + i];
+  for (CeedInt c = 0; c < dim; ++c)
+    for (CeedInt k = 0; k < dim; ++k) {
+      G[c][k] = 0;
+      for (CeedInt j = 0; j < dim; ++j) G[c][k] += du[(j * dim + c) * Q + i] * B[j][k];
+    }
+}
+
+/* the velocity-velocity block of the Jacobian at the state u0: mass, both convection terms, viscosity */
+CEED_QFUNCTION(FluidJacobianUU)(void *ctx, CeedInt Q, const CeedScalar *const *in, CeedScalar *const *out)
+{
+  const FluidVolume *fv  = (const FluidVolume *)ctx;
+  const CeedInt      dim = fv->dim;
+  const CeedScalar  *w = in[0], *dw = in[1], *u0 = in[2], *du0 = in[3], *qdata = in[4];
+  CeedScalar        *v = out[0], *dv = out[1];
+
+  for (CeedInt i = 0; i < Q; ++i) {
+    const CeedScalar wdet = qdata[i], rho_conv = fv->rho * fv->op * fv->convection;
+    CeedScalar       B[3][3], G[3][3], G0[3][3], f1[3][3];
+    PhysicalGradient(dim, dw, qdata, i, Q, B, G);
+    PhysicalGradient(dim, du0, qdata, i, Q, B, G0);
+    for (CeedInt c = 0; c < dim; ++c) {
+      CeedScalar convection = 0;
+      for (CeedInt d = 0; d < dim; ++d) convection += w[d * Q + i] * G0[c][d] + u0[d * Q + i] * G[c][d];
+      v[c * Q + i] = wdet * (fv->mass * w[c * Q + i] + rho_conv * convection);
+      for (CeedInt d = 0; d < dim; ++d) f1[c][d] = fv->op * fv->mu * (G[c][d] + G[d][c]);
+    }
+    for (CeedInt j = 0; j < dim; ++j)
+      for (CeedInt c = 0; c < dim; ++c) {
+        CeedScalar s = 0;
+        for (CeedInt k = 0; k < dim; ++k) s += f1[c][k] * B[j][k];
+        dv[(j * dim + c) * Q + i] = wdet * s;
+      }
+  }
+  return 0;
+}
+
+/* the velocity-pressure block: -(q, div v) */
+CEED_QFUNCTION(FluidJacobianUP)(void *ctx, CeedInt Q, const CeedScalar *const *in, CeedScalar *const *out)
+{
+  const FluidVolume *fv  = (const FluidVolume *)ctx;
+  const CeedInt      dim = fv->dim;
+  const CeedScalar  *p = in[0], *qdata = in[1];
+  CeedScalar        *dv = out[0];
+
+  for (CeedInt i = 0; i < Q; ++i)
+    for (CeedInt j = 0; j < dim; ++j)
+      for (CeedInt c = 0; c < dim; ++c)
+        dv[(j * dim + c) * Q + i] = -qdata[i] * fv->op * p[i] * qdata[(1 + j * dim + c) * Q + i];
+  return 0;
+}
+
+/* the pressure-velocity block: -(q, div u) */
+CEED_QFUNCTION(FluidJacobianPU)(void *ctx, CeedInt Q, const CeedScalar *const *in, CeedScalar *const *out)
+{
+  const FluidVolume *fv  = (const FluidVolume *)ctx;
+  const CeedInt      dim = fv->dim;
+  const CeedScalar  *du = in[0], *qdata = in[1];
+  CeedScalar        *q = out[0];
+
+  for (CeedInt i = 0; i < Q; ++i) {
+    CeedScalar B[3][3], G[3][3], divergence = 0;
+    PhysicalGradient(dim, du, qdata, i, Q, B, G);
+    for (CeedInt d = 0; d < dim; ++d) divergence += G[d][d];
+    q[i] = -qdata[i] * fv->op * divergence;
+  }
+  return 0;
+}
 #endif
