@@ -30,6 +30,13 @@ PetscErrorCode FEMCeedBasis(Ceed, DM dm, PetscFE fe, CeedBasis *);
    coordinate vector as a CeedVector. */
 PetscErrorCode FEMCeedCoordinates(Ceed, DM dm, PetscFE fe, CeedElemRestriction *, CeedBasis *, CeedVector *);
 
+/* An AIJ matrix of dm's global size for MatSetPreallocationCOO (DMCreateMatrix's would leak
+   its variable block sizes there, PETSc 3.18). */
+PetscErrorCode FEMCeedCreateCOOMatrix(DM dm, Mat *);
+
+/* ||ceed - petsc||_F / ||petsc||_F (ceed is overwritten by the difference) */
+PetscErrorCode FEMCeedMatDifference(Mat ceed, Mat petsc, PetscReal *difference);
+
 /* -ceed_check_spaces: every field of dm, its mass and Laplacian matrices assembled by libCEED
    (CeedOperatorLinearAssemble into the PETSc matrix by COO) against PETSc's; prints the
    relative differences and fails above tol. */

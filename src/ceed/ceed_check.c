@@ -134,13 +134,24 @@ static PetscErrorCode AssembleWithCeed(DM dm, PetscFE fe, CheckKind kind, Mat A)
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode FEMCeedMatDifference(Mat ceed, Mat petsc, PetscReal *difference)
+{
+  PetscReal norm;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatNorm(petsc, NORM_FROBENIUS, &norm));
+  PetscCall(MatAXPY(ceed, -1.0, petsc, DIFFERENT_NONZERO_PATTERN));
+  PetscCall(MatNorm(ceed, NORM_FROBENIUS, difference));
+  *difference /= norm;
+  PetscFunctionReturn(0);
+}
+
 /* ||A_ceed - A_petsc||_F / ||A_petsc||_F for the kind on dm's one field */
 static PetscErrorCode Compare(DM dm, PetscFE fe, CheckKind kind, PetscReal *difference)
 {
-  PetscDS   ds;
-  Mat       petsc, ceed;
-  Vec       zero;
-  PetscReal norm;
+  PetscDS ds;
+  Mat     petsc, ceed;
+  Vec     zero;
 
   PetscFunctionBeginUser;
   PetscCall(DMGetDS(dm, &ds));
@@ -151,24 +162,9 @@ static PetscErrorCode Compare(DM dm, PetscFE fe, CheckKind kind, PetscReal *diff
   PetscCall(VecZeroEntries(zero));
   PetscCall(DMPlexSNESComputeJacobianFEM(dm, zero, petsc, petsc, NULL));
   PetscCall(DMRestoreLocalVector(dm, &zero));
-  {
-    /* a bare AIJ matrix: MatSetPreallocationCOO on DMCreateMatrix's would leak its variable
-       block sizes (PETSc 3.18, valgrind) */
-    Vec      global;
-    PetscInt n, N;
-    PetscCall(DMGetGlobalVector(dm, &global));
-    PetscCall(VecGetLocalSize(global, &n));
-    PetscCall(VecGetSize(global, &N));
-    PetscCall(DMRestoreGlobalVector(dm, &global));
-    PetscCall(MatCreate(PetscObjectComm((PetscObject)dm), &ceed));
-    PetscCall(MatSetSizes(ceed, n, n, N, N));
-    PetscCall(MatSetType(ceed, MATAIJ));
-  }
+  PetscCall(FEMCeedCreateCOOMatrix(dm, &ceed));
   PetscCall(AssembleWithCeed(dm, fe, kind, ceed));
-  PetscCall(MatNorm(petsc, NORM_FROBENIUS, &norm));
-  PetscCall(MatAXPY(ceed, -1.0, petsc, DIFFERENT_NONZERO_PATTERN));
-  PetscCall(MatNorm(ceed, NORM_FROBENIUS, difference));
-  *difference /= norm;
+  PetscCall(FEMCeedMatDifference(ceed, petsc, difference));
   PetscCall(MatDestroy(&petsc));
   PetscCall(MatDestroy(&ceed));
   PetscFunctionReturn(0);

@@ -133,3 +133,21 @@ PetscErrorCode FEMCeedCoordinates(Ceed ceed, DM dm, PetscFE fe, CeedElemRestrict
   PetscCall(VecRestoreArrayRead(local, &x));
   PetscFunctionReturn(0);
 }
+
+/* A bare AIJ matrix of dm's global size: MatSetPreallocationCOO on DMCreateMatrix's would
+   leak its variable block sizes (PETSc 3.18, valgrind) */
+PetscErrorCode FEMCeedCreateCOOMatrix(DM dm, Mat *A)
+{
+  Vec      global;
+  PetscInt n, N;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetGlobalVector(dm, &global));
+  PetscCall(VecGetLocalSize(global, &n));
+  PetscCall(VecGetSize(global, &N));
+  PetscCall(DMRestoreGlobalVector(dm, &global));
+  PetscCall(MatCreate(PetscObjectComm((PetscObject)dm), A));
+  PetscCall(MatSetSizes(*A, n, n, N, N));
+  PetscCall(MatSetType(*A, MATAIJ));
+  PetscFunctionReturn(0);
+}
