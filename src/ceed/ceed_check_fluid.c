@@ -17,9 +17,30 @@ typedef struct {
   CeedQFunctionContext context;
   CeedOperator         op_setup, op_residual;
   CeedVector           state;       /* the Jacobian's state u0, passive */
-  CeedQFunction        qf_block[3]; /* velocity-velocity, velocity-pressure, pressure-velocity */
-  CeedOperator         op_block[3];
+  CeedQFunction        qf_block[4]; /* velocity-velocity, velocity-pressure, pressure-velocity, pressure-pressure */
+  CeedOperator         op_block[4]; /* pressure-pressure only with a pressure stabilization */
+  CeedQFunction        qf_stabilization;
+  CeedOperator         op_stabilization; /* its residual term, NULL without */
 } FluidOperator;
+
+/* -tau (grad p, grad q) on the active pressure: the residual's term or the Jacobian's block */
+static PetscErrorCode StabilizationCreate(FluidOperator *o, CeedInt dim, CeedQFunction *qf, CeedOperator *op)
+{
+  Ceed ceed = o->ceed;
+
+  PetscFunctionBeginUser;
+  PetscCallCeed(ceed,
+                CeedQFunctionCreateInterior(ceed, 1, FluidPressureStabilization, FluidPressureStabilization_loc, qf));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(*qf, "dp", dim, CEED_EVAL_GRAD));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(*qf, "qdata", 1 + dim * dim, CEED_EVAL_NONE));
+  PetscCallCeed(ceed, CeedQFunctionAddOutput(*qf, "dq", dim, CEED_EVAL_GRAD));
+  PetscCallCeed(ceed, CeedQFunctionSetContext(*qf, o->context));
+  PetscCallCeed(ceed, CeedOperatorCreate(ceed, *qf, NULL, NULL, op));
+  PetscCallCeed(ceed, CeedOperatorSetField(*op, "dp", o->r_p, o->b_p, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(*op, "qdata", o->r_q, CEED_BASIS_NONE, o->qdata));
+  PetscCallCeed(ceed, CeedOperatorSetField(*op, "dq", o->r_p, o->b_p, CEED_VECTOR_ACTIVE));
+  PetscFunctionReturn(0);
+}
 
 static PetscErrorCode FluidOperatorCreate(DM dm, const FluidVolume *fv, FluidOperator *o)
 {
@@ -79,6 +100,7 @@ static PetscErrorCode FluidOperatorCreate(DM dm, const FluidVolume *fv, FluidOpe
   PetscCallCeed(ceed, CeedOperatorSetField(o->op_residual, "v", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
   PetscCallCeed(ceed, CeedOperatorSetField(o->op_residual, "dv", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
   PetscCallCeed(ceed, CeedOperatorSetField(o->op_residual, "q", o->r_p, o->b_p, CEED_VECTOR_ACTIVE));
+  if (fv->tau > 0) PetscCall(StabilizationCreate(o, dim, &o->qf_stabilization, &o->op_stabilization));
   PetscCall(DMGetLocalVector(dm, &local));
   PetscCall(VecGetLocalSize(local, &n));
   PetscCall(DMRestoreLocalVector(dm, &local));
@@ -92,10 +114,12 @@ static PetscErrorCode FluidOperatorDestroy(FluidOperator *o)
   Ceed ceed = o->ceed;
 
   PetscFunctionBeginUser;
-  for (PetscInt b = 0; b < 3; ++b) {
+  for (PetscInt b = 0; b < 4; ++b) {
     PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_block[b]));
     PetscCallCeed(ceed, CeedQFunctionDestroy(&o->qf_block[b]));
   }
+  PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_stabilization));
+  PetscCallCeed(ceed, CeedQFunctionDestroy(&o->qf_stabilization));
   PetscCallCeed(ceed, CeedVectorDestroy(&o->state));
   PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_residual));
   PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_setup));
@@ -127,6 +151,8 @@ static PetscErrorCode FluidOperatorApply(FluidOperator *o, Vec x, Vec f)
   PetscCallCeed(o->ceed, CeedVectorSetArray(o->x, CEED_MEM_HOST, CEED_USE_POINTER, xa));
   PetscCallCeed(o->ceed, CeedVectorSetArray(o->f, CEED_MEM_HOST, CEED_USE_POINTER, fa));
   PetscCallCeed(o->ceed, CeedOperatorApply(o->op_residual, o->x, o->f, CEED_REQUEST_IMMEDIATE));
+  if (o->op_stabilization)
+    PetscCallCeed(o->ceed, CeedOperatorApplyAdd(o->op_stabilization, o->x, o->f, CEED_REQUEST_IMMEDIATE));
   PetscCallCeed(o->ceed, CeedVectorTakeArray(o->x, CEED_MEM_HOST, &xa));
   PetscCallCeed(o->ceed, CeedVectorTakeArray(o->f, CEED_MEM_HOST, &fa));
   PetscCall(VecRestoreArray(x, &xa));
@@ -182,11 +208,12 @@ static PetscErrorCode FluidJacobianCreate(FluidOperator *o, const FluidVolume *f
   PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[2], "du", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
   PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[2], "qdata", o->r_q, CEED_BASIS_NONE, o->qdata));
   PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[2], "q", o->r_p, o->b_p, CEED_VECTOR_ACTIVE));
+  if (fv->tau > 0) PetscCall(StabilizationCreate(o, dim, &o->qf_block[3], &o->op_block[3]));
   PetscFunctionReturn(0);
 }
 
 /* The blocks' entries, numbered globally, into one COO pattern of A (symbolic, once) */
-static PetscErrorCode FluidJacobianPattern(FluidOperator *o, DM dm, Mat A, CeedSize counts[3])
+static PetscErrorCode FluidJacobianPattern(FluidOperator *o, DM dm, Mat A, CeedSize counts[4])
 {
   CeedSize               total = 0;
   PetscInt              *rows, *cols;
@@ -195,8 +222,10 @@ static PetscErrorCode FluidJacobianPattern(FluidOperator *o, DM dm, Mat A, CeedS
   PetscFunctionBeginUser;
   PetscCall(PetscMalloc1(1, &rows));
   PetscCall(PetscMalloc1(1, &cols));
-  for (PetscInt b = 0; b < 3; ++b) {
+  for (PetscInt b = 0; b < 4; ++b) {
     CeedInt *r, *c;
+    counts[b] = 0;
+    if (!o->op_block[b]) continue;
     PetscCallCeed(o->ceed, CeedOperatorLinearAssembleSymbolic(o->op_block[b], &counts[b], &r, &c));
     PetscCall(PetscRealloc(sizeof(PetscInt) * (total + counts[b]), &rows));
     PetscCall(PetscRealloc(sizeof(PetscInt) * (total + counts[b]), &cols));
@@ -218,15 +247,16 @@ static PetscErrorCode FluidJacobianPattern(FluidOperator *o, DM dm, Mat A, CeedS
 }
 
 /* The blocks' values into A (numeric, per Jacobian) */
-static PetscErrorCode FluidJacobianValues(FluidOperator *o, Mat A, const CeedSize counts[3])
+static PetscErrorCode FluidJacobianValues(FluidOperator *o, Mat A, const CeedSize counts[4])
 {
   PetscScalar *values;
   CeedSize     at = 0;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMalloc1(counts[0] + counts[1] + counts[2], &values));
-  for (PetscInt b = 0; b < 3; ++b) {
+  PetscCall(PetscMalloc1(counts[0] + counts[1] + counts[2] + counts[3], &values));
+  for (PetscInt b = 0; b < 4; ++b) {
     CeedVector block;
+    if (!o->op_block[b]) continue;
     PetscCallCeed(o->ceed, CeedVectorCreate(o->ceed, counts[b], &block));
     PetscCallCeed(o->ceed, CeedVectorSetArray(block, CEED_MEM_HOST, CEED_USE_POINTER, values + at));
     PetscCallCeed(o->ceed, CeedOperatorLinearAssemble(o->op_block[b], block));
@@ -245,7 +275,7 @@ static PetscErrorCode CompareJacobians(DM dm, FluidOperator *o, const FluidVolum
 {
   PetscDS        ds;
   Mat            petsc, ceed;
-  CeedSize       counts[3];
+  CeedSize       counts[4];
   PetscLogDouble t0, t1, t2;
 
   PetscFunctionBeginUser;
@@ -253,6 +283,7 @@ static PetscErrorCode CompareJacobians(DM dm, FluidOperator *o, const FluidVolum
   PetscCall(PetscDSSetJacobian(ds, 0, 0, FluidG0MassConvection, FluidG1Convection, NULL, FluidG3Viscous));
   PetscCall(PetscDSSetJacobian(ds, 0, 1, NULL, NULL, FluidG2Pressure, NULL));
   PetscCall(PetscDSSetJacobian(ds, 1, 0, NULL, FluidG1Continuity, NULL, NULL));
+  if (fv->tau > 0) PetscCall(PetscDSSetJacobian(ds, 1, 1, NULL, NULL, NULL, FluidG3PressureStabilization));
   PetscCall(DMCreateMatrix(dm, &petsc));
   PetscCall(FluidJacobianCreate(o, fv, x0));
   PetscCall(FEMCeedCreateCOOMatrix(dm, &ceed));
@@ -295,7 +326,13 @@ PetscErrorCode FEMCeedCheckFluidResidual(DM fluid_dm, PetscReal tol)
   constants[FLUID_MASS]       = constants[FLUID_RHO] / constants[FLUID_DT];
   constants[FLUID_OPERATOR]   = 1;
   constants[FLUID_CONVECTION] = 1;
-  fv = (FluidVolume){(CeedInt)dim, constants[FLUID_RHO], constants[FLUID_MU], constants[FLUID_MASS], 1, 1};
+  fv                          = (FluidVolume){(CeedInt)dim,
+                                              constants[FLUID_RHO],
+                                              constants[FLUID_MU],
+                                              constants[FLUID_MASS],
+                                              1,
+                                              1,
+                                              constants[FLUID_PRESSURE_STABILIZATION]};
 
   /* the fields alone on a clone, with the volume kernels only: no data, no boundary conditions */
   PetscCall(DMGetField(fluid_dm, 0, NULL, &velocity));
@@ -306,7 +343,7 @@ PetscErrorCode FEMCeedCheckFluidResidual(DM fluid_dm, PetscReal tol)
   PetscCall(DMCreateDS(dm));
   PetscCall(DMGetDS(dm, &ds));
   PetscCall(PetscDSSetResidual(ds, 0, FluidF0MassConvection, FluidF1Stress));
-  PetscCall(PetscDSSetResidual(ds, 1, FluidF0Continuity, NULL));
+  PetscCall(PetscDSSetResidual(ds, 1, FluidF0Continuity, fv.tau > 0 ? FluidF1PressureStabilization : NULL));
   PetscCall(PetscDSSetConstants(ds, FLUID_NUM_CONSTANTS, constants));
 
   PetscCall(DMCreateLocalVector(dm, &x));
@@ -334,16 +371,16 @@ PetscErrorCode FEMCeedCheckFluidResidual(DM fluid_dm, PetscReal tol)
   PetscCall(CompareJacobians(dm, &o, &fv, x, 3, &jacobian, &petsc_jacobian_s, &ceed_jacobian_s));
   PetscCall(PetscPrintf(PETSC_COMM_SELF,
                         "fsiopt: libCEED check: fluid volume Jacobian (Navier-Stokes, %" PetscInt_FMT
-                        "D) at a random state: %.2e relative to PETSc's; per assembly PETSc %.3g ms, libCEED %.3g ms "
+                        "D%s) at a random state: %.2e relative to PETSc's; per assembly PETSc %.3g ms, libCEED %.3g ms "
                         "(%.1fx)\n",
-                        dim, (double)jacobian, 1e3 * petsc_jacobian_s, 1e3 * ceed_jacobian_s,
-                        petsc_jacobian_s / ceed_jacobian_s));
+                        dim, fv.tau > 0 ? ", pressure stabilization" : "", (double)jacobian, 1e3 * petsc_jacobian_s,
+                        1e3 * ceed_jacobian_s, petsc_jacobian_s / ceed_jacobian_s));
   PetscCall(PetscPrintf(PETSC_COMM_SELF,
                         "fsiopt: libCEED check: fluid volume residual (Navier-Stokes, %" PetscInt_FMT
-                        "D) at a random state: %.2e relative to PETSc's; per residual PETSc %.3g ms, libCEED %.3g ms "
+                        "D%s) at a random state: %.2e relative to PETSc's; per residual PETSc %.3g ms, libCEED %.3g ms "
                         "(%.1fx)\n",
-                        dim, (double)difference, 1e3 * (t1 - t0) / repeats, 1e3 * (t2 - t1) / repeats,
-                        (t1 - t0) / (t2 - t1)));
+                        dim, fv.tau > 0 ? ", pressure stabilization" : "", (double)difference,
+                        1e3 * (t1 - t0) / repeats, 1e3 * (t2 - t1) / repeats, (t1 - t0) / (t2 - t1)));
   PetscCall(FluidOperatorDestroy(&o));
   PetscCall(VecDestroy(&x));
   PetscCall(VecDestroy(&f_petsc));

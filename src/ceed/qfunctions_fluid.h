@@ -8,6 +8,7 @@
 typedef struct {
   CeedInt    dim;
   CeedScalar rho, mu, mass, op, convection;
+  CeedScalar tau; /* op times the pressure stabilization's tau; 0: none */
 } FluidVolume;
 
 /* qdata: w |det A|, then B = A^{-1} (b[j][k] = dxi_j/dx_k) */
@@ -129,6 +130,31 @@ CEED_QFUNCTION(FluidJacobianPU)(void *ctx, CeedInt Q, const CeedScalar *const *i
     PhysicalGradient(dim, du, qdata, i, Q, B, G);
     for (CeedInt d = 0; d < dim; ++d) divergence += G[d][d];
     q[i] = -qdata[i] * fv->op * divergence;
+  }
+  return 0;
+}
+/* the pressure stabilization of equal-order pairs, -tau (grad p, grad q): the residual's
+   term and, being linear, the pressure-pressure block of the Jacobian */
+CEED_QFUNCTION(FluidPressureStabilization)(void *ctx, CeedInt Q, const CeedScalar *const *in, CeedScalar *const *out)
+{
+  const FluidVolume *fv  = (const FluidVolume *)ctx;
+  const CeedInt      dim = fv->dim;
+  const CeedScalar  *dp = in[0], *qdata = in[1];
+  CeedScalar        *dq = out[0];
+
+  for (CeedInt i = 0; i < Q; ++i) {
+    CeedScalar B[3][3], grad[3];
+    for (CeedInt j = 0; j < dim; ++j)
+      for (CeedInt k = 0; k < dim; ++k) B[j][k] = qdata[(1 + j * dim + k) * Q + i];
+    for (CeedInt k = 0; k < dim; ++k) {
+      grad[k] = 0;
+      for (CeedInt j = 0; j < dim; ++j) grad[k] += dp[j * Q + i] * B[j][k];
+    }
+    for (CeedInt j = 0; j < dim; ++j) {
+      CeedScalar s = 0;
+      for (CeedInt k = 0; k < dim; ++k) s += grad[k] * B[j][k];
+      dq[j * Q + i] = -qdata[i] * fv->tau * s;
+    }
   }
   return 0;
 }
