@@ -30,6 +30,10 @@ PetscErrorCode FEMCeedBasis(Ceed, DM dm, PetscFE fe, CeedBasis *);
    coordinate vector as a CeedVector. */
 PetscErrorCode FEMCeedCoordinates(Ceed, DM dm, PetscFE fe, CeedElemRestriction *, CeedBasis *, CeedVector *);
 
+/* The geometry at fe's quadrature points of every cell, for the operators' pointwise
+   functions (qfunctions_geometry.h): [w |det A|, A^{-1}], 1 + dim^2 values per point. */
+PetscErrorCode FEMCeedGeometry(Ceed, DM dm, PetscFE fe, CeedElemRestriction *r_q, CeedVector *qdata);
+
 /* An AIJ matrix of dm's global size for MatSetPreallocationCOO (DMCreateMatrix's would leak
    its variable block sizes there, PETSc 3.18). */
 PetscErrorCode FEMCeedCreateCOOMatrix(DM dm, Mat *);

@@ -39,13 +39,12 @@ typedef enum {
 static PetscErrorCode AssembleWithCeed(DM dm, PetscFE fe, CheckKind kind, Mat A)
 {
   Ceed                   ceed;
-  CeedElemRestriction    r_u, r_x, r_q;
-  CeedBasis              b_u, b_x;
-  CeedVector             coordinates, qdata, values;
-  CeedQFunction          qf_setup, qf_apply;
+  CeedElemRestriction    r_u, r_q;
+  CeedBasis              b_u;
+  CeedVector             qdata, values;
+  CeedQFunction          qf_apply;
   CeedQFunctionContext   context;
-  CeedOperator           op_setup, op_apply;
-  CeedInt                ncells, nq;
+  CeedOperator           op_apply;
   CeedSize               nentries;
   CeedInt               *rows, *cols;
   PetscInt              *grows, *gcols, dim, ncomp;
@@ -59,28 +58,14 @@ static PetscErrorCode AssembleWithCeed(DM dm, PetscFE fe, CheckKind kind, Mat A)
   PetscCall(PetscFEGetNumComponents(fe, &ncomp));
   shape.dim           = (CeedInt)dim;
   shape.ncomp         = (CeedInt)ncomp;
-  const CeedInt qsize = kind == MASS ? 1 : shape.dim * shape.dim;
+  const CeedInt qsize = 1 + shape.dim * shape.dim;
   PetscCall(FEMCeedRestriction(ceed, dm, 0, &r_u));
   PetscCall(FEMCeedBasis(ceed, dm, fe, &b_u));
-  PetscCall(FEMCeedCoordinates(ceed, dm, fe, &r_x, &b_x, &coordinates));
-  PetscCallCeed(ceed, CeedElemRestrictionGetNumElements(r_u, &ncells));
-  PetscCallCeed(ceed, CeedBasisGetNumQuadraturePoints(b_u, &nq));
-  PetscCallCeed(ceed, CeedElemRestrictionCreateStrided(ceed, ncells, nq, qsize, (CeedSize)ncells * nq * qsize,
-                                                       CEED_STRIDES_BACKEND, &r_q));
-  PetscCallCeed(ceed, CeedVectorCreate(ceed, (CeedSize)ncells * nq * qsize, &qdata));
+  PetscCall(FEMCeedGeometry(ceed, dm, fe, &r_q, &qdata));
   PetscCallCeed(ceed, CeedQFunctionContextCreate(ceed, &context));
   PetscCallCeed(ceed, CeedQFunctionContextSetData(context, CEED_MEM_HOST, CEED_COPY_VALUES, sizeof(shape), &shape));
-  if (kind == MASS) {
-    PetscCallCeed(ceed, CeedQFunctionCreateInterior(ceed, 1, SetupMass, SetupMass_loc, &qf_setup));
-    PetscCallCeed(ceed, CeedQFunctionCreateInterior(ceed, 1, ApplyMass, ApplyMass_loc, &qf_apply));
-  } else {
-    PetscCallCeed(ceed, CeedQFunctionCreateInterior(ceed, 1, SetupLaplacian, SetupLaplacian_loc, &qf_setup));
-    PetscCallCeed(ceed, CeedQFunctionCreateInterior(ceed, 1, ApplyLaplacian, ApplyLaplacian_loc, &qf_apply));
-  }
-  PetscCallCeed(ceed, CeedQFunctionAddInput(qf_setup, "dx", shape.dim * shape.dim, CEED_EVAL_GRAD));
-  PetscCallCeed(ceed, CeedQFunctionAddInput(qf_setup, "weight", 1, CEED_EVAL_WEIGHT));
-  PetscCallCeed(ceed, CeedQFunctionAddOutput(qf_setup, "qdata", qsize, CEED_EVAL_NONE));
-  PetscCallCeed(ceed, CeedQFunctionSetContext(qf_setup, context));
+  if (kind == MASS) PetscCallCeed(ceed, CeedQFunctionCreateInterior(ceed, 1, ApplyMass, ApplyMass_loc, &qf_apply));
+  else PetscCallCeed(ceed, CeedQFunctionCreateInterior(ceed, 1, ApplyLaplacian, ApplyLaplacian_loc, &qf_apply));
   const CeedEvalMode mode = kind == MASS ? CEED_EVAL_INTERP : CEED_EVAL_GRAD;
   const CeedInt      size = kind == MASS ? shape.ncomp : shape.ncomp * shape.dim;
   PetscCallCeed(ceed, CeedQFunctionAddInput(qf_apply, "u", size, mode));
@@ -88,11 +73,6 @@ static PetscErrorCode AssembleWithCeed(DM dm, PetscFE fe, CheckKind kind, Mat A)
   PetscCallCeed(ceed, CeedQFunctionAddOutput(qf_apply, "v", size, mode));
   PetscCallCeed(ceed, CeedQFunctionSetContext(qf_apply, context));
 
-  PetscCallCeed(ceed, CeedOperatorCreate(ceed, qf_setup, NULL, NULL, &op_setup));
-  PetscCallCeed(ceed, CeedOperatorSetField(op_setup, "dx", r_x, b_x, CEED_VECTOR_ACTIVE));
-  PetscCallCeed(ceed, CeedOperatorSetField(op_setup, "weight", CEED_ELEMRESTRICTION_NONE, b_x, CEED_VECTOR_NONE));
-  PetscCallCeed(ceed, CeedOperatorSetField(op_setup, "qdata", r_q, CEED_BASIS_NONE, CEED_VECTOR_ACTIVE));
-  PetscCallCeed(ceed, CeedOperatorApply(op_setup, coordinates, qdata, CEED_REQUEST_IMMEDIATE));
   PetscCallCeed(ceed, CeedOperatorCreate(ceed, qf_apply, NULL, NULL, &op_apply));
   PetscCallCeed(ceed, CeedOperatorSetField(op_apply, "u", r_u, b_u, CEED_VECTOR_ACTIVE));
   PetscCallCeed(ceed, CeedOperatorSetField(op_apply, "qdata", r_q, CEED_BASIS_NONE, qdata));
@@ -120,16 +100,11 @@ static PetscErrorCode AssembleWithCeed(DM dm, PetscFE fe, CheckKind kind, Mat A)
   free(cols);
   PetscCallCeed(ceed, CeedVectorDestroy(&values));
   PetscCallCeed(ceed, CeedOperatorDestroy(&op_apply));
-  PetscCallCeed(ceed, CeedOperatorDestroy(&op_setup));
   PetscCallCeed(ceed, CeedQFunctionDestroy(&qf_apply));
-  PetscCallCeed(ceed, CeedQFunctionDestroy(&qf_setup));
   PetscCallCeed(ceed, CeedQFunctionContextDestroy(&context));
   PetscCallCeed(ceed, CeedVectorDestroy(&qdata));
-  PetscCallCeed(ceed, CeedVectorDestroy(&coordinates));
   PetscCallCeed(ceed, CeedElemRestrictionDestroy(&r_q));
-  PetscCallCeed(ceed, CeedElemRestrictionDestroy(&r_x));
   PetscCallCeed(ceed, CeedElemRestrictionDestroy(&r_u));
-  PetscCallCeed(ceed, CeedBasisDestroy(&b_x));
   PetscCallCeed(ceed, CeedBasisDestroy(&b_u));
   PetscFunctionReturn(0);
 }

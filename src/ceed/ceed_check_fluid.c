@@ -10,12 +10,12 @@
 
 typedef struct {
   Ceed                 ceed;
-  CeedElemRestriction  r_u, r_p, r_x, r_q;
-  CeedBasis            b_u, b_p, b_x;
-  CeedVector           coordinates, qdata, x, f;
-  CeedQFunction        qf_setup, qf_residual;
+  CeedElemRestriction  r_u, r_p, r_q;
+  CeedBasis            b_u, b_p;
+  CeedVector           qdata, x, f;
+  CeedQFunction        qf_residual;
   CeedQFunctionContext context;
-  CeedOperator         op_setup, op_residual;
+  CeedOperator         op_residual;
   CeedVector           state;       /* the Jacobian's state u0, passive */
   CeedQFunction        qf_block[4]; /* velocity-velocity, velocity-pressure, pressure-velocity, pressure-pressure */
   CeedOperator         op_block[4]; /* pressure-pressure only with a pressure stabilization */
@@ -45,7 +45,7 @@ static PetscErrorCode StabilizationCreate(FluidOperator *o, CeedInt dim, CeedQFu
 static PetscErrorCode FluidOperatorCreate(DM dm, const FluidVolume *fv, FluidOperator *o)
 {
   PetscFE       velocity, pressure;
-  CeedInt       ncells, nq, nq_p, dim = fv->dim;
+  CeedInt       nq, nq_p, dim = fv->dim;
   const CeedInt qsize = 1 + dim * dim;
   PetscInt      n;
   Vec           local;
@@ -59,28 +59,13 @@ static PetscErrorCode FluidOperatorCreate(DM dm, const FluidVolume *fv, FluidOpe
   PetscCall(FEMCeedRestriction(ceed, dm, 1, &o->r_p));
   PetscCall(FEMCeedBasis(ceed, dm, velocity, &o->b_u));
   PetscCall(FEMCeedBasis(ceed, dm, pressure, &o->b_p));
-  PetscCall(FEMCeedCoordinates(ceed, dm, velocity, &o->r_x, &o->b_x, &o->coordinates));
+  PetscCall(FEMCeedGeometry(ceed, dm, velocity, &o->r_q, &o->qdata));
   PetscCallCeed(ceed, CeedBasisGetNumQuadraturePoints(o->b_u, &nq));
   PetscCallCeed(ceed, CeedBasisGetNumQuadraturePoints(o->b_p, &nq_p));
   PetscCheck(nq == nq_p, PETSC_COMM_SELF, PETSC_ERR_SUP, "libCEED fluid: velocity and pressure need one quadrature");
-  PetscCallCeed(ceed, CeedElemRestrictionGetNumElements(o->r_u, &ncells));
-  PetscCallCeed(ceed, CeedElemRestrictionCreateStrided(ceed, ncells, nq, qsize, (CeedSize)ncells * nq * qsize,
-                                                       CEED_STRIDES_BACKEND, &o->r_q));
-  PetscCallCeed(ceed, CeedVectorCreate(ceed, (CeedSize)ncells * nq * qsize, &o->qdata));
   PetscCallCeed(ceed, CeedQFunctionContextCreate(ceed, &o->context));
   PetscCallCeed(ceed,
                 CeedQFunctionContextSetData(o->context, CEED_MEM_HOST, CEED_COPY_VALUES, sizeof(*fv), (void *)fv));
-
-  PetscCallCeed(ceed, CeedQFunctionCreateInterior(ceed, 1, SetupFluidGeometry, SetupFluidGeometry_loc, &o->qf_setup));
-  PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_setup, "dx", dim * dim, CEED_EVAL_GRAD));
-  PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_setup, "weight", 1, CEED_EVAL_WEIGHT));
-  PetscCallCeed(ceed, CeedQFunctionAddOutput(o->qf_setup, "qdata", qsize, CEED_EVAL_NONE));
-  PetscCallCeed(ceed, CeedQFunctionSetContext(o->qf_setup, o->context));
-  PetscCallCeed(ceed, CeedOperatorCreate(ceed, o->qf_setup, NULL, NULL, &o->op_setup));
-  PetscCallCeed(ceed, CeedOperatorSetField(o->op_setup, "dx", o->r_x, o->b_x, CEED_VECTOR_ACTIVE));
-  PetscCallCeed(ceed, CeedOperatorSetField(o->op_setup, "weight", CEED_ELEMRESTRICTION_NONE, o->b_x, CEED_VECTOR_NONE));
-  PetscCallCeed(ceed, CeedOperatorSetField(o->op_setup, "qdata", o->r_q, CEED_BASIS_NONE, CEED_VECTOR_ACTIVE));
-  PetscCallCeed(ceed, CeedOperatorApply(o->op_setup, o->coordinates, o->qdata, CEED_REQUEST_IMMEDIATE));
 
   PetscCallCeed(ceed,
                 CeedQFunctionCreateInterior(ceed, 1, FluidVolumeResidual, FluidVolumeResidual_loc, &o->qf_residual));
@@ -122,19 +107,14 @@ static PetscErrorCode FluidOperatorDestroy(FluidOperator *o)
   PetscCallCeed(ceed, CeedQFunctionDestroy(&o->qf_stabilization));
   PetscCallCeed(ceed, CeedVectorDestroy(&o->state));
   PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_residual));
-  PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_setup));
   PetscCallCeed(ceed, CeedQFunctionDestroy(&o->qf_residual));
-  PetscCallCeed(ceed, CeedQFunctionDestroy(&o->qf_setup));
   PetscCallCeed(ceed, CeedQFunctionContextDestroy(&o->context));
   PetscCallCeed(ceed, CeedVectorDestroy(&o->qdata));
-  PetscCallCeed(ceed, CeedVectorDestroy(&o->coordinates));
   PetscCallCeed(ceed, CeedVectorDestroy(&o->x));
   PetscCallCeed(ceed, CeedVectorDestroy(&o->f));
   PetscCallCeed(ceed, CeedElemRestrictionDestroy(&o->r_q));
-  PetscCallCeed(ceed, CeedElemRestrictionDestroy(&o->r_x));
   PetscCallCeed(ceed, CeedElemRestrictionDestroy(&o->r_p));
   PetscCallCeed(ceed, CeedElemRestrictionDestroy(&o->r_u));
-  PetscCallCeed(ceed, CeedBasisDestroy(&o->b_x));
   PetscCallCeed(ceed, CeedBasisDestroy(&o->b_p));
   PetscCallCeed(ceed, CeedBasisDestroy(&o->b_u));
   PetscFunctionReturn(0);

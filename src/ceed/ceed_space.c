@@ -2,6 +2,7 @@
    tabulation at its own quadrature is handed to CeedBasisCreateH1, so that a libCEED
    operator and PETSc's integration see the same numbers at the same points. */
 #include "fem_ceed.h"
+#include "qfunctions_geometry.h"
 
 PetscErrorCode FEMCeedRestriction(Ceed ceed, DM dm, PetscInt field, CeedElemRestriction *restriction)
 {
@@ -149,5 +150,62 @@ PetscErrorCode FEMCeedCreateCOOMatrix(DM dm, Mat *A)
   PetscCall(MatCreate(PetscObjectComm((PetscObject)dm), A));
   PetscCall(MatSetSizes(*A, n, n, N, N));
   PetscCall(MatSetType(*A, MATAIJ));
+  PetscFunctionReturn(0);
+}
+
+/* The geometry every operator reads at its quadrature points, stored once per mesh:
+   qdata = [w |det A|, B] with B = A^{-1} (b[j][k] = dxi_j/dx_k), 1 + dim^2 values. */
+CEED_QFUNCTION(SetupGeometry)(void *ctx, CeedInt Q, const CeedScalar *const *in, CeedScalar *const *out)
+{
+  const CeedInt dim = *(const CeedInt *)ctx;
+  CeedScalar    B[3][3];
+
+  for (CeedInt i = 0; i < Q; ++i) {
+    out[0][i] = in[1][i] * fabs(Invert(dim, in[0], i, Q, B));
+    for (CeedInt j = 0; j < dim; ++j)
+      for (CeedInt k = 0; k < dim; ++k) out[0][(1 + j * dim + k) * Q + i] = B[j][k];
+  }
+  return 0;
+}
+
+PetscErrorCode FEMCeedGeometry(Ceed ceed, DM dm, PetscFE fe, CeedElemRestriction *r_q, CeedVector *qdata)
+{
+  CeedElemRestriction  r_x;
+  CeedBasis            b_x;
+  CeedVector           coordinates;
+  CeedQFunction        qf;
+  CeedQFunctionContext context;
+  CeedOperator         op;
+  CeedInt              ncells, nq, dim;
+  PetscInt             cdim;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetDimension(dm, &cdim));
+  dim                 = (CeedInt)cdim;
+  const CeedInt qsize = 1 + dim * dim;
+  PetscCall(FEMCeedCoordinates(ceed, dm, fe, &r_x, &b_x, &coordinates));
+  PetscCallCeed(ceed, CeedElemRestrictionGetNumElements(r_x, &ncells));
+  PetscCallCeed(ceed, CeedBasisGetNumQuadraturePoints(b_x, &nq));
+  PetscCallCeed(ceed, CeedElemRestrictionCreateStrided(ceed, ncells, nq, qsize, (CeedSize)ncells * nq * qsize,
+                                                       CEED_STRIDES_BACKEND, r_q));
+  PetscCallCeed(ceed, CeedVectorCreate(ceed, (CeedSize)ncells * nq * qsize, qdata));
+  PetscCallCeed(ceed, CeedQFunctionContextCreate(ceed, &context));
+  PetscCallCeed(ceed, CeedQFunctionContextSetData(context, CEED_MEM_HOST, CEED_COPY_VALUES, sizeof(dim), &dim));
+  PetscCallCeed(ceed, CeedQFunctionCreateInterior(ceed, 1, SetupGeometry, SetupGeometry_loc, &qf));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(qf, "dx", dim * dim, CEED_EVAL_GRAD));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(qf, "weight", 1, CEED_EVAL_WEIGHT));
+  PetscCallCeed(ceed, CeedQFunctionAddOutput(qf, "qdata", qsize, CEED_EVAL_NONE));
+  PetscCallCeed(ceed, CeedQFunctionSetContext(qf, context));
+  PetscCallCeed(ceed, CeedOperatorCreate(ceed, qf, NULL, NULL, &op));
+  PetscCallCeed(ceed, CeedOperatorSetField(op, "dx", r_x, b_x, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(op, "weight", CEED_ELEMRESTRICTION_NONE, b_x, CEED_VECTOR_NONE));
+  PetscCallCeed(ceed, CeedOperatorSetField(op, "qdata", *r_q, CEED_BASIS_NONE, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorApply(op, coordinates, *qdata, CEED_REQUEST_IMMEDIATE));
+  PetscCallCeed(ceed, CeedOperatorDestroy(&op));
+  PetscCallCeed(ceed, CeedQFunctionDestroy(&qf));
+  PetscCallCeed(ceed, CeedQFunctionContextDestroy(&context));
+  PetscCallCeed(ceed, CeedVectorDestroy(&coordinates));
+  PetscCallCeed(ceed, CeedBasisDestroy(&b_x));
+  PetscCallCeed(ceed, CeedElemRestrictionDestroy(&r_x));
   PetscFunctionReturn(0);
 }

@@ -1,6 +1,7 @@
 /* libCEED pointwise functions of the fluid's volume residual (the weak form of
    fluid_kernels.c on a fixed mesh): m (u, v) + op [rho conv ((u . grad) u, v)
-   + 2 mu (D(u), D(v)) - (p, div v) - (q, div u)]. Gradients are [direction][component][point]. */
+   + 2 mu (D(u), D(v)) - (p, div v) - (q, div u)] on the geometry of FEMCeedGeometry.
+   Gradients are [direction][component][point]. */
 #ifndef FSIOPT_QFUNCTIONS_FLUID_H
 #define FSIOPT_QFUNCTIONS_FLUID_H
 #include "qfunctions_geometry.h"
@@ -11,19 +12,16 @@ typedef struct {
   CeedScalar tau; /* op times the pressure stabilization's tau; 0: none */
 } FluidVolume;
 
-/* qdata: w |det A|, then B = A^{-1} (b[j][k] = dxi_j/dx_k) */
-CEED_QFUNCTION(SetupFluidGeometry)(void *ctx, CeedInt Q, const CeedScalar *const *in, CeedScalar *const *out)
+/* physical gradients G[c][k] = du_c/dx_k of a reference gradient at point i */
+CEED_QFUNCTION_HELPER void PhysicalGradient(CeedInt dim, const CeedScalar *du, const CeedScalar *qdata, CeedInt i,
+                                            CeedInt Q, CeedScalar B[3][3], CeedScalar G[3][3])
 {
-  const FluidVolume *fv  = (const FluidVolume *)ctx;
-  const CeedInt      dim = fv->dim;
-  CeedScalar         B[3][3];
-
-  for (CeedInt i = 0; i < Q; ++i) {
-    out[0][i] = in[1][i] * fabs(Invert(dim, in[0], i, Q, B));
-    for (CeedInt j = 0; j < dim; ++j)
-      for (CeedInt k = 0; k < dim; ++k) out[0][(1 + j * dim + k) * Q + i] = B[j][k];
-  }
-  return 0;
+  GeometryInverse(dim, qdata, i, Q, B);
+  for (CeedInt c = 0; c < dim; ++c)
+    for (CeedInt k = 0; k < dim; ++k) {
+      G[c][k] = 0;
+      for (CeedInt j = 0; j < dim; ++j) G[c][k] += du[(j * dim + c) * Q + i] * B[j][k];
+    }
 }
 
 CEED_QFUNCTION(FluidVolumeResidual)(void *ctx, CeedInt Q, const CeedScalar *const *in, CeedScalar *const *out)
@@ -36,13 +34,7 @@ CEED_QFUNCTION(FluidVolumeResidual)(void *ctx, CeedInt Q, const CeedScalar *cons
   for (CeedInt i = 0; i < Q; ++i) {
     const CeedScalar wdet = qdata[i];
     CeedScalar       B[3][3], G[3][3], f1[3][3], divergence = 0;
-    for (CeedInt j = 0; j < dim; ++j)
-      for (CeedInt k = 0; k < dim; ++k) B[j][k] = qdata[(1 + j * dim + k) * Q + i];
-    for (CeedInt c = 0; c < dim; ++c)
-      for (CeedInt k = 0; k < dim; ++k) {
-        G[c][k] = 0; /* du_c/dx_k */
-        for (CeedInt j = 0; j < dim; ++j) G[c][k] += du[(j * dim + c) * Q + i] * B[j][k];
-      }
+    PhysicalGradient(dim, du, qdata, i, Q, B, G);
     for (CeedInt d = 0; d < dim; ++d) divergence += G[d][d];
     for (CeedInt c = 0; c < dim; ++c) {
       CeedScalar convection = 0;
@@ -60,19 +52,6 @@ CEED_QFUNCTION(FluidVolumeResidual)(void *ctx, CeedInt Q, const CeedScalar *cons
   }
   return 0;
 }
-/* physical gradients G[c][k] = du_c/dx_k of a reference gradient at point i */
-CEED_QFUNCTION_HELPER void PhysicalGradient(CeedInt dim, const CeedScalar *du, const CeedScalar *qdata, CeedInt i,
-                                            CeedInt Q, CeedScalar B[3][3], CeedScalar G[3][3])
-{
-  for (CeedInt j = 0; j < dim; ++j)
-    for (CeedInt k = 0; k < dim; ++k) B[j][k] = qdata[(1 + j * dim + k) * Q + i];
-  for (CeedInt c = 0; c < dim; ++c)
-    for (CeedInt k = 0; k < dim; ++k) {
-      G[c][k] = 0;
-      for (CeedInt j = 0; j < dim; ++j) G[c][k] += du[(j * dim + c) * Q + i] * B[j][k];
-    }
-}
-
 /* the velocity-velocity block of the Jacobian at the state u0: mass, both convection terms, viscosity */
 CEED_QFUNCTION(FluidJacobianUU)(void *ctx, CeedInt Q, const CeedScalar *const *in, CeedScalar *const *out)
 {
@@ -144,8 +123,7 @@ CEED_QFUNCTION(FluidPressureStabilization)(void *ctx, CeedInt Q, const CeedScala
 
   for (CeedInt i = 0; i < Q; ++i) {
     CeedScalar B[3][3], grad[3];
-    for (CeedInt j = 0; j < dim; ++j)
-      for (CeedInt k = 0; k < dim; ++k) B[j][k] = qdata[(1 + j * dim + k) * Q + i];
+    GeometryInverse(dim, qdata, i, Q, B);
     for (CeedInt k = 0; k < dim; ++k) {
       grad[k] = 0;
       for (CeedInt j = 0; j < dim; ++j) grad[k] += dp[j * Q + i] * B[j][k];

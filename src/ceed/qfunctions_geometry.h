@@ -29,4 +29,11 @@ CEED_QFUNCTION_HELPER CeedScalar Invert(CeedInt dim, const CeedScalar *J, CeedIn
   return det;
 }
 
+/* B at point i of such qdata */
+CEED_QFUNCTION_HELPER void GeometryInverse(CeedInt dim, const CeedScalar *qdata, CeedInt i, CeedInt Q,
+                                           CeedScalar B[3][3])
+{
+  for (CeedInt j = 0; j < dim; ++j)
+    for (CeedInt k = 0; k < dim; ++k) B[j][k] = qdata[(1 + j * dim + k) * Q + i];
+}
 #endif
