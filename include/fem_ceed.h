@@ -38,6 +38,11 @@ PetscErrorCode FEMCeedGeometry(Ceed, DM dm, PetscFE fe, CeedElemRestriction *r_q
    its variable block sizes there, PETSc 3.18). */
 PetscErrorCode FEMCeedCreateCOOMatrix(DM dm, Mat *);
 
+/* COO assembly of n operators (NULL ones skipped: absent blocks) into A: the pattern once
+   (counts[b]: the entries of ops[b]), then the values per assembly. */
+PetscErrorCode FEMCeedAssemblySetUp(Ceed, DM dm, PetscInt n, const CeedOperator ops[], Mat A, CeedSize counts[]);
+PetscErrorCode FEMCeedAssemble(Ceed, PetscInt n, const CeedOperator ops[], const CeedSize counts[], Mat A);
+
 /* ||ceed - petsc||_F / ||petsc||_F (ceed is overwritten by the difference) */
 PetscErrorCode FEMCeedMatDifference(Mat ceed, Mat petsc, PetscReal *difference);
 

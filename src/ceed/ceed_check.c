@@ -38,19 +38,15 @@ typedef enum {
 /* The libCEED operator of the kind on dm's one field fe, assembled into A by COO */
 static PetscErrorCode AssembleWithCeed(DM dm, PetscFE fe, CheckKind kind, Mat A)
 {
-  Ceed                   ceed;
-  CeedElemRestriction    r_u, r_q;
-  CeedBasis              b_u;
-  CeedVector             qdata, values;
-  CeedQFunction          qf_apply;
-  CeedQFunctionContext   context;
-  CeedOperator           op_apply;
-  CeedSize               nentries;
-  CeedInt               *rows, *cols;
-  PetscInt              *grows, *gcols, dim, ncomp;
-  ISLocalToGlobalMapping ltog;
-  const CeedScalar      *v;
-  SpaceShape             shape;
+  Ceed                 ceed;
+  CeedElemRestriction  r_u, r_q;
+  CeedBasis            b_u;
+  CeedVector           qdata;
+  CeedQFunction        qf_apply;
+  CeedQFunctionContext context;
+  CeedOperator         op_apply;
+  PetscInt             dim, ncomp;
+  SpaceShape           shape;
 
   PetscFunctionBeginUser;
   PetscCall(FEMCeedGet(&ceed));
@@ -78,27 +74,11 @@ static PetscErrorCode AssembleWithCeed(DM dm, PetscFE fe, CheckKind kind, Mat A)
   PetscCallCeed(ceed, CeedOperatorSetField(op_apply, "qdata", r_q, CEED_BASIS_NONE, qdata));
   PetscCallCeed(ceed, CeedOperatorSetField(op_apply, "v", r_u, b_u, CEED_VECTOR_ACTIVE));
 
-  /* COO: the entries' local (L-vector) rows and columns, numbered globally */
-  PetscCallCeed(ceed, CeedOperatorLinearAssembleSymbolic(op_apply, &nentries, &rows, &cols));
-  PetscCall(PetscMalloc2(nentries, &grows, nentries, &gcols));
-  for (CeedSize i = 0; i < nentries; ++i) {
-    grows[i] = rows[i];
-    gcols[i] = cols[i];
+  {
+    CeedSize count;
+    PetscCall(FEMCeedAssemblySetUp(ceed, dm, 1, &op_apply, A, &count));
+    PetscCall(FEMCeedAssemble(ceed, 1, &op_apply, &count, A));
   }
-  PetscCall(DMGetLocalToGlobalMapping(dm, &ltog));
-  PetscCall(ISLocalToGlobalMappingApply(ltog, (PetscInt)nentries, grows, grows));
-  PetscCall(ISLocalToGlobalMappingApply(ltog, (PetscInt)nentries, gcols, gcols));
-  PetscCall(MatSetPreallocationCOO(A, (PetscCount)nentries, grows, gcols));
-  PetscCallCeed(ceed, CeedVectorCreate(ceed, nentries, &values));
-  PetscCallCeed(ceed, CeedOperatorLinearAssemble(op_apply, values));
-  PetscCallCeed(ceed, CeedVectorGetArrayRead(values, CEED_MEM_HOST, &v));
-  PetscCall(MatSetValuesCOO(A, v, INSERT_VALUES));
-  PetscCallCeed(ceed, CeedVectorRestoreArrayRead(values, &v));
-
-  PetscCall(PetscFree2(grows, gcols));
-  free(rows);
-  free(cols);
-  PetscCallCeed(ceed, CeedVectorDestroy(&values));
   PetscCallCeed(ceed, CeedOperatorDestroy(&op_apply));
   PetscCallCeed(ceed, CeedQFunctionDestroy(&qf_apply));
   PetscCallCeed(ceed, CeedQFunctionContextDestroy(&context));

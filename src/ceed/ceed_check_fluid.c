@@ -192,63 +192,6 @@ static PetscErrorCode FluidJacobianCreate(FluidOperator *o, const FluidVolume *f
   PetscFunctionReturn(0);
 }
 
-/* The blocks' entries, numbered globally, into one COO pattern of A (symbolic, once) */
-static PetscErrorCode FluidJacobianPattern(FluidOperator *o, DM dm, Mat A, CeedSize counts[4])
-{
-  CeedSize               total = 0;
-  PetscInt              *rows, *cols;
-  ISLocalToGlobalMapping ltog;
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscMalloc1(1, &rows));
-  PetscCall(PetscMalloc1(1, &cols));
-  for (PetscInt b = 0; b < 4; ++b) {
-    CeedInt *r, *c;
-    counts[b] = 0;
-    if (!o->op_block[b]) continue;
-    PetscCallCeed(o->ceed, CeedOperatorLinearAssembleSymbolic(o->op_block[b], &counts[b], &r, &c));
-    PetscCall(PetscRealloc(sizeof(PetscInt) * (total + counts[b]), &rows));
-    PetscCall(PetscRealloc(sizeof(PetscInt) * (total + counts[b]), &cols));
-    for (CeedSize i = 0; i < counts[b]; ++i) {
-      rows[total + i] = r[i];
-      cols[total + i] = c[i];
-    }
-    total += counts[b];
-    free(r);
-    free(c);
-  }
-  PetscCall(DMGetLocalToGlobalMapping(dm, &ltog));
-  PetscCall(ISLocalToGlobalMappingApply(ltog, (PetscInt)total, rows, rows));
-  PetscCall(ISLocalToGlobalMappingApply(ltog, (PetscInt)total, cols, cols));
-  PetscCall(MatSetPreallocationCOO(A, (PetscCount)total, rows, cols));
-  PetscCall(PetscFree(rows));
-  PetscCall(PetscFree(cols));
-  PetscFunctionReturn(0);
-}
-
-/* The blocks' values into A (numeric, per Jacobian) */
-static PetscErrorCode FluidJacobianValues(FluidOperator *o, Mat A, const CeedSize counts[4])
-{
-  PetscScalar *values;
-  CeedSize     at = 0;
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscMalloc1(counts[0] + counts[1] + counts[2] + counts[3], &values));
-  for (PetscInt b = 0; b < 4; ++b) {
-    CeedVector block;
-    if (!o->op_block[b]) continue;
-    PetscCallCeed(o->ceed, CeedVectorCreate(o->ceed, counts[b], &block));
-    PetscCallCeed(o->ceed, CeedVectorSetArray(block, CEED_MEM_HOST, CEED_USE_POINTER, values + at));
-    PetscCallCeed(o->ceed, CeedOperatorLinearAssemble(o->op_block[b], block));
-    PetscCallCeed(o->ceed, CeedVectorTakeArray(block, CEED_MEM_HOST, NULL));
-    PetscCallCeed(o->ceed, CeedVectorDestroy(&block));
-    at += counts[b];
-  }
-  PetscCall(MatSetValuesCOO(A, values, INSERT_VALUES));
-  PetscCall(PetscFree(values));
-  PetscFunctionReturn(0);
-}
-
 /* PETSc's Jacobian and libCEED's at x0: their relative difference and times per assembly */
 static PetscErrorCode CompareJacobians(DM dm, FluidOperator *o, const FluidVolume *fv, Vec x0, PetscInt repeats,
                                        PetscReal *difference, PetscLogDouble *petsc_s, PetscLogDouble *ceed_s)
@@ -267,11 +210,11 @@ static PetscErrorCode CompareJacobians(DM dm, FluidOperator *o, const FluidVolum
   PetscCall(DMCreateMatrix(dm, &petsc));
   PetscCall(FluidJacobianCreate(o, fv, x0));
   PetscCall(FEMCeedCreateCOOMatrix(dm, &ceed));
-  PetscCall(FluidJacobianPattern(o, dm, ceed, counts));
+  PetscCall(FEMCeedAssemblySetUp(o->ceed, dm, 4, o->op_block, ceed, counts));
   PetscCall(PetscTime(&t0));
   for (PetscInt r = 0; r < repeats; ++r) PetscCall(DMPlexSNESComputeJacobianFEM(dm, x0, petsc, petsc, NULL));
   PetscCall(PetscTime(&t1));
-  for (PetscInt r = 0; r < repeats; ++r) PetscCall(FluidJacobianValues(o, ceed, counts));
+  for (PetscInt r = 0; r < repeats; ++r) PetscCall(FEMCeedAssemble(o->ceed, 4, o->op_block, counts, ceed));
   PetscCall(PetscTime(&t2));
   PetscCall(FEMCeedMatDifference(ceed, petsc, difference));
   *petsc_s = (t1 - t0) / repeats;

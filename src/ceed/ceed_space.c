@@ -135,24 +135,6 @@ PetscErrorCode FEMCeedCoordinates(Ceed ceed, DM dm, PetscFE fe, CeedElemRestrict
   PetscFunctionReturn(0);
 }
 
-/* A bare AIJ matrix of dm's global size: MatSetPreallocationCOO on DMCreateMatrix's would
-   leak its variable block sizes (PETSc 3.18, valgrind) */
-PetscErrorCode FEMCeedCreateCOOMatrix(DM dm, Mat *A)
-{
-  Vec      global;
-  PetscInt n, N;
-
-  PetscFunctionBeginUser;
-  PetscCall(DMGetGlobalVector(dm, &global));
-  PetscCall(VecGetLocalSize(global, &n));
-  PetscCall(VecGetSize(global, &N));
-  PetscCall(DMRestoreGlobalVector(dm, &global));
-  PetscCall(MatCreate(PetscObjectComm((PetscObject)dm), A));
-  PetscCall(MatSetSizes(*A, n, n, N, N));
-  PetscCall(MatSetType(*A, MATAIJ));
-  PetscFunctionReturn(0);
-}
-
 /* The geometry every operator reads at its quadrature points, stored once per mesh:
    qdata = [w |det A|, B] with B = A^{-1} (b[j][k] = dxi_j/dx_k), 1 + dim^2 values. */
 CEED_QFUNCTION(SetupGeometry)(void *ctx, CeedInt Q, const CeedScalar *const *in, CeedScalar *const *out)
