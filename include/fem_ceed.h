@@ -17,6 +17,14 @@
     } \
   } while (0)
 
+/* -fem_backend: the operators by PETSc's pointwise integration (the reference) or libCEED */
+typedef enum {
+  FEM_BACKEND_PETSC,
+  FEM_BACKEND_CEED
+} FEMBackend;
+extern const char *const FEMBackends[];
+PetscErrorCode           FEMBackendGet(FEMBackend *);
+
 /* The run's Ceed, of the backend -ceed (default /cpu/self/opt/blocked); made on first use. */
 PetscErrorCode FEMCeedGet(Ceed *);
 
@@ -31,7 +39,8 @@ PetscErrorCode FEMCeedBasis(Ceed, DM dm, PetscFE fe, CeedBasis *);
 PetscErrorCode FEMCeedCoordinates(Ceed, DM dm, PetscFE fe, CeedElemRestriction *, CeedBasis *, CeedVector *);
 
 /* The geometry at fe's quadrature points of every cell, for the operators' pointwise
-   functions (qfunctions_geometry.h): [w |det A|, A^{-1}], 1 + dim^2 values per point. */
+   functions (qfunctions_geometry.h): [w |det A|, A^{-1}], 1 + dim^2 values per point.
+   Created when *qdata is NULL, else recomputed in place (after the mesh moved). */
 PetscErrorCode FEMCeedGeometry(Ceed, DM dm, PetscFE fe, CeedElemRestriction *r_q, CeedVector *qdata);
 
 /* An AIJ matrix of dm's global size for MatSetPreallocationCOO (DMCreateMatrix's would leak
@@ -39,7 +48,8 @@ PetscErrorCode FEMCeedGeometry(Ceed, DM dm, PetscFE fe, CeedElemRestriction *r_q
 PetscErrorCode FEMCeedCreateCOOMatrix(DM dm, Mat *);
 
 /* COO assembly of n operators (NULL ones skipped: absent blocks) into A: the pattern once
-   (counts[b]: the entries of ops[b]), then the values per assembly. */
+   (counts[b]: the entries of ops[b]), then the values per assembly; a block of the pattern
+   whose operator is NULL in an assembly gets zeros. */
 PetscErrorCode FEMCeedAssemblySetUp(Ceed, DM dm, PetscInt n, const CeedOperator ops[], Mat A, CeedSize counts[]);
 PetscErrorCode FEMCeedAssemble(Ceed, PetscInt n, const CeedOperator ops[], const CeedSize counts[], Mat A);
 
@@ -50,8 +60,24 @@ PetscErrorCode FEMCeedMatDifference(Mat ceed, Mat petsc, PetscReal *difference);
    (CeedOperatorLinearAssemble into the PETSc matrix by COO) against PETSc's; prints the
    relative differences and fails above tol. */
 PetscErrorCode FEMCeedCheckSpaces(DM dm, const char name[], PetscReal tol);
-/* -ceed_check_fluid: the fluid's volume residual (Navier-Stokes, fixed mesh, the weak form of
-   fluid_kernels.c) by libCEED against PETSc's at a random state on each rank's cells, and
-   the time of each per residual; fails above tol. */
-PetscErrorCode FEMCeedCheckFluidResidual(DM fluid_dm, PetscReal tol);
+/* The fluid's volume operators (the weak form of fluid_kernels.c) on dm (fields velocity,
+   pressure), with the mesh velocity of dm_mesh_velocity's field 0 on moving meshes (NULL:
+   fixed); constants as the fluid's PetscDS holds them (FLUID_*), a pressure stabilization
+   operator only when they give it a tau > 0. The geometry follows dm's coordinates. */
+typedef struct _n_FEMCeedFluid *FEMCeedFluid;
+PetscErrorCode FEMCeedFluidCreate(DM dm, DM dm_mesh_velocity, const PetscScalar constants[], FEMCeedFluid *);
+PetscErrorCode FEMCeedFluidSetConstants(FEMCeedFluid, const PetscScalar constants[]);
+/* flocal = the volume residual at xlocal (zlocal: the mesh velocity's local vector, or NULL) */
+PetscErrorCode FEMCeedFluidResidual(FEMCeedFluid, Vec xlocal, Vec zlocal, Vec flocal);
+/* A matrix of dm's global rows with the Jacobian's COO pattern, and the Jacobian at xlocal into it */
+PetscErrorCode FEMCeedFluidCreateMatrix(FEMCeedFluid, Mat *);
+PetscErrorCode FEMCeedFluidJacobian(FEMCeedFluid, Vec xlocal, Vec zlocal, PetscBool old_mass, Mat);
+/* Moving meshes: the old domains' mass on the velocity, sum_q m_q phi_i phi_j with weights
+   m = a0 w|det A|(domain 0) + a1 w|det A|(domain 1), each domain stored from the present
+   coordinates of a DM of the same layout (mesh-bound basis functions: only the weights
+   change); ylocal = M xlocal (pressure entries zero); with old_mass the Jacobian adds M. */
+PetscErrorCode FEMCeedFluidMassDomain(FEMCeedFluid, DM dm_domain, PetscInt slot);
+PetscErrorCode FEMCeedFluidMassWeights(FEMCeedFluid, PetscScalar a0, PetscScalar a1);
+PetscErrorCode FEMCeedFluidMassApply(FEMCeedFluid, Vec xlocal, Vec ylocal);
+PetscErrorCode FEMCeedFluidDestroy(FEMCeedFluid *);
 #endif

@@ -43,27 +43,30 @@ def test_ceed_spaces_match_petsc():
     return "%d spaces on %s: worst %.1e; -ceed /gpu/none refused" % (spaces, ", ".join(sorted(cells)), worst)
 
 
-FLUID = re.compile(r"fsiopt: libCEED check: fluid volume (residual|Jacobian) \(Navier-Stokes, (\dD)[^)]*\) at a random state: "
-                   r"([0-9.e+-]+) relative to PETSc's")
+BACKEND = re.compile(r"fsiopt: backend check: step (\d+): fluid residual ([0-9.e+-]+) \(the step's start\) ([0-9.e+-]+) "
+                     r"\(a random state\), Jacobian ([0-9.e+-]+) ([0-9.e+-]+), libCEED relative to PETSc")
 
 
-@test("libCEED fluid volume residual and Jacobian (Navier-Stokes, pressure stabilization, COO by blocks) = PETSc's at a random state to 1e-14 (Q2/Q1, P2/P1, Q1/Q1 2D and 3D; 2 ranks)")
-def test_ceed_fluid_residual_matches_petsc():
-    cases = [(["-options_file", "options/mms-ns.yaml"], 1),
-             (["-options_file", "options/mms-fluid.yaml", "-fluid_dm_plex_filename", "meshes/square.msh"], 1),
-             (["-options_file", "options/tube3d.yaml", "-t_final", "1e-4"], 1),
-             (TUREK + ["-turek_case", "fsi1", "-t_final", "0.1", "-dt", "0.1"], 1),
-             (CHANNEL + ["-t_final", "1e-4"], 2),
-             # (Q1,Q1) with the pressure stabilization: a flipped sign of its term shows as 3e-4 here
+@test("libCEED fluid operators (-fem_backend ceed) = PETSc's to 1e-12 at the first steps' states and at random states: moving meshes with BDF2, loads, Stokes, (Q1,Q1), 3D, forces, 2 ranks")
+def test_fluid_backends_agree():
+    three = ["-t_final", "3e-4"]
+    cases = [(CHANNEL + three, 2, 3),                                                   # moving mesh, backflow, 2 ranks
+             (CHANNEL + three + ["-fluid_time_order", "2", "-fem_backend", "ceed"], 1, 3),  # BDF2 on a moving mesh
+             (["-options_file", "options/mms-ns.yaml"], 1, 1),                         # fixed mesh, volume loads
+             (["-options_file", "options/mms-fluid.yaml", "-fluid_dm_plex_filename", "meshes/square.msh"], 1, 1),  # P2/P1
              (["-options_file", "options/mms-fluid.yaml", "-fluid_velocity_degree", "1",
-               "-fluid_pressure_stabilization", "0.1"], 1)]
-    found = []
-    for args, nproc in cases:
-        rc, stdout, err, _ = run(args + ["-ceed_check_fluid"], nproc=nproc)
+               "-fluid_pressure_stabilization", "0.1"], 1, 1),                           # (Q1,Q1) stabilized
+             (["-options_file", "options/mms-stokes.yaml", "-t_final", "0.65"], 1, 3),    # Stokes
+             (["-options_file", "options/tube3d.yaml"] + three + ["-fem_backend", "ceed"], 1, 3),  # hexahedra, moving
+             (TUREK + ["-turek_case", "fsi1", "-t_final", "0.3", "-dt", "0.1"], 1, 3)]   # a body force, moving
+    worst, checks = 0.0, 0
+    for args, nproc, steps in cases:
+        rc, stdout, err, _ = run(args + ["-fem_backend_check"], nproc=nproc, out=out_dir("backends"))
         assert rc == 0, "%s: exit %d: %s" % (" ".join(args), rc, (err or stdout)[-300:])
-        lines = FLUID.findall(stdout)
-        assert len(lines) == 2 * nproc, "%s: %d check lines on %d ranks" % (" ".join(args), len(lines), nproc)
-        for what, dim, difference in lines:
-            assert float(difference) <= 1e-14, "%s: %s %s relative to PETSc's" % (" ".join(args), what, difference)
-            found.append(float(difference))
-    return "%d residuals and Jacobians (6 set-ups, 2 ranks once), worst %.1e relative to PETSc's" % (len(found), max(found))
+        lines = BACKEND.findall(stdout)
+        assert len(lines) == steps, "%s: %d checked steps, expected %d" % (" ".join(args), len(lines), steps)
+        for line in lines:
+            values = [float(v) for v in line[1:]]
+            assert max(values) <= 1e-12, "%s: step %s: %s relative to PETSc" % (" ".join(args), line[0], values)
+            worst, checks = max(worst, max(values)), checks + 4
+    return "%d residuals and Jacobians on 8 set-ups, worst %.1e relative to PETSc's" % (checks, worst)

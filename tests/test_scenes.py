@@ -9,18 +9,22 @@ from harness import (CHANNEL, REFERENCE, ROOT, TUREK, WORK, fr, last_rows, probe
 CHANNEL_REFERENCE = os.path.join(REFERENCE, "channel2d-50-steps-probes.csv")
 
 
-@test("channel2d 50 steps: jump <= tol every step, probes = reference", quick=True)
+@test("channel2d 50 steps: jump <= tol every step, probes = reference, on both operator backends (petsc, ceed)", quick=True)
 def test_channel2d_50_steps_reference():
-    out = os.path.join(WORK, "channel")
-    s = solve(CHANNEL + ["-t_final", "0.005"], out=out)
-    jumps = {step: float(r["jump"]) for step, r in last_rows(out).items()}
-    assert len(jumps) == 50 and max(jumps.values()) <= 1e-4, "steps %d, worst final jump %.2e" % (len(jumps), max(jumps.values()))
-    head, got = read_probes(os.path.join(out, "probes.csv"))
     ref_head, ref = read_probes(CHANNEL_REFERENCE)
-    assert head == ref_head and len(got) == len(ref), "probe layout differs from the reference"
-    worst = probes_difference(got, ref)
-    assert worst <= 1e-8, "probes differ from the reference by %.2e relative" % worst
-    return "%.2f GN its/step, probes within %.1e of the reference" % (s["avg_coupling_iterations"], worst)
+    found = []
+    for backend in ("petsc", "ceed"):
+        out = os.path.join(WORK, "channel-" + backend)
+        s = solve(CHANNEL + ["-t_final", "0.005", "-fem_backend", backend], out=out)
+        jumps = {step: float(r["jump"]) for step, r in last_rows(out).items()}
+        assert len(jumps) == 50 and max(jumps.values()) <= 1e-4, "%s: steps %d, worst final jump %.2e" % (
+            backend, len(jumps), max(jumps.values()))
+        head, got = read_probes(os.path.join(out, "probes.csv"))
+        assert head == ref_head and len(got) == len(ref), "probe layout differs from the reference"
+        worst = probes_difference(got, ref)
+        assert worst <= 1e-10, "%s: probes differ from the reference by %.2e relative" % (backend, worst)
+        found.append("%s %.2f GN its/step, probes within %.1e" % (backend, s["avg_coupling_iterations"], worst))
+    return "; ".join(found) + " of the reference"
 
 
 @test("tube3d: 2 ranks (fluid | structure) = 1 rank, the wave enters")

@@ -64,10 +64,13 @@ PetscErrorCode FEMCeedAssemble(Ceed ceed, PetscInt n, const CeedOperator ops[], 
 
   PetscFunctionBeginUser;
   for (PetscInt b = 0; b < n; ++b) total += counts[b];
-  PetscCall(PetscMalloc1(total, &values));
+  PetscCall(PetscCalloc1(total, &values));
   for (PetscInt b = 0; b < n; ++b) {
     CeedVector block;
-    if (!ops[b]) continue;
+    if (!ops[b]) { /* a block of the pattern with no values in this assembly: zeros */
+      at += counts[b];
+      continue;
+    }
     PetscCallCeed(ceed, CeedVectorCreate(ceed, counts[b], &block));
     PetscCallCeed(ceed, CeedVectorSetArray(block, CEED_MEM_HOST, CEED_USE_POINTER, values + at));
     PetscCallCeed(ceed, CeedOperatorLinearAssemble(ops[b], block));

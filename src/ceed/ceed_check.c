@@ -39,9 +39,9 @@ typedef enum {
 static PetscErrorCode AssembleWithCeed(DM dm, PetscFE fe, CheckKind kind, Mat A)
 {
   Ceed                 ceed;
-  CeedElemRestriction  r_u, r_q;
+  CeedElemRestriction  r_u, r_q = NULL;
   CeedBasis            b_u;
-  CeedVector           qdata;
+  CeedVector           qdata = NULL;
   CeedQFunction        qf_apply;
   CeedQFunctionContext context;
   CeedOperator         op_apply;

@@ -1,5 +1,27 @@
-/* The run's Ceed: one per process, of the backend the user chose, destroyed at PetscFinalize. */
+/* The run's choice of operator backend (-fem_backend), and its Ceed: one per process, of
+   the libCEED backend the user chose, destroyed at PetscFinalize. */
 #include "fem_ceed.h"
+
+const char *const FEMBackends[] = {"petsc", "ceed", "FEMBackend", "FEM_BACKEND_", NULL};
+
+PetscErrorCode FEMBackendGet(FEMBackend *backend)
+{
+  static PetscBool  read   = PETSC_FALSE;
+  static FEMBackend chosen = FEM_BACKEND_PETSC;
+
+  PetscFunctionBeginUser;
+  if (!read) {
+    PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Finite-element operators", "fem");
+    PetscCall(PetscOptionsEnum("-fem_backend",
+                               "operators of the fluid: petsc (PETSc's pointwise integration, the reference) or "
+                               "ceed (libCEED, the fast path)",
+                               NULL, FEMBackends, (PetscEnum)chosen, (PetscEnum *)&chosen, NULL));
+    PetscOptionsEnd();
+    read = PETSC_TRUE;
+  }
+  *backend = chosen;
+  PetscFunctionReturn(0);
+}
 
 static Ceed run_ceed = NULL;
 

@@ -168,9 +168,11 @@ PetscErrorCode FEMCeedGeometry(Ceed ceed, DM dm, PetscFE fe, CeedElemRestriction
   PetscCall(FEMCeedCoordinates(ceed, dm, fe, &r_x, &b_x, &coordinates));
   PetscCallCeed(ceed, CeedElemRestrictionGetNumElements(r_x, &ncells));
   PetscCallCeed(ceed, CeedBasisGetNumQuadraturePoints(b_x, &nq));
-  PetscCallCeed(ceed, CeedElemRestrictionCreateStrided(ceed, ncells, nq, qsize, (CeedSize)ncells * nq * qsize,
-                                                       CEED_STRIDES_BACKEND, r_q));
-  PetscCallCeed(ceed, CeedVectorCreate(ceed, (CeedSize)ncells * nq * qsize, qdata));
+  if (!*qdata) {
+    PetscCallCeed(ceed, CeedElemRestrictionCreateStrided(ceed, ncells, nq, qsize, (CeedSize)ncells * nq * qsize,
+                                                         CEED_STRIDES_BACKEND, r_q));
+    PetscCallCeed(ceed, CeedVectorCreate(ceed, (CeedSize)ncells * nq * qsize, qdata));
+  }
   PetscCallCeed(ceed, CeedQFunctionContextCreate(ceed, &context));
   PetscCallCeed(ceed, CeedQFunctionContextSetData(context, CEED_MEM_HOST, CEED_COPY_VALUES, sizeof(dim), &dim));
   PetscCallCeed(ceed, CeedQFunctionCreateInterior(ceed, 1, SetupGeometry, SetupGeometry_loc, &qf));

@@ -1,7 +1,7 @@
 /* libCEED pointwise functions of the fluid's volume residual (the weak form of
-   fluid_kernels.c on a fixed mesh): m (u, v) + op [rho conv ((u . grad) u, v)
-   + 2 mu (D(u), D(v)) - (p, div v) - (q, div u)] on the geometry of FEMCeedGeometry.
-   Gradients are [direction][component][point]. */
+   fluid_kernels.c): m (u, v) + op [rho conv (((u - z) . grad) u, v) + 2 mu (D(u), D(v))
+   - (p, div v) - (q, div u)] on the geometry of FEMCeedGeometry, z the mesh velocity (an
+   input only on moving meshes). Gradients are [direction][component][point]. */
 #ifndef FSIOPT_QFUNCTIONS_FLUID_H
 #define FSIOPT_QFUNCTIONS_FLUID_H
 #include "qfunctions_geometry.h"
@@ -9,8 +9,12 @@
 typedef struct {
   CeedInt    dim;
   CeedScalar rho, mu, mass, op, convection;
-  CeedScalar tau; /* op times the pressure stabilization's tau; 0: none */
+  CeedScalar tau;    /* op times the pressure stabilization's tau; 0: none */
+  CeedInt    moving; /* the last input is the mesh velocity z */
 } FluidVolume;
+
+/* the convecting velocity u - z, component d at point i */
+#define CONVECTING(u, z, d, i, Q) ((u)[(d) * (Q) + (i)] - ((z) ? (z)[(d) * (Q) + (i)] : 0.0))
 
 /* physical gradients G[c][k] = du_c/dx_k of a reference gradient at point i */
 CEED_QFUNCTION_HELPER void PhysicalGradient(CeedInt dim, const CeedScalar *du, const CeedScalar *qdata, CeedInt i,
@@ -28,7 +32,7 @@ CEED_QFUNCTION(FluidVolumeResidual)(void *ctx, CeedInt Q, const CeedScalar *cons
 {
   const FluidVolume *fv  = (const FluidVolume *)ctx;
   const CeedInt      dim = fv->dim;
-  const CeedScalar  *u = in[0], *du = in[1], *p = in[2], *qdata = in[3];
+  const CeedScalar  *u = in[0], *du = in[1], *p = in[2], *qdata = in[3], *z = fv->moving ? in[4] : NULL;
   CeedScalar        *v = out[0], *dv = out[1], *q = out[2];
 
   for (CeedInt i = 0; i < Q; ++i) {
@@ -38,7 +42,7 @@ CEED_QFUNCTION(FluidVolumeResidual)(void *ctx, CeedInt Q, const CeedScalar *cons
     for (CeedInt d = 0; d < dim; ++d) divergence += G[d][d];
     for (CeedInt c = 0; c < dim; ++c) {
       CeedScalar convection = 0;
-      for (CeedInt d = 0; d < dim; ++d) convection += u[d * Q + i] * G[c][d];
+      for (CeedInt d = 0; d < dim; ++d) convection += CONVECTING(u, z, d, i, Q) * G[c][d];
       v[c * Q + i] = wdet * (fv->mass * u[c * Q + i] + fv->rho * fv->op * fv->convection * convection);
       for (CeedInt d = 0; d < dim; ++d) f1[c][d] = fv->op * (fv->mu * (G[c][d] + G[d][c]) - (c == d ? p[i] : 0.0));
     }
@@ -57,7 +61,7 @@ CEED_QFUNCTION(FluidJacobianUU)(void *ctx, CeedInt Q, const CeedScalar *const *i
 {
   const FluidVolume *fv  = (const FluidVolume *)ctx;
   const CeedInt      dim = fv->dim;
-  const CeedScalar  *w = in[0], *dw = in[1], *u0 = in[2], *du0 = in[3], *qdata = in[4];
+  const CeedScalar  *w = in[0], *dw = in[1], *u0 = in[2], *du0 = in[3], *qdata = in[4], *z = fv->moving ? in[5] : NULL;
   CeedScalar        *v = out[0], *dv = out[1];
 
   for (CeedInt i = 0; i < Q; ++i) {
@@ -67,7 +71,7 @@ CEED_QFUNCTION(FluidJacobianUU)(void *ctx, CeedInt Q, const CeedScalar *const *i
     PhysicalGradient(dim, du0, qdata, i, Q, B, G0);
     for (CeedInt c = 0; c < dim; ++c) {
       CeedScalar convection = 0;
-      for (CeedInt d = 0; d < dim; ++d) convection += w[d * Q + i] * G0[c][d] + u0[d * Q + i] * G[c][d];
+      for (CeedInt d = 0; d < dim; ++d) convection += w[d * Q + i] * G0[c][d] + CONVECTING(u0, z, d, i, Q) * G[c][d];
       v[c * Q + i] = wdet * (fv->mass * w[c * Q + i] + rho_conv * convection);
       for (CeedInt d = 0; d < dim; ++d) f1[c][d] = fv->op * fv->mu * (G[c][d] + G[d][c]);
     }
@@ -134,6 +138,28 @@ CEED_QFUNCTION(FluidPressureStabilization)(void *ctx, CeedInt Q, const CeedScala
       dq[j * Q + i] = -qdata[i] * fv->tau * s;
     }
   }
+  return 0;
+}
+/* the old domains' mass on the velocity, v = m u, with the per-point weights m of
+   FEMCeedFluidMassWeights (the sum of w |det A| of the old domains times their coefficients) */
+CEED_QFUNCTION(FluidOldMass)(void *ctx, CeedInt Q, const CeedScalar *const *in, CeedScalar *const *out)
+{
+  const FluidVolume *fv = (const FluidVolume *)ctx;
+  const CeedScalar  *u = in[0], *m = in[1];
+  CeedScalar        *v = out[0];
+
+  for (CeedInt c = 0; c < fv->dim; ++c)
+    for (CeedInt i = 0; i < Q; ++i) v[c * Q + i] = m[i] * u[c * Q + i];
+  return 0;
+}
+
+/* w |det A| of a domain at the quadrature points */
+CEED_QFUNCTION(FluidDomainWeight)(void *ctx, CeedInt Q, const CeedScalar *const *in, CeedScalar *const *out)
+{
+  const FluidVolume *fv = (const FluidVolume *)ctx;
+  CeedScalar         B[3][3];
+
+  for (CeedInt i = 0; i < Q; ++i) out[0][i] = in[1][i] * fabs(Invert(fv->dim, in[0], i, Q, B));
   return 0;
 }
 #endif

@@ -4,7 +4,7 @@ PetscLogStage FSIOPT_STAGE_SETUP, FSIOPT_STAGE_FLUID, FSIOPT_STAGE_STRUCTURE, FS
   FSIOPT_STAGE_OPTIMIZER, FSIOPT_STAGE_SENSITIVITY, FSIOPT_STAGE_ADJOINT, FSIOPT_STAGE_MESH_MOTION;
 PetscLogEvent FSIOPT_EVENT_MESH, FSIOPT_EVENT_FLUID_SOLVE, FSIOPT_EVENT_STRUCTURE_SOLVE, FSIOPT_EVENT_ERRORS,
   FSIOPT_EVENT_SENSITIVITY, FSIOPT_EVENT_ADJOINT, FSIOPT_EVENT_INTERFACE, FSIOPT_EVENT_PROBES, FSIOPT_EVENT_CHECKPOINT,
-  FSIOPT_EVENT_STEP_START;
+  FSIOPT_EVENT_STEP_START, FSIOPT_EVENT_CEED_RESIDUAL, FSIOPT_EVENT_CEED_JACOBIAN, FSIOPT_EVENT_BOUNDARY_TERMS;
 
 PetscErrorCode FsioptLogRegister(void)
 {
@@ -30,6 +30,9 @@ PetscErrorCode FsioptLogRegister(void)
   PetscCall(PetscLogEventRegister("ProbesForces", classid, &FSIOPT_EVENT_PROBES));
   PetscCall(PetscLogEventRegister("Checkpoint", classid, &FSIOPT_EVENT_CHECKPOINT));
   PetscCall(PetscLogEventRegister("StepStartKeep", classid, &FSIOPT_EVENT_STEP_START));
+  PetscCall(PetscLogEventRegister("CeedResidual", classid, &FSIOPT_EVENT_CEED_RESIDUAL));
+  PetscCall(PetscLogEventRegister("CeedJacobian", classid, &FSIOPT_EVENT_CEED_JACOBIAN));
+  PetscCall(PetscLogEventRegister("BoundaryTerms", classid, &FSIOPT_EVENT_BOUNDARY_TERMS));
   /* -log_view names a stage after rank 0's record of it: with -structure_ranks, rank 0
      (a fluid rank) would otherwise never enter Structure, and the line would be nameless */
   for (PetscLogStage stage = FSIOPT_STAGE_SETUP; stage <= FSIOPT_STAGE_MESH_MOTION; ++stage) {

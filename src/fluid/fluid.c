@@ -194,6 +194,7 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
                "option -fluid_initial_projection: the scene has no exact solution to project");
     PetscCall(VecZeroEntries(f->x));
   }
+  PetscCall(FluidBackendSetUp(f)); /* after the projection, which PETSc's integration solves */
   PetscFunctionReturn(0);
 }
 
@@ -225,7 +226,7 @@ PetscErrorCode FluidBeginStep(Fluid f, PetscInt step)
         f->xlocal_old      = h;
       } else if (f->time_order == 2) PetscCall(VecCopy(f->xlocal_old, f->xlocal_previous));
       PetscCall(FluidSetConstants(f, mass, 0.0, 0.0));
-      PetscCall(FEMResidual(f->dm, f->xlocal_old, f->history));
+      PetscCall(FluidOperatorResidual(f, f->xlocal_old, f->history));
     }
   }
   if (f->extrapolate && f->model == FLUID_NAVIER_STOKES) {
@@ -310,6 +311,7 @@ PetscErrorCode FluidSolve(Fluid f, Vec load, PetscInt step)
     PetscCall(SNESSetTolerances(f->snes, PetscMax(f->atol, PetscMax(f->rhs_rtol, 1e-13) * rhs_norm), PETSC_DEFAULT,
                                 PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT));
   }
+  PetscCall(FluidBackendCheck(f));
   PetscCall(FluidNonlinearSolve(f, f->snes, f->rhs, f->chord, step, ""));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_FLUID_SOLVE, 0, 0, 0, 0));
   PetscFunctionReturn(0);
@@ -472,6 +474,7 @@ PetscErrorCode FluidDestroy(Fluid *fluid)
   PetscCall(VecDestroy(&f->x_start));
   PetscCall(VecDestroy(&f->x_before));
   PetscCall(FluidALEDestroy(f));
+  PetscCall(FluidBackendDestroy(f));
   PetscCall(FluidForcesDestroy(f));
   PetscCall(FluidDirichletDestroy(f));
   PetscCall(VecDestroy(&f->xlocal_old));

@@ -107,12 +107,32 @@ static PetscErrorCode FreeRows(Fluid f, Vec all, Vec out)
   PetscFunctionReturn(0);
 }
 
-/* out = the step's old-domain mass times u on the free rows, u a local state with its boundary values */
-static PetscErrorCode OldMassMult(Fluid f, Vec xlocal, Vec out)
+PetscErrorCode FluidOldMassMultAll(Fluid f, Vec xlocal, Vec yall, PetscBool add)
 {
   PetscFunctionBeginUser;
+  if (f->backend_ceed) {
+    Vec ylocal;
+    PetscCall(DMGetLocalVector(f->dm_all, &ylocal));
+    PetscCall(FEMCeedFluidMassApply(f->ceed, xlocal, ylocal));
+    if (!add) PetscCall(VecZeroEntries(yall));
+    PetscCall(DMLocalToGlobal(f->dm_all, ylocal, ADD_VALUES, yall));
+    PetscCall(DMRestoreLocalVector(f->dm_all, &ylocal));
+    PetscFunctionReturn(0);
+  }
+  if (!f->mass_old_all) { /* before the backend is set up (an initial projection): no step, no mass */
+    if (!add) PetscCall(VecZeroEntries(yall));
+    PetscFunctionReturn(0);
+  }
   PetscCall(DMLocalToGlobal(f->dm_all, xlocal, INSERT_VALUES, f->all_x));
-  PetscCall(MatMult(f->mass_old_all, f->all_x, f->all_y));
+  if (add) PetscCall(MatMultAdd(f->mass_old_all, f->all_x, yall, yall));
+  else PetscCall(MatMult(f->mass_old_all, f->all_x, yall));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidOldMassMult(Fluid f, Vec xlocal, Vec out)
+{
+  PetscFunctionBeginUser;
+  PetscCall(FluidOldMassMultAll(f, xlocal, f->all_y, PETSC_FALSE));
   PetscCall(FreeRows(f, f->all_y, out));
   PetscFunctionReturn(0);
 }
@@ -124,8 +144,8 @@ static PetscErrorCode ResidualALE(SNES snes, Vec x, Vec F, void *ctx)
   PetscFunctionBeginUser;
   (void)snes;
   PetscCall(FEMGlobalToLocal(f->dm, x, f->xlocal_work));
-  PetscCall(FEMResidual(f->dm, f->xlocal_work, F)); /* no mass term in the kernels */
-  PetscCall(OldMassMult(f, f->xlocal_work, f->work));
+  PetscCall(FluidOperatorResidual(f, f->xlocal_work, F)); /* no mass term in the kernels */
+  PetscCall(FluidOldMassMult(f, f->xlocal_work, f->work));
   PetscCall(VecAXPY(F, 1.0, f->work));
   PetscFunctionReturn(0);
 }
@@ -137,9 +157,7 @@ static PetscErrorCode JacobianALE(SNES snes, Vec x, Mat J, Mat P, void *ctx)
   PetscFunctionBeginUser;
   (void)snes;
   PetscCall(FEMGlobalToLocal(f->dm, x, f->xlocal_work));
-  PetscCall(DMPlexSNESComputeJacobianFEM(f->dm, f->xlocal_work, J, P, NULL));
-  PetscCall(MatAXPY(P, 1.0, f->mass_old, SUBSET_NONZERO_PATTERN));
-  if (J != P) PetscCall(MatAXPY(J, 1.0, f->mass_old, SUBSET_NONZERO_PATTERN));
+  PetscCall(FluidOperatorJacobian(f, f->xlocal_work, PETSC_TRUE, J, P));
   f->counts.factorizations++;
   PetscFunctionReturn(0);
 }
@@ -148,6 +166,8 @@ PetscErrorCode FluidALESetUp(Fluid f)
 {
   PetscObject velocity;
   Vec         coordinates;
+  FEMBackend  backend;
+  PetscBool   check;
 
   PetscFunctionBeginUser;
   PetscCall(DMGetField(f->dm, 0, NULL, &velocity));
@@ -176,19 +196,23 @@ PetscErrorCode FluidALESetUp(Fluid f)
   PetscCall(VecDuplicate(f->all_x, &f->all_y));
   PetscCall(DMCreateLocalVector(f->dm_all, &f->all_local));
   PetscCall(VecDuplicate(f->all_x, &f->history_all));
-  PetscCall(DMCreateMatrix(f->dm_all, &f->mass_old_all));
-  PetscCall(MatAssemblyBegin(f->mass_old_all, MAT_FINAL_ASSEMBLY));
-  PetscCall(MatAssemblyEnd(f->mass_old_all, MAT_FINAL_ASSEMBLY));
-  if (f->time_order == 2) {
-    PetscCall(MatDuplicate(f->mass_old_all, MAT_DO_NOT_COPY_VALUES, &f->mass_older_all));
-    PetscCall(VecDuplicate(coordinates, &f->displacement_previous));
-    PetscCall(VecZeroEntries(f->displacement_previous));
-  }
-  PetscCall(FEMFreeDofs(f->dm, f->dm_all, &f->free_in_all));
-  PetscCall(MatCreateSubMatrix(f->mass_old_all, f->free_in_all, f->free_in_all, MAT_INITIAL_MATRIX, &f->mass_old));
   PetscCall(DMCreateGlobalVector(f->dm, &f->work));
   PetscCall(SNESSetFunction(f->snes, NULL, ResidualALE, f));
   PetscCall(SNESSetJacobian(f->snes, NULL, NULL, JacobianALE, f));
+  if (f->time_order == 2) {
+    PetscCall(VecDuplicate(coordinates, &f->displacement_previous));
+    PetscCall(VecZeroEntries(f->displacement_previous));
+  }
+  /* the old domains' mass matrices of PETSc's backend (libCEED's keeps weights per point) */
+  PetscCall(FEMBackendGet(&backend));
+  PetscCall(PetscOptionsHasName(NULL, NULL, "-fem_backend_check", &check));
+  if (backend == FEM_BACKEND_CEED && !check) PetscFunctionReturn(0);
+  PetscCall(DMCreateMatrix(f->dm_all, &f->mass_old_all));
+  PetscCall(MatAssemblyBegin(f->mass_old_all, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(f->mass_old_all, MAT_FINAL_ASSEMBLY));
+  if (f->time_order == 2) PetscCall(MatDuplicate(f->mass_old_all, MAT_DO_NOT_COPY_VALUES, &f->mass_older_all));
+  PetscCall(FEMFreeDofs(f->dm, f->dm_all, &f->free_in_all));
+  PetscCall(MatCreateSubMatrix(f->mass_old_all, f->free_in_all, f->free_in_all, MAT_INITIAL_MATRIX, &f->mass_old));
   PetscFunctionReturn(0);
 }
 
@@ -226,7 +250,8 @@ PetscErrorCode FluidALEBeginStep(Fluid f)
 {
   const PetscBool bdf2 = FluidStepIsBDF2(f);
   Vec             coordinates;
-  PetscReal       coefficient = f->rho / f->dt;
+  const PetscReal coefficient = f->rho / f->dt, old_coefficient = bdf2 ? 2.0 * coefficient : coefficient;
+  const PetscReal older_coefficient = 0.5 * coefficient; /* BDF2: of M(Omega^{n-2}), subtracted */
 
   PetscFunctionBeginUser;
   PetscCall(FoldCornerRatio(f));
@@ -239,22 +264,37 @@ PetscErrorCode FluidALEBeginStep(Fluid f)
     PetscCall(DMSetCoordinatesLocal(f->dm_all, older));
     PetscCall(VecDestroy(&older));
     PetscCall(FEMInvalidateGeometry(f->dm_all));
-    PetscCall(AssembleMass(f, f->mass_older_all, 0.5 * coefficient));
-    coefficient *= 2.0;
+    if (f->mass_older_all) PetscCall(AssembleMass(f, f->mass_older_all, older_coefficient));
+    if (f->ceed) PetscCall(FEMCeedFluidMassDomain(f->ceed, f->dm_all, 1));
   }
   PetscCall(DMSetCoordinatesLocal(f->dm_all, coordinates));
   PetscCall(FEMInvalidateGeometry(f->dm_all));
-  PetscCall(AssembleMass(f, f->mass_old_all, coefficient));
-  PetscCall(DMLocalToGlobal(f->dm_all, f->xlocal_old, INSERT_VALUES, f->all_x));
-  PetscCall(MatMult(f->mass_old_all, f->all_x, f->history_all));
-  if (bdf2) {
-    PetscCall(DMLocalToGlobal(f->dm_all, f->xlocal_previous, INSERT_VALUES, f->all_x));
-    PetscCall(MatMult(f->mass_older_all, f->all_x, f->all_y));
-    PetscCall(VecAXPY(f->history_all, -1.0, f->all_y));
-    PetscCall(MatAXPY(f->mass_old_all, -1.0, f->mass_older_all, SAME_NONZERO_PATTERN));
-    PetscCall(VecCopy(f->displacement_old, f->displacement_previous));
+  if (f->mass_old_all) { /* PETSc's matrices (also kept beside libCEED's for -fem_backend_check) */
+    PetscCall(AssembleMass(f, f->mass_old_all, old_coefficient));
+    if (!f->backend_ceed) {
+      PetscCall(DMLocalToGlobal(f->dm_all, f->xlocal_old, INSERT_VALUES, f->all_x));
+      PetscCall(MatMult(f->mass_old_all, f->all_x, f->history_all));
+      if (bdf2) {
+        PetscCall(DMLocalToGlobal(f->dm_all, f->xlocal_previous, INSERT_VALUES, f->all_x));
+        PetscCall(MatMult(f->mass_older_all, f->all_x, f->all_y));
+        PetscCall(VecAXPY(f->history_all, -1.0, f->all_y));
+      }
+    }
+    if (bdf2) PetscCall(MatAXPY(f->mass_old_all, -1.0, f->mass_older_all, SAME_NONZERO_PATTERN));
+    PetscCall(MatCreateSubMatrix(f->mass_old_all, f->free_in_all, f->free_in_all, MAT_REUSE_MATRIX, &f->mass_old));
   }
-  PetscCall(MatCreateSubMatrix(f->mass_old_all, f->free_in_all, f->free_in_all, MAT_REUSE_MATRIX, &f->mass_old));
+  if (f->ceed) { /* libCEED's weights: the history's parts, then their sum for the step */
+    PetscCall(FEMCeedFluidMassDomain(f->ceed, f->dm_all, 0));
+    if (f->backend_ceed) {
+      PetscCall(FEMCeedFluidMassWeights(f->ceed, old_coefficient, 0.0));
+      PetscCall(FluidOldMassMultAll(f, f->xlocal_old, f->history_all, PETSC_FALSE));
+      if (bdf2) {
+        PetscCall(FEMCeedFluidMassWeights(f->ceed, 0.0, -older_coefficient));
+        PetscCall(FluidOldMassMultAll(f, f->xlocal_previous, f->history_all, PETSC_TRUE));
+      }
+    }
+    PetscCall(FEMCeedFluidMassWeights(f->ceed, old_coefficient, bdf2 ? -older_coefficient : 0.0));
+  }
   PetscCall(FreeRows(f, f->history_all, f->history));
   if (f->time_order == 2) PetscCall(VecCopy(f->xlocal_old, f->xlocal_previous));
   PetscCall(VecCopy(f->displacement, f->displacement_old));

@@ -203,8 +203,7 @@ static PetscErrorCode MovingSum(Fluid f, PetscReal sum[3])
   PetscCall(FEMInvalidateGeometry(f->dm_all));
   PetscCall(FEMResidual(f->dm_all, f->xlocal_work, f->all_y));
   if (f->step > 0) {
-    PetscCall(DMLocalToGlobal(f->dm_all, f->xlocal_work, INSERT_VALUES, f->all_x));
-    PetscCall(MatMultAdd(f->mass_old_all, f->all_x, f->all_y, f->all_y));
+    PetscCall(FluidOldMassMultAll(f, f->xlocal_work, f->all_y, PETSC_TRUE));
     PetscCall(VecAXPY(f->all_y, -1.0, f->history_all));
   }
   PetscCall(VecGetArrayRead(f->all_y, &r));

@@ -1,6 +1,7 @@
 #ifndef FSIOPT_FLUID_IMPL_H
 #define FSIOPT_FLUID_IMPL_H
 #include "fluid.h"
+#include "fem_ceed.h"
 
 typedef enum {
   FLUID_STOKES,
@@ -63,13 +64,20 @@ struct _p_Fluid {
   PetscInt n_force_rows, *force_rows; /* the body's velocity nodes (first component): in dm_force's
                                                     local array; on a moving mesh the owned ones in dm_all's global array */
   /* the interface velocity prescribed (fluid_dirichlet.c) */
-  SNES           snes_dirichlet;
-  Mat            dirichlet_jacobian;
-  Vec            dirichlet_rhs;
-  PetscInt       n_dirichlet_rows, *dirichlet_rows; /* local offsets of the interface rows */
-  IS             dirichlet_rows_global;
-  PetscScalar   *dirichlet_residual; /* R(x) on them at the last evaluation */
-  PetscInt       dirichlet_step;
+  SNES         snes_dirichlet;
+  Mat          dirichlet_jacobian;
+  Vec          dirichlet_rhs;
+  PetscInt     n_dirichlet_rows, *dirichlet_rows; /* local offsets of the interface rows */
+  IS           dirichlet_rows_global;
+  PetscScalar *dirichlet_residual; /* R(x) on them at the last evaluation */
+  PetscInt     dirichlet_step;
+  /* the operators on the libCEED backend (fluid_backend.c) */
+  PetscBool      backend_ceed;  /* the solver's operators are libCEED's */
+  FEMCeedFluid   ceed;          /* NULL on the PETSc backend without -fem_backend_check */
+  Mat            ceed_jacobian; /* of its COO pattern: the solver's matrix on the libCEED backend */
+  DM             dm_loads;      /* the scene's volume loads alone, NULL without */
+  PetscBool      check_backends;
+  PetscInt       backend_checked_step;
   PhysicsData    data;
   DirichletDatum datums[FSIOPT_MAX_BOUNDARIES];
   SolverCounts   counts;
@@ -86,10 +94,21 @@ PetscErrorCode FluidForcesDestroy(Fluid);
 PetscErrorCode FluidNonlinearSolve(Fluid, SNES, Vec rhs, PetscBool chord, PetscInt step, const char what[]);
 PetscErrorCode FluidDirichletDestroy(Fluid);
 
+/* fluid_backend.c: R(x) without the old-domain mass into the global F, and its Jacobian,
+   on the chosen backend; x a local state with its boundary values */
+PetscErrorCode FluidOperatorResidual(Fluid, Vec xlocal, Vec F);
+PetscErrorCode FluidOperatorJacobian(Fluid, Vec xlocal, PetscBool old_mass, Mat J, Mat P);
+PetscErrorCode FluidBackendSetUp(Fluid);
+PetscErrorCode FluidBackendCheck(Fluid);
+PetscErrorCode FluidBackendDestroy(Fluid);
 /* fluid_ale.c */
 PetscErrorCode FluidPrescribedDisplacement(Fluid, FieldFn motion, PetscReal t, Vec displacement);
 PetscErrorCode FluidALESetUp(Fluid);
 PetscErrorCode FluidALEBeginStep(Fluid);
+/* the step's old-domain mass times the local state x: on dm_all's global rows (y = or y +=),
+   or on the free rows */
+PetscErrorCode FluidOldMassMultAll(Fluid, Vec xlocal, Vec yall, PetscBool add);
+PetscErrorCode FluidOldMassMult(Fluid, Vec xlocal, Vec out);
 /* the step in progress (counted in steps_at_dt) is BDF2: not the first at its dt */
 static inline PetscBool FluidStepIsBDF2(Fluid f)
 {

@@ -121,25 +121,16 @@ static PetscErrorCode StructureFromScene(Run run, DM *mesh)
 /* -ceed_check_spaces: the libCEED bridge (src/ceed/) checked on this run's spaces */
 static PetscErrorCode CheckCeedSpaces(Run run)
 {
-  PetscBool check = PETSC_FALSE, check_fluid = PETSC_FALSE;
+  PetscBool check = PETSC_FALSE;
   DM        dm;
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "libCEED operators", "fem");
-  PetscCall(
-    PetscOptionsBool("-ceed_check_fluid",
-                     "the fluid's volume residual by libCEED against PETSc's at a random state, and their times "
-                     "(stops above 1e-12 relative)",
-                     NULL, check_fluid, &check_fluid, NULL));
   PetscCall(PetscOptionsBool("-ceed_check_spaces",
                              "assemble the mass and Laplacian of every finite-element space with libCEED and compare "
                              "them with PETSc's (stops above 1e-12 relative)",
                              NULL, check, &check, NULL));
   PetscOptionsEnd();
-  if (check_fluid && run->fluid) {
-    PetscCall(FluidGetDM(run->fluid, &dm));
-    PetscCall(FEMCeedCheckFluidResidual(dm, 1e-12));
-  }
   if (!check) PetscFunctionReturn(0);
   if (run->fluid) {
     PetscCall(FluidGetDM(run->fluid, &dm));

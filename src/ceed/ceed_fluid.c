@@ -1,0 +1,430 @@
+/* The fluid's volume operators through libCEED (fem_ceed.h): the residual of the weak form
+   of fluid_kernels.c in one operator, its Jacobian one operator per block (libCEED
+   assembles an operator with one active input and one active output restriction), the
+   pressure stabilization of equal-order pairs as operators of its own, built only when
+   tau > 0, and the mesh velocity as an input only on moving meshes. The geometry is
+   recomputed when the coordinates change. */
+#include <petsc/private/petscimpl.h> /* PetscObjectStateGet */
+#include "fem_ceed.h"
+#include "fluid.h"
+#include "logging.h"
+#include "qfunctions_fluid.h"
+
+struct _n_FEMCeedFluid {
+  Ceed                 ceed;
+  DM                   dm;
+  PetscFE              velocity_fe;
+  FluidVolume          volume;
+  CeedElemRestriction  r_u, r_p, r_q, r_z;
+  CeedBasis            b_u, b_p, b_z;
+  CeedVector           qdata, x, f, state, mesh_velocity;
+  CeedQFunctionContext context;
+  CeedQFunction        qf_residual, qf_stabilization, qf_block[4];
+  CeedOperator         op_residual, op_stabilization, op_block[4];
+  CeedOperator         op_pressure_pattern; /* without a stabilization: the pressure-pressure block's pattern only */
+  CeedSize             counts[5];
+  /* moving meshes: the old domains' mass, weights per point of two domains and their sum */
+  CeedElemRestriction r_x, r_w;
+  CeedBasis           b_x;
+  CeedVector          coordinates, domain_weight[2], mass_weight;
+  CeedQFunction       qf_mass, qf_domain;
+  CeedOperator        op_mass, op_mass_block, op_domain; /* the mass applied, and assembled */
+  PetscObjectId       coordinates_id;                    /* the coordinates the geometry is of */
+  PetscObjectState    coordinates_state;
+};
+
+/* -tau (grad p, grad q) on the active pressure: the residual's term or the Jacobian's block */
+static PetscErrorCode StabilizationCreate(FEMCeedFluid o, CeedQFunction *qf, CeedOperator *op)
+{
+  Ceed          ceed = o->ceed;
+  const CeedInt dim  = o->volume.dim;
+
+  PetscFunctionBeginUser;
+  PetscCallCeed(ceed,
+                CeedQFunctionCreateInterior(ceed, 1, FluidPressureStabilization, FluidPressureStabilization_loc, qf));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(*qf, "dp", dim, CEED_EVAL_GRAD));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(*qf, "qdata", 1 + dim * dim, CEED_EVAL_NONE));
+  PetscCallCeed(ceed, CeedQFunctionAddOutput(*qf, "dq", dim, CEED_EVAL_GRAD));
+  PetscCallCeed(ceed, CeedQFunctionSetContext(*qf, o->context));
+  PetscCallCeed(ceed, CeedOperatorCreate(ceed, *qf, NULL, NULL, op));
+  PetscCallCeed(ceed, CeedOperatorSetField(*op, "dp", o->r_p, o->b_p, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(*op, "qdata", o->r_q, CEED_BASIS_NONE, o->qdata));
+  PetscCallCeed(ceed, CeedOperatorSetField(*op, "dq", o->r_p, o->b_p, CEED_VECTOR_ACTIVE));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode ResidualCreate(FEMCeedFluid o)
+{
+  Ceed          ceed = o->ceed;
+  const CeedInt dim = o->volume.dim, qsize = 1 + dim * dim;
+
+  PetscFunctionBeginUser;
+  PetscCallCeed(ceed,
+                CeedQFunctionCreateInterior(ceed, 1, FluidVolumeResidual, FluidVolumeResidual_loc, &o->qf_residual));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_residual, "u", dim, CEED_EVAL_INTERP));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_residual, "du", dim * dim, CEED_EVAL_GRAD));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_residual, "p", 1, CEED_EVAL_INTERP));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_residual, "qdata", qsize, CEED_EVAL_NONE));
+  if (o->volume.moving) PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_residual, "z", dim, CEED_EVAL_INTERP));
+  PetscCallCeed(ceed, CeedQFunctionAddOutput(o->qf_residual, "v", dim, CEED_EVAL_INTERP));
+  PetscCallCeed(ceed, CeedQFunctionAddOutput(o->qf_residual, "dv", dim * dim, CEED_EVAL_GRAD));
+  PetscCallCeed(ceed, CeedQFunctionAddOutput(o->qf_residual, "q", 1, CEED_EVAL_INTERP));
+  PetscCallCeed(ceed, CeedQFunctionSetContext(o->qf_residual, o->context));
+  PetscCallCeed(ceed, CeedOperatorCreate(ceed, o->qf_residual, NULL, NULL, &o->op_residual));
+  PetscCallCeed(ceed, CeedOperatorSetField(o->op_residual, "u", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(o->op_residual, "du", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(o->op_residual, "p", o->r_p, o->b_p, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(o->op_residual, "qdata", o->r_q, CEED_BASIS_NONE, o->qdata));
+  if (o->volume.moving)
+    PetscCallCeed(ceed, CeedOperatorSetField(o->op_residual, "z", o->r_z, o->b_z, o->mesh_velocity));
+  PetscCallCeed(ceed, CeedOperatorSetField(o->op_residual, "v", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(o->op_residual, "dv", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(o->op_residual, "q", o->r_p, o->b_p, CEED_VECTOR_ACTIVE));
+  if (o->volume.tau > 0) PetscCall(StabilizationCreate(o, &o->qf_stabilization, &o->op_stabilization));
+  PetscFunctionReturn(0);
+}
+
+/* the blocks at the passive state u0 (o->state): velocity-velocity, velocity-pressure,
+   pressure-velocity and, with a stabilization, pressure-pressure */
+static PetscErrorCode JacobianCreate(FEMCeedFluid o)
+{
+  Ceed          ceed = o->ceed;
+  const CeedInt dim = o->volume.dim, qsize = 1 + dim * dim;
+
+  PetscFunctionBeginUser;
+  PetscCallCeed(ceed, CeedQFunctionCreateInterior(ceed, 1, FluidJacobianUU, FluidJacobianUU_loc, &o->qf_block[0]));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_block[0], "w", dim, CEED_EVAL_INTERP));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_block[0], "dw", dim * dim, CEED_EVAL_GRAD));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_block[0], "u0", dim, CEED_EVAL_INTERP));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_block[0], "du0", dim * dim, CEED_EVAL_GRAD));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_block[0], "qdata", qsize, CEED_EVAL_NONE));
+  if (o->volume.moving) PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_block[0], "z", dim, CEED_EVAL_INTERP));
+  PetscCallCeed(ceed, CeedQFunctionAddOutput(o->qf_block[0], "v", dim, CEED_EVAL_INTERP));
+  PetscCallCeed(ceed, CeedQFunctionAddOutput(o->qf_block[0], "dv", dim * dim, CEED_EVAL_GRAD));
+  PetscCallCeed(ceed, CeedQFunctionCreateInterior(ceed, 1, FluidJacobianUP, FluidJacobianUP_loc, &o->qf_block[1]));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_block[1], "p", 1, CEED_EVAL_INTERP));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_block[1], "qdata", qsize, CEED_EVAL_NONE));
+  PetscCallCeed(ceed, CeedQFunctionAddOutput(o->qf_block[1], "dv", dim * dim, CEED_EVAL_GRAD));
+  PetscCallCeed(ceed, CeedQFunctionCreateInterior(ceed, 1, FluidJacobianPU, FluidJacobianPU_loc, &o->qf_block[2]));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_block[2], "du", dim * dim, CEED_EVAL_GRAD));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_block[2], "qdata", qsize, CEED_EVAL_NONE));
+  PetscCallCeed(ceed, CeedQFunctionAddOutput(o->qf_block[2], "q", 1, CEED_EVAL_INTERP));
+  for (PetscInt b = 0; b < 3; ++b) {
+    PetscCallCeed(ceed, CeedQFunctionSetContext(o->qf_block[b], o->context));
+    PetscCallCeed(ceed, CeedOperatorCreate(ceed, o->qf_block[b], NULL, NULL, &o->op_block[b]));
+  }
+  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[0], "w", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[0], "dw", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[0], "u0", o->r_u, o->b_u, o->state));
+  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[0], "du0", o->r_u, o->b_u, o->state));
+  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[0], "qdata", o->r_q, CEED_BASIS_NONE, o->qdata));
+  if (o->volume.moving)
+    PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[0], "z", o->r_z, o->b_z, o->mesh_velocity));
+  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[0], "v", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[0], "dv", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[1], "p", o->r_p, o->b_p, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[1], "qdata", o->r_q, CEED_BASIS_NONE, o->qdata));
+  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[1], "dv", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[2], "du", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[2], "qdata", o->r_q, CEED_BASIS_NONE, o->qdata));
+  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[2], "q", o->r_p, o->b_p, CEED_VECTOR_ACTIVE));
+  /* PETSc's boundary integration adds whole element matrices, zeros of the pressure-pressure
+     block included: without a stabilization that block is in the pattern with zeros */
+  if (o->volume.tau > 0) PetscCall(StabilizationCreate(o, &o->qf_block[3], &o->op_block[3]));
+  else PetscCall(StabilizationCreate(o, &o->qf_block[3], &o->op_pressure_pattern));
+  PetscFunctionReturn(0);
+}
+
+/* the old-domain mass and the operator giving a domain's w |det A| from its coordinates */
+static PetscErrorCode MassCreate(FEMCeedFluid o)
+{
+  Ceed          ceed = o->ceed;
+  const CeedInt dim  = o->volume.dim;
+  CeedInt       ncells, nq;
+
+  PetscFunctionBeginUser;
+  PetscCall(FEMCeedCoordinates(ceed, o->dm, o->velocity_fe, &o->r_x, &o->b_x, &o->coordinates));
+  PetscCallCeed(ceed, CeedElemRestrictionGetNumElements(o->r_u, &ncells));
+  PetscCallCeed(ceed, CeedBasisGetNumQuadraturePoints(o->b_u, &nq));
+  PetscCallCeed(ceed, CeedElemRestrictionCreateStrided(ceed, ncells, nq, 1, (CeedSize)ncells * nq, CEED_STRIDES_BACKEND,
+                                                       &o->r_w));
+  for (PetscInt k = 0; k < 2; ++k) {
+    PetscCallCeed(ceed, CeedVectorCreate(ceed, (CeedSize)ncells * nq, &o->domain_weight[k]));
+    PetscCallCeed(ceed, CeedVectorSetValue(o->domain_weight[k], 0.0));
+  }
+  PetscCallCeed(ceed, CeedVectorCreate(ceed, (CeedSize)ncells * nq, &o->mass_weight));
+  PetscCallCeed(ceed, CeedVectorSetValue(o->mass_weight, 0.0));
+  PetscCallCeed(ceed, CeedQFunctionCreateInterior(ceed, 1, FluidDomainWeight, FluidDomainWeight_loc, &o->qf_domain));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_domain, "dx", dim * dim, CEED_EVAL_GRAD));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_domain, "weight", 1, CEED_EVAL_WEIGHT));
+  PetscCallCeed(ceed, CeedQFunctionAddOutput(o->qf_domain, "w", 1, CEED_EVAL_NONE));
+  PetscCallCeed(ceed, CeedQFunctionSetContext(o->qf_domain, o->context));
+  PetscCallCeed(ceed, CeedOperatorCreate(ceed, o->qf_domain, NULL, NULL, &o->op_domain));
+  PetscCallCeed(ceed, CeedOperatorSetField(o->op_domain, "dx", o->r_x, o->b_x, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed,
+                CeedOperatorSetField(o->op_domain, "weight", CEED_ELEMRESTRICTION_NONE, o->b_x, CEED_VECTOR_NONE));
+  PetscCallCeed(ceed, CeedOperatorSetField(o->op_domain, "w", o->r_w, CEED_BASIS_NONE, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedQFunctionCreateInterior(ceed, 1, FluidOldMass, FluidOldMass_loc, &o->qf_mass));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_mass, "u", dim, CEED_EVAL_INTERP));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_mass, "m", 1, CEED_EVAL_NONE));
+  PetscCallCeed(ceed, CeedQFunctionAddOutput(o->qf_mass, "v", dim, CEED_EVAL_INTERP));
+  PetscCallCeed(ceed, CeedQFunctionSetContext(o->qf_mass, o->context));
+  /* two operators of one mass: libCEED 0.12 assembles an operator wrongly in some elements
+     after it was applied to another vector (seen on tube3d: -fem_backend_check) */
+  for (PetscInt k = 0; k < 2; ++k) {
+    CeedOperator *op = k ? &o->op_mass_block : &o->op_mass;
+    PetscCallCeed(ceed, CeedOperatorCreate(ceed, o->qf_mass, NULL, NULL, op));
+    PetscCallCeed(ceed, CeedOperatorSetField(*op, "u", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
+    PetscCallCeed(ceed, CeedOperatorSetField(*op, "m", o->r_w, CEED_BASIS_NONE, o->mass_weight));
+    PetscCallCeed(ceed, CeedOperatorSetField(*op, "v", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMCeedFluidMassDomain(FEMCeedFluid o, DM dm_domain, PetscInt slot)
+{
+  Vec                local;
+  const PetscScalar *x;
+
+  PetscFunctionBeginUser;
+  PetscCheck(o->op_mass && slot >= 0 && slot < 2, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG,
+             "libCEED fluid: no old-domain mass (fixed mesh) or no slot %" PetscInt_FMT, slot);
+  PetscCall(DMGetCoordinatesLocal(dm_domain, &local));
+  PetscCall(VecGetArrayRead(local, &x));
+  PetscCallCeed(o->ceed, CeedVectorSetArray(o->coordinates, CEED_MEM_HOST, CEED_COPY_VALUES, (CeedScalar *)x));
+  PetscCall(VecRestoreArrayRead(local, &x));
+  PetscCallCeed(o->ceed,
+                CeedOperatorApply(o->op_domain, o->coordinates, o->domain_weight[slot], CEED_REQUEST_IMMEDIATE));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMCeedFluidMassWeights(FEMCeedFluid o, PetscScalar a0, PetscScalar a1)
+{
+  PetscFunctionBeginUser;
+  PetscCallCeed(o->ceed, CeedVectorSetValue(o->mass_weight, 0.0));
+  PetscCallCeed(o->ceed, CeedVectorAXPY(o->mass_weight, a0, o->domain_weight[0]));
+  if (a1 != 0.0) PetscCallCeed(o->ceed, CeedVectorAXPY(o->mass_weight, a1, o->domain_weight[1]));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMCeedFluidMassApply(FEMCeedFluid o, Vec xlocal, Vec ylocal)
+{
+  PetscScalar *xa, *ya;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArray(xlocal, &xa));
+  PetscCall(VecGetArray(ylocal, &ya));
+  PetscCallCeed(o->ceed, CeedVectorSetArray(o->x, CEED_MEM_HOST, CEED_USE_POINTER, xa));
+  PetscCallCeed(o->ceed, CeedVectorSetArray(o->f, CEED_MEM_HOST, CEED_USE_POINTER, ya));
+  PetscCallCeed(o->ceed, CeedOperatorApply(o->op_mass, o->x, o->f, CEED_REQUEST_IMMEDIATE));
+  PetscCallCeed(o->ceed, CeedVectorTakeArray(o->x, CEED_MEM_HOST, &xa));
+  PetscCallCeed(o->ceed, CeedVectorTakeArray(o->f, CEED_MEM_HOST, &ya));
+  PetscCall(VecRestoreArray(xlocal, &xa));
+  PetscCall(VecRestoreArray(ylocal, &ya));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMCeedFluidSetConstants(FEMCeedFluid o, const PetscScalar constants[])
+{
+  FluidVolume *fv;
+
+  PetscFunctionBeginUser;
+  PetscCallCeed(o->ceed, CeedQFunctionContextGetData(o->context, CEED_MEM_HOST, &fv));
+  fv->rho        = constants[FLUID_RHO];
+  fv->mu         = constants[FLUID_MU];
+  fv->mass       = constants[FLUID_MASS];
+  fv->op         = constants[FLUID_OPERATOR];
+  fv->convection = constants[FLUID_CONVECTION];
+  fv->tau        = o->volume.tau > 0 ? constants[FLUID_OPERATOR] * constants[FLUID_PRESSURE_STABILIZATION] : 0.0;
+  PetscCallCeed(o->ceed, CeedQFunctionContextRestoreData(o->context, &fv));
+  PetscFunctionReturn(0);
+}
+
+/* the geometry of the present coordinates */
+static PetscErrorCode GeometryUpdate(FEMCeedFluid o)
+{
+  Vec              coordinates;
+  PetscObjectId    id;
+  PetscObjectState state;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetCoordinatesLocal(o->dm, &coordinates));
+  PetscCall(PetscObjectGetId((PetscObject)coordinates, &id));
+  PetscCall(PetscObjectStateGet((PetscObject)coordinates, &state));
+  if (o->qdata && id == o->coordinates_id && state == o->coordinates_state) PetscFunctionReturn(0);
+  PetscCall(FEMCeedGeometry(o->ceed, o->dm, o->velocity_fe, &o->r_q, &o->qdata));
+  o->coordinates_id    = id;
+  o->coordinates_state = state;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode MeshVelocitySet(FEMCeedFluid o, Vec z)
+{
+  const PetscScalar *za;
+
+  PetscFunctionBeginUser;
+  if (!o->volume.moving) PetscFunctionReturn(0);
+  PetscCheck(z, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "libCEED fluid: a moving mesh needs its mesh velocity");
+  PetscCall(VecGetArrayRead(z, &za));
+  PetscCallCeed(o->ceed, CeedVectorSetArray(o->mesh_velocity, CEED_MEM_HOST, CEED_COPY_VALUES, (CeedScalar *)za));
+  PetscCall(VecRestoreArrayRead(z, &za));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMCeedFluidCreate(DM dm, DM dm_mesh_velocity, const PetscScalar constants[], FEMCeedFluid *fluid)
+{
+  FEMCeedFluid o;
+  PetscFE      pressure;
+  CeedInt      nq, nq_p;
+  PetscInt     dim, n;
+  Vec          local;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&o));
+  PetscCall(FEMCeedGet(&o->ceed));
+  Ceed ceed = o->ceed;
+  o->dm     = dm;
+  PetscCall(DMGetDimension(dm, &dim));
+  PetscCall(DMGetField(dm, 0, NULL, (PetscObject *)&o->velocity_fe));
+  PetscCall(DMGetField(dm, 1, NULL, (PetscObject *)&pressure));
+  PetscCall(FEMCeedRestriction(ceed, dm, 0, &o->r_u));
+  PetscCall(FEMCeedRestriction(ceed, dm, 1, &o->r_p));
+  PetscCall(FEMCeedBasis(ceed, dm, o->velocity_fe, &o->b_u));
+  PetscCall(FEMCeedBasis(ceed, dm, pressure, &o->b_p));
+  PetscCall(GeometryUpdate(o));
+  PetscCallCeed(ceed, CeedBasisGetNumQuadraturePoints(o->b_u, &nq));
+  PetscCallCeed(ceed, CeedBasisGetNumQuadraturePoints(o->b_p, &nq_p));
+  PetscCheck(nq == nq_p, PETSC_COMM_SELF, PETSC_ERR_SUP, "libCEED fluid: velocity and pressure need one quadrature");
+  o->volume = (FluidVolume){(CeedInt)dim,
+                            0,
+                            0,
+                            0,
+                            0,
+                            0,
+                            PetscRealPart(constants[FLUID_PRESSURE_STABILIZATION]),
+                            dm_mesh_velocity ? 1 : 0};
+  if (dm_mesh_velocity) {
+    PetscFE  z_fe;
+    CeedSize zsize;
+    PetscCall(DMGetField(dm_mesh_velocity, 0, NULL, (PetscObject *)&z_fe));
+    PetscCall(FEMCeedRestriction(ceed, dm_mesh_velocity, 0, &o->r_z));
+    PetscCall(FEMCeedBasis(ceed, dm_mesh_velocity, z_fe, &o->b_z));
+    PetscCallCeed(ceed, CeedElemRestrictionGetLVectorSize(o->r_z, &zsize));
+    PetscCallCeed(ceed, CeedVectorCreate(ceed, zsize, &o->mesh_velocity));
+    PetscCallCeed(ceed, CeedVectorSetValue(o->mesh_velocity, 0.0));
+  }
+  PetscCallCeed(ceed, CeedQFunctionContextCreate(ceed, &o->context));
+  PetscCallCeed(ceed, CeedQFunctionContextSetData(o->context, CEED_MEM_HOST, CEED_COPY_VALUES, sizeof(o->volume),
+                                                  &o->volume));
+  PetscCall(FEMCeedFluidSetConstants(o, constants));
+  PetscCall(DMGetLocalVector(dm, &local));
+  PetscCall(VecGetLocalSize(local, &n));
+  PetscCall(DMRestoreLocalVector(dm, &local));
+  PetscCallCeed(ceed, CeedVectorCreate(ceed, n, &o->x));
+  PetscCallCeed(ceed, CeedVectorCreate(ceed, n, &o->f));
+  PetscCallCeed(ceed, CeedVectorCreate(ceed, n, &o->state));
+  PetscCallCeed(ceed, CeedVectorSetValue(o->state, 0.0));
+  PetscCall(ResidualCreate(o));
+  PetscCall(JacobianCreate(o));
+  if (dm_mesh_velocity) PetscCall(MassCreate(o));
+  *fluid = o;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMCeedFluidDestroy(FEMCeedFluid *fluid)
+{
+  FEMCeedFluid o = *fluid;
+
+  PetscFunctionBeginUser;
+  if (!o) PetscFunctionReturn(0);
+  Ceed ceed = o->ceed;
+  for (PetscInt b = 0; b < 4; ++b) {
+    PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_block[b]));
+    PetscCallCeed(ceed, CeedQFunctionDestroy(&o->qf_block[b]));
+  }
+  PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_stabilization));
+  PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_pressure_pattern));
+  PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_mass));
+  PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_mass_block));
+  PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_domain));
+  PetscCallCeed(ceed, CeedQFunctionDestroy(&o->qf_mass));
+  PetscCallCeed(ceed, CeedQFunctionDestroy(&o->qf_domain));
+  PetscCallCeed(ceed, CeedVectorDestroy(&o->coordinates));
+  PetscCallCeed(ceed, CeedVectorDestroy(&o->domain_weight[0]));
+  PetscCallCeed(ceed, CeedVectorDestroy(&o->domain_weight[1]));
+  PetscCallCeed(ceed, CeedVectorDestroy(&o->mass_weight));
+  PetscCallCeed(ceed, CeedElemRestrictionDestroy(&o->r_x));
+  PetscCallCeed(ceed, CeedElemRestrictionDestroy(&o->r_w));
+  PetscCallCeed(ceed, CeedBasisDestroy(&o->b_x));
+  PetscCallCeed(ceed, CeedQFunctionDestroy(&o->qf_stabilization));
+  PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_residual));
+  PetscCallCeed(ceed, CeedQFunctionDestroy(&o->qf_residual));
+  PetscCallCeed(ceed, CeedQFunctionContextDestroy(&o->context));
+  PetscCallCeed(ceed, CeedVectorDestroy(&o->qdata));
+  PetscCallCeed(ceed, CeedVectorDestroy(&o->x));
+  PetscCallCeed(ceed, CeedVectorDestroy(&o->f));
+  PetscCallCeed(ceed, CeedVectorDestroy(&o->state));
+  PetscCallCeed(ceed, CeedVectorDestroy(&o->mesh_velocity));
+  PetscCallCeed(ceed, CeedElemRestrictionDestroy(&o->r_q));
+  PetscCallCeed(ceed, CeedElemRestrictionDestroy(&o->r_p));
+  PetscCallCeed(ceed, CeedElemRestrictionDestroy(&o->r_u));
+  PetscCallCeed(ceed, CeedElemRestrictionDestroy(&o->r_z));
+  PetscCallCeed(ceed, CeedBasisDestroy(&o->b_p));
+  PetscCallCeed(ceed, CeedBasisDestroy(&o->b_u));
+  PetscCallCeed(ceed, CeedBasisDestroy(&o->b_z));
+  PetscCall(PetscFree(o));
+  *fluid = NULL;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMCeedFluidResidual(FEMCeedFluid o, Vec xlocal, Vec zlocal, Vec flocal)
+{
+  PetscScalar *xa, *fa;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CEED_RESIDUAL, 0, 0, 0, 0));
+  PetscCall(GeometryUpdate(o));
+  PetscCall(MeshVelocitySet(o, zlocal));
+  PetscCall(VecGetArray(xlocal, &xa));
+  PetscCall(VecGetArray(flocal, &fa));
+  PetscCallCeed(o->ceed, CeedVectorSetArray(o->x, CEED_MEM_HOST, CEED_USE_POINTER, xa));
+  PetscCallCeed(o->ceed, CeedVectorSetArray(o->f, CEED_MEM_HOST, CEED_USE_POINTER, fa));
+  PetscCallCeed(o->ceed, CeedOperatorApply(o->op_residual, o->x, o->f, CEED_REQUEST_IMMEDIATE));
+  if (o->op_stabilization)
+    PetscCallCeed(o->ceed, CeedOperatorApplyAdd(o->op_stabilization, o->x, o->f, CEED_REQUEST_IMMEDIATE));
+  PetscCallCeed(o->ceed, CeedVectorTakeArray(o->x, CEED_MEM_HOST, &xa));
+  PetscCallCeed(o->ceed, CeedVectorTakeArray(o->f, CEED_MEM_HOST, &fa));
+  PetscCall(VecRestoreArray(xlocal, &xa));
+  PetscCall(VecRestoreArray(flocal, &fa));
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CEED_RESIDUAL, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMCeedFluidCreateMatrix(FEMCeedFluid o, Mat *A)
+{
+  CeedOperator pattern[5] = {o->op_block[0], o->op_block[1], o->op_block[2],
+                             o->op_block[3] ? o->op_block[3] : o->op_pressure_pattern, o->op_mass_block};
+
+  PetscFunctionBeginUser;
+  PetscCall(FEMCeedCreateCOOMatrix(o->dm, A));
+  PetscCall(FEMCeedAssemblySetUp(o->ceed, o->dm, 5, pattern, *A, o->counts));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMCeedFluidJacobian(FEMCeedFluid o, Vec xlocal, Vec zlocal, PetscBool old_mass, Mat A)
+{
+  const PetscScalar *xa;
+  CeedOperator       blocks[5] = {o->op_block[0], o->op_block[1], o->op_block[2], o->op_block[3],
+                            old_mass ? o->op_mass_block : NULL};
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CEED_JACOBIAN, 0, 0, 0, 0));
+  PetscCall(GeometryUpdate(o));
+  PetscCall(MeshVelocitySet(o, zlocal));
+  PetscCall(VecGetArrayRead(xlocal, &xa));
+  PetscCallCeed(o->ceed, CeedVectorSetArray(o->state, CEED_MEM_HOST, CEED_COPY_VALUES, (CeedScalar *)xa));
+  PetscCall(VecRestoreArrayRead(xlocal, &xa));
+  PetscCall(FEMCeedAssemble(o->ceed, 5, blocks, o->counts, A));
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CEED_JACOBIAN, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}

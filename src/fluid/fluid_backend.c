@@ -1,0 +1,277 @@
+/* The fluid's residual and Jacobian on the backend -fem_backend chose. PETSc: its pointwise
+   integration of the whole weak form on the fluid DM, the reference. ceed: the volume
+   terms by libCEED (src/ceed/ceed_fluid.c) into a matrix of its own COO pattern; the
+   boundary terms (scene tractions, backflow, the interface's convective term) by PETSc's
+   integration on their faces only; the scene's volume loads, which only manufactured
+   solutions have, by PETSc on a copy of the DM that holds nothing else.
+   -fem_backend_check compares the two at the start of the first steps. */
+#include "fluid_impl.h"
+#include "fem.h"
+#include "logging.h"
+
+/* the natural-boundary terms of dm's weak form, at xlocal, added into flocal (residual)
+   or into A (Jacobian, before its final assembly) */
+static PetscErrorCode BoundaryTerms(Fluid f, Vec xlocal, Vec flocal, Mat A)
+{
+  PetscDS  ds;
+  PetscInt nb;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_BOUNDARY_TERMS, 0, 0, 0, 0));
+  PetscCall(DMGetDS(f->dm, &ds));
+  PetscCall(PetscDSGetNumBoundary(ds, &nb));
+  for (PetscInt b = 0; b < nb; ++b) {
+    PetscWeakForm           wf;
+    DMBoundaryConditionType type;
+    DMLabel                 label;
+    PetscInt                nv, field;
+    const PetscInt         *values;
+
+    PetscCall(PetscDSGetBoundary(ds, b, &wf, &type, NULL, &label, &nv, &values, &field, NULL, NULL, NULL, NULL, NULL));
+    if (type != DM_BC_NATURAL) continue;
+    if (flocal)
+      for (PetscInt v = 0; v < nv; ++v) {
+        PetscFormKey key = {label, values[v], field, 0};
+        PetscCall(DMPlexComputeBdResidualSingle(f->dm, f->time, wf, key, xlocal, NULL, flocal));
+      }
+    if (A)
+      PetscCall(DMPlexComputeBdJacobianSingle(f->dm, f->time, wf, label, nv, values, field, xlocal, NULL, 0.0, A, A));
+  }
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_BOUNDARY_TERMS, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+/* the libCEED context and the loads' DM follow the fluid DM's constants and coordinates */
+static PetscErrorCode Synchronize(Fluid f)
+{
+  PetscDS            ds;
+  PetscInt           n;
+  const PetscScalar *constants;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetDS(f->dm, &ds));
+  PetscCall(PetscDSGetConstants(ds, &n, &constants));
+  PetscCall(FEMCeedFluidSetConstants(f->ceed, constants));
+  if (f->dm_loads) {
+    PetscDS loads;
+    Vec     coordinates, load_coordinates;
+    PetscCall(DMGetDS(f->dm_loads, &loads));
+    PetscCall(PetscDSSetConstants(loads, n, (PetscScalar *)constants));
+    PetscCall(DMGetCoordinatesLocal(f->dm, &coordinates));
+    PetscCall(DMGetCoordinatesLocal(f->dm_loads, &load_coordinates));
+    if (coordinates != load_coordinates) {
+      PetscCall(DMSetCoordinatesLocal(f->dm_loads, coordinates));
+      PetscCall(FEMInvalidateGeometry(f->dm_loads));
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidOperatorResidual(Fluid f, Vec xlocal, Vec F)
+{
+  Vec flocal;
+
+  PetscFunctionBeginUser;
+  if (!f->backend_ceed) {
+    PetscCall(FEMResidual(f->dm, xlocal, F));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(Synchronize(f));
+  PetscCall(DMGetLocalVector(f->dm, &flocal));
+  PetscCall(FEMCeedFluidResidual(f->ceed, xlocal, f->moving ? f->z_local : NULL, flocal));
+  PetscCall(BoundaryTerms(f, xlocal, flocal, NULL));
+  if (f->dm_loads) PetscCall(DMPlexSNESComputeResidualFEM(f->dm_loads, xlocal, flocal, NULL));
+  PetscCall(VecZeroEntries(F));
+  PetscCall(DMLocalToGlobal(f->dm, flocal, ADD_VALUES, F));
+  PetscCall(DMRestoreLocalVector(f->dm, &flocal));
+  PetscFunctionReturn(0);
+}
+
+/* the libCEED volume blocks and PETSc's boundary terms at xlocal into A, a matrix of the
+   libCEED pattern */
+static PetscErrorCode AssembleCeed(Fluid f, Vec xlocal, PetscBool old_mass, Mat A)
+{
+  PetscFunctionBeginUser;
+  PetscCall(Synchronize(f));
+  PetscCall(FEMCeedFluidJacobian(f->ceed, xlocal, f->moving ? f->z_local : NULL, old_mass, A));
+  PetscCall(BoundaryTerms(f, xlocal, NULL, A));
+  PetscCall(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidOperatorJacobian(Fluid f, Vec xlocal, PetscBool old_mass, Mat J, Mat P)
+{
+  PetscFunctionBeginUser;
+  if (!f->backend_ceed) {
+    PetscCall(DMPlexSNESComputeJacobianFEM(f->dm, xlocal, J, P, NULL));
+    if (old_mass && f->mass_old) PetscCall(MatAXPY(P, 1.0, f->mass_old, SUBSET_NONZERO_PATTERN));
+    if (old_mass && f->mass_old && J != P) PetscCall(MatAXPY(J, 1.0, f->mass_old, SUBSET_NONZERO_PATTERN));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(AssembleCeed(f, xlocal, old_mass, f->ceed_jacobian));
+  /* another matrix of the same pattern (the Dirichlet fluid's) gets a copy */
+  if (P != f->ceed_jacobian) PetscCall(MatCopy(f->ceed_jacobian, P, SAME_NONZERO_PATTERN));
+  if (J != P && J != f->ceed_jacobian) PetscCall(MatCopy(f->ceed_jacobian, J, SAME_NONZERO_PATTERN));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode ResidualFixedMesh(SNES snes, Vec x, Vec F, void *ctx)
+{
+  Fluid f = (Fluid)ctx;
+
+  PetscFunctionBeginUser;
+  (void)snes;
+  PetscCall(FEMGlobalToLocal(f->dm, x, f->xlocal_work));
+  PetscCall(FluidOperatorResidual(f, f->xlocal_work, F));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode JacobianFixedMesh(SNES snes, Vec x, Mat J, Mat P, void *ctx)
+{
+  Fluid f = (Fluid)ctx;
+
+  PetscFunctionBeginUser;
+  (void)snes;
+  PetscCall(FEMGlobalToLocal(f->dm, x, f->xlocal_work));
+  PetscCall(FluidOperatorJacobian(f, f->xlocal_work, PETSC_FALSE, J, P));
+  f->counts.factorizations++;
+  PetscFunctionReturn(0);
+}
+
+/* the scene's volume loads alone, on a copy of the fluid DM with its fields */
+static PetscErrorCode LoadsSetUp(Fluid f)
+{
+  PetscObject velocity, pressure;
+  PetscDS     ds;
+
+  PetscFunctionBeginUser;
+  if (!f->data.load_value_kernel && !f->data.load_stress_kernel) PetscFunctionReturn(0);
+  PetscCall(DMGetField(f->dm, 0, NULL, &velocity));
+  PetscCall(DMGetField(f->dm, 1, NULL, &pressure));
+  PetscCall(DMClone(f->dm, &f->dm_loads));
+  PetscCall(DMSetField(f->dm_loads, 0, NULL, velocity));
+  PetscCall(DMSetField(f->dm_loads, 1, NULL, pressure));
+  PetscCall(DMCreateDS(f->dm_loads));
+  PetscCall(DMGetDS(f->dm_loads, &ds));
+  PetscCall(PetscDSSetResidual(ds, 0, f->data.load_value_kernel, f->data.load_stress_kernel));
+  if (f->moving) PetscCall(DMSetAuxiliaryVec(f->dm_loads, NULL, 0, 0, f->z_local));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidBackendSetUp(Fluid f)
+{
+  FEMBackend         backend;
+  PetscDS            ds;
+  PetscInt           n;
+  const PetscScalar *constants;
+
+  PetscFunctionBeginUser;
+  PetscCall(FEMBackendGet(&backend));
+  PetscOptionsBegin(f->comm, NULL, "Finite-element operators", "fem");
+  PetscCall(PetscOptionsBool("-fem_backend_check",
+                             "compare the fluid's residual and Jacobian of both backends at the start of the first "
+                             "three steps, at the step's state and at a random one (stops above 1e-12 relative)",
+                             NULL, f->check_backends, &f->check_backends, NULL));
+  PetscOptionsEnd();
+  if (backend != FEM_BACKEND_CEED && !f->check_backends) PetscFunctionReturn(0);
+  PetscCall(DMGetDS(f->dm, &ds));
+  PetscCall(PetscDSGetConstants(ds, &n, &constants));
+  PetscCall(FEMCeedFluidCreate(f->dm, f->moving ? f->dm_aux : NULL, constants, &f->ceed));
+  PetscCall(FEMCeedFluidCreateMatrix(f->ceed, &f->ceed_jacobian));
+  PetscCall(LoadsSetUp(f));
+  if (backend != FEM_BACKEND_CEED) PetscFunctionReturn(0); /* built for the check only */
+  f->backend_ceed = PETSC_TRUE;
+  PetscCall(SNESSetJacobian(f->snes, f->ceed_jacobian, f->ceed_jacobian, NULL, NULL));
+  /* on a moving mesh the ALE callbacks (fluid_ale.c) call the operators */
+  if (!f->moving) {
+    PetscCall(SNESSetFunction(f->snes, NULL, ResidualFixedMesh, f));
+    PetscCall(SNESSetJacobian(f->snes, NULL, NULL, JacobianFixedMesh, f));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* ||a - b|| / ||b|| of the residuals of both backends at the global state x; the same for
+   the Jacobians, each in a matrix of its own (the solver's keep their values and factors) */
+static PetscErrorCode CompareAt(Fluid f, Vec x, PetscReal *residual, PetscReal *jacobian)
+{
+  const PetscBool backend = f->backend_ceed;
+  /* the old domains' mass where both backends have it: -fem_backend petsc keeps both */
+  const PetscBool old_mass = f->moving && f->mass_old_all ? PETSC_TRUE : PETSC_FALSE;
+  Vec             xlocal, F_petsc, F_ceed;
+  Mat             J_petsc, J_ceed;
+  PetscReal       norm;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetLocalVector(f->dm, &xlocal));
+  PetscCall(VecDuplicate(x, &F_petsc));
+  PetscCall(VecDuplicate(x, &F_ceed));
+  PetscCall(FEMGlobalToLocal(f->dm, x, xlocal));
+  f->backend_ceed = PETSC_FALSE;
+  PetscCall(FluidOperatorResidual(f, xlocal, F_petsc));
+  if (old_mass) PetscCall(FluidOldMassMult(f, xlocal, f->work));
+  if (old_mass) PetscCall(VecAXPY(F_petsc, 1.0, f->work));
+  f->backend_ceed = PETSC_TRUE;
+  PetscCall(FluidOperatorResidual(f, xlocal, F_ceed));
+  if (old_mass) PetscCall(FluidOldMassMult(f, xlocal, f->work));
+  if (old_mass) PetscCall(VecAXPY(F_ceed, 1.0, f->work));
+  f->backend_ceed = backend;
+  PetscCall(VecNorm(F_petsc, NORM_2, &norm));
+  PetscCall(VecAXPY(F_ceed, -1.0, F_petsc));
+  PetscCall(VecNorm(F_ceed, NORM_2, residual));
+  *residual /= norm;
+  PetscCall(DMCreateMatrix(f->dm, &J_petsc));
+  PetscCall(DMPlexSNESComputeJacobianFEM(f->dm, xlocal, J_petsc, J_petsc, NULL));
+  if (old_mass) PetscCall(MatAXPY(J_petsc, 1.0, f->mass_old, SUBSET_NONZERO_PATTERN));
+  PetscCall(FEMCeedFluidCreateMatrix(f->ceed, &J_ceed));
+  PetscCall(AssembleCeed(f, xlocal, old_mass, J_ceed));
+  PetscCall(FEMCeedMatDifference(J_ceed, J_petsc, jacobian));
+  PetscCall(MatDestroy(&J_petsc));
+  PetscCall(MatDestroy(&J_ceed));
+  PetscCall(VecDestroy(&F_petsc));
+  PetscCall(VecDestroy(&F_ceed));
+  PetscCall(DMRestoreLocalVector(f->dm, &xlocal));
+  PetscFunctionReturn(0);
+}
+
+#define BACKEND_CHECK_STEPS 3
+#define BACKEND_CHECK_TOL   1e-12
+
+PetscErrorCode FluidBackendCheck(Fluid f)
+{
+  PetscReal   residual[2], jacobian[2];
+  Vec         x;
+  PetscRandom random;
+
+  PetscFunctionBeginUser;
+  if (!f->check_backends || f->step > BACKEND_CHECK_STEPS || f->step == f->backend_checked_step) PetscFunctionReturn(0);
+  f->backend_checked_step = f->step;
+  PetscCall(CompareAt(f, f->x, &residual[0], &jacobian[0]));
+  PetscCall(VecDuplicate(f->x, &x));
+  PetscCall(PetscRandomCreate(f->comm, &random));
+  PetscCall(PetscRandomSetInterval(random, -1.0, 1.0));
+  PetscCall(VecSetRandom(x, random));
+  PetscCall(PetscRandomDestroy(&random));
+  PetscCall(CompareAt(f, x, &residual[1], &jacobian[1]));
+  PetscCall(VecDestroy(&x));
+  PetscCall(PetscPrintf(f->comm,
+                        "fsiopt: backend check: step %" PetscInt_FMT
+                        ": fluid residual %.2e (the step's start) %.2e (a random state), Jacobian %.2e %.2e, "
+                        "libCEED relative to PETSc\n",
+                        f->step, (double)residual[0], (double)residual[1], (double)jacobian[0], (double)jacobian[1]));
+  for (PetscInt i = 0; i < 2; ++i)
+    PetscCheck(residual[i] <= BACKEND_CHECK_TOL && jacobian[i] <= BACKEND_CHECK_TOL, f->comm, PETSC_ERR_PLIB,
+               "option -fem_backend_check: at step %" PetscInt_FMT
+               " the fluid's libCEED operators differ from PETSc's by %.2e (residual), %.2e (Jacobian), more than %g",
+               f->step, (double)residual[i], (double)jacobian[i], BACKEND_CHECK_TOL);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidBackendDestroy(Fluid f)
+{
+  PetscFunctionBeginUser;
+  PetscCall(FEMCeedFluidDestroy(&f->ceed));
+  PetscCall(MatDestroy(&f->ceed_jacobian));
+  PetscCall(DMDestroy(&f->dm_loads));
+  PetscFunctionReturn(0);
+}
