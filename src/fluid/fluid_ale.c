@@ -296,6 +296,7 @@ PetscErrorCode FluidALEBeginStep(Fluid f)
     PetscCall(FEMCeedFluidMassWeights(f->ceed, old_coefficient, bdf2 ? -older_coefficient : 0.0));
   }
   PetscCall(FreeRows(f, f->history_all, f->history));
+  if (bdf2) PetscCall(VecCopy(f->displacement_old, f->displacement_previous));
   if (f->time_order == 2) PetscCall(VecCopy(f->xlocal_old, f->xlocal_previous));
   PetscCall(VecCopy(f->displacement, f->displacement_old));
   PetscCall(VecZeroEntries(f->z_local));
