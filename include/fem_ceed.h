@@ -17,13 +17,14 @@
     } \
   } while (0)
 
-/* -fem_backend: the operators by PETSc's pointwise integration (the reference) or libCEED */
+/* -fem_backend: the operators by PETSc's pointwise integration (the reference) or libCEED;
+   -fem_backend_check: compare the two (check may be NULL) */
 typedef enum {
   FEM_BACKEND_PETSC,
   FEM_BACKEND_CEED
 } FEMBackend;
 extern const char *const FEMBackends[];
-PetscErrorCode           FEMBackendGet(FEMBackend *);
+PetscErrorCode           FEMBackendGet(FEMBackend *, PetscBool *check);
 
 /* The run's Ceed, of the backend -ceed (default /cpu/self/opt/blocked); made on first use. */
 PetscErrorCode FEMCeedGet(Ceed *);
@@ -67,8 +68,9 @@ PetscErrorCode FEMCeedCheckSpaces(DM dm, const char name[], PetscReal tol);
 typedef struct _n_FEMCeedFluid *FEMCeedFluid;
 PetscErrorCode FEMCeedFluidCreate(DM dm, DM dm_mesh_velocity, const PetscScalar constants[], FEMCeedFluid *);
 PetscErrorCode FEMCeedFluidSetConstants(FEMCeedFluid, const PetscScalar constants[]);
-/* flocal = the volume residual at xlocal (zlocal: the mesh velocity's local vector, or NULL) */
-PetscErrorCode FEMCeedFluidResidual(FEMCeedFluid, Vec xlocal, Vec zlocal, Vec flocal);
+/* flocal = the volume residual at xlocal (zlocal: the mesh velocity's local vector, or NULL),
+   with the old domains' mass term (below) when old_mass */
+PetscErrorCode FEMCeedFluidResidual(FEMCeedFluid, Vec xlocal, Vec zlocal, PetscBool old_mass, Vec flocal);
 /* A matrix of dm's global rows with the Jacobian's COO pattern, and the Jacobian at xlocal into it */
 PetscErrorCode FEMCeedFluidCreateMatrix(FEMCeedFluid, Mat *);
 PetscErrorCode FEMCeedFluidJacobian(FEMCeedFluid, Vec xlocal, Vec zlocal, PetscBool old_mass, Mat);

@@ -14,28 +14,11 @@ import argparse, os, sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import fsiopt_runs as fr  # noqa: E402
-import tube3d_table as tube  # noqa: E402
-import turek_hron_table as turek  # noqa: E402
+from bench_operators import case_options  # noqa: E402
 
 OUT = os.path.join(fr.ROOT, "out", "bench-backends")
 CASES = {"channel2d-r1": 200, "tube3d-n1": 3, "turek-fsi3-n1": 50}
 BACKENDS = ("petsc", "ceed")
-
-
-def case_options(case, steps, mesh_dir):
-    scene, _, level = case.rpartition("-")
-    n = int(level[1:])
-    if scene == "channel2d":
-        return ["-options_file", "options/channel2d.yaml", "-refine", str(n), "-t_final", fr.fmt_num(steps * 1e-4)]
-    if scene == "tube3d":
-        meshes = tube.ensure_meshes(n, mesh_dir)
-        return ["-options_file", "options/tube3d.yaml", "-t_final", fr.fmt_num(steps * 1e-4),
-                "-fluid_dm_plex_filename", fr.rel(meshes["fluid"]), "-structure_dm_plex_filename", fr.rel(meshes["wall"])]
-    if scene == "turek-fsi3":
-        fluid, flag = turek.ensure_mesh("fluid", n, mesh_dir), turek.ensure_mesh("flag", n, mesh_dir)
-        return ["-options_file", "options/turek-hron.yaml", "-turek_case", "fsi3", "-t_final", fr.fmt_num(steps * 1e-3),
-                "-fluid_dm_plex_filename", fr.rel(fluid), "-structure_dm_plex_filename", fr.rel(flag)]
-    raise SystemExit("bench_backends: --cases: unknown case %s (known: %s)" % (case, ", ".join(CASES)))
 
 
 def main():

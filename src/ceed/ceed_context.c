@@ -4,22 +4,40 @@
 
 const char *const FEMBackends[] = {"petsc", "ceed", "FEMBackend", "FEM_BACKEND_", NULL};
 
-PetscErrorCode FEMBackendGet(FEMBackend *backend)
-{
-  static PetscBool  read   = PETSC_FALSE;
-  static FEMBackend chosen = FEM_BACKEND_PETSC;
+static struct {
+  PetscBool  read;
+  FEMBackend backend;
+  PetscBool  check;
+  char       resource[PETSC_MAX_PATH_LEN];
+} choice = {PETSC_FALSE, FEM_BACKEND_PETSC, PETSC_FALSE, "/cpu/self/opt/blocked"};
 
+/* the three options of the operators, read once (FluidSetFromOptions reads them early, so that -help lists them) */
+static PetscErrorCode ReadChoice(void)
+{
   PetscFunctionBeginUser;
-  if (!read) {
-    PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Finite-element operators", "fem");
-    PetscCall(PetscOptionsEnum("-fem_backend",
-                               "operators of the fluid: petsc (PETSc's pointwise integration, the reference) or "
-                               "ceed (libCEED, the fast path)",
-                               NULL, FEMBackends, (PetscEnum)chosen, (PetscEnum *)&chosen, NULL));
-    PetscOptionsEnd();
-    read = PETSC_TRUE;
-  }
-  *backend = chosen;
+  if (choice.read) PetscFunctionReturn(0);
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Finite-element operators", "fem");
+  PetscCall(PetscOptionsEnum("-fem_backend",
+                             "operators of the fluid: petsc (PETSc's pointwise integration, the reference) or ceed "
+                             "(libCEED, the fast path)",
+                             NULL, FEMBackends, (PetscEnum)choice.backend, (PetscEnum *)&choice.backend, NULL));
+  PetscCall(PetscOptionsBool("-fem_backend_check",
+                             "compare the fluid's residual and Jacobian of both backends at the start of the first "
+                             "three steps, at the step's state and at a random one (stops above 1e-12 relative)",
+                             NULL, choice.check, &choice.check, NULL));
+  PetscCall(PetscOptionsString("-ceed", "libCEED backend of the finite-element operators", NULL, choice.resource,
+                               choice.resource, sizeof(choice.resource), NULL));
+  PetscOptionsEnd();
+  choice.read = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMBackendGet(FEMBackend *backend, PetscBool *check)
+{
+  PetscFunctionBeginUser;
+  PetscCall(ReadChoice());
+  if (backend) *backend = choice.backend;
+  if (check) *check = choice.check;
   PetscFunctionReturn(0);
 }
 
@@ -42,25 +60,23 @@ static const char *const cpu_backends[] = {"/cpu/self/opt/blocked", "/cpu/self/r
 
 PetscErrorCode FEMCeedGet(Ceed *ceed)
 {
-  char      resource[PETSC_MAX_PATH_LEN] = "/cpu/self/opt/blocked", known[1024] = "";
-  PetscBool found = PETSC_FALSE;
+  char      known[1024] = "";
+  PetscBool found       = PETSC_FALSE;
 
   PetscFunctionBeginUser;
   if (run_ceed) {
     *ceed = run_ceed;
     PetscFunctionReturn(0);
   }
-  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "libCEED operators", "fem");
-  PetscCall(PetscOptionsString("-ceed", "libCEED backend of the finite-element operators", NULL, resource, resource,
-                               sizeof(resource), NULL));
-  PetscOptionsEnd();
+  PetscCall(ReadChoice());
   for (const char *const *b = cpu_backends; *b; ++b) {
     PetscCall(PetscStrlcat(known, known[0] ? ", " : "", sizeof(known)));
     PetscCall(PetscStrlcat(known, *b, sizeof(known)));
-    found = found || !strcmp(resource, *b);
+    found = found || !strcmp(choice.resource, *b);
   }
-  PetscCheck(found, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG, "option -ceed %s: expected one of %s", resource, known);
-  PetscCallCeed(NULL, CeedInit(resource, &run_ceed));
+  PetscCheck(found, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG, "option -ceed %s: expected one of %s", choice.resource,
+             known);
+  PetscCallCeed(NULL, CeedInit(choice.resource, &run_ceed));
   PetscCallCeed(run_ceed, CeedSetErrorHandler(run_ceed, CeedErrorStore));
   PetscCall(PetscRegisterFinalize(DestroyCeed));
   *ceed = run_ceed;

@@ -65,7 +65,10 @@ static PetscErrorCode ResidualCreate(FEMCeedFluid o)
   PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_residual, "du", dim * dim, CEED_EVAL_GRAD));
   PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_residual, "p", 1, CEED_EVAL_INTERP));
   PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_residual, "qdata", qsize, CEED_EVAL_NONE));
-  if (o->volume.moving) PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_residual, "z", dim, CEED_EVAL_INTERP));
+  if (o->volume.moving) {
+    PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_residual, "z", dim, CEED_EVAL_INTERP));
+    PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_residual, "m", 1, CEED_EVAL_NONE));
+  }
   PetscCallCeed(ceed, CeedQFunctionAddOutput(o->qf_residual, "v", dim, CEED_EVAL_INTERP));
   PetscCallCeed(ceed, CeedQFunctionAddOutput(o->qf_residual, "dv", dim * dim, CEED_EVAL_GRAD));
   PetscCallCeed(ceed, CeedQFunctionAddOutput(o->qf_residual, "q", 1, CEED_EVAL_INTERP));
@@ -75,8 +78,10 @@ static PetscErrorCode ResidualCreate(FEMCeedFluid o)
   PetscCallCeed(ceed, CeedOperatorSetField(o->op_residual, "du", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
   PetscCallCeed(ceed, CeedOperatorSetField(o->op_residual, "p", o->r_p, o->b_p, CEED_VECTOR_ACTIVE));
   PetscCallCeed(ceed, CeedOperatorSetField(o->op_residual, "qdata", o->r_q, CEED_BASIS_NONE, o->qdata));
-  if (o->volume.moving)
+  if (o->volume.moving) {
     PetscCallCeed(ceed, CeedOperatorSetField(o->op_residual, "z", o->r_z, o->b_z, o->mesh_velocity));
+    PetscCallCeed(ceed, CeedOperatorSetField(o->op_residual, "m", o->r_w, CEED_BASIS_NONE, o->mass_weight));
+  }
   PetscCallCeed(ceed, CeedOperatorSetField(o->op_residual, "v", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
   PetscCallCeed(ceed, CeedOperatorSetField(o->op_residual, "dv", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
   PetscCallCeed(ceed, CeedOperatorSetField(o->op_residual, "q", o->r_p, o->b_p, CEED_VECTOR_ACTIVE));
@@ -295,14 +300,9 @@ PetscErrorCode FEMCeedFluidCreate(DM dm, DM dm_mesh_velocity, const PetscScalar 
   PetscCallCeed(ceed, CeedBasisGetNumQuadraturePoints(o->b_u, &nq));
   PetscCallCeed(ceed, CeedBasisGetNumQuadraturePoints(o->b_p, &nq_p));
   PetscCheck(nq == nq_p, PETSC_COMM_SELF, PETSC_ERR_SUP, "libCEED fluid: velocity and pressure need one quadrature");
-  o->volume = (FluidVolume){(CeedInt)dim,
-                            0,
-                            0,
-                            0,
-                            0,
-                            0,
-                            PetscRealPart(constants[FLUID_PRESSURE_STABILIZATION]),
-                            dm_mesh_velocity ? 1 : 0};
+  o->volume.dim    = (CeedInt)dim;
+  o->volume.tau    = PetscRealPart(constants[FLUID_PRESSURE_STABILIZATION]);
+  o->volume.moving = dm_mesh_velocity ? 1 : 0;
   if (dm_mesh_velocity) {
     PetscFE  z_fe;
     CeedSize zsize;
@@ -324,9 +324,9 @@ PetscErrorCode FEMCeedFluidCreate(DM dm, DM dm_mesh_velocity, const PetscScalar 
   PetscCallCeed(ceed, CeedVectorCreate(ceed, n, &o->f));
   PetscCallCeed(ceed, CeedVectorCreate(ceed, n, &o->state));
   PetscCallCeed(ceed, CeedVectorSetValue(o->state, 0.0));
+  if (dm_mesh_velocity) PetscCall(MassCreate(o));
   PetscCall(ResidualCreate(o));
   PetscCall(JacobianCreate(o));
-  if (dm_mesh_velocity) PetscCall(MassCreate(o));
   *fluid = o;
   PetscFunctionReturn(0);
 }
@@ -377,12 +377,18 @@ PetscErrorCode FEMCeedFluidDestroy(FEMCeedFluid *fluid)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FEMCeedFluidResidual(FEMCeedFluid o, Vec xlocal, Vec zlocal, Vec flocal)
+PetscErrorCode FEMCeedFluidResidual(FEMCeedFluid o, Vec xlocal, Vec zlocal, PetscBool old_mass, Vec flocal)
 {
   PetscScalar *xa, *fa;
+  FluidVolume *fv;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CEED_RESIDUAL, 0, 0, 0, 0));
+  PetscCheck(!old_mass || o->volume.moving, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG,
+             "libCEED fluid: no old-domain mass on a fixed mesh");
+  PetscCallCeed(o->ceed, CeedQFunctionContextGetData(o->context, CEED_MEM_HOST, &fv));
+  fv->old_mass = old_mass ? 1 : 0;
+  PetscCallCeed(o->ceed, CeedQFunctionContextRestoreData(o->context, &fv));
   PetscCall(GeometryUpdate(o));
   PetscCall(MeshVelocitySet(o, zlocal));
   PetscCall(VecGetArray(xlocal, &xa));

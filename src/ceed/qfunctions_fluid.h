@@ -9,8 +9,9 @@
 typedef struct {
   CeedInt    dim;
   CeedScalar rho, mu, mass, op, convection;
-  CeedScalar tau;    /* op times the pressure stabilization's tau; 0: none */
-  CeedInt    moving; /* the last input is the mesh velocity z */
+  CeedScalar tau;      /* op times the pressure stabilization's tau; 0: none */
+  CeedInt    moving;   /* the last inputs are the mesh velocity z and the old domains' mass weights m */
+  CeedInt    old_mass; /* the residual adds m u (moving meshes) */
 } FluidVolume;
 
 /* the convecting velocity u - z, component d at point i */
@@ -33,6 +34,7 @@ CEED_QFUNCTION(FluidVolumeResidual)(void *ctx, CeedInt Q, const CeedScalar *cons
   const FluidVolume *fv  = (const FluidVolume *)ctx;
   const CeedInt      dim = fv->dim;
   const CeedScalar  *u = in[0], *du = in[1], *p = in[2], *qdata = in[3], *z = fv->moving ? in[4] : NULL;
+  const CeedScalar  *m = fv->moving && fv->old_mass ? in[5] : NULL;
   CeedScalar        *v = out[0], *dv = out[1], *q = out[2];
 
   for (CeedInt i = 0; i < Q; ++i) {
@@ -43,7 +45,8 @@ CEED_QFUNCTION(FluidVolumeResidual)(void *ctx, CeedInt Q, const CeedScalar *cons
     for (CeedInt c = 0; c < dim; ++c) {
       CeedScalar convection = 0;
       for (CeedInt d = 0; d < dim; ++d) convection += CONVECTING(u, z, d, i, Q) * G[c][d];
-      v[c * Q + i] = wdet * (fv->mass * u[c * Q + i] + fv->rho * fv->op * fv->convection * convection);
+      v[c * Q + i] = wdet * (fv->mass * u[c * Q + i] + fv->rho * fv->op * fv->convection * convection) +
+                     (m ? m[i] * u[c * Q + i] : 0.0);
       for (CeedInt d = 0; d < dim; ++d) f1[c][d] = fv->op * (fv->mu * (G[c][d] + G[d][c]) - (c == d ? p[i] : 0.0));
     }
     for (CeedInt j = 0; j < dim; ++j)

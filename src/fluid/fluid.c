@@ -76,6 +76,7 @@ PetscErrorCode FluidSetFromOptions(Fluid f)
                              "free) instead of its interpolant",
                              NULL, f->initial_projection, &f->initial_projection, NULL));
   PetscOptionsEnd();
+  PetscCall(FEMBackendGet(NULL, NULL)); /* read with the fluid's options, for -help */
   PetscCheck(f->pressure_degree < f->velocity_degree ||
                (f->pressure_degree == f->velocity_degree && f->pressure_stabilization > 0),
              f->comm, PETSC_ERR_ARG_INCOMP,
@@ -226,7 +227,7 @@ PetscErrorCode FluidBeginStep(Fluid f, PetscInt step)
         f->xlocal_old      = h;
       } else if (f->time_order == 2) PetscCall(VecCopy(f->xlocal_old, f->xlocal_previous));
       PetscCall(FluidSetConstants(f, mass, 0.0, 0.0));
-      PetscCall(FluidOperatorResidual(f, f->xlocal_old, f->history));
+      PetscCall(FluidOperatorResidual(f, f->xlocal_old, PETSC_FALSE, f->history));
     }
   }
   if (f->extrapolate && f->model == FLUID_NAVIER_STOKES) {

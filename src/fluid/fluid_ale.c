@@ -137,31 +137,6 @@ PetscErrorCode FluidOldMassMult(Fluid f, Vec xlocal, Vec out)
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode ResidualALE(SNES snes, Vec x, Vec F, void *ctx)
-{
-  Fluid f = (Fluid)ctx;
-
-  PetscFunctionBeginUser;
-  (void)snes;
-  PetscCall(FEMGlobalToLocal(f->dm, x, f->xlocal_work));
-  PetscCall(FluidOperatorResidual(f, f->xlocal_work, F)); /* no mass term in the kernels */
-  PetscCall(FluidOldMassMult(f, f->xlocal_work, f->work));
-  PetscCall(VecAXPY(F, 1.0, f->work));
-  PetscFunctionReturn(0);
-}
-
-static PetscErrorCode JacobianALE(SNES snes, Vec x, Mat J, Mat P, void *ctx)
-{
-  Fluid f = (Fluid)ctx;
-
-  PetscFunctionBeginUser;
-  (void)snes;
-  PetscCall(FEMGlobalToLocal(f->dm, x, f->xlocal_work));
-  PetscCall(FluidOperatorJacobian(f, f->xlocal_work, PETSC_TRUE, J, P));
-  f->counts.factorizations++;
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode FluidALESetUp(Fluid f)
 {
   PetscObject velocity;
@@ -197,15 +172,14 @@ PetscErrorCode FluidALESetUp(Fluid f)
   PetscCall(DMCreateLocalVector(f->dm_all, &f->all_local));
   PetscCall(VecDuplicate(f->all_x, &f->history_all));
   PetscCall(DMCreateGlobalVector(f->dm, &f->work));
-  PetscCall(SNESSetFunction(f->snes, NULL, ResidualALE, f));
-  PetscCall(SNESSetJacobian(f->snes, NULL, NULL, JacobianALE, f));
+  PetscCall(SNESSetFunction(f->snes, NULL, FluidSNESResidual, f));
+  PetscCall(SNESSetJacobian(f->snes, NULL, NULL, FluidSNESJacobian, f));
   if (f->time_order == 2) {
     PetscCall(VecDuplicate(coordinates, &f->displacement_previous));
     PetscCall(VecZeroEntries(f->displacement_previous));
   }
   /* the old domains' mass matrices of PETSc's backend (libCEED's keeps weights per point) */
-  PetscCall(FEMBackendGet(&backend));
-  PetscCall(PetscOptionsHasName(NULL, NULL, "-fem_backend_check", &check));
+  PetscCall(FEMBackendGet(&backend, &check));
   if (backend == FEM_BACKEND_CEED && !check) PetscFunctionReturn(0);
   PetscCall(DMCreateMatrix(f->dm_all, &f->mass_old_all));
   PetscCall(MatAssemblyBegin(f->mass_old_all, MAT_FINAL_ASSEMBLY));

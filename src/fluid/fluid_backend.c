@@ -5,6 +5,7 @@
    integration on their faces only; the scene's volume loads, which only manufactured
    solutions have, by PETSc on a copy of the DM that holds nothing else.
    -fem_backend_check compares the two at the start of the first steps. */
+#include <petsc/private/petscimpl.h> /* PetscObjectStateGet */
 #include "fluid_impl.h"
 #include "fem.h"
 #include "logging.h"
@@ -67,18 +68,22 @@ static PetscErrorCode Synchronize(Fluid f)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FluidOperatorResidual(Fluid f, Vec xlocal, Vec F)
+PetscErrorCode FluidOperatorResidual(Fluid f, Vec xlocal, PetscBool old_mass, Vec F)
 {
   Vec flocal;
 
   PetscFunctionBeginUser;
   if (!f->backend_ceed) {
     PetscCall(FEMResidual(f->dm, xlocal, F));
+    if (old_mass) {
+      PetscCall(FluidOldMassMult(f, xlocal, f->work));
+      PetscCall(VecAXPY(F, 1.0, f->work));
+    }
     PetscFunctionReturn(0);
   }
   PetscCall(Synchronize(f));
   PetscCall(DMGetLocalVector(f->dm, &flocal));
-  PetscCall(FEMCeedFluidResidual(f->ceed, xlocal, f->moving ? f->z_local : NULL, flocal));
+  PetscCall(FEMCeedFluidResidual(f->ceed, xlocal, f->moving ? f->z_local : NULL, old_mass, flocal));
   PetscCall(BoundaryTerms(f, xlocal, flocal, NULL));
   if (f->dm_loads) PetscCall(DMPlexSNESComputeResidualFEM(f->dm_loads, xlocal, flocal, NULL));
   PetscCall(VecZeroEntries(F));
@@ -116,25 +121,85 @@ PetscErrorCode FluidOperatorJacobian(Fluid f, Vec xlocal, PetscBool old_mass, Ma
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode ResidualFixedMesh(SNES snes, Vec x, Vec F, void *ctx)
+/* x with its boundary values. PETSc's backend projects them at every call (the reference);
+   libCEED's keeps them until the time or the mesh changes, which saves the projection
+   at each residual of a step (the scenes' Dirichlet data depend on t and x only) */
+static PetscErrorCode StateToLocal(Fluid f, Vec x, Vec xlocal)
 {
-  Fluid f = (Fluid)ctx;
+  Vec                coordinates;
+  PetscObjectId      id;
+  PetscObjectState   state;
+  const PetscScalar *b;
+  PetscScalar       *a;
 
   PetscFunctionBeginUser;
-  (void)snes;
-  PetscCall(FEMGlobalToLocal(f->dm, x, f->xlocal_work));
-  PetscCall(FluidOperatorResidual(f, f->xlocal_work, F));
+  if (!f->backend_ceed) {
+    PetscCall(FEMGlobalToLocal(f->dm, x, xlocal));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(DMGetCoordinatesLocal(f->dm, &coordinates));
+  PetscCall(PetscObjectGetId((PetscObject)coordinates, &id));
+  PetscCall(PetscObjectStateGet((PetscObject)coordinates, &state));
+  if (!f->boundary_values) {
+    PetscSection section;
+    PetscInt     pStart, pEnd, n = 0;
+    PetscCall(DMCreateLocalVector(f->dm, &f->boundary_values));
+    PetscCall(DMGetLocalSection(f->dm, &section));
+    PetscCall(PetscSectionGetChart(section, &pStart, &pEnd));
+    for (PetscInt p = pStart; p < pEnd; ++p) {
+      PetscInt cdof;
+      PetscCall(PetscSectionGetConstraintDof(section, p, &cdof));
+      n += cdof;
+    }
+    PetscCall(PetscMalloc1(n, &f->boundary_dofs));
+    f->n_boundary_dofs = 0;
+    for (PetscInt p = pStart; p < pEnd; ++p) {
+      PetscInt        cdof, off;
+      const PetscInt *cind;
+      PetscCall(PetscSectionGetConstraintDof(section, p, &cdof));
+      if (!cdof) continue;
+      PetscCall(PetscSectionGetOffset(section, p, &off));
+      PetscCall(PetscSectionGetConstraintIndices(section, p, &cind));
+      for (PetscInt k = 0; k < cdof; ++k) f->boundary_dofs[f->n_boundary_dofs++] = off + cind[k];
+    }
+    f->boundary_values_time = PETSC_MAX_REAL;
+  }
+  if (f->boundary_values_time != f->time || id != f->boundary_values_id || state != f->boundary_values_state) {
+    PetscCall(VecZeroEntries(f->boundary_values));
+    PetscCall(DMPlexInsertBoundaryValues(f->dm, PETSC_TRUE, f->boundary_values, 0.0, NULL, NULL, NULL));
+    f->boundary_values_time  = f->time;
+    f->boundary_values_id    = id;
+    f->boundary_values_state = state;
+  }
+  PetscCall(DMGlobalToLocal(f->dm, x, INSERT_VALUES, xlocal));
+  PetscCall(VecGetArray(xlocal, &a));
+  PetscCall(VecGetArrayRead(f->boundary_values, &b));
+  for (PetscInt i = 0; i < f->n_boundary_dofs; ++i) a[f->boundary_dofs[i]] = b[f->boundary_dofs[i]];
+  PetscCall(VecRestoreArrayRead(f->boundary_values, &b));
+  PetscCall(VecRestoreArray(xlocal, &a));
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode JacobianFixedMesh(SNES snes, Vec x, Mat J, Mat P, void *ctx)
+PetscErrorCode FluidSNESResidual(SNES snes, Vec x, Vec F, void *ctx)
 {
   Fluid f = (Fluid)ctx;
 
   PetscFunctionBeginUser;
   (void)snes;
-  PetscCall(FEMGlobalToLocal(f->dm, x, f->xlocal_work));
-  PetscCall(FluidOperatorJacobian(f, f->xlocal_work, PETSC_FALSE, J, P));
+  PetscCall(StateToLocal(f, x, f->xlocal_work));
+  /* on a moving mesh the time derivative acts through the old domains' mass (fluid_ale.c) */
+  PetscCall(FluidOperatorResidual(f, f->xlocal_work, f->moving, F));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidSNESJacobian(SNES snes, Vec x, Mat J, Mat P, void *ctx)
+{
+  Fluid f = (Fluid)ctx;
+
+  PetscFunctionBeginUser;
+  (void)snes;
+  PetscCall(StateToLocal(f, x, f->xlocal_work));
+  PetscCall(FluidOperatorJacobian(f, f->xlocal_work, f->moving, J, P));
   f->counts.factorizations++;
   PetscFunctionReturn(0);
 }
@@ -167,13 +232,7 @@ PetscErrorCode FluidBackendSetUp(Fluid f)
   const PetscScalar *constants;
 
   PetscFunctionBeginUser;
-  PetscCall(FEMBackendGet(&backend));
-  PetscOptionsBegin(f->comm, NULL, "Finite-element operators", "fem");
-  PetscCall(PetscOptionsBool("-fem_backend_check",
-                             "compare the fluid's residual and Jacobian of both backends at the start of the first "
-                             "three steps, at the step's state and at a random one (stops above 1e-12 relative)",
-                             NULL, f->check_backends, &f->check_backends, NULL));
-  PetscOptionsEnd();
+  PetscCall(FEMBackendGet(&backend, &f->check_backends));
   if (backend != FEM_BACKEND_CEED && !f->check_backends) PetscFunctionReturn(0);
   PetscCall(DMGetDS(f->dm, &ds));
   PetscCall(PetscDSGetConstants(ds, &n, &constants));
@@ -183,11 +242,9 @@ PetscErrorCode FluidBackendSetUp(Fluid f)
   if (backend != FEM_BACKEND_CEED) PetscFunctionReturn(0); /* built for the check only */
   f->backend_ceed = PETSC_TRUE;
   PetscCall(SNESSetJacobian(f->snes, f->ceed_jacobian, f->ceed_jacobian, NULL, NULL));
-  /* on a moving mesh the ALE callbacks (fluid_ale.c) call the operators */
-  if (!f->moving) {
-    PetscCall(SNESSetFunction(f->snes, NULL, ResidualFixedMesh, f));
-    PetscCall(SNESSetJacobian(f->snes, NULL, NULL, JacobianFixedMesh, f));
-  }
+  /* the callbacks FluidALESetUp installs on a moving mesh; on a fixed one they replace DMPlex's */
+  PetscCall(SNESSetFunction(f->snes, NULL, FluidSNESResidual, f));
+  PetscCall(SNESSetJacobian(f->snes, NULL, NULL, FluidSNESJacobian, f));
   PetscFunctionReturn(0);
 }
 
@@ -208,13 +265,9 @@ static PetscErrorCode CompareAt(Fluid f, Vec x, PetscReal *residual, PetscReal *
   PetscCall(VecDuplicate(x, &F_ceed));
   PetscCall(FEMGlobalToLocal(f->dm, x, xlocal));
   f->backend_ceed = PETSC_FALSE;
-  PetscCall(FluidOperatorResidual(f, xlocal, F_petsc));
-  if (old_mass) PetscCall(FluidOldMassMult(f, xlocal, f->work));
-  if (old_mass) PetscCall(VecAXPY(F_petsc, 1.0, f->work));
+  PetscCall(FluidOperatorResidual(f, xlocal, old_mass, F_petsc));
   f->backend_ceed = PETSC_TRUE;
-  PetscCall(FluidOperatorResidual(f, xlocal, F_ceed));
-  if (old_mass) PetscCall(FluidOldMassMult(f, xlocal, f->work));
-  if (old_mass) PetscCall(VecAXPY(F_ceed, 1.0, f->work));
+  PetscCall(FluidOperatorResidual(f, xlocal, old_mass, F_ceed));
   f->backend_ceed = backend;
   PetscCall(VecNorm(F_petsc, NORM_2, &norm));
   PetscCall(VecAXPY(F_ceed, -1.0, F_petsc));
@@ -273,5 +326,7 @@ PetscErrorCode FluidBackendDestroy(Fluid f)
   PetscCall(FEMCeedFluidDestroy(&f->ceed));
   PetscCall(MatDestroy(&f->ceed_jacobian));
   PetscCall(DMDestroy(&f->dm_loads));
+  PetscCall(VecDestroy(&f->boundary_values));
+  PetscCall(PetscFree(f->boundary_dofs));
   PetscFunctionReturn(0);
 }

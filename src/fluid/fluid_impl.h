@@ -72,16 +72,21 @@ struct _p_Fluid {
   PetscScalar *dirichlet_residual; /* R(x) on them at the last evaluation */
   PetscInt     dirichlet_step;
   /* the operators on the libCEED backend (fluid_backend.c) */
-  PetscBool      backend_ceed;  /* the solver's operators are libCEED's */
-  FEMCeedFluid   ceed;          /* NULL on the PETSc backend without -fem_backend_check */
-  Mat            ceed_jacobian; /* of its COO pattern: the solver's matrix on the libCEED backend */
-  DM             dm_loads;      /* the scene's volume loads alone, NULL without */
-  PetscBool      check_backends;
-  PetscInt       backend_checked_step;
-  PhysicsData    data;
-  DirichletDatum datums[FSIOPT_MAX_BOUNDARIES];
-  SolverCounts   counts;
-  StepFailure    failure; /* of the step in progress */
+  PetscBool        backend_ceed;                    /* the solver's operators are libCEED's */
+  FEMCeedFluid     ceed;                            /* NULL on the PETSc backend without -fem_backend_check */
+  Mat              ceed_jacobian;                   /* of its COO pattern: the solver's matrix on the libCEED backend */
+  DM               dm_loads;                        /* the scene's volume loads alone, NULL without */
+  Vec              boundary_values;                 /* the Dirichlet values of a time and mesh (libCEED's backend) */
+  PetscInt         n_boundary_dofs, *boundary_dofs; /* the constrained local dofs */
+  PetscReal        boundary_values_time;
+  PetscObjectId    boundary_values_id;
+  PetscObjectState boundary_values_state;
+  PetscBool        check_backends;
+  PetscInt         backend_checked_step;
+  PhysicsData      data;
+  DirichletDatum   datums[FSIOPT_MAX_BOUNDARIES];
+  SolverCounts     counts;
+  StepFailure      failure; /* of the step in progress */
 };
 
 PetscErrorCode FluidSetConstants(Fluid, PetscReal mass, PetscReal op, PetscReal load);
@@ -94,11 +99,16 @@ PetscErrorCode FluidForcesDestroy(Fluid);
 PetscErrorCode FluidNonlinearSolve(Fluid, SNES, Vec rhs, PetscBool chord, PetscInt step, const char what[]);
 PetscErrorCode FluidDirichletDestroy(Fluid);
 
-/* fluid_backend.c: R(x) without the old-domain mass into the global F, and its Jacobian,
-   on the chosen backend; x a local state with its boundary values */
-PetscErrorCode FluidOperatorResidual(Fluid, Vec xlocal, Vec F);
+/* fluid_backend.c: R(x) into the global F, and its Jacobian, on the chosen backend, with
+   the old domains' mass term when old_mass (moving meshes); x a local state with its
+   boundary values */
+PetscErrorCode FluidOperatorResidual(Fluid, Vec xlocal, PetscBool old_mass, Vec F);
 PetscErrorCode FluidOperatorJacobian(Fluid, Vec xlocal, PetscBool old_mass, Mat J, Mat P);
 PetscErrorCode FluidBackendSetUp(Fluid);
+/* the SNES callbacks of the operators (on a moving mesh with the old domains' mass); PETSc's
+   backend on a fixed mesh keeps DMPlex's own */
+PetscErrorCode FluidSNESResidual(SNES, Vec x, Vec F, void *);
+PetscErrorCode FluidSNESJacobian(SNES, Vec x, Mat J, Mat P, void *);
 PetscErrorCode FluidBackendCheck(Fluid);
 PetscErrorCode FluidBackendDestroy(Fluid);
 /* fluid_ale.c */
