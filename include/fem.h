@@ -11,6 +11,28 @@ PetscErrorCode FEMCreateField(DM dm, PetscInt field, const char name[], PetscInt
    `datums` must live as long as the DM; `time` is the solver's current time. */
 PetscErrorCode FEMAddBoundaries(DM dm, PetscInt field, const PhysicsData *data, DirichletDatum datums[],
                                 const PetscReal *time);
+/* The names FEMAddBoundaries gives the natural boundaries of the scene's tractions, which
+   depend on x, t and the constants only (PhysicsData.traction_kernel). */
+#define FEM_TRACTION_BOUNDARY "traction_"
+/* The natural-boundary terms of dm's weak form at the local state xlocal, added into flocal
+   (residual, may be NULL) and into A (Jacobian, before its final assembly; may be NULL), by
+   PETSc's integration on their faces only. The tractions' part is kept in `cache` and
+   recomputed only when dm's constants or coordinates change. */
+typedef struct {
+  Vec              values; /* local */
+  PetscInt         nconstants;
+  PetscScalar      constants[64];
+  PetscObjectId    coordinates_id;
+  PetscObjectState coordinates_state;
+} FEMTractionCache;
+PetscErrorCode FEMBoundaryTerms(DM dm, PetscReal t, Vec xlocal, Vec flocal, Mat A, FEMTractionCache *cache);
+PetscErrorCode FEMTractionCacheDestroy(FEMTractionCache *);
+/* The scene's volume loads (f0, f1 on field 0) alone, on a copy of dm with its fields (and
+   the auxiliary field aux when given), for the operators of the libCEED backend; NULL
+   when there are none. FEMLoadsAdd adds them at xlocal into flocal, with dm's present
+   constants and coordinates. */
+PetscErrorCode FEMLoadsCreate(DM dm, ResidualKernel f0, ResidualKernel f1, Vec aux, DM *dm_loads);
+PetscErrorCode FEMLoadsAdd(DM dm, DM dm_loads, Vec xlocal, Vec flocal);
 /* The zero field: homogeneous Dirichlet data. */
 PetscErrorCode FEMZero(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *u, void *ctx);
 /* Residual of the DM's weak form at the local state xlocal (boundary values already in it). */

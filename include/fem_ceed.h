@@ -44,6 +44,14 @@ PetscErrorCode FEMCeedCoordinates(Ceed, DM dm, PetscFE fe, CeedElemRestriction *
    Created when *qdata is NULL, else recomputed in place (after the mesh moved). */
 PetscErrorCode FEMCeedGeometry(Ceed, DM dm, PetscFE fe, CeedElemRestriction *r_q, CeedVector *qdata);
 
+/* The same, recomputed only when dm's coordinates changed since the key was taken */
+typedef struct {
+  PetscObjectId    id;
+  PetscObjectState state;
+} FEMCeedGeometryKey;
+PetscErrorCode FEMCeedGeometryFollow(Ceed, DM dm, PetscFE fe, FEMCeedGeometryKey *, CeedElemRestriction *r_q,
+                                     CeedVector *qdata);
+
 /* An AIJ matrix of dm's global size for MatSetPreallocationCOO (DMCreateMatrix's would leak
    its variable block sizes there, PETSc 3.18). */
 PetscErrorCode FEMCeedCreateCOOMatrix(DM dm, Mat *);
@@ -56,6 +64,20 @@ PetscErrorCode FEMCeedAssemble(Ceed, PetscInt n, const CeedOperator ops[], const
 
 /* ||ceed - petsc||_F / ||petsc||_F (ceed is overwritten by the difference) */
 PetscErrorCode FEMCeedMatDifference(Mat ceed, Mat petsc, PetscReal *difference);
+
+/* Vector stiffness forms on dm's field 0 (qfunctions_elasticity.h): m (u, v) + op c (P(grad u),
+   grad v), P linear (h G + mu (G + G^T) + lambda tr(G) I) or St. Venant-Kirchhoff (svk),
+   c per-cell weights (weighted: from a P0 field of dm_weights; else 1). The Jacobian's
+   state xlocal is read for St. Venant-Kirchhoff only. The geometry follows dm's coordinates. */
+typedef struct _n_FEMCeedElasticity *FEMCeedElasticity;
+PetscErrorCode FEMCeedElasticityCreate(DM dm, PetscBool svk, PetscBool weighted, FEMCeedElasticity *);
+PetscErrorCode FEMCeedElasticitySetForm(FEMCeedElasticity, PetscScalar mass, PetscScalar op, PetscScalar mu,
+                                        PetscScalar lambda, PetscScalar harmonic);
+PetscErrorCode FEMCeedElasticitySetWeights(FEMCeedElasticity, DM dm_weights, Vec weights_local);
+PetscErrorCode FEMCeedElasticityResidual(FEMCeedElasticity, Vec xlocal, Vec flocal);
+PetscErrorCode FEMCeedElasticityCreateMatrix(FEMCeedElasticity, Mat *);
+PetscErrorCode FEMCeedElasticityJacobian(FEMCeedElasticity, Vec xlocal, Mat);
+PetscErrorCode FEMCeedElasticityDestroy(FEMCeedElasticity *);
 
 /* -ceed_check_spaces: every field of dm, its mass and Laplacian matrices assembled by libCEED
    (CeedOperatorLinearAssemble into the PETSc matrix by COO) against PETSc's; prints the

@@ -43,30 +43,38 @@ def test_ceed_spaces_match_petsc():
     return "%d spaces on %s: worst %.1e; -ceed /gpu/none refused" % (spaces, ", ".join(sorted(cells)), worst)
 
 
-BACKEND = re.compile(r"fsiopt: backend check: step (\d+): fluid residual ([0-9.e+-]+) \(the step's start\) ([0-9.e+-]+) "
-                     r"\(a random state\), Jacobian ([0-9.e+-]+) ([0-9.e+-]+), libCEED relative to PETSc")
+BACKEND = re.compile(r"fsiopt: backend check: step (\d+): (fluid|structure) residual ([0-9.e+-]+) \(the step's start\) "
+                     r"([0-9.e+-]+) \(a random state\), Jacobian ([0-9.e+-]+) ([0-9.e+-]+), libCEED relative to PETSc")
+MOTION = re.compile(r"fsiopt: backend check: mesh motion operator ([0-9.e+-]+), libCEED relative to PETSc")
 
 
-@test("libCEED fluid operators (-fem_backend ceed) = PETSc's to 1e-12 at the first steps' states and at random states: moving meshes with BDF2, loads, Stokes, (Q1,Q1), 3D, forces, 2 ranks")
-def test_fluid_backends_agree():
+@test("libCEED operators (-fem_backend ceed) = PETSc's to 1e-12 at the first steps' states and at random states: fluid (moving meshes, BDF2, loads, Stokes, (Q1,Q1), 3D, forces), structure (linear, St. Venant-Kirchhoff, loads), mesh motion (harmonic, elastic, stiffened); 2 ranks")
+def test_backends_agree():
     three = ["-t_final", "3e-4"]
-    cases = [(CHANNEL + three, 2, 3),                                                   # moving mesh, backflow, 2 ranks
-             (CHANNEL + three + ["-fluid_time_order", "2", "-fem_backend", "ceed"], 1, 3),  # BDF2 on a moving mesh
-             (["-options_file", "options/mms-ns.yaml"], 1, 1),                         # fixed mesh, volume loads
-             (["-options_file", "options/mms-fluid.yaml", "-fluid_dm_plex_filename", "meshes/square.msh"], 1, 1),  # P2/P1
+    # (options, ranks, checked steps of the fluid, of the structure, mesh motion checks)
+    cases = [(CHANNEL + three, 2, 3, 3, 1),                                                  # moving mesh, backflow
+             (CHANNEL + three + ["-fluid_time_order", "2", "-fem_backend", "ceed", "-mesh_motion", "elastic",
+                                 "-mesh_motion_stiffening", "1"], 1, 3, 3, 1),               # BDF2, elastic stiffened
+             (["-options_file", "options/channel2d-svk.yaml"] + three, 1, 3, 3, 1),       # St. Venant-Kirchhoff
+             (["-options_file", "options/mms-ns.yaml"], 1, 1, 1, 0),                       # fixed mesh, volume loads
+             (["-options_file", "options/mms-fluid.yaml", "-fluid_dm_plex_filename", "meshes/square.msh"], 1, 1, 0, 0),
              (["-options_file", "options/mms-fluid.yaml", "-fluid_velocity_degree", "1",
-               "-fluid_pressure_stabilization", "0.1"], 1, 1),                           # (Q1,Q1) stabilized
-             (["-options_file", "options/mms-stokes.yaml", "-t_final", "0.65"], 1, 3),    # Stokes
-             (["-options_file", "options/tube3d.yaml"] + three + ["-fem_backend", "ceed"], 1, 3),  # hexahedra, moving
-             (TUREK + ["-turek_case", "fsi1", "-t_final", "0.3", "-dt", "0.1"], 1, 3)]   # a body force, moving
+               "-fluid_pressure_stabilization", "0.1"], 1, 1, 0, 0),                         # (Q1,Q1) stabilized
+             (["-options_file", "options/mms-stokes.yaml", "-t_final", "0.65"], 1, 3, 3, 0),  # Stokes
+             (["-options_file", "options/mms-structure.yaml", "-t_final", "0.575"], 1, 0, 3, 0),  # structure loads
+             (["-options_file", "options/tube3d.yaml"] + three + ["-fem_backend", "ceed"], 1, 3, 3, 1),  # hexahedra
+             (TUREK + ["-turek_case", "fsi1", "-t_final", "0.3", "-dt", "0.1"], 1, 3, 3, 1),  # forces, SVK flag
+             (TUREK + ["-turek_case", "csm1", "-t_final", "0.3", "-dt", "0.1"], 1, 0, 3, 0)]  # gravity, equilibria
     worst, checks = 0.0, 0
-    for args, nproc, steps in cases:
+    for args, nproc, fluid, structure, motion in cases:
         rc, stdout, err, _ = run(args + ["-fem_backend_check"], nproc=nproc, out=out_dir("backends"))
         assert rc == 0, "%s: exit %d: %s" % (" ".join(args), rc, (err or stdout)[-300:])
         lines = BACKEND.findall(stdout)
-        assert len(lines) == steps, "%s: %d checked steps, expected %d" % (" ".join(args), len(lines), steps)
-        for line in lines:
-            values = [float(v) for v in line[1:]]
-            assert max(values) <= 1e-12, "%s: step %s: %s relative to PETSc" % (" ".join(args), line[0], values)
-            worst, checks = max(worst, max(values)), checks + 4
-    return "%d residuals and Jacobians on 8 set-ups, worst %.1e relative to PETSc's" % (checks, worst)
+        counts = (sum(1 for l in lines if l[1] == "fluid"), sum(1 for l in lines if l[1] == "structure"),
+                  len(MOTION.findall(stdout)))
+        assert counts == (fluid, structure, motion), "%s: checks (fluid, structure, mesh motion) %s, expected %s" % (
+            " ".join(args), counts, (fluid, structure, motion))
+        values = [float(v) for l in lines for v in l[2:]] + [float(v) for v in MOTION.findall(stdout)]
+        assert max(values or [0]) <= 1e-12, "%s: %s relative to PETSc" % (" ".join(args), max(values))
+        worst, checks = max([worst] + values), checks + len(values)
+    return "%d residuals, Jacobians and operators on %d set-ups, worst %.1e relative to PETSc's" % (checks, len(cases), worst)

@@ -18,8 +18,8 @@ static PetscErrorCode ReadChoice(void)
   if (choice.read) PetscFunctionReturn(0);
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Finite-element operators", "fem");
   PetscCall(PetscOptionsEnum("-fem_backend",
-                             "operators of the fluid: petsc (PETSc's pointwise integration, the reference) or ceed "
-                             "(libCEED, the fast path)",
+                             "finite-element operators of the fluid, the structure and the mesh motion: petsc "
+                             "(PETSc's pointwise integration, the reference) or ceed (libCEED, the fast path)",
                              NULL, FEMBackends, (PetscEnum)choice.backend, (PetscEnum *)&choice.backend, NULL));
   PetscCall(PetscOptionsBool("-fem_backend_check",
                              "compare the fluid's residual and Jacobian of both backends at the start of the first "

@@ -4,7 +4,6 @@
    pressure stabilization of equal-order pairs as operators of its own, built only when
    tau > 0, and the mesh velocity as an input only on moving meshes. The geometry is
    recomputed when the coordinates change. */
-#include <petsc/private/petscimpl.h> /* PetscObjectStateGet */
 #include "fem_ceed.h"
 #include "fluid.h"
 #include "logging.h"
@@ -29,8 +28,7 @@ struct _n_FEMCeedFluid {
   CeedVector          coordinates, domain_weight[2], mass_weight;
   CeedQFunction       qf_mass, qf_domain;
   CeedOperator        op_mass, op_mass_block, op_domain; /* the mass applied, and assembled */
-  PetscObjectId       coordinates_id;                    /* the coordinates the geometry is of */
-  PetscObjectState    coordinates_state;
+  FEMCeedGeometryKey  geometry;                          /* the coordinates qdata is of */
 };
 
 /* -tau (grad p, grad q) on the active pressure: the residual's term or the Jacobian's block */
@@ -245,21 +243,10 @@ PetscErrorCode FEMCeedFluidSetConstants(FEMCeedFluid o, const PetscScalar consta
   PetscFunctionReturn(0);
 }
 
-/* the geometry of the present coordinates */
 static PetscErrorCode GeometryUpdate(FEMCeedFluid o)
 {
-  Vec              coordinates;
-  PetscObjectId    id;
-  PetscObjectState state;
-
   PetscFunctionBeginUser;
-  PetscCall(DMGetCoordinatesLocal(o->dm, &coordinates));
-  PetscCall(PetscObjectGetId((PetscObject)coordinates, &id));
-  PetscCall(PetscObjectStateGet((PetscObject)coordinates, &state));
-  if (o->qdata && id == o->coordinates_id && state == o->coordinates_state) PetscFunctionReturn(0);
-  PetscCall(FEMCeedGeometry(o->ceed, o->dm, o->velocity_fe, &o->r_q, &o->qdata));
-  o->coordinates_id    = id;
-  o->coordinates_state = state;
+  PetscCall(FEMCeedGeometryFollow(o->ceed, o->dm, o->velocity_fe, &o->geometry, &o->r_q, &o->qdata));
   PetscFunctionReturn(0);
 }
 

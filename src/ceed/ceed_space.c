@@ -1,6 +1,7 @@
 /* Restrictions, bases and coordinates of a DMPlex for libCEED (fem_ceed.h). PETSc's own
    tabulation at its own quadrature is handed to CeedBasisCreateH1, so that a libCEED
    operator and PETSc's integration see the same numbers at the same points. */
+#include <petsc/private/petscimpl.h> /* PetscObjectStateGet */
 #include "fem_ceed.h"
 #include "qfunctions_geometry.h"
 
@@ -191,5 +192,23 @@ PetscErrorCode FEMCeedGeometry(Ceed ceed, DM dm, PetscFE fe, CeedElemRestriction
   PetscCallCeed(ceed, CeedVectorDestroy(&coordinates));
   PetscCallCeed(ceed, CeedBasisDestroy(&b_x));
   PetscCallCeed(ceed, CeedElemRestrictionDestroy(&r_x));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMCeedGeometryFollow(Ceed ceed, DM dm, PetscFE fe, FEMCeedGeometryKey *key, CeedElemRestriction *r_q,
+                                     CeedVector *qdata)
+{
+  Vec              coordinates;
+  PetscObjectId    id;
+  PetscObjectState state;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetCoordinatesLocal(dm, &coordinates));
+  PetscCall(PetscObjectGetId((PetscObject)coordinates, &id));
+  PetscCall(PetscObjectStateGet((PetscObject)coordinates, &state));
+  if (*qdata && id == key->id && state == key->state) PetscFunctionReturn(0);
+  PetscCall(FEMCeedGeometry(ceed, dm, fe, r_q, qdata));
+  key->id    = id;
+  key->state = state;
   PetscFunctionReturn(0);
 }

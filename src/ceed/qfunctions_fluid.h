@@ -17,18 +17,6 @@ typedef struct {
 /* the convecting velocity u - z, component d at point i */
 #define CONVECTING(u, z, d, i, Q) ((u)[(d) * (Q) + (i)] - ((z) ? (z)[(d) * (Q) + (i)] : 0.0))
 
-/* physical gradients G[c][k] = du_c/dx_k of a reference gradient at point i */
-CEED_QFUNCTION_HELPER void PhysicalGradient(CeedInt dim, const CeedScalar *du, const CeedScalar *qdata, CeedInt i,
-                                            CeedInt Q, CeedScalar B[3][3], CeedScalar G[3][3])
-{
-  GeometryInverse(dim, qdata, i, Q, B);
-  for (CeedInt c = 0; c < dim; ++c)
-    for (CeedInt k = 0; k < dim; ++k) {
-      G[c][k] = 0;
-      for (CeedInt j = 0; j < dim; ++j) G[c][k] += du[(j * dim + c) * Q + i] * B[j][k];
-    }
-}
-
 CEED_QFUNCTION(FluidVolumeResidual)(void *ctx, CeedInt Q, const CeedScalar *const *in, CeedScalar *const *out)
 {
   const FluidVolume *fv  = (const FluidVolume *)ctx;

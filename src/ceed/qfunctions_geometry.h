@@ -36,4 +36,16 @@ CEED_QFUNCTION_HELPER void GeometryInverse(CeedInt dim, const CeedScalar *qdata,
   for (CeedInt j = 0; j < dim; ++j)
     for (CeedInt k = 0; k < dim; ++k) B[j][k] = qdata[(1 + j * dim + k) * Q + i];
 }
+
+/* physical gradients G[c][k] = du_c/dx_k of a reference gradient at point i */
+CEED_QFUNCTION_HELPER void PhysicalGradient(CeedInt dim, const CeedScalar *du, const CeedScalar *qdata, CeedInt i,
+                                            CeedInt Q, CeedScalar B[3][3], CeedScalar G[3][3])
+{
+  GeometryInverse(dim, qdata, i, Q, B);
+  for (CeedInt c = 0; c < dim; ++c)
+    for (CeedInt k = 0; k < dim; ++k) {
+      G[c][k] = 0;
+      for (CeedInt j = 0; j < dim; ++j) G[c][k] += du[(j * dim + c) * Q + i] * B[j][k];
+    }
+}
 #endif

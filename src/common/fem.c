@@ -1,3 +1,4 @@
+#include <petsc/private/petscimpl.h> /* PetscObjectStateGet */
 #include "fem.h"
 
 /* PETSc fixes the signatures of pointwise kernels and callbacks; most use a few of their arguments. */
@@ -53,7 +54,7 @@ PetscErrorCode FEMAddBoundaries(DM dm, PetscInt field, const PhysicsData *data, 
     PetscWeakForm bdwf;
     PetscInt      bd;
 
-    PetscCall(PetscSNPrintf(name, sizeof(name), "traction_%" PetscInt_FMT, data->traction_faces[b]));
+    PetscCall(PetscSNPrintf(name, sizeof(name), FEM_TRACTION_BOUNDARY "%" PetscInt_FMT, data->traction_faces[b]));
     PetscCall(DMAddBoundary(dm, DM_BC_NATURAL, name, label, 1, &data->traction_faces[b], field, 0, NULL, NULL, NULL,
                             NULL, &bd));
     /* Natural boundary terms live in the boundary's own weak form, not the volume one.
@@ -64,6 +65,131 @@ PetscErrorCode FEMAddBoundaries(DM dm, PetscInt field, const PhysicsData *data, 
       PetscCall(
         PetscWeakFormAddBdResidual(bdwf, label, data->traction_faces[b], field, 0, data->traction_kernel[b], NULL));
   }
+  PetscFunctionReturn(0);
+}
+
+/* natural boundaries of dm's DS: their residual into flocal (tractions: the data ones only,
+   or the others only) and their Jacobian into A (the others: the tractions have none) */
+static PetscErrorCode NaturalBoundaries(DM dm, PetscReal t, PetscBool tractions, Vec xlocal, Vec flocal, Mat A)
+{
+  PetscDS  ds;
+  PetscInt nb;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetDS(dm, &ds));
+  PetscCall(PetscDSGetNumBoundary(ds, &nb));
+  for (PetscInt b = 0; b < nb; ++b) {
+    PetscWeakForm           wf;
+    DMBoundaryConditionType type;
+    DMLabel                 label;
+    const char             *name;
+    PetscInt                nv, field;
+    const PetscInt         *values;
+    PetscBool               traction;
+
+    PetscCall(PetscDSGetBoundary(ds, b, &wf, &type, &name, &label, &nv, &values, &field, NULL, NULL, NULL, NULL, NULL));
+    if (type != DM_BC_NATURAL) continue;
+    PetscCall(PetscStrncmp(name, FEM_TRACTION_BOUNDARY, sizeof(FEM_TRACTION_BOUNDARY) - 1, &traction));
+    if (traction != tractions) continue;
+    for (PetscInt v = 0; v < nv && flocal; ++v) {
+      PetscFormKey key = {label, values[v], field, 0};
+      PetscInt     n0, n1;
+      void (**f0)(void), (**f1)(void);
+      PetscCall(PetscWeakFormGetBdResidual(wf, label, values[v], field, 0, &n0, (void *)&f0, &n1, (void *)&f1));
+      if (n0 || n1) PetscCall(DMPlexComputeBdResidualSingle(dm, t, wf, key, xlocal, NULL, flocal));
+    }
+    if (A && !traction)
+      PetscCall(DMPlexComputeBdJacobianSingle(dm, t, wf, label, nv, values, field, xlocal, NULL, 0.0, A, A));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMBoundaryTerms(DM dm, PetscReal t, Vec xlocal, Vec flocal, Mat A, FEMTractionCache *cache)
+{
+  PetscFunctionBeginUser;
+  if (flocal) {
+    PetscDS            ds;
+    PetscInt           n;
+    const PetscScalar *constants;
+    Vec                coordinates;
+    PetscObjectId      id;
+    PetscObjectState   state;
+    PetscBool          same;
+
+    PetscCall(DMGetDS(dm, &ds));
+    PetscCall(PetscDSGetConstants(ds, &n, &constants));
+    PetscCheck(n <= 64, PETSC_COMM_SELF, PETSC_ERR_SUP, "boundary terms: more than 64 constants");
+    PetscCall(DMGetCoordinatesLocal(dm, &coordinates));
+    PetscCall(PetscObjectGetId((PetscObject)coordinates, &id));
+    PetscCall(PetscObjectStateGet((PetscObject)coordinates, &state));
+    same = cache->values && n == cache->nconstants && id == cache->coordinates_id && state == cache->coordinates_state
+           ? PETSC_TRUE
+           : PETSC_FALSE;
+    for (PetscInt i = 0; i < n && same; ++i) same = constants[i] == cache->constants[i] ? PETSC_TRUE : PETSC_FALSE;
+    if (!same) {
+      if (!cache->values) PetscCall(DMCreateLocalVector(dm, &cache->values));
+      PetscCall(VecZeroEntries(cache->values));
+      PetscCall(NaturalBoundaries(dm, t, PETSC_TRUE, xlocal, cache->values, NULL));
+      cache->nconstants = n;
+      PetscCall(PetscArraycpy(cache->constants, constants, n));
+      cache->coordinates_id    = id;
+      cache->coordinates_state = state;
+    }
+    PetscCall(VecAXPY(flocal, 1.0, cache->values));
+  }
+  PetscCall(NaturalBoundaries(dm, t, PETSC_FALSE, xlocal, flocal, A));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMTractionCacheDestroy(FEMTractionCache *cache)
+{
+  PetscFunctionBeginUser;
+  PetscCall(VecDestroy(&cache->values));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMLoadsCreate(DM dm, ResidualKernel f0, ResidualKernel f1, Vec aux, DM *dm_loads)
+{
+  PetscInt nf;
+  PetscDS  ds;
+
+  PetscFunctionBeginUser;
+  *dm_loads = NULL;
+  if (!f0 && !f1) PetscFunctionReturn(0);
+  PetscCall(DMGetNumFields(dm, &nf));
+  PetscCall(DMClone(dm, dm_loads));
+  for (PetscInt i = 0; i < nf; ++i) {
+    PetscObject field;
+    PetscCall(DMGetField(dm, i, NULL, &field));
+    PetscCall(DMSetField(*dm_loads, i, NULL, field));
+  }
+  PetscCall(DMCreateDS(*dm_loads));
+  PetscCall(DMGetDS(*dm_loads, &ds));
+  PetscCall(PetscDSSetResidual(ds, 0, f0, f1));
+  if (aux) PetscCall(DMSetAuxiliaryVec(*dm_loads, NULL, 0, 0, aux));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMLoadsAdd(DM dm, DM dm_loads, Vec xlocal, Vec flocal)
+{
+  PetscDS            ds, loads;
+  PetscInt           n;
+  const PetscScalar *constants;
+  Vec                coordinates, load_coordinates;
+
+  PetscFunctionBeginUser;
+  if (!dm_loads) PetscFunctionReturn(0);
+  PetscCall(DMGetDS(dm, &ds));
+  PetscCall(PetscDSGetConstants(ds, &n, &constants));
+  PetscCall(DMGetDS(dm_loads, &loads));
+  PetscCall(PetscDSSetConstants(loads, n, (PetscScalar *)constants));
+  PetscCall(DMGetCoordinatesLocal(dm, &coordinates));
+  PetscCall(DMGetCoordinatesLocal(dm_loads, &load_coordinates));
+  if (coordinates != load_coordinates) {
+    PetscCall(DMSetCoordinatesLocal(dm_loads, coordinates));
+    PetscCall(FEMInvalidateGeometry(dm_loads));
+  }
+  PetscCall(DMPlexSNESComputeResidualFEM(dm_loads, xlocal, flocal, NULL));
   PetscFunctionReturn(0);
 }
 

@@ -10,39 +10,16 @@
 #include "fem.h"
 #include "logging.h"
 
-/* the natural-boundary terms of dm's weak form, at xlocal, added into flocal (residual)
-   or into A (Jacobian, before its final assembly) */
 static PetscErrorCode BoundaryTerms(Fluid f, Vec xlocal, Vec flocal, Mat A)
 {
-  PetscDS  ds;
-  PetscInt nb;
-
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_BOUNDARY_TERMS, 0, 0, 0, 0));
-  PetscCall(DMGetDS(f->dm, &ds));
-  PetscCall(PetscDSGetNumBoundary(ds, &nb));
-  for (PetscInt b = 0; b < nb; ++b) {
-    PetscWeakForm           wf;
-    DMBoundaryConditionType type;
-    DMLabel                 label;
-    PetscInt                nv, field;
-    const PetscInt         *values;
-
-    PetscCall(PetscDSGetBoundary(ds, b, &wf, &type, NULL, &label, &nv, &values, &field, NULL, NULL, NULL, NULL, NULL));
-    if (type != DM_BC_NATURAL) continue;
-    if (flocal)
-      for (PetscInt v = 0; v < nv; ++v) {
-        PetscFormKey key = {label, values[v], field, 0};
-        PetscCall(DMPlexComputeBdResidualSingle(f->dm, f->time, wf, key, xlocal, NULL, flocal));
-      }
-    if (A)
-      PetscCall(DMPlexComputeBdJacobianSingle(f->dm, f->time, wf, label, nv, values, field, xlocal, NULL, 0.0, A, A));
-  }
+  PetscCall(FEMBoundaryTerms(f->dm, f->time, xlocal, flocal, A, &f->tractions));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_BOUNDARY_TERMS, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
-/* the libCEED context and the loads' DM follow the fluid DM's constants and coordinates */
+/* the libCEED context follows the fluid DM's constants */
 static PetscErrorCode Synchronize(Fluid f)
 {
   PetscDS            ds;
@@ -53,18 +30,6 @@ static PetscErrorCode Synchronize(Fluid f)
   PetscCall(DMGetDS(f->dm, &ds));
   PetscCall(PetscDSGetConstants(ds, &n, &constants));
   PetscCall(FEMCeedFluidSetConstants(f->ceed, constants));
-  if (f->dm_loads) {
-    PetscDS loads;
-    Vec     coordinates, load_coordinates;
-    PetscCall(DMGetDS(f->dm_loads, &loads));
-    PetscCall(PetscDSSetConstants(loads, n, (PetscScalar *)constants));
-    PetscCall(DMGetCoordinatesLocal(f->dm, &coordinates));
-    PetscCall(DMGetCoordinatesLocal(f->dm_loads, &load_coordinates));
-    if (coordinates != load_coordinates) {
-      PetscCall(DMSetCoordinatesLocal(f->dm_loads, coordinates));
-      PetscCall(FEMInvalidateGeometry(f->dm_loads));
-    }
-  }
   PetscFunctionReturn(0);
 }
 
@@ -85,10 +50,25 @@ PetscErrorCode FluidOperatorResidual(Fluid f, Vec xlocal, PetscBool old_mass, Ve
   PetscCall(DMGetLocalVector(f->dm, &flocal));
   PetscCall(FEMCeedFluidResidual(f->ceed, xlocal, f->moving ? f->z_local : NULL, old_mass, flocal));
   PetscCall(BoundaryTerms(f, xlocal, flocal, NULL));
-  if (f->dm_loads) PetscCall(DMPlexSNESComputeResidualFEM(f->dm_loads, xlocal, flocal, NULL));
+  PetscCall(FEMLoadsAdd(f->dm, f->dm_loads, xlocal, flocal));
   PetscCall(VecZeroEntries(F));
   PetscCall(DMLocalToGlobal(f->dm, flocal, ADD_VALUES, F));
   PetscCall(DMRestoreLocalVector(f->dm, &flocal));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidVolumeResidualAll(Fluid f, Vec xlocal, PetscBool old_mass, Vec yall)
+{
+  Vec flocal;
+
+  PetscFunctionBeginUser;
+  PetscCall(Synchronize(f));
+  PetscCall(DMGetLocalVector(f->dm_all, &flocal));
+  PetscCall(FEMCeedFluidResidual(f->ceed, xlocal, f->z_local, old_mass, flocal));
+  PetscCall(FEMLoadsAdd(f->dm, f->dm_loads, xlocal, flocal));
+  PetscCall(VecZeroEntries(yall));
+  PetscCall(DMLocalToGlobal(f->dm_all, flocal, ADD_VALUES, yall));
+  PetscCall(DMRestoreLocalVector(f->dm_all, &flocal));
   PetscFunctionReturn(0);
 }
 
@@ -204,26 +184,6 @@ PetscErrorCode FluidSNESJacobian(SNES snes, Vec x, Mat J, Mat P, void *ctx)
   PetscFunctionReturn(0);
 }
 
-/* the scene's volume loads alone, on a copy of the fluid DM with its fields */
-static PetscErrorCode LoadsSetUp(Fluid f)
-{
-  PetscObject velocity, pressure;
-  PetscDS     ds;
-
-  PetscFunctionBeginUser;
-  if (!f->data.load_value_kernel && !f->data.load_stress_kernel) PetscFunctionReturn(0);
-  PetscCall(DMGetField(f->dm, 0, NULL, &velocity));
-  PetscCall(DMGetField(f->dm, 1, NULL, &pressure));
-  PetscCall(DMClone(f->dm, &f->dm_loads));
-  PetscCall(DMSetField(f->dm_loads, 0, NULL, velocity));
-  PetscCall(DMSetField(f->dm_loads, 1, NULL, pressure));
-  PetscCall(DMCreateDS(f->dm_loads));
-  PetscCall(DMGetDS(f->dm_loads, &ds));
-  PetscCall(PetscDSSetResidual(ds, 0, f->data.load_value_kernel, f->data.load_stress_kernel));
-  if (f->moving) PetscCall(DMSetAuxiliaryVec(f->dm_loads, NULL, 0, 0, f->z_local));
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode FluidBackendSetUp(Fluid f)
 {
   FEMBackend         backend;
@@ -238,7 +198,8 @@ PetscErrorCode FluidBackendSetUp(Fluid f)
   PetscCall(PetscDSGetConstants(ds, &n, &constants));
   PetscCall(FEMCeedFluidCreate(f->dm, f->moving ? f->dm_aux : NULL, constants, &f->ceed));
   PetscCall(FEMCeedFluidCreateMatrix(f->ceed, &f->ceed_jacobian));
-  PetscCall(LoadsSetUp(f));
+  PetscCall(FEMLoadsCreate(f->dm, f->data.load_value_kernel, f->data.load_stress_kernel, f->moving ? f->z_local : NULL,
+                           &f->dm_loads));
   if (backend != FEM_BACKEND_CEED) PetscFunctionReturn(0); /* built for the check only */
   f->backend_ceed = PETSC_TRUE;
   PetscCall(SNESSetJacobian(f->snes, f->ceed_jacobian, f->ceed_jacobian, NULL, NULL));
@@ -269,15 +230,38 @@ static PetscErrorCode CompareAt(Fluid f, Vec x, PetscReal *residual, PetscReal *
   f->backend_ceed = PETSC_TRUE;
   PetscCall(FluidOperatorResidual(f, xlocal, old_mass, F_ceed));
   f->backend_ceed = backend;
-  PetscCall(VecNorm(F_petsc, NORM_2, &norm));
   PetscCall(VecAXPY(F_ceed, -1.0, F_petsc));
   PetscCall(VecNorm(F_ceed, NORM_2, residual));
-  *residual /= norm;
   PetscCall(DMCreateMatrix(f->dm, &J_petsc));
   PetscCall(DMPlexSNESComputeJacobianFEM(f->dm, xlocal, J_petsc, J_petsc, NULL));
   if (old_mass) PetscCall(MatAXPY(J_petsc, 1.0, f->mass_old, SUBSET_NONZERO_PATTERN));
   PetscCall(FEMCeedFluidCreateMatrix(f->ceed, &J_ceed));
   PetscCall(AssembleCeed(f, xlocal, old_mass, J_ceed));
+  {
+    /* the residual's difference relative to R(0), the data, plus ||J||_F ||x|| / sqrt(N),
+       the root mean square of a row's bound, a scale of the state's part before the
+       assembly cancels it (near an equilibrium R(x) itself is mostly round-off) */
+    Vec       zero, zlocal, F_zero;
+    PetscReal data, jnorm, xnorm;
+    PetscInt  N;
+    PetscCall(VecDuplicate(F_petsc, &zero));
+    PetscCall(VecDuplicate(F_petsc, &F_zero));
+    PetscCall(VecZeroEntries(zero));
+    PetscCall(DMGetLocalVector(f->dm, &zlocal));
+    PetscCall(FEMGlobalToLocal(f->dm, zero, zlocal));
+    f->backend_ceed = PETSC_FALSE;
+    PetscCall(FluidOperatorResidual(f, zlocal, old_mass, F_zero));
+    f->backend_ceed = backend;
+    PetscCall(DMRestoreLocalVector(f->dm, &zlocal));
+    PetscCall(VecNorm(F_zero, NORM_2, &data));
+    PetscCall(MatNorm(J_petsc, NORM_FROBENIUS, &jnorm));
+    PetscCall(VecNorm(xlocal, NORM_2, &xnorm));
+    PetscCall(VecGetSize(F_petsc, &N));
+    norm = data + jnorm * xnorm / PetscSqrtReal((PetscReal)N);
+    if (norm > 0) *residual /= norm; /* else both are zero */
+    PetscCall(VecDestroy(&zero));
+    PetscCall(VecDestroy(&F_zero));
+  }
   PetscCall(FEMCeedMatDifference(J_ceed, J_petsc, jacobian));
   PetscCall(MatDestroy(&J_petsc));
   PetscCall(MatDestroy(&J_ceed));
@@ -328,5 +312,6 @@ PetscErrorCode FluidBackendDestroy(Fluid f)
   PetscCall(DMDestroy(&f->dm_loads));
   PetscCall(VecDestroy(&f->boundary_values));
   PetscCall(PetscFree(f->boundary_dofs));
+  PetscCall(FEMTractionCacheDestroy(&f->tractions));
   PetscFunctionReturn(0);
 }

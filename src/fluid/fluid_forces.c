@@ -201,11 +201,12 @@ static PetscErrorCode MovingSum(Fluid f, PetscReal sum[3])
   PetscCall(DMGetCoordinatesLocal(f->dm, &coordinates));
   PetscCall(DMSetCoordinatesLocal(f->dm_all, coordinates)); /* the next step puts back the old ones */
   PetscCall(FEMInvalidateGeometry(f->dm_all));
-  PetscCall(FEMResidual(f->dm_all, f->xlocal_work, f->all_y));
-  if (f->step > 0) {
-    PetscCall(FluidOldMassMultAll(f, f->xlocal_work, f->all_y, PETSC_TRUE));
-    PetscCall(VecAXPY(f->all_y, -1.0, f->history_all));
+  if (f->backend_ceed) PetscCall(FluidVolumeResidualAll(f, f->xlocal_work, f->step > 0, f->all_y));
+  else {
+    PetscCall(FEMResidual(f->dm_all, f->xlocal_work, f->all_y));
+    if (f->step > 0) PetscCall(FluidOldMassMultAll(f, f->xlocal_work, f->all_y, PETSC_TRUE));
   }
+  if (f->step > 0) PetscCall(VecAXPY(f->all_y, -1.0, f->history_all));
   PetscCall(VecGetArrayRead(f->all_y, &r));
   for (PetscInt i = 0; i < f->n_force_rows; ++i)
     for (PetscInt c = 0; c < dim; ++c) sum[c] += PetscRealPart(r[f->force_rows[i] + c]);

@@ -2,6 +2,7 @@
 #define FSIOPT_FLUID_IMPL_H
 #include "fluid.h"
 #include "fem_ceed.h"
+#include "fem.h"
 
 typedef enum {
   FLUID_STOKES,
@@ -81,6 +82,7 @@ struct _p_Fluid {
   PetscReal        boundary_values_time;
   PetscObjectId    boundary_values_id;
   PetscObjectState boundary_values_state;
+  FEMTractionCache tractions; /* the scene's traction terms of a time and mesh */
   PetscBool        check_backends;
   PetscInt         backend_checked_step;
   PhysicsData      data;
@@ -104,6 +106,9 @@ PetscErrorCode FluidDirichletDestroy(Fluid);
    boundary values */
 PetscErrorCode FluidOperatorResidual(Fluid, Vec xlocal, PetscBool old_mass, Vec F);
 PetscErrorCode FluidOperatorJacobian(Fluid, Vec xlocal, PetscBool old_mass, Mat J, Mat P);
+/* libCEED's backend, moving meshes: the volume terms alone (with the old domains' mass term
+   when old_mass) on every row of dm_all, for the body force */
+PetscErrorCode FluidVolumeResidualAll(Fluid, Vec xlocal, PetscBool old_mass, Vec yall);
 PetscErrorCode FluidBackendSetUp(Fluid);
 /* the SNES callbacks of the operators (on a moving mesh with the old domains' mass); PETSc's
    backend on a fixed mesh keeps DMPlex's own */

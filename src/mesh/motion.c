@@ -16,6 +16,7 @@
    nearly rigidly, also around its corners, where a harmonic extension shears them. */
 #include "motion.h"
 #include "fem.h"
+#include "fem_ceed.h"
 #include "options.h"
 
 #pragma GCC diagnostic ignored "-Wunused-parameter"
@@ -28,19 +29,21 @@ typedef enum {
 static const char *const MotionTypes[] = {"harmonic", "elastic", "biharmonic", "MotionType", "MOTION_", NULL};
 
 struct _p_MeshMotion {
-  DM             dm, dm_all; /* Q1 vector field(s) with (without) the Dirichlet constraints */
-  Mat            operator_all, operator_free;
-  IS             free_in_all;
-  KSP            ksp;
-  Vec            d, rhs, bc_local, bc_all, operator_bc_all;
-  MotionType     type;
-  PetscReal      stiffening;
-  PetscBool      incremental;
-  Vec            coordinates_reference, start; /* incremental: the step's start d^{n-1}, coordinate layout */
-  DM             dm_stiffness;                 /* a P0 field: each cell's weight */
-  Vec            stiffness;
-  DirichletDatum datums[FSIOPT_MAX_BOUNDARIES];
-  PetscReal      time;
+  DM                dm, dm_all; /* Q1 vector field(s) with (without) the Dirichlet constraints */
+  Mat               operator_all, operator_free;
+  IS                free_in_all;
+  KSP               ksp;
+  Vec               d, rhs, bc_local, bc_all, operator_bc_all;
+  MotionType        type;
+  PetscReal         stiffening;
+  PetscBool         incremental;
+  Vec               coordinates_reference, start; /* incremental: the step's start d^{n-1}, coordinate layout */
+  DM                dm_stiffness;                 /* a P0 field: each cell's weight */
+  FEMCeedElasticity ceed;                         /* the operator by libCEED (not biharmonic) */
+  PetscBool         use_ceed;                     /* -fem_backend ceed: the solver's operator is libCEED's */
+  Vec               stiffness;
+  DirichletDatum    datums[FSIOPT_MAX_BOUNDARIES];
+  PetscReal         time;
 };
 
 /* the cell's weight, an auxiliary P0 field when stiffened */
@@ -141,17 +144,54 @@ static PetscErrorCode SetStiffness(MeshMotion mm)
   PetscFunctionReturn(0);
 }
 
+/* -fem_backend_check: libCEED's operator against PETSc's */
+static PetscErrorCode CheckBackends(MeshMotion mm)
+{
+  PetscBool check;
+  Mat       petsc, ceed;
+  Vec       zero;
+  PetscReal difference;
+
+  PetscFunctionBeginUser;
+  PetscCall(FEMBackendGet(NULL, &check));
+  if (!check || !mm->ceed) PetscFunctionReturn(0);
+  PetscCall(DMCreateMatrix(mm->dm_all, &petsc));
+  PetscCall(DMGetLocalVector(mm->dm_all, &zero));
+  PetscCall(VecZeroEntries(zero));
+  PetscCall(DMPlexSNESComputeJacobianFEM(mm->dm_all, zero, petsc, petsc, NULL));
+  PetscCall(DMRestoreLocalVector(mm->dm_all, &zero));
+  if (mm->stiffening > 0) PetscCall(FEMCeedElasticitySetWeights(mm->ceed, mm->dm_stiffness, mm->stiffness));
+  PetscCall(FEMCeedElasticityCreateMatrix(mm->ceed, &ceed));
+  PetscCall(FEMCeedElasticityJacobian(mm->ceed, NULL, ceed));
+  PetscCall(FEMCeedMatDifference(ceed, petsc, &difference));
+  PetscCall(MatDestroy(&ceed));
+  PetscCall(MatDestroy(&petsc));
+  PetscCall(PetscPrintf(PetscObjectComm((PetscObject)mm->dm_all),
+                        "fsiopt: backend check: mesh motion operator %.2e, libCEED relative to PETSc\n",
+                        (double)difference));
+  PetscCheck(difference <= 1e-12, PetscObjectComm((PetscObject)mm->dm_all), PETSC_ERR_PLIB,
+             "option -fem_backend_check: the mesh motion's libCEED operator differs from PETSc's by %.2e, more than "
+             "1e-12",
+             (double)difference);
+  PetscFunctionReturn(0);
+}
+
 /* A (and its free block) on dm_all's present coordinates */
 static PetscErrorCode AssembleOperator(MeshMotion mm)
 {
   Vec zero;
 
   PetscFunctionBeginUser;
-  PetscCall(DMGetLocalVector(mm->dm_all, &zero));
-  PetscCall(VecZeroEntries(zero));
-  PetscCall(MatZeroEntries(mm->operator_all));
-  PetscCall(DMPlexSNESComputeJacobianFEM(mm->dm_all, zero, mm->operator_all, mm->operator_all, NULL));
-  PetscCall(DMRestoreLocalVector(mm->dm_all, &zero));
+  if (mm->use_ceed) {
+    if (mm->stiffening > 0) PetscCall(FEMCeedElasticitySetWeights(mm->ceed, mm->dm_stiffness, mm->stiffness));
+    PetscCall(FEMCeedElasticityJacobian(mm->ceed, NULL, mm->operator_all));
+  } else {
+    PetscCall(DMGetLocalVector(mm->dm_all, &zero));
+    PetscCall(VecZeroEntries(zero));
+    PetscCall(MatZeroEntries(mm->operator_all));
+    PetscCall(DMPlexSNESComputeJacobianFEM(mm->dm_all, zero, mm->operator_all, mm->operator_all, NULL));
+    PetscCall(DMRestoreLocalVector(mm->dm_all, &zero));
+  }
   if (mm->operator_free)
     PetscCall(
       MatCreateSubMatrix(mm->operator_all, mm->free_in_all, mm->free_in_all, MAT_REUSE_MATRIX, &mm->operator_free));
@@ -213,8 +253,22 @@ PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfix
     PetscCall(PetscDSSetJacobian(ds, 1, 1, G0BiharmonicWW, NULL, NULL, NULL));
     break;
   }
-  PetscCall(DMCreateMatrix(mm->dm_all, &mm->operator_all));
+  {
+    FEMBackend backend;
+    PetscBool  check;
+    PetscCall(FEMBackendGet(&backend, &check));
+    if ((backend == FEM_BACKEND_CEED || check) && mm->type != MOTION_BIHARMONIC) {
+      PetscCall(FEMCeedElasticityCreate(mm->dm_all, PETSC_FALSE, mm->stiffening > 0, &mm->ceed));
+      /* harmonic: P = c G; elastic (mu = lambda = 1): P = c (G + G^T + tr(G) I) */
+      if (mm->type == MOTION_HARMONIC) PetscCall(FEMCeedElasticitySetForm(mm->ceed, 0.0, 1.0, 0.0, 0.0, 1.0));
+      else PetscCall(FEMCeedElasticitySetForm(mm->ceed, 0.0, 1.0, 1.0, 1.0, 0.0));
+      mm->use_ceed = backend == FEM_BACKEND_CEED ? PETSC_TRUE : PETSC_FALSE;
+    }
+    if (mm->use_ceed) PetscCall(FEMCeedElasticityCreateMatrix(mm->ceed, &mm->operator_all));
+    else PetscCall(DMCreateMatrix(mm->dm_all, &mm->operator_all));
+  }
   PetscCall(AssembleOperator(mm));
+  PetscCall(CheckBackends(mm));
   /* the same field with the fixed faces and the interface constrained: its free dofs */
   PetscCall(DMClone(fluid, &mm->dm));
   PetscCall(CreateFields(mm, mm->dm));
@@ -352,6 +406,7 @@ PetscErrorCode MeshMotionDestroy(MeshMotion *motion)
   PetscCall(VecDestroy(&mm->bc_all));
   PetscCall(VecDestroy(&mm->operator_bc_all));
   PetscCall(MatDestroy(&mm->operator_all));
+  PetscCall(FEMCeedElasticityDestroy(&mm->ceed));
   PetscCall(MatDestroy(&mm->operator_free));
   PetscCall(ISDestroy(&mm->free_in_all));
   PetscCall(KSPDestroy(&mm->ksp));

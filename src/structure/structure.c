@@ -10,7 +10,7 @@
    (F Sigma, grad xi) (seed eq. 6.17), each step is a Newton solve, and the tangent at the
    solution is factored once more after it: the sensitivity and adjoint products solve with
    the exact linearization (seed eq. 6.19). */
-#include "structure.h"
+#include "structure_impl.h"
 #include "fem.h"
 #include "options.h"
 #include "logging.h"
@@ -18,29 +18,6 @@
 
 /* PETSc fixes the signatures of pointwise kernels; the projection kernel uses a few of their arguments. */
 #pragma GCC diagnostic ignored "-Wunused-parameter"
-
-struct _p_Structure {
-  MPI_Comm       comm;
-  DM             dm;      /* with the Dirichlet constraints */
-  DM             dm_free; /* the same space without constraints: for fields that are not displacements */
-  SNES           snes;
-  PetscReal      rho, youngs_modulus, poisson_ratio, mu, lambda;
-  PetscInt       degree, time_order;
-  StructureModel model;
-  PetscBool      initial_projection;
-  PetscReal      time, dt;
-  Vec            eta;                             /* global displacement at `time` */
-  Vec            eta_local;                       /* the same with its boundary values */
-  Vec            etadot_local;                    /* velocity, all dofs */
-  Vec            eta_old_local, etadot_old_local; /* the previous step's, during a step */
-  Vec            work_local, history, work, rhs;
-  Vec            load, load_old; /* interface load B_s g of this and of the previous step */
-  Vec            tangent_at;     /* St. Venant-Kirchhoff: the local state of the factored tangent */
-  PhysicsData    data;
-  DirichletDatum datums[FSIOPT_MAX_BOUNDARIES];
-  SolverCounts   counts;
-  StepFailure    failure; /* of the step in progress */
-};
 
 PetscErrorCode StructureCreate(MPI_Comm comm, Structure *structure)
 {
@@ -269,6 +246,7 @@ PetscErrorCode StructureSetUp(Structure s, DM mesh, const PhysicsData *data, Pet
                "option -structure_initial_projection: the scene has no exact solution to project");
   if (data->exact_rate)
     PetscCall(DMProjectFunctionLocal(s->dm, t0, &s->data.exact_rate, &s->data.ctx, INSERT_ALL_VALUES, s->etadot_local));
+  PetscCall(StructureBackendSetUp(s)); /* after the projection, which PETSc's integration solves */
   PetscFunctionReturn(0);
 }
 
@@ -285,11 +263,11 @@ PetscErrorCode StructureBeginStep(Structure s)
   else {
     PetscCall(VecWAXPY(s->work_local, s->dt, s->etadot_local, s->eta_local));
     PetscCall(StructureSetConstants(s, mass, 0.0, 0.0, t_old));
-    PetscCall(FEMResidual(s->dm, s->work_local, s->history));
+    PetscCall(StructureOperatorResidual(s, s->work_local, s->history));
   }
   if (s->time_order == 2) {
     PetscCall(StructureSetConstants(s, 0.0, 1.0, 1.0, t_old));
-    PetscCall(FEMResidual(s->dm, s->eta_local, s->work));
+    PetscCall(StructureOperatorResidual(s, s->eta_local, s->work));
     PetscCall(VecAXPY(s->history, -1.0, s->work));
     PetscCall(VecAXPY(s->history, -1.0, s->load_old));
   }
@@ -308,6 +286,7 @@ PetscErrorCode StructureSolve(Structure s, Vec load, PetscInt step)
   if (load) PetscCall(VecCopy(load, s->load));
   else PetscCall(VecZeroEntries(s->load));
   PetscCall(VecWAXPY(s->rhs, -1.0, s->load, s->history));
+  PetscCall(StructureBackendCheck(s, step));
   PetscCall(SNESSolve(s->snes, s->rhs, s->eta));
   PetscCall(SNESGetConvergedReason(s->snes, &reason));
   s->counts.nonlinear_solves += 1;
@@ -550,6 +529,7 @@ PetscErrorCode StructureDestroy(Structure *structure)
   PetscCall(VecDestroy(&s->tangent_at));
   PetscCall(VecDestroy(&s->eta_old_local));
   PetscCall(VecDestroy(&s->etadot_old_local));
+  PetscCall(StructureBackendDestroy(s));
   PetscCall(SNESDestroy(&s->snes));
   PetscCall(DMDestroy(&s->dm_free));
   PetscCall(DMDestroy(&s->dm));
