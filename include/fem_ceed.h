@@ -62,6 +62,17 @@ PetscErrorCode FEMCeedCreateCOOMatrix(DM dm, Mat *);
 PetscErrorCode FEMCeedAssemblySetUp(Ceed, DM dm, PetscInt n, const CeedOperator ops[], Mat A, CeedSize counts[]);
 PetscErrorCode FEMCeedAssemble(Ceed, PetscInt n, const CeedOperator ops[], const CeedSize counts[], Mat A);
 
+/* y = op x (+ op_add x) on PETSc local vectors, through the CeedVectors x and y that borrow
+   their arrays */
+PetscErrorCode FEMCeedApply(Ceed, CeedOperator op, CeedOperator op_add, CeedVector x, CeedVector y, Vec xlocal,
+                            Vec ylocal);
+/* a copy of a PETSc vector's values into a CeedVector of its size (passive inputs) */
+PetscErrorCode FEMCeedVectorCopyFrom(Ceed, CeedVector target, Vec source);
+
+/* A's values into B, a matrix of the same pattern (a duplicate, the Dirichlet fluid's), left
+   assembled: MatCopy leaves a duplicate that was never assembled unassembled */
+PetscErrorCode FEMCeedCopyMatrix(Mat A, Mat B);
+
 /* ||ceed - petsc||_F / ||petsc||_F (ceed is overwritten by the difference) */
 PetscErrorCode FEMCeedMatDifference(Mat ceed, Mat petsc, PetscReal *difference);
 
@@ -78,6 +89,22 @@ PetscErrorCode FEMCeedElasticityResidual(FEMCeedElasticity, Vec xlocal, Vec floc
 PetscErrorCode FEMCeedElasticityCreateMatrix(FEMCeedElasticity, Mat *);
 PetscErrorCode FEMCeedElasticityJacobian(FEMCeedElasticity, Vec xlocal, Mat);
 PetscErrorCode FEMCeedElasticityDestroy(FEMCeedElasticity *);
+
+/* -fem_backend_check, shared by the solvers: a solver's residual on either backend (ceed),
+   R(x) into the global F at a local state with its boundary values, and both Jacobians at
+   such a state in matrices of their own (the solver's keep their values and factors). */
+typedef struct {
+  DM dm;
+  PetscErrorCode (*residual)(void *ctx, PetscBool ceed, Vec xlocal, Vec F);
+  PetscErrorCode (*jacobians)(void *ctx, Vec xlocal, Mat *petsc, Mat *ceed);
+  void *ctx;
+} FEMBackendPair;
+#define FEM_BACKEND_CHECK_STEPS 3
+#define FEM_BACKEND_CHECK_TOL   1e-12
+/* both backends at the global state x (the step's start) and at a random state of entries in
+   [-amplitude, amplitude]: one line naming `what` and the step, and an error above the tolerance */
+PetscErrorCode FEMBackendCheckStep(const FEMBackendPair *, const char what[], PetscInt step, Vec x,
+                                   PetscReal amplitude);
 
 /* -ceed_check_spaces: every field of dm, its mass and Laplacian matrices assembled by libCEED
    (CeedOperatorLinearAssemble into the PETSc matrix by COO) against PETSc's; prints the

@@ -10,8 +10,9 @@ one after the other (never two at once: they are timed).
   /usr/bin/python3 scripts/bench_operators.py [--cases channel2d-r0,tube3d-n1] [--steps 5]
 
 Outputs: out/bench-operators/operators.{csv,md}; the runs in out/bench-operators/runs/<case>/
-(re-used while their command line is unchanged; --force to time afresh). Only the PETSc
-path exists today: the table gets a column per backend when there are two (-fem_backend)."""
+(re-used while their command line is unchanged; --force to time afresh). These are
+PETSc's integration (-fem_backend petsc, the default); scripts/bench_backends.py times
+whole runs on both backends."""
 import argparse, os, re, sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))

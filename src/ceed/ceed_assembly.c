@@ -82,3 +82,42 @@ PetscErrorCode FEMCeedAssemble(Ceed ceed, PetscInt n, const CeedOperator ops[], 
   PetscCall(PetscFree(values));
   PetscFunctionReturn(0);
 }
+
+PetscErrorCode FEMCeedCopyMatrix(Mat A, Mat B)
+{
+  PetscFunctionBeginUser;
+  PetscCall(MatCopy(A, B, SAME_NONZERO_PATTERN));
+  PetscCall(MatAssemblyBegin(B, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(B, MAT_FINAL_ASSEMBLY));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMCeedApply(Ceed ceed, CeedOperator op, CeedOperator op_add, CeedVector x, CeedVector y, Vec xlocal,
+                            Vec ylocal)
+{
+  PetscScalar *xa, *ya;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArray(xlocal, &xa));
+  PetscCall(VecGetArray(ylocal, &ya));
+  PetscCallCeed(ceed, CeedVectorSetArray(x, CEED_MEM_HOST, CEED_USE_POINTER, xa));
+  PetscCallCeed(ceed, CeedVectorSetArray(y, CEED_MEM_HOST, CEED_USE_POINTER, ya));
+  PetscCallCeed(ceed, CeedOperatorApply(op, x, y, CEED_REQUEST_IMMEDIATE));
+  if (op_add) PetscCallCeed(ceed, CeedOperatorApplyAdd(op_add, x, y, CEED_REQUEST_IMMEDIATE));
+  PetscCallCeed(ceed, CeedVectorTakeArray(x, CEED_MEM_HOST, &xa));
+  PetscCallCeed(ceed, CeedVectorTakeArray(y, CEED_MEM_HOST, &ya));
+  PetscCall(VecRestoreArray(xlocal, &xa));
+  PetscCall(VecRestoreArray(ylocal, &ya));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMCeedVectorCopyFrom(Ceed ceed, CeedVector target, Vec source)
+{
+  const PetscScalar *a;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(source, &a));
+  PetscCallCeed(ceed, CeedVectorSetArray(target, CEED_MEM_HOST, CEED_COPY_VALUES, (CeedScalar *)a));
+  PetscCall(VecRestoreArrayRead(source, &a));
+  PetscFunctionReturn(0);
+}

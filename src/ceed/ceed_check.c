@@ -3,6 +3,7 @@
 #include <petscds.h>
 #include <petscsnes.h>
 #include "fem_ceed.h"
+#include "fem.h"
 #include "qfunctions_check.h"
 
 #pragma GCC diagnostic push
@@ -168,5 +169,79 @@ PetscErrorCode FEMCeedCheckSpaces(DM dm, const char name[], PetscReal tol)
                ": mass %.2e, Laplacian %.2e differ from PETSc's by more than %g",
                name, f, (double)mass, (double)laplacian, (double)tol);
   }
+  PetscFunctionReturn(0);
+}
+
+/* both backends at the global state x: the residuals' difference relative to R(0) (the
+   data) plus ||J||_F ||x|| / sqrt(N), the root mean square of a row's bound of the state's
+   part before the assembly cancels it (near an equilibrium R(x) itself is mostly
+   round-off); the Jacobians' in the Frobenius norm */
+static PetscErrorCode CompareAt(const FEMBackendPair *pair, Vec x, PetscReal *residual, PetscReal *jacobian)
+{
+  Vec       xlocal, zero, F_petsc, F_ceed, F_zero;
+  Mat       J_petsc, J_ceed;
+  PetscReal data, jnorm, xnorm, scale;
+  PetscInt  N;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetLocalVector(pair->dm, &xlocal));
+  PetscCall(VecDuplicate(x, &F_petsc));
+  PetscCall(VecDuplicate(x, &F_ceed));
+  PetscCall(VecDuplicate(x, &F_zero));
+  PetscCall(VecDuplicate(x, &zero));
+  PetscCall(VecZeroEntries(zero));
+  PetscCall(FEMGlobalToLocal(pair->dm, zero, xlocal));
+  PetscCall(pair->residual(pair->ctx, PETSC_FALSE, xlocal, F_zero));
+  PetscCall(FEMGlobalToLocal(pair->dm, x, xlocal));
+  PetscCall(pair->residual(pair->ctx, PETSC_FALSE, xlocal, F_petsc));
+  PetscCall(pair->residual(pair->ctx, PETSC_TRUE, xlocal, F_ceed));
+  PetscCall(pair->jacobians(pair->ctx, xlocal, &J_petsc, &J_ceed));
+  PetscCall(VecAXPY(F_ceed, -1.0, F_petsc));
+  PetscCall(VecNorm(F_ceed, NORM_2, residual));
+  PetscCall(VecNorm(F_zero, NORM_2, &data));
+  PetscCall(MatNorm(J_petsc, NORM_FROBENIUS, &jnorm));
+  PetscCall(VecNorm(xlocal, NORM_2, &xnorm));
+  PetscCall(VecGetSize(x, &N));
+  scale = data + jnorm * xnorm / PetscSqrtReal((PetscReal)N);
+  if (scale > 0) *residual /= scale; /* else both are zero */
+  PetscCall(FEMCeedMatDifference(J_ceed, J_petsc, jacobian));
+  PetscCall(MatDestroy(&J_petsc));
+  PetscCall(MatDestroy(&J_ceed));
+  PetscCall(VecDestroy(&F_petsc));
+  PetscCall(VecDestroy(&F_ceed));
+  PetscCall(VecDestroy(&F_zero));
+  PetscCall(VecDestroy(&zero));
+  PetscCall(DMRestoreLocalVector(pair->dm, &xlocal));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMBackendCheckStep(const FEMBackendPair *pair, const char what[], PetscInt step, Vec x,
+                                   PetscReal amplitude)
+{
+  PetscReal   residual[2], jacobian[2];
+  Vec         random_state;
+  PetscRandom random;
+  MPI_Comm    comm = PetscObjectComm((PetscObject)x);
+
+  PetscFunctionBeginUser;
+  PetscCall(CompareAt(pair, x, &residual[0], &jacobian[0]));
+  PetscCall(VecDuplicate(x, &random_state));
+  PetscCall(PetscRandomCreate(comm, &random));
+  PetscCall(PetscRandomSetInterval(random, -amplitude, amplitude));
+  PetscCall(VecSetRandom(random_state, random));
+  PetscCall(PetscRandomDestroy(&random));
+  PetscCall(CompareAt(pair, random_state, &residual[1], &jacobian[1]));
+  PetscCall(VecDestroy(&random_state));
+  PetscCall(PetscPrintf(comm,
+                        "fsiopt: backend check: step %" PetscInt_FMT
+                        ": %s residual %.2e (the step's start) %.2e (a random state), Jacobian %.2e %.2e, libCEED "
+                        "relative to PETSc\n",
+                        step, what, (double)residual[0], (double)residual[1], (double)jacobian[0],
+                        (double)jacobian[1]));
+  for (PetscInt i = 0; i < 2; ++i)
+    PetscCheck(residual[i] <= FEM_BACKEND_CHECK_TOL && jacobian[i] <= FEM_BACKEND_CHECK_TOL, comm, PETSC_ERR_PLIB,
+               "option -fem_backend_check: at step %" PetscInt_FMT
+               " the %s's libCEED operators differ from PETSc's by %.2e (residual), %.2e (Jacobian), more than %g",
+               step, what, (double)residual[i], (double)jacobian[i], FEM_BACKEND_CHECK_TOL);
   PetscFunctionReturn(0);
 }

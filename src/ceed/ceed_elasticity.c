@@ -144,20 +144,10 @@ PetscErrorCode FEMCeedElasticitySetWeights(FEMCeedElasticity o, DM dm_weights, V
 
 PetscErrorCode FEMCeedElasticityResidual(FEMCeedElasticity o, Vec xlocal, Vec flocal)
 {
-  PetscScalar *xa, *fa;
-
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CEED_RESIDUAL, 0, 0, 0, 0));
   PetscCall(FEMCeedGeometryFollow(o->ceed, o->dm, o->fe, &o->geometry, &o->r_q, &o->qdata));
-  PetscCall(VecGetArray(xlocal, &xa));
-  PetscCall(VecGetArray(flocal, &fa));
-  PetscCallCeed(o->ceed, CeedVectorSetArray(o->x, CEED_MEM_HOST, CEED_USE_POINTER, xa));
-  PetscCallCeed(o->ceed, CeedVectorSetArray(o->f, CEED_MEM_HOST, CEED_USE_POINTER, fa));
-  PetscCallCeed(o->ceed, CeedOperatorApply(o->op_residual, o->x, o->f, CEED_REQUEST_IMMEDIATE));
-  PetscCallCeed(o->ceed, CeedVectorTakeArray(o->x, CEED_MEM_HOST, &xa));
-  PetscCallCeed(o->ceed, CeedVectorTakeArray(o->f, CEED_MEM_HOST, &fa));
-  PetscCall(VecRestoreArray(xlocal, &xa));
-  PetscCall(VecRestoreArray(flocal, &fa));
+  PetscCall(FEMCeedApply(o->ceed, o->op_residual, NULL, o->x, o->f, xlocal, flocal));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CEED_RESIDUAL, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -176,11 +166,8 @@ PetscErrorCode FEMCeedElasticityJacobian(FEMCeedElasticity o, Vec xlocal, Mat A)
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CEED_JACOBIAN, 0, 0, 0, 0));
   PetscCall(FEMCeedGeometryFollow(o->ceed, o->dm, o->fe, &o->geometry, &o->r_q, &o->qdata));
   if (o->form.svk) {
-    const PetscScalar *xa;
     PetscCheck(xlocal, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "libCEED elasticity: the tangent needs its state");
-    PetscCall(VecGetArrayRead(xlocal, &xa));
-    PetscCallCeed(o->ceed, CeedVectorSetArray(o->state, CEED_MEM_HOST, CEED_COPY_VALUES, (CeedScalar *)xa));
-    PetscCall(VecRestoreArrayRead(xlocal, &xa));
+    PetscCall(FEMCeedVectorCopyFrom(o->ceed, o->state, xlocal));
   }
   PetscCall(FEMCeedAssemble(o->ceed, 1, &o->op_jacobian, &o->count, A));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CEED_JACOBIAN, 0, 0, 0, 0));

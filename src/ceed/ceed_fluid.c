@@ -186,16 +186,13 @@ static PetscErrorCode MassCreate(FEMCeedFluid o)
 
 PetscErrorCode FEMCeedFluidMassDomain(FEMCeedFluid o, DM dm_domain, PetscInt slot)
 {
-  Vec                local;
-  const PetscScalar *x;
+  Vec local;
 
   PetscFunctionBeginUser;
   PetscCheck(o->op_mass && slot >= 0 && slot < 2, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG,
              "libCEED fluid: no old-domain mass (fixed mesh) or no slot %" PetscInt_FMT, slot);
   PetscCall(DMGetCoordinatesLocal(dm_domain, &local));
-  PetscCall(VecGetArrayRead(local, &x));
-  PetscCallCeed(o->ceed, CeedVectorSetArray(o->coordinates, CEED_MEM_HOST, CEED_COPY_VALUES, (CeedScalar *)x));
-  PetscCall(VecRestoreArrayRead(local, &x));
+  PetscCall(FEMCeedVectorCopyFrom(o->ceed, o->coordinates, local));
   PetscCallCeed(o->ceed,
                 CeedOperatorApply(o->op_domain, o->coordinates, o->domain_weight[slot], CEED_REQUEST_IMMEDIATE));
   PetscFunctionReturn(0);
@@ -212,18 +209,8 @@ PetscErrorCode FEMCeedFluidMassWeights(FEMCeedFluid o, PetscScalar a0, PetscScal
 
 PetscErrorCode FEMCeedFluidMassApply(FEMCeedFluid o, Vec xlocal, Vec ylocal)
 {
-  PetscScalar *xa, *ya;
-
   PetscFunctionBeginUser;
-  PetscCall(VecGetArray(xlocal, &xa));
-  PetscCall(VecGetArray(ylocal, &ya));
-  PetscCallCeed(o->ceed, CeedVectorSetArray(o->x, CEED_MEM_HOST, CEED_USE_POINTER, xa));
-  PetscCallCeed(o->ceed, CeedVectorSetArray(o->f, CEED_MEM_HOST, CEED_USE_POINTER, ya));
-  PetscCallCeed(o->ceed, CeedOperatorApply(o->op_mass, o->x, o->f, CEED_REQUEST_IMMEDIATE));
-  PetscCallCeed(o->ceed, CeedVectorTakeArray(o->x, CEED_MEM_HOST, &xa));
-  PetscCallCeed(o->ceed, CeedVectorTakeArray(o->f, CEED_MEM_HOST, &ya));
-  PetscCall(VecRestoreArray(xlocal, &xa));
-  PetscCall(VecRestoreArray(ylocal, &ya));
+  PetscCall(FEMCeedApply(o->ceed, o->op_mass, NULL, o->x, o->f, xlocal, ylocal));
   PetscFunctionReturn(0);
 }
 
@@ -252,14 +239,10 @@ static PetscErrorCode GeometryUpdate(FEMCeedFluid o)
 
 static PetscErrorCode MeshVelocitySet(FEMCeedFluid o, Vec z)
 {
-  const PetscScalar *za;
-
   PetscFunctionBeginUser;
   if (!o->volume.moving) PetscFunctionReturn(0);
   PetscCheck(z, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "libCEED fluid: a moving mesh needs its mesh velocity");
-  PetscCall(VecGetArrayRead(z, &za));
-  PetscCallCeed(o->ceed, CeedVectorSetArray(o->mesh_velocity, CEED_MEM_HOST, CEED_COPY_VALUES, (CeedScalar *)za));
-  PetscCall(VecRestoreArrayRead(z, &za));
+  PetscCall(FEMCeedVectorCopyFrom(o->ceed, o->mesh_velocity, z));
   PetscFunctionReturn(0);
 }
 
@@ -366,7 +349,6 @@ PetscErrorCode FEMCeedFluidDestroy(FEMCeedFluid *fluid)
 
 PetscErrorCode FEMCeedFluidResidual(FEMCeedFluid o, Vec xlocal, Vec zlocal, PetscBool old_mass, Vec flocal)
 {
-  PetscScalar *xa, *fa;
   FluidVolume *fv;
 
   PetscFunctionBeginUser;
@@ -378,17 +360,7 @@ PetscErrorCode FEMCeedFluidResidual(FEMCeedFluid o, Vec xlocal, Vec zlocal, Pets
   PetscCallCeed(o->ceed, CeedQFunctionContextRestoreData(o->context, &fv));
   PetscCall(GeometryUpdate(o));
   PetscCall(MeshVelocitySet(o, zlocal));
-  PetscCall(VecGetArray(xlocal, &xa));
-  PetscCall(VecGetArray(flocal, &fa));
-  PetscCallCeed(o->ceed, CeedVectorSetArray(o->x, CEED_MEM_HOST, CEED_USE_POINTER, xa));
-  PetscCallCeed(o->ceed, CeedVectorSetArray(o->f, CEED_MEM_HOST, CEED_USE_POINTER, fa));
-  PetscCallCeed(o->ceed, CeedOperatorApply(o->op_residual, o->x, o->f, CEED_REQUEST_IMMEDIATE));
-  if (o->op_stabilization)
-    PetscCallCeed(o->ceed, CeedOperatorApplyAdd(o->op_stabilization, o->x, o->f, CEED_REQUEST_IMMEDIATE));
-  PetscCallCeed(o->ceed, CeedVectorTakeArray(o->x, CEED_MEM_HOST, &xa));
-  PetscCallCeed(o->ceed, CeedVectorTakeArray(o->f, CEED_MEM_HOST, &fa));
-  PetscCall(VecRestoreArray(xlocal, &xa));
-  PetscCall(VecRestoreArray(flocal, &fa));
+  PetscCall(FEMCeedApply(o->ceed, o->op_residual, o->op_stabilization, o->x, o->f, xlocal, flocal));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CEED_RESIDUAL, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -406,17 +378,14 @@ PetscErrorCode FEMCeedFluidCreateMatrix(FEMCeedFluid o, Mat *A)
 
 PetscErrorCode FEMCeedFluidJacobian(FEMCeedFluid o, Vec xlocal, Vec zlocal, PetscBool old_mass, Mat A)
 {
-  const PetscScalar *xa;
-  CeedOperator       blocks[5] = {o->op_block[0], o->op_block[1], o->op_block[2], o->op_block[3],
+  CeedOperator blocks[5] = {o->op_block[0], o->op_block[1], o->op_block[2], o->op_block[3],
                             old_mass ? o->op_mass_block : NULL};
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CEED_JACOBIAN, 0, 0, 0, 0));
   PetscCall(GeometryUpdate(o));
   PetscCall(MeshVelocitySet(o, zlocal));
-  PetscCall(VecGetArrayRead(xlocal, &xa));
-  PetscCallCeed(o->ceed, CeedVectorSetArray(o->state, CEED_MEM_HOST, CEED_COPY_VALUES, (CeedScalar *)xa));
-  PetscCall(VecRestoreArrayRead(xlocal, &xa));
+  PetscCall(FEMCeedVectorCopyFrom(o->ceed, o->state, xlocal));
   PetscCall(FEMCeedAssemble(o->ceed, 5, blocks, o->counts, A));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CEED_JACOBIAN, 0, 0, 0, 0));
   PetscFunctionReturn(0);

@@ -96,8 +96,8 @@ PetscErrorCode FluidOperatorJacobian(Fluid f, Vec xlocal, PetscBool old_mass, Ma
   }
   PetscCall(AssembleCeed(f, xlocal, old_mass, f->ceed_jacobian));
   /* another matrix of the same pattern (the Dirichlet fluid's) gets a copy */
-  if (P != f->ceed_jacobian) PetscCall(MatCopy(f->ceed_jacobian, P, SAME_NONZERO_PATTERN));
-  if (J != P && J != f->ceed_jacobian) PetscCall(MatCopy(f->ceed_jacobian, J, SAME_NONZERO_PATTERN));
+  if (P != f->ceed_jacobian) PetscCall(FEMCeedCopyMatrix(f->ceed_jacobian, P));
+  if (J != P && J != f->ceed_jacobian) PetscCall(FEMCeedCopyMatrix(f->ceed_jacobian, J));
   PetscFunctionReturn(0);
 }
 
@@ -209,98 +209,43 @@ PetscErrorCode FluidBackendSetUp(Fluid f)
   PetscFunctionReturn(0);
 }
 
-/* ||a - b|| / ||b|| of the residuals of both backends at the global state x; the same for
-   the Jacobians, each in a matrix of its own (the solver's keep their values and factors) */
-static PetscErrorCode CompareAt(Fluid f, Vec x, PetscReal *residual, PetscReal *jacobian)
+/* -fem_backend_check: on a moving mesh with the old domains' mass where both backends have
+   it (-fem_backend petsc keeps both) */
+static PetscErrorCode CheckResidual(void *ctx, PetscBool ceed, Vec xlocal, Vec F)
 {
+  Fluid           f       = (Fluid)ctx;
   const PetscBool backend = f->backend_ceed;
-  /* the old domains' mass where both backends have it: -fem_backend petsc keeps both */
-  const PetscBool old_mass = f->moving && f->mass_old_all ? PETSC_TRUE : PETSC_FALSE;
-  Vec             xlocal, F_petsc, F_ceed;
-  Mat             J_petsc, J_ceed;
-  PetscReal       norm;
 
   PetscFunctionBeginUser;
-  PetscCall(DMGetLocalVector(f->dm, &xlocal));
-  PetscCall(VecDuplicate(x, &F_petsc));
-  PetscCall(VecDuplicate(x, &F_ceed));
-  PetscCall(FEMGlobalToLocal(f->dm, x, xlocal));
-  f->backend_ceed = PETSC_FALSE;
-  PetscCall(FluidOperatorResidual(f, xlocal, old_mass, F_petsc));
-  f->backend_ceed = PETSC_TRUE;
-  PetscCall(FluidOperatorResidual(f, xlocal, old_mass, F_ceed));
+  f->backend_ceed = ceed;
+  PetscCall(FluidOperatorResidual(f, xlocal, f->moving && f->mass_old_all ? PETSC_TRUE : PETSC_FALSE, F));
   f->backend_ceed = backend;
-  PetscCall(VecAXPY(F_ceed, -1.0, F_petsc));
-  PetscCall(VecNorm(F_ceed, NORM_2, residual));
-  PetscCall(DMCreateMatrix(f->dm, &J_petsc));
-  PetscCall(DMPlexSNESComputeJacobianFEM(f->dm, xlocal, J_petsc, J_petsc, NULL));
-  if (old_mass) PetscCall(MatAXPY(J_petsc, 1.0, f->mass_old, SUBSET_NONZERO_PATTERN));
-  PetscCall(FEMCeedFluidCreateMatrix(f->ceed, &J_ceed));
-  PetscCall(AssembleCeed(f, xlocal, old_mass, J_ceed));
-  {
-    /* the residual's difference relative to R(0), the data, plus ||J||_F ||x|| / sqrt(N),
-       the root mean square of a row's bound, a scale of the state's part before the
-       assembly cancels it (near an equilibrium R(x) itself is mostly round-off) */
-    Vec       zero, zlocal, F_zero;
-    PetscReal data, jnorm, xnorm;
-    PetscInt  N;
-    PetscCall(VecDuplicate(F_petsc, &zero));
-    PetscCall(VecDuplicate(F_petsc, &F_zero));
-    PetscCall(VecZeroEntries(zero));
-    PetscCall(DMGetLocalVector(f->dm, &zlocal));
-    PetscCall(FEMGlobalToLocal(f->dm, zero, zlocal));
-    f->backend_ceed = PETSC_FALSE;
-    PetscCall(FluidOperatorResidual(f, zlocal, old_mass, F_zero));
-    f->backend_ceed = backend;
-    PetscCall(DMRestoreLocalVector(f->dm, &zlocal));
-    PetscCall(VecNorm(F_zero, NORM_2, &data));
-    PetscCall(MatNorm(J_petsc, NORM_FROBENIUS, &jnorm));
-    PetscCall(VecNorm(xlocal, NORM_2, &xnorm));
-    PetscCall(VecGetSize(F_petsc, &N));
-    norm = data + jnorm * xnorm / PetscSqrtReal((PetscReal)N);
-    if (norm > 0) *residual /= norm; /* else both are zero */
-    PetscCall(VecDestroy(&zero));
-    PetscCall(VecDestroy(&F_zero));
-  }
-  PetscCall(FEMCeedMatDifference(J_ceed, J_petsc, jacobian));
-  PetscCall(MatDestroy(&J_petsc));
-  PetscCall(MatDestroy(&J_ceed));
-  PetscCall(VecDestroy(&F_petsc));
-  PetscCall(VecDestroy(&F_ceed));
-  PetscCall(DMRestoreLocalVector(f->dm, &xlocal));
   PetscFunctionReturn(0);
 }
 
-#define BACKEND_CHECK_STEPS 3
-#define BACKEND_CHECK_TOL   1e-12
+static PetscErrorCode CheckJacobians(void *ctx, Vec xlocal, Mat *petsc, Mat *ceed)
+{
+  Fluid           f        = (Fluid)ctx;
+  const PetscBool old_mass = f->moving && f->mass_old_all ? PETSC_TRUE : PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMCreateMatrix(f->dm, petsc));
+  PetscCall(DMPlexSNESComputeJacobianFEM(f->dm, xlocal, *petsc, *petsc, NULL));
+  if (old_mass) PetscCall(MatAXPY(*petsc, 1.0, f->mass_old, SUBSET_NONZERO_PATTERN));
+  PetscCall(FEMCeedFluidCreateMatrix(f->ceed, ceed));
+  PetscCall(AssembleCeed(f, xlocal, old_mass, *ceed));
+  PetscFunctionReturn(0);
+}
 
 PetscErrorCode FluidBackendCheck(Fluid f)
 {
-  PetscReal   residual[2], jacobian[2];
-  Vec         x;
-  PetscRandom random;
+  const FEMBackendPair pair = {f->dm, CheckResidual, CheckJacobians, f};
 
   PetscFunctionBeginUser;
-  if (!f->check_backends || f->step > BACKEND_CHECK_STEPS || f->step == f->backend_checked_step) PetscFunctionReturn(0);
+  if (!f->check_backends || f->step > FEM_BACKEND_CHECK_STEPS || f->step == f->backend_checked_step)
+    PetscFunctionReturn(0);
   f->backend_checked_step = f->step;
-  PetscCall(CompareAt(f, f->x, &residual[0], &jacobian[0]));
-  PetscCall(VecDuplicate(f->x, &x));
-  PetscCall(PetscRandomCreate(f->comm, &random));
-  PetscCall(PetscRandomSetInterval(random, -1.0, 1.0));
-  PetscCall(VecSetRandom(x, random));
-  PetscCall(PetscRandomDestroy(&random));
-  PetscCall(CompareAt(f, x, &residual[1], &jacobian[1]));
-  PetscCall(VecDestroy(&x));
-  PetscCall(PetscPrintf(f->comm,
-                        "fsiopt: backend check: step %" PetscInt_FMT
-                        ": fluid residual %.2e (the step's start) %.2e (a random state), Jacobian %.2e %.2e, "
-                        "libCEED relative to PETSc\n",
-                        f->step, (double)residual[0], (double)residual[1], (double)jacobian[0], (double)jacobian[1]));
-  for (PetscInt i = 0; i < 2; ++i)
-    PetscCheck(residual[i] <= BACKEND_CHECK_TOL && jacobian[i] <= BACKEND_CHECK_TOL, f->comm, PETSC_ERR_PLIB,
-               "option -fem_backend_check: at step %" PetscInt_FMT
-               " the fluid's libCEED operators differ from PETSc's by %.2e (residual), %.2e (Jacobian), more than %g",
-               f->step, (double)residual[i], (double)jacobian[i], BACKEND_CHECK_TOL);
+  PetscCall(FEMBackendCheckStep(&pair, "fluid", f->step, f->x, 1.0));
   PetscFunctionReturn(0);
 }
 

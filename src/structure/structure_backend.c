@@ -89,8 +89,8 @@ static PetscErrorCode Jacobian(SNES snes, Vec x, Mat J, Mat P, void *ctx)
     PetscFunctionReturn(0);
   }
   PetscCall(AssembleCeed(s, xlocal, s->ceed_jacobian));
-  if (P != s->ceed_jacobian) PetscCall(MatCopy(s->ceed_jacobian, P, SAME_NONZERO_PATTERN));
-  if (J != P && J != s->ceed_jacobian) PetscCall(MatCopy(s->ceed_jacobian, J, SAME_NONZERO_PATTERN));
+  if (P != s->ceed_jacobian) PetscCall(FEMCeedCopyMatrix(s->ceed_jacobian, P));
+  if (J != P && J != s->ceed_jacobian) PetscCall(FEMCeedCopyMatrix(s->ceed_jacobian, J));
   ++s->counts.factorizations;
   if (s->model == STRUCTURE_SVK) {
     if (!s->tangent_at) PetscCall(VecDuplicate(xlocal, &s->tangent_at));
@@ -100,94 +100,41 @@ static PetscErrorCode Jacobian(SNES snes, Vec x, Mat J, Mat P, void *ctx)
   PetscFunctionReturn(0);
 }
 
-/* -fem_backend_check: both backends' residual and Jacobian at eta (local) */
-static PetscErrorCode CompareAt(Structure s, Vec xlocal, PetscReal *residual, PetscReal *jacobian)
+static PetscErrorCode CheckResidual(void *ctx, PetscBool ceed, Vec xlocal, Vec F)
 {
+  Structure       s       = (Structure)ctx;
   const PetscBool backend = s->backend_ceed;
-  Vec             F_petsc, F_ceed;
-  Mat             J_petsc, J_ceed;
-  PetscReal       norm;
 
   PetscFunctionBeginUser;
-  PetscCall(VecDuplicate(s->eta, &F_petsc));
-  PetscCall(VecDuplicate(s->eta, &F_ceed));
-  s->backend_ceed = PETSC_FALSE;
-  PetscCall(StructureOperatorResidual(s, xlocal, F_petsc));
-  s->backend_ceed = PETSC_TRUE;
-  PetscCall(StructureOperatorResidual(s, xlocal, F_ceed));
+  s->backend_ceed = ceed;
+  PetscCall(StructureOperatorResidual(s, xlocal, F));
   s->backend_ceed = backend;
-  PetscCall(VecAXPY(F_ceed, -1.0, F_petsc));
-  PetscCall(VecNorm(F_ceed, NORM_2, residual));
-  PetscCall(DMCreateMatrix(s->dm, &J_petsc));
-  PetscCall(DMPlexSNESComputeJacobianFEM(s->dm, xlocal, J_petsc, J_petsc, NULL));
-  PetscCall(FEMCeedElasticityCreateMatrix(s->ceed, &J_ceed));
-  PetscCall(AssembleCeed(s, xlocal, J_ceed));
-  {
-    /* the residual's difference relative to R(0), the data, plus ||J||_F ||x|| / sqrt(N),
-       the root mean square of a row's bound, a scale of the state's part before the
-       assembly cancels it (near an equilibrium R(x) itself is mostly round-off) */
-    Vec       zero, zlocal, F_zero;
-    PetscReal data, jnorm, xnorm;
-    PetscInt  N;
-    PetscCall(VecDuplicate(F_petsc, &zero));
-    PetscCall(VecDuplicate(F_petsc, &F_zero));
-    PetscCall(VecZeroEntries(zero));
-    PetscCall(DMGetLocalVector(s->dm, &zlocal));
-    PetscCall(FEMGlobalToLocal(s->dm, zero, zlocal));
-    s->backend_ceed = PETSC_FALSE;
-    PetscCall(StructureOperatorResidual(s, zlocal, F_zero));
-    s->backend_ceed = backend;
-    PetscCall(DMRestoreLocalVector(s->dm, &zlocal));
-    PetscCall(VecNorm(F_zero, NORM_2, &data));
-    PetscCall(MatNorm(J_petsc, NORM_FROBENIUS, &jnorm));
-    PetscCall(VecNorm(xlocal, NORM_2, &xnorm));
-    PetscCall(VecGetSize(F_petsc, &N));
-    norm = data + jnorm * xnorm / PetscSqrtReal((PetscReal)N);
-    if (norm > 0) *residual /= norm; /* else both are zero */
-    PetscCall(VecDestroy(&zero));
-    PetscCall(VecDestroy(&F_zero));
-  }
-  PetscCall(FEMCeedMatDifference(J_ceed, J_petsc, jacobian));
-  PetscCall(MatDestroy(&J_petsc));
-  PetscCall(MatDestroy(&J_ceed));
-  PetscCall(VecDestroy(&F_petsc));
-  PetscCall(VecDestroy(&F_ceed));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode CheckJacobians(void *ctx, Vec xlocal, Mat *petsc, Mat *ceed)
+{
+  Structure s = (Structure)ctx;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMCreateMatrix(s->dm, petsc));
+  PetscCall(DMPlexSNESComputeJacobianFEM(s->dm, xlocal, *petsc, *petsc, NULL));
+  PetscCall(FEMCeedElasticityCreateMatrix(s->ceed, ceed));
+  PetscCall(AssembleCeed(s, xlocal, *ceed));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode StructureBackendCheck(Structure s, PetscInt step)
 {
-  PetscBool   check;
-  PetscReal   residual[2], jacobian[2];
-  Vec         x, xlocal;
-  PetscRandom random;
+  const FEMBackendPair pair = {s->dm, CheckResidual, CheckJacobians, s};
+  PetscBool            check;
 
   PetscFunctionBeginUser;
   PetscCall(FEMBackendGet(NULL, &check));
-  if (!check || !s->ceed || step > 3 || step == s->backend_checked_step) PetscFunctionReturn(0);
+  if (!check || !s->ceed || step > FEM_BACKEND_CHECK_STEPS || step == s->backend_checked_step) PetscFunctionReturn(0);
   s->backend_checked_step = step;
-  PetscCall(CompareAt(s, s->eta_local, &residual[0], &jacobian[0]));
-  PetscCall(VecDuplicate(s->eta, &x));
-  PetscCall(DMGetLocalVector(s->dm, &xlocal));
-  PetscCall(PetscRandomCreate(s->comm, &random));
-  PetscCall(PetscRandomSetInterval(random, -1e-2, 1e-2)); /* strains of a percent: St. Venant-Kirchhoff's range */
-  PetscCall(VecSetRandom(x, random));
-  PetscCall(PetscRandomDestroy(&random));
-  PetscCall(FEMGlobalToLocal(s->dm, x, xlocal));
-  PetscCall(CompareAt(s, xlocal, &residual[1], &jacobian[1]));
-  PetscCall(DMRestoreLocalVector(s->dm, &xlocal));
-  PetscCall(VecDestroy(&x));
-  PetscCall(PetscPrintf(s->comm,
-                        "fsiopt: backend check: step %" PetscInt_FMT
-                        ": structure residual %.2e (the step's start) %.2e (a random state), Jacobian %.2e %.2e, "
-                        "libCEED relative to PETSc\n",
-                        step, (double)residual[0], (double)residual[1], (double)jacobian[0], (double)jacobian[1]));
-  for (PetscInt i = 0; i < 2; ++i)
-    PetscCheck(residual[i] <= 1e-12 && jacobian[i] <= 1e-12, s->comm, PETSC_ERR_PLIB,
-               "option -fem_backend_check: at step %" PetscInt_FMT
-               " the structure's libCEED operators differ from PETSc's by %.2e (residual), %.2e (Jacobian), more "
-               "than 1e-12",
-               step, (double)residual[i], (double)jacobian[i]);
+  /* a random state of strains of a percent: St. Venant-Kirchhoff's range */
+  PetscCall(FEMBackendCheckStep(&pair, "structure", step, s->eta, 1e-2));
   PetscFunctionReturn(0);
 }
 
