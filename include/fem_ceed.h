@@ -17,7 +17,7 @@
     } \
   } while (0)
 
-/* -fem_backend: the operators by PETSc's pointwise integration (the reference) or libCEED;
+/* -fem_backend: the operators by libCEED (the default) or PETSc's pointwise integration (the reference);
    -fem_backend_check: compare the two (check may be NULL) */
 typedef enum {
   FEM_BACKEND_PETSC,

@@ -11,8 +11,8 @@ one after the other (never two at once: they are timed).
 
 Outputs: out/bench-operators/operators.{csv,md}; the runs in out/bench-operators/runs/<case>/
 (re-used while their command line is unchanged; --force to time afresh). These are
-PETSc's integration (-fem_backend petsc, the default); scripts/bench_backends.py times
-whole runs on both backends."""
+PETSc's integration (-fem_backend petsc, passed explicitly); scripts/bench_backends.py
+times whole runs on both backends."""
 import argparse, os, re, sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -74,7 +74,7 @@ def main():
     mesh_dir = os.path.join(fr.ROOT, "out", "meshes")
     runs = []
     for case in cases:
-        options = case_options(case, args.steps, mesh_dir) + ["-log_view"]
+        options = case_options(case, args.steps, mesh_dir) + ["-fem_backend", "petsc", "-log_view"]
         runs.append(fr.Variant(case, case, options, outputs=fr.OUTPUTS + ("stdout.log",)))
     fr.run_all(runs, args.bin, os.path.join(OUT, "runs"), jobs=1, force=args.force)
     rows, md = [], ["# Finite-element operators: PETSc's integration (issue 23 baseline)", "",

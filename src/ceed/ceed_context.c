@@ -9,7 +9,8 @@ static struct {
   FEMBackend backend;
   PetscBool  check;
   char       resource[PETSC_MAX_PATH_LEN];
-} choice = {PETSC_FALSE, FEM_BACKEND_PETSC, PETSC_FALSE, "/cpu/self/opt/blocked"};
+} choice = {PETSC_FALSE, FEM_BACKEND_CEED, PETSC_FALSE,
+            "/cpu/self/opt/blocked"}; /* ceed: the whole suite passes with it */
 
 /* the three options of the operators, read once (FluidSetFromOptions reads them early, so that -help lists them) */
 static PetscErrorCode ReadChoice(void)
@@ -18,8 +19,8 @@ static PetscErrorCode ReadChoice(void)
   if (choice.read) PetscFunctionReturn(0);
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Finite-element operators", "fem");
   PetscCall(PetscOptionsEnum("-fem_backend",
-                             "finite-element operators of the fluid, the structure and the mesh motion: petsc "
-                             "(PETSc's pointwise integration, the reference) or ceed (libCEED, the fast path)",
+                             "finite-element operators of the fluid, the structure and the mesh motion: ceed "
+                             "(libCEED, the fast path) or petsc (PETSc's pointwise integration, the reference)",
                              NULL, FEMBackends, (PetscEnum)choice.backend, (PetscEnum *)&choice.backend, NULL));
   PetscCall(PetscOptionsBool("-fem_backend_check",
                              "compare the fluid's residual and Jacobian of both backends at the start of the first "
