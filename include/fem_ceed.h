@@ -40,17 +40,22 @@ PetscErrorCode FEMCeedBasis(Ceed, DM dm, PetscFE fe, CeedBasis *);
 PetscErrorCode FEMCeedCoordinates(Ceed, DM dm, PetscFE fe, CeedElemRestriction *, CeedBasis *, CeedVector *);
 
 /* The geometry at fe's quadrature points of every cell, for the operators' pointwise
-   functions (qfunctions_geometry.h): [w |det A|, A^{-1}], 1 + dim^2 values per point.
-   Created when *qdata is NULL, else recomputed in place (after the mesh moved). */
+   functions (qfunctions_geometry.h): [w |det A|, A^{-1}], 1 + dim^2 values per point, in a
+   new restriction and vector. */
 PetscErrorCode FEMCeedGeometry(Ceed, DM dm, PetscFE fe, CeedElemRestriction *r_q, CeedVector *qdata);
-
-/* The same, recomputed only when dm's coordinates changed since the key was taken */
+/* The same kept up to date: created at the first call, recomputed from dm's coordinates
+   only when they changed since (the set-up operator is kept in the key) */
 typedef struct {
-  PetscObjectId    id;
-  PetscObjectState state;
+  PetscObjectId       id;
+  PetscObjectState    state;
+  CeedElemRestriction r_x;
+  CeedBasis           b_x;
+  CeedVector          coordinates;
+  CeedOperator        op;
 } FEMCeedGeometryKey;
 PetscErrorCode FEMCeedGeometryFollow(Ceed, DM dm, PetscFE fe, FEMCeedGeometryKey *, CeedElemRestriction *r_q,
                                      CeedVector *qdata);
+PetscErrorCode FEMCeedGeometryKeyDestroy(Ceed, FEMCeedGeometryKey *);
 
 /* An AIJ matrix of dm's global size for MatSetPreallocationCOO (DMCreateMatrix's would leak
    its variable block sizes there, PETSc 3.18). */

@@ -187,6 +187,7 @@ PetscErrorCode FEMCeedElasticityDestroy(FEMCeedElasticity *elasticity)
   PetscCallCeed(ceed, CeedQFunctionDestroy(&o->qf_jacobian));
   PetscCallCeed(ceed, CeedQFunctionContextDestroy(&o->context));
   PetscCallCeed(ceed, CeedVectorDestroy(&o->qdata));
+  PetscCall(FEMCeedGeometryKeyDestroy(ceed, &o->geometry));
   PetscCallCeed(ceed, CeedVectorDestroy(&o->x));
   PetscCallCeed(ceed, CeedVectorDestroy(&o->f));
   PetscCallCeed(ceed, CeedVectorDestroy(&o->state));

@@ -331,6 +331,7 @@ PetscErrorCode FEMCeedFluidDestroy(FEMCeedFluid *fluid)
   PetscCallCeed(ceed, CeedQFunctionDestroy(&o->qf_residual));
   PetscCallCeed(ceed, CeedQFunctionContextDestroy(&o->context));
   PetscCallCeed(ceed, CeedVectorDestroy(&o->qdata));
+  PetscCall(FEMCeedGeometryKeyDestroy(ceed, &o->geometry));
   PetscCallCeed(ceed, CeedVectorDestroy(&o->x));
   PetscCallCeed(ceed, CeedVectorDestroy(&o->f));
   PetscCallCeed(ceed, CeedVectorDestroy(&o->state));

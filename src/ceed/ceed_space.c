@@ -151,14 +151,12 @@ CEED_QFUNCTION(SetupGeometry)(void *ctx, CeedInt Q, const CeedScalar *const *in,
   return 0;
 }
 
-PetscErrorCode FEMCeedGeometry(Ceed ceed, DM dm, PetscFE fe, CeedElemRestriction *r_q, CeedVector *qdata)
+/* the operator from the coordinates to qdata, and the CeedVector of the coordinates it reads */
+static PetscErrorCode GeometryOperator(Ceed ceed, DM dm, PetscFE fe, FEMCeedGeometryKey *g, CeedElemRestriction *r_q,
+                                       CeedVector *qdata)
 {
-  CeedElemRestriction  r_x;
-  CeedBasis            b_x;
-  CeedVector           coordinates;
   CeedQFunction        qf;
   CeedQFunctionContext context;
-  CeedOperator         op;
   CeedInt              ncells, nq, dim;
   PetscInt             cdim;
 
@@ -166,14 +164,12 @@ PetscErrorCode FEMCeedGeometry(Ceed ceed, DM dm, PetscFE fe, CeedElemRestriction
   PetscCall(DMGetDimension(dm, &cdim));
   dim                 = (CeedInt)cdim;
   const CeedInt qsize = 1 + dim * dim;
-  PetscCall(FEMCeedCoordinates(ceed, dm, fe, &r_x, &b_x, &coordinates));
-  PetscCallCeed(ceed, CeedElemRestrictionGetNumElements(r_x, &ncells));
-  PetscCallCeed(ceed, CeedBasisGetNumQuadraturePoints(b_x, &nq));
-  if (!*qdata) {
-    PetscCallCeed(ceed, CeedElemRestrictionCreateStrided(ceed, ncells, nq, qsize, (CeedSize)ncells * nq * qsize,
-                                                         CEED_STRIDES_BACKEND, r_q));
-    PetscCallCeed(ceed, CeedVectorCreate(ceed, (CeedSize)ncells * nq * qsize, qdata));
-  }
+  PetscCall(FEMCeedCoordinates(ceed, dm, fe, &g->r_x, &g->b_x, &g->coordinates));
+  PetscCallCeed(ceed, CeedElemRestrictionGetNumElements(g->r_x, &ncells));
+  PetscCallCeed(ceed, CeedBasisGetNumQuadraturePoints(g->b_x, &nq));
+  PetscCallCeed(ceed, CeedElemRestrictionCreateStrided(ceed, ncells, nq, qsize, (CeedSize)ncells * nq * qsize,
+                                                       CEED_STRIDES_BACKEND, r_q));
+  PetscCallCeed(ceed, CeedVectorCreate(ceed, (CeedSize)ncells * nq * qsize, qdata));
   PetscCallCeed(ceed, CeedQFunctionContextCreate(ceed, &context));
   PetscCallCeed(ceed, CeedQFunctionContextSetData(context, CEED_MEM_HOST, CEED_COPY_VALUES, sizeof(dim), &dim));
   PetscCallCeed(ceed, CeedQFunctionCreateInterior(ceed, 1, SetupGeometry, SetupGeometry_loc, &qf));
@@ -181,21 +177,26 @@ PetscErrorCode FEMCeedGeometry(Ceed ceed, DM dm, PetscFE fe, CeedElemRestriction
   PetscCallCeed(ceed, CeedQFunctionAddInput(qf, "weight", 1, CEED_EVAL_WEIGHT));
   PetscCallCeed(ceed, CeedQFunctionAddOutput(qf, "qdata", qsize, CEED_EVAL_NONE));
   PetscCallCeed(ceed, CeedQFunctionSetContext(qf, context));
-  PetscCallCeed(ceed, CeedOperatorCreate(ceed, qf, NULL, NULL, &op));
-  PetscCallCeed(ceed, CeedOperatorSetField(op, "dx", r_x, b_x, CEED_VECTOR_ACTIVE));
-  PetscCallCeed(ceed, CeedOperatorSetField(op, "weight", CEED_ELEMRESTRICTION_NONE, b_x, CEED_VECTOR_NONE));
-  PetscCallCeed(ceed, CeedOperatorSetField(op, "qdata", *r_q, CEED_BASIS_NONE, CEED_VECTOR_ACTIVE));
-  PetscCallCeed(ceed, CeedOperatorApply(op, coordinates, *qdata, CEED_REQUEST_IMMEDIATE));
-  PetscCallCeed(ceed, CeedOperatorDestroy(&op));
+  PetscCallCeed(ceed, CeedOperatorCreate(ceed, qf, NULL, NULL, &g->op));
+  PetscCallCeed(ceed, CeedOperatorSetField(g->op, "dx", g->r_x, g->b_x, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(g->op, "weight", CEED_ELEMRESTRICTION_NONE, g->b_x, CEED_VECTOR_NONE));
+  PetscCallCeed(ceed, CeedOperatorSetField(g->op, "qdata", *r_q, CEED_BASIS_NONE, CEED_VECTOR_ACTIVE));
   PetscCallCeed(ceed, CeedQFunctionDestroy(&qf));
   PetscCallCeed(ceed, CeedQFunctionContextDestroy(&context));
-  PetscCallCeed(ceed, CeedVectorDestroy(&coordinates));
-  PetscCallCeed(ceed, CeedBasisDestroy(&b_x));
-  PetscCallCeed(ceed, CeedElemRestrictionDestroy(&r_x));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FEMCeedGeometryFollow(Ceed ceed, DM dm, PetscFE fe, FEMCeedGeometryKey *key, CeedElemRestriction *r_q,
+PetscErrorCode FEMCeedGeometry(Ceed ceed, DM dm, PetscFE fe, CeedElemRestriction *r_q, CeedVector *qdata)
+{
+  FEMCeedGeometryKey g = {0};
+
+  PetscFunctionBeginUser;
+  PetscCall(FEMCeedGeometryFollow(ceed, dm, fe, &g, r_q, qdata));
+  PetscCall(FEMCeedGeometryKeyDestroy(ceed, &g));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMCeedGeometryFollow(Ceed ceed, DM dm, PetscFE fe, FEMCeedGeometryKey *g, CeedElemRestriction *r_q,
                                      CeedVector *qdata)
 {
   Vec              coordinates;
@@ -206,9 +207,21 @@ PetscErrorCode FEMCeedGeometryFollow(Ceed ceed, DM dm, PetscFE fe, FEMCeedGeomet
   PetscCall(DMGetCoordinatesLocal(dm, &coordinates));
   PetscCall(PetscObjectGetId((PetscObject)coordinates, &id));
   PetscCall(PetscObjectStateGet((PetscObject)coordinates, &state));
-  if (*qdata && id == key->id && state == key->state) PetscFunctionReturn(0);
-  PetscCall(FEMCeedGeometry(ceed, dm, fe, r_q, qdata));
-  key->id    = id;
-  key->state = state;
+  if (g->op && id == g->id && state == g->state) PetscFunctionReturn(0);
+  if (!g->op) PetscCall(GeometryOperator(ceed, dm, fe, g, r_q, qdata));
+  else PetscCall(FEMCeedVectorCopyFrom(ceed, g->coordinates, coordinates));
+  PetscCallCeed(ceed, CeedOperatorApply(g->op, g->coordinates, *qdata, CEED_REQUEST_IMMEDIATE));
+  g->id    = id;
+  g->state = state;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMCeedGeometryKeyDestroy(Ceed ceed, FEMCeedGeometryKey *g)
+{
+  PetscFunctionBeginUser;
+  PetscCallCeed(ceed, CeedOperatorDestroy(&g->op));
+  PetscCallCeed(ceed, CeedVectorDestroy(&g->coordinates));
+  PetscCallCeed(ceed, CeedBasisDestroy(&g->b_x));
+  PetscCallCeed(ceed, CeedElemRestrictionDestroy(&g->r_x));
   PetscFunctionReturn(0);
 }
