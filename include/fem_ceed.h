@@ -57,6 +57,14 @@ PetscErrorCode FEMCeedGeometryFollow(Ceed, DM dm, PetscFE fe, FEMCeedGeometryKey
                                      CeedVector *qdata);
 PetscErrorCode FEMCeedGeometryKeyDestroy(Ceed, FEMCeedGeometryKey *);
 
+/* A restriction of `size` values at each quadrature point of the cells of `cells` (points
+   fastest, then components, then cells: the layout a caller may write), and a zeroed vector
+   of it when values is not NULL */
+PetscErrorCode FEMCeedPointRestriction(Ceed, CeedElemRestriction cells, CeedBasis basis, CeedInt size,
+                                       CeedElemRestriction *points, CeedVector *values);
+/* n zeroed CeedVectors of dm's local size */
+PetscErrorCode FEMCeedLocalVectors(Ceed, DM dm, PetscInt n, CeedVector *vectors[]);
+
 /* An AIJ matrix of dm's global size for MatSetPreallocationCOO (DMCreateMatrix's would leak
    its variable block sizes there, PETSc 3.18). */
 PetscErrorCode FEMCeedCreateCOOMatrix(DM dm, Mat *);

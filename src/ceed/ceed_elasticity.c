@@ -60,9 +60,7 @@ static PetscErrorCode OperatorsCreate(FEMCeedElasticity o)
 PetscErrorCode FEMCeedElasticityCreate(DM dm, PetscBool svk, PetscBool weighted, FEMCeedElasticity *elasticity)
 {
   FEMCeedElasticity o;
-  PetscInt          dim, n;
-  CeedInt           ncells, nq;
-  Vec               local;
+  PetscInt          dim;
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&o));
@@ -80,20 +78,11 @@ PetscErrorCode FEMCeedElasticityCreate(DM dm, PetscBool svk, PetscBool weighted,
   PetscCallCeed(ceed, CeedQFunctionContextCreate(ceed, &o->context));
   PetscCallCeed(ceed,
                 CeedQFunctionContextSetData(o->context, CEED_MEM_HOST, CEED_COPY_VALUES, sizeof(o->form), &o->form));
-  PetscCall(DMGetLocalVector(dm, &local));
-  PetscCall(VecGetLocalSize(local, &n));
-  PetscCall(DMRestoreLocalVector(dm, &local));
-  PetscCallCeed(ceed, CeedVectorCreate(ceed, n, &o->x));
-  PetscCallCeed(ceed, CeedVectorCreate(ceed, n, &o->f));
-  PetscCallCeed(ceed, CeedVectorCreate(ceed, n, &o->state));
-  PetscCallCeed(ceed, CeedVectorSetValue(o->state, 0.0));
-  PetscCallCeed(ceed, CeedElemRestrictionGetNumElements(o->r_u, &ncells));
-  PetscCallCeed(ceed, CeedBasisGetNumQuadraturePoints(o->b_u, &nq));
   {
-    const CeedInt strides[3] = {1, nq, nq}; /* point, component, cell: the layout SetWeights writes */
-    PetscCallCeed(ceed, CeedElemRestrictionCreateStrided(ceed, ncells, nq, 1, (CeedSize)ncells * nq, strides, &o->r_w));
+    CeedVector *vectors[] = {&o->x, &o->f, &o->state};
+    PetscCall(FEMCeedLocalVectors(ceed, dm, 3, vectors));
   }
-  PetscCallCeed(ceed, CeedVectorCreate(ceed, (CeedSize)ncells * nq, &o->weight));
+  PetscCall(FEMCeedPointRestriction(ceed, o->r_u, o->b_u, 1, &o->r_w, &o->weight));
   PetscCallCeed(ceed, CeedVectorSetValue(o->weight, 1.0));
   PetscCall(OperatorsCreate(o));
   *elasticity = o;

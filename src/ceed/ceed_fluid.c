@@ -143,19 +143,13 @@ static PetscErrorCode MassCreate(FEMCeedFluid o)
 {
   Ceed          ceed = o->ceed;
   const CeedInt dim  = o->volume.dim;
-  CeedInt       ncells, nq;
 
   PetscFunctionBeginUser;
   PetscCall(FEMCeedCoordinates(ceed, o->dm, o->velocity_fe, &o->r_x, &o->b_x, &o->coordinates));
-  PetscCallCeed(ceed, CeedElemRestrictionGetNumElements(o->r_u, &ncells));
-  PetscCallCeed(ceed, CeedBasisGetNumQuadraturePoints(o->b_u, &nq));
-  PetscCallCeed(ceed, CeedElemRestrictionCreateStrided(ceed, ncells, nq, 1, (CeedSize)ncells * nq, CEED_STRIDES_BACKEND,
-                                                       &o->r_w));
-  for (PetscInt k = 0; k < 2; ++k) {
-    PetscCallCeed(ceed, CeedVectorCreate(ceed, (CeedSize)ncells * nq, &o->domain_weight[k]));
-    PetscCallCeed(ceed, CeedVectorSetValue(o->domain_weight[k], 0.0));
-  }
-  PetscCallCeed(ceed, CeedVectorCreate(ceed, (CeedSize)ncells * nq, &o->mass_weight));
+  PetscCall(FEMCeedPointRestriction(ceed, o->r_u, o->b_u, 1, &o->r_w, &o->domain_weight[0]));
+  PetscCallCeed(ceed, CeedElemRestrictionCreateVector(o->r_w, &o->domain_weight[1], NULL));
+  PetscCallCeed(ceed, CeedElemRestrictionCreateVector(o->r_w, &o->mass_weight, NULL));
+  PetscCallCeed(ceed, CeedVectorSetValue(o->domain_weight[1], 0.0));
   PetscCallCeed(ceed, CeedVectorSetValue(o->mass_weight, 0.0));
   PetscCallCeed(ceed, CeedQFunctionCreateInterior(ceed, 1, FluidDomainWeight, FluidDomainWeight_loc, &o->qf_domain));
   PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_domain, "dx", dim * dim, CEED_EVAL_GRAD));
@@ -251,8 +245,7 @@ PetscErrorCode FEMCeedFluidCreate(DM dm, DM dm_mesh_velocity, const PetscScalar 
   FEMCeedFluid o;
   PetscFE      pressure;
   CeedInt      nq, nq_p;
-  PetscInt     dim, n;
-  Vec          local;
+  PetscInt     dim;
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&o));
@@ -287,13 +280,10 @@ PetscErrorCode FEMCeedFluidCreate(DM dm, DM dm_mesh_velocity, const PetscScalar 
   PetscCallCeed(ceed, CeedQFunctionContextSetData(o->context, CEED_MEM_HOST, CEED_COPY_VALUES, sizeof(o->volume),
                                                   &o->volume));
   PetscCall(FEMCeedFluidSetConstants(o, constants));
-  PetscCall(DMGetLocalVector(dm, &local));
-  PetscCall(VecGetLocalSize(local, &n));
-  PetscCall(DMRestoreLocalVector(dm, &local));
-  PetscCallCeed(ceed, CeedVectorCreate(ceed, n, &o->x));
-  PetscCallCeed(ceed, CeedVectorCreate(ceed, n, &o->f));
-  PetscCallCeed(ceed, CeedVectorCreate(ceed, n, &o->state));
-  PetscCallCeed(ceed, CeedVectorSetValue(o->state, 0.0));
+  {
+    CeedVector *vectors[] = {&o->x, &o->f, &o->state};
+    PetscCall(FEMCeedLocalVectors(ceed, dm, 3, vectors));
+  }
   if (dm_mesh_velocity) PetscCall(MassCreate(o));
   PetscCall(ResidualCreate(o));
   PetscCall(JacobianCreate(o));

@@ -225,3 +225,37 @@ PetscErrorCode FEMCeedGeometryKeyDestroy(Ceed ceed, FEMCeedGeometryKey *g)
   PetscCallCeed(ceed, CeedElemRestrictionDestroy(&g->r_x));
   PetscFunctionReturn(0);
 }
+
+PetscErrorCode FEMCeedPointRestriction(Ceed ceed, CeedElemRestriction cells, CeedBasis basis, CeedInt size,
+                                       CeedElemRestriction *points, CeedVector *values)
+{
+  CeedInt ncells, nq;
+
+  PetscFunctionBeginUser;
+  PetscCallCeed(ceed, CeedElemRestrictionGetNumElements(cells, &ncells));
+  PetscCallCeed(ceed, CeedBasisGetNumQuadraturePoints(basis, &nq));
+  const CeedInt strides[3] = {1, nq, nq * size}; /* point, component, cell */
+  PetscCallCeed(ceed, CeedElemRestrictionCreateStrided(ceed, ncells, nq, size, (CeedSize)ncells * nq * size, strides,
+                                                       points));
+  if (values) {
+    PetscCallCeed(ceed, CeedVectorCreate(ceed, (CeedSize)ncells * nq * size, values));
+    PetscCallCeed(ceed, CeedVectorSetValue(*values, 0.0));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMCeedLocalVectors(Ceed ceed, DM dm, PetscInt n, CeedVector *vectors[])
+{
+  Vec      local;
+  PetscInt size;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetLocalVector(dm, &local));
+  PetscCall(VecGetLocalSize(local, &size));
+  PetscCall(DMRestoreLocalVector(dm, &local));
+  for (PetscInt i = 0; i < n; ++i) {
+    PetscCallCeed(ceed, CeedVectorCreate(ceed, size, vectors[i]));
+    PetscCallCeed(ceed, CeedVectorSetValue(*vectors[i], 0.0));
+  }
+  PetscFunctionReturn(0);
+}
