@@ -197,11 +197,11 @@ PetscErrorCode FluidBackendSetUp(Fluid f)
   PetscCall(DMGetDS(f->dm, &ds));
   PetscCall(PetscDSGetConstants(ds, &n, &constants));
   PetscCall(FEMCeedFluidCreate(f->dm, f->moving ? f->dm_aux : NULL, constants, &f->ceed));
-  PetscCall(FEMCeedFluidCreateMatrix(f->ceed, &f->ceed_jacobian));
   PetscCall(FEMLoadsCreate(f->dm, f->data.load_value_kernel, f->data.load_stress_kernel, f->moving ? f->z_local : NULL,
                            &f->dm_loads));
   if (backend != FEM_BACKEND_CEED) PetscFunctionReturn(0); /* built for the check only */
   f->backend_ceed = PETSC_TRUE;
+  PetscCall(FEMCeedFluidCreateMatrix(f->ceed, &f->ceed_jacobian));
   PetscCall(SNESSetJacobian(f->snes, f->ceed_jacobian, f->ceed_jacobian, NULL, NULL));
   /* the callbacks FluidALESetUp installs on a moving mesh; on a fixed one they replace DMPlex's */
   PetscCall(SNESSetFunction(f->snes, NULL, FluidSNESResidual, f));
