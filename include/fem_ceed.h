@@ -23,8 +23,7 @@ typedef enum {
   FEM_BACKEND_PETSC,
   FEM_BACKEND_CEED
 } FEMBackend;
-extern const char *const FEMBackends[];
-PetscErrorCode           FEMBackendGet(FEMBackend *, PetscBool *check);
+PetscErrorCode FEMBackendGet(FEMBackend *, PetscBool *check);
 
 /* The run's Ceed, of the backend -ceed (default /cpu/self/opt/blocked); made on first use. */
 PetscErrorCode FEMCeedGet(Ceed *);

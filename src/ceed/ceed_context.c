@@ -2,7 +2,7 @@
    the libCEED backend the user chose, destroyed at PetscFinalize. */
 #include "fem_ceed.h"
 
-const char *const FEMBackends[] = {"petsc", "ceed", "FEMBackend", "FEM_BACKEND_", NULL};
+static const char *const FEMBackends[] = {"petsc", "ceed", "FEMBackend", "FEM_BACKEND_", NULL};
 
 static struct {
   PetscBool  read;

@@ -224,13 +224,6 @@ PetscErrorCode FEMCeedFluidSetConstants(FEMCeedFluid o, const PetscScalar consta
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode GeometryUpdate(FEMCeedFluid o)
-{
-  PetscFunctionBeginUser;
-  PetscCall(FEMCeedGeometryFollow(o->ceed, o->dm, o->velocity_fe, &o->geometry, &o->r_q, &o->qdata));
-  PetscFunctionReturn(0);
-}
-
 static PetscErrorCode MeshVelocitySet(FEMCeedFluid o, Vec z)
 {
   PetscFunctionBeginUser;
@@ -259,7 +252,7 @@ PetscErrorCode FEMCeedFluidCreate(DM dm, DM dm_mesh_velocity, const PetscScalar 
   PetscCall(FEMCeedRestriction(ceed, dm, 1, &o->r_p));
   PetscCall(FEMCeedBasis(ceed, dm, o->velocity_fe, &o->b_u));
   PetscCall(FEMCeedBasis(ceed, dm, pressure, &o->b_p));
-  PetscCall(GeometryUpdate(o));
+  PetscCall(FEMCeedGeometryFollow(o->ceed, o->dm, o->velocity_fe, &o->geometry, &o->r_q, &o->qdata));
   PetscCallCeed(ceed, CeedBasisGetNumQuadraturePoints(o->b_u, &nq));
   PetscCallCeed(ceed, CeedBasisGetNumQuadraturePoints(o->b_p, &nq_p));
   PetscCheck(nq == nq_p, PETSC_COMM_SELF, PETSC_ERR_SUP, "libCEED fluid: velocity and pressure need one quadrature");
@@ -349,7 +342,7 @@ PetscErrorCode FEMCeedFluidResidual(FEMCeedFluid o, Vec xlocal, Vec zlocal, Pets
   PetscCallCeed(o->ceed, CeedQFunctionContextGetData(o->context, CEED_MEM_HOST, &fv));
   fv->old_mass = old_mass ? 1 : 0;
   PetscCallCeed(o->ceed, CeedQFunctionContextRestoreData(o->context, &fv));
-  PetscCall(GeometryUpdate(o));
+  PetscCall(FEMCeedGeometryFollow(o->ceed, o->dm, o->velocity_fe, &o->geometry, &o->r_q, &o->qdata));
   PetscCall(MeshVelocitySet(o, zlocal));
   PetscCall(FEMCeedApply(o->ceed, o->op_residual, o->op_stabilization, o->x, o->f, xlocal, flocal));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CEED_RESIDUAL, 0, 0, 0, 0));
@@ -374,7 +367,7 @@ PetscErrorCode FEMCeedFluidJacobian(FEMCeedFluid o, Vec xlocal, Vec zlocal, Pets
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CEED_JACOBIAN, 0, 0, 0, 0));
-  PetscCall(GeometryUpdate(o));
+  PetscCall(FEMCeedGeometryFollow(o->ceed, o->dm, o->velocity_fe, &o->geometry, &o->r_q, &o->qdata));
   PetscCall(MeshVelocitySet(o, zlocal));
   PetscCall(FEMCeedVectorCopyFrom(o->ceed, o->state, xlocal));
   PetscCall(FEMCeedAssemble(o->ceed, 5, blocks, o->counts, A));
