@@ -19,7 +19,7 @@ CFLAGS  ?= -O2 -g
 # petscviewerhdf5.h includes hdf5.h, which Debian keeps under the MPI flavour's directory
 # FSIOPT_ROOT: where a scene finds its default meshes when run from another directory
 CFLAGS  += -Wall -Wextra -std=c11 -D_POSIX_C_SOURCE=200809L -DFSIOPT_ROOT='"$(CURDIR)"' -Iinclude -Isrc/scenes $(shell pkg-config --cflags PETSc 2>/dev/null) $(shell pkg-config --cflags hdf5-openmpi 2>/dev/null) $(shell $(CEED_PC) --cflags ceed 2>/dev/null)
-LDLIBS  += $(shell pkg-config --libs PETSc 2>/dev/null) $(shell pkg-config --libs hdf5-openmpi 2>/dev/null) $(shell $(CEED_PC) --libs ceed 2>/dev/null) -Wl,-rpath,$(CEED_DIR)/lib -lyaml -lm
+LDLIBS  += $(shell pkg-config --libs PETSc 2>/dev/null) $(shell pkg-config --libs hdf5-openmpi 2>/dev/null) $(shell $(CEED_PC) --libs ceed 2>/dev/null) -Wl,-rpath,$(CEED_DIR)/lib -lblas -lyaml -lm
 
 SRC  := $(wildcard src/*.c src/*/*.c)
 OBJ  := $(SRC:%.c=build/%.o) build/known_options.o build/version.o

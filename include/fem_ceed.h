@@ -68,6 +68,11 @@ PetscErrorCode FEMCeedLocalVectors(Ceed, DM dm, PetscInt n, CeedVector *vectors[
    its variable block sizes there, PETSc 3.18). */
 PetscErrorCode FEMCeedCreateCOOMatrix(DM dm, Mat *);
 
+/* An operator's element matrices (ceed_element_matrices.c): the pattern, local rows and
+   columns of every entry (PetscFree2 them), and the values in the same order */
+PetscErrorCode FEMCeedElementPattern(Ceed, CeedOperator, CeedSize *count, CeedInt **rows, CeedInt **cols);
+PetscErrorCode FEMCeedElementMatrices(Ceed, CeedOperator, CeedScalar *values);
+
 /* COO assembly of n operators (NULL ones skipped: absent blocks) into A: the pattern once
    (counts[b]: the entries of ops[b]), then the values per assembly; a block of the pattern
    whose operator is NULL in an assembly gets zeros. */
@@ -135,6 +140,12 @@ PetscErrorCode FEMCeedFluidResidual(FEMCeedFluid, Vec xlocal, Vec zlocal, PetscB
 /* A matrix of dm's global rows with the Jacobian's COO pattern, and the Jacobian at xlocal into it */
 PetscErrorCode FEMCeedFluidCreateMatrix(FEMCeedFluid, Mat *);
 PetscErrorCode FEMCeedFluidJacobian(FEMCeedFluid, Vec xlocal, Vec zlocal, PetscBool old_mass, Mat);
+/* The volume Jacobian without a matrix: SetUp fixes its state (and mesh velocity, old-domain
+   mass) as FEMCeedFluidJacobian's arguments do, and the present geometry and old-domain
+   weights; Apply gives ylocal = J xlocal (or J^T xlocal), the matrix FEMCeedFluidJacobian
+   would have assembled at SetUp */
+PetscErrorCode FEMCeedFluidJacobianApplySetUp(FEMCeedFluid, Vec xlocal, Vec zlocal, PetscBool old_mass);
+PetscErrorCode FEMCeedFluidJacobianApply(FEMCeedFluid, PetscBool transpose, Vec xlocal, Vec ylocal);
 /* Moving meshes: the old domains' mass on the velocity, sum_q m_q phi_i phi_j with weights
    m = a0 w|det A|(domain 0) + a1 w|det A|(domain 1), each domain stored from the present
    coordinates of a DM of the same layout (mesh-bound basis functions: only the weights

@@ -1,18 +1,21 @@
 #!/usr/bin/env python3
-"""What the finite-element operators cost (issue 23): per case, a few time steps of fsiopt
-with -log_view, and from it, per stage (Fluid, Structure, MeshMotion), the calls and
-seconds of PETSc's DMPlex residual and Jacobian integration (events DMPlexResidualFE,
-DMPlexJacobianFE), ms per call and us per unknown and call, their share of the run's wall
-time, and the stage split. Cases: channel2d refine 0-2, tube3d levels 1-2, turek-hron fsi3
-levels 1-2 (from rest), --cases to choose; --steps K time steps each (default 5). Runs go
-one after the other (never two at once: they are timed).
+"""What the finite-element operators cost on each backend (issue 23): per case, a few time
+steps of fsiopt with -log_view on -fem_backend petsc and then on -fem_backend ceed, back to
+back, and from each -log_view the calls and seconds of the fluid's and the structure's
+residuals and Jacobians in the Fluid and Structure stages: PETSc's DMPlex integration
+(events DMPlexResidualFE, DMPlexJacobianFE) against libCEED's whole operator (FluidResidual,
+FluidJacobian, StructResidual, StructJacobian: the volume terms, PETSc's boundary terms,
+loads and the local-to-global sum or COO insertion), ms per call, us per unknown and call,
+and the ratio petsc / ceed; also libCEED's matrix-free Jacobian product (FluidMatFreeMult):
+the libCEED runs solve with GMRES on it, preconditioned by the LU of the assembled matrix. Cases: channel2d refine 0-2, tube3d levels 1-2, turek-hron fsi3
+levels 1-2 (from rest), --cases to choose; --steps K time steps each (default 5). Runs go one
+after the other (never two at once: they are timed).
 
   /usr/bin/python3 scripts/bench_operators.py [--cases channel2d-r0,tube3d-n1] [--steps 5]
 
-Outputs: out/bench-operators/operators.{csv,md}; the runs in out/bench-operators/runs/<case>/
-(re-used while their command line is unchanged; --force to time afresh). These are
-PETSc's integration (-fem_backend petsc, passed explicitly); scripts/bench_backends.py
-times whole runs on both backends."""
+Outputs: out/bench-operators/operators.{csv,md}; the runs in
+out/bench-operators/runs/<case>-<backend>/ (re-used while their command line is unchanged;
+--force to time afresh). scripts/bench_backends.py times whole runs on both backends."""
 import argparse, os, re, sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -21,8 +24,16 @@ import tube3d_table as tube  # noqa: E402
 import turek_hron_table as turek  # noqa: E402
 
 OUT = os.path.join(fr.ROOT, "out", "bench-operators")
-EVENTS = ("DMPlexResidualFE", "DMPlexJacobianFE")
-STAGES = ("Setup", "Fluid", "Structure", "MeshMotion", "Sensitivity", "Adjoint")
+BACKENDS = ("petsc", "ceed")
+# (row, stage, unknowns, PETSc's event, libCEED's event)
+OPERATORS = (("fluid residual", "Fluid", "fluid_dofs", "DMPlexResidualFE", "FluidResidual"),
+             ("fluid Jacobian", "Fluid", "fluid_dofs", "DMPlexJacobianFE", "FluidJacobian"),
+             ("structure residual", "Structure", "structure_dofs", "DMPlexResidualFE", "StructResidual"),
+             ("structure Jacobian", "Structure", "structure_dofs", "DMPlexJacobianFE", "StructJacobian"))
+EVENTS = {e for op in OPERATORS for e in op[3:]} | {"FluidMatFreeMult"}
+# the same systems solved (GMRES preconditioned by the LU, to round-off), the matrix-free
+# products timed
+MATFREE = ["-fluid_matfree", "-fluid_ksp_type", "gmres", "-fluid_ksp_rtol", "1e-14"]
 CASES = ["channel2d-r0", "channel2d-r1", "channel2d-r2", "tube3d-n1", "tube3d-n2", "turek-fsi3-n1", "turek-fsi3-n2"]
 
 
@@ -63,6 +74,12 @@ def num(x):
     return "%.3g" % x
 
 
+def per_call(events, stage, event):
+    """(calls, ms per call) of an event in a stage, or None"""
+    count, seconds = events.get(stage, {}).get(event, (0, 0.0))
+    return (count, 1e3 * seconds / count) if count else None
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--cases", default=",".join(CASES))
@@ -72,42 +89,48 @@ def main():
     args = ap.parse_args()
     cases = [c for c in args.cases.split(",") if c]
     mesh_dir = os.path.join(fr.ROOT, "out", "meshes")
-    runs = []
+    runs = {}
     for case in cases:
-        options = case_options(case, args.steps, mesh_dir) + ["-fem_backend", "petsc", "-log_view"]
-        runs.append(fr.Variant(case, case, options, outputs=fr.OUTPUTS + ("stdout.log",)))
-    fr.run_all(runs, args.bin, os.path.join(OUT, "runs"), jobs=1, force=args.force)
-    rows, md = [], ["# Finite-element operators: PETSc's integration (issue 23 baseline)", "",
-                    "`%s`, one run at a time, %d steps each." % (" ".join(["/usr/bin/python3", "scripts/bench_operators.py"] + sys.argv[1:]), args.steps),
-                    "", "| case | unknowns fluid / structure | stage | residuals | ms per residual | us per unknown | "
-                    "Jacobians | ms per Jacobian | us per unknown | share of the run |", "|" + "---|" * 10]
+        for backend in BACKENDS:
+            options = case_options(case, args.steps, mesh_dir) + ["-fem_backend", backend, "-log_view"]
+            if backend == "ceed":  # GMRES on the matrix-free Jacobian: its products are timed too
+                options += MATFREE
+            runs[case, backend] = fr.Variant("%s-%s" % (case, backend), case, options,
+                                             outputs=fr.OUTPUTS + ("stdout.log",))
+    fr.run_all(list(runs.values()), args.bin, os.path.join(OUT, "runs"), jobs=1, force=args.force)
+    rows, md = [], ["# Finite-element operators on both backends (issue 23)", "",
+                    "`%s`, one run at a time, %d steps each; ms per call, and us per unknown and call." % (
+                        " ".join(["/usr/bin/python3", "scripts/bench_operators.py"] + sys.argv[1:]), args.steps),
+                    "", "| case | unknowns | operator | calls petsc, ceed | petsc ms | ceed ms | petsc us/unknown | "
+                    "ceed us/unknown | ratio petsc / ceed |", "|" + "---|" * 9]
     failed = []
-    for r in runs:
-        if not r.summary:
-            failed.append((r.name, r))
+    for case in cases:
+        pair = [runs[case, b] for b in BACKENDS]
+        for r in pair:
+            if not r.summary:
+                failed.append((r.name, r))
+        if any(not r.summary for r in pair):
             continue
-        text = open(os.path.join(r.run_dir, "stdout.log")).read()
-        events, wall = parse_events(text), r.summary.get("wall_time_s") or float("nan")
-        unknowns = {"Fluid": r.summary["fluid_dofs"], "Sensitivity": r.summary["fluid_dofs"],
-                    "Adjoint": r.summary["fluid_dofs"], "Structure": r.summary["structure_dofs"]}
-        for stage in STAGES:
-            got = events.get(stage, {})
-            if not got:
+        events = {b: parse_events(open(os.path.join(runs[case, b].run_dir, "stdout.log")).read()) for b in BACKENDS}
+        summary = pair[0].summary
+        for name, stage, unknowns_key, petsc_event, ceed_event in OPERATORS + (
+                ("fluid Jacobian product (matrix-free)", "Fluid", "fluid_dofs", None, "FluidMatFreeMult"),):
+            n = summary[unknowns_key]
+            p = per_call(events["petsc"], stage, petsc_event) if petsc_event else None
+            c = per_call(events["ceed"], stage, ceed_event)
+            if not p and not c:
                 continue
-            nres, tres = got.get("DMPlexResidualFE", (0, 0.0))
-            njac, tjac = got.get("DMPlexJacobianFE", (0, 0.0))
-            n = unknowns.get(stage)
-            row = {"case": r.name, "fluid_dofs": r.summary["fluid_dofs"], "structure_dofs": r.summary["structure_dofs"],
-                   "stage": stage, "residuals": nres, "residual_ms": 1e3 * tres / nres if nres else float("nan"),
-                   "residual_us_per_unknown": 1e6 * tres / nres / n if nres and n else float("nan"),
-                   "jacobians": njac, "jacobian_ms": 1e3 * tjac / njac if njac else float("nan"),
-                   "jacobian_us_per_unknown": 1e6 * tjac / njac / n if njac and n else float("nan"),
-                   "share": (tres + tjac) / wall, "wall_s": wall}
+            nan = float("nan")
+            row = {"case": case, "unknowns": n, "operator": name, "petsc_calls": p[0] if p else 0,
+                   "ceed_calls": c[0] if c else 0, "petsc_ms": p[1] if p else nan, "ceed_ms": c[1] if c else nan}
+            row["petsc_us_per_unknown"] = 1e3 * row["petsc_ms"] / n
+            row["ceed_us_per_unknown"] = 1e3 * row["ceed_ms"] / n
+            row["ratio"] = row["petsc_ms"] / row["ceed_ms"]
             rows.append(row)
-            md.append("| %s | %d / %d | %s | %d | %s | %s | %d | %s | %s | %.0f %% |" % (
-                r.name, row["fluid_dofs"], row["structure_dofs"], stage, nres, num(row["residual_ms"]),
-                num(row["residual_us_per_unknown"]), njac, num(row["jacobian_ms"]),
-                num(row["jacobian_us_per_unknown"]), 100 * row["share"]))
+            md.append("| %s | %d | %s | %d, %d | %s | %s | %s | %s | %s |" % (
+                case, n, name, row["petsc_calls"], row["ceed_calls"], num(row["petsc_ms"]), num(row["ceed_ms"]),
+                num(row["petsc_us_per_unknown"]), num(row["ceed_us_per_unknown"]),
+                "%.1f" % row["ratio"] if p and c else "-"))
     os.makedirs(OUT, exist_ok=True)
     csv_path, md_path = os.path.join(OUT, "operators.csv"), os.path.join(OUT, "operators.md")
     fr.write_csv(csv_path, rows, list(rows[0]) if rows else ["case"])

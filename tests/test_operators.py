@@ -3,8 +3,8 @@ from PETSc's tabulation at PETSc's quadrature and the cells' geometry give libCE
 whose assembled mass and Laplacian equal PETSc's on every finite-element space of a scene:
 quadrilaterals, triangles and hexahedra, Q1, Q2, P1, P2, on one and two ranks, on each
 backend that runs here (opt/blocked, ref/serial)."""
-import re
-from harness import CHANNEL, TUREK, out_dir, run, test
+import os, re
+from harness import CHANNEL, SHORT, TUREK, out_dir, printed, probes_difference, read_probes, run, test
 
 CHECK = re.compile(r"fsiopt: libCEED check: (\w+) field (\d+) \((\w+), (\d) components, (\dD \w+) cells\): "
                    r"mass ([0-9.e+-]+), Laplacian ([0-9.e+-]+)")
@@ -78,3 +78,41 @@ def test_backends_agree():
         assert max(values or [0]) <= 1e-12, "%s: %s relative to PETSc" % (" ".join(args), max(values))
         worst, checks = max([worst] + values), checks + len(values)
     return "%d residuals, Jacobians and operators on %d set-ups, worst %.1e relative to PETSc's" % (checks, len(cases), worst)
+
+
+MATFREE = re.compile(r"fsiopt: backend check: step (\d+): fluid matrix-free Jacobian product ([0-9.e+-]+) \(the solver's "
+                     r"state\) ([0-9.e+-]+) \(a random state\), transposed ([0-9.e+-]+) ([0-9.e+-]+)")
+KRYLOV = ["-fluid_matfree", "-fluid_ksp_type", "gmres", "-fluid_ksp_rtol", "1e-14"]
+
+
+@test("libCEED matrix-free fluid Jacobian (-fluid_matfree) = the assembled one to 1e-12, transposed too (moving mesh, BDF2, 3D backflow, (Q1,Q1)); GMRES on it: the LU run's probes to 1e-10, the adjoint identity to 1e-10")
+def test_matfree_jacobian():
+    cases = [CHANNEL + ["-t_final", "3e-4", "-fluid_time_order", "2"],
+             ["-options_file", "options/tube3d.yaml", "-t_final", "2e-4"],
+             ["-options_file", "options/mms-fluid.yaml", "-fluid_velocity_degree", "1", "-fluid_pressure_stabilization", "0.1"]]
+    worst, checks = 0.0, 0
+    for args in cases:
+        rc, stdout, err, _ = run(args + KRYLOV + ["-fem_backend_check"], out=out_dir("matfree"))
+        assert rc == 0, "%s: exit %d: %s" % (" ".join(args), rc, (err or stdout)[-300:])
+        values = [float(v) for l in MATFREE.findall(stdout) for v in l[1:]]
+        assert values, "%s: no matrix-free check line" % " ".join(args)
+        assert max(values) <= 1e-12, "%s: matrix-free against assembled %.2e" % (" ".join(args), max(values))
+        worst, checks = max([worst] + values), checks + len(values)
+    # GMRES on the matrix-free operator, preconditioned by the LU of the assembled one, solves
+    # the same systems as the LU alone: the coupled run gives its probes
+    ten = CHANNEL + ["-t_final", "1e-3"]
+    lu, krylov = out_dir("matfree-lu"), out_dir("matfree-gmres")
+    for args, out in ((ten, lu), (ten + KRYLOV, krylov)):
+        rc, stdout, err, _ = run(args, out=out)
+        assert rc == 0, "%s: exit %d: %s" % (" ".join(args), rc, (err or stdout)[-300:])
+    difference = probes_difference(read_probes(os.path.join(krylov, "probes.csv"))[1],
+                                   read_probes(os.path.join(lu, "probes.csv"))[1])
+    assert difference <= 1e-10, "channel2d 10 steps: matrix-free GMRES probes differ from LU's by %.2e" % difference
+    rc, stdout, err, _ = run(SHORT + KRYLOV + ["-coupling_test_adjoint", "-t_final", "0.51"], out=out_dir("matfree-adjoint"))
+    assert rc == 0, "adjoint: exit %d: %s" % (rc, (err or stdout)[-300:])
+    line = printed(stdout, "adjoint test:")
+    assert len(line) == 1, "no adjoint test line in %s" % stdout[-300:]
+    adjoint = float(line[0].split()[-1])
+    assert adjoint <= 1e-10, "adjoint identity with the matrix-free Jacobian: %.2e" % adjoint
+    return "%d products on %d set-ups, worst %.1e; probes %.1e from LU's; adjoint identity %.1e" % (
+        checks, len(cases), worst, difference, adjoint)

@@ -214,6 +214,7 @@ def test_bad_input_choices():
         ("unknown Turek-Hron case", TUREK + ["-turek_case", "fsi4"], "-turek_case"),
         ("steady fluid on a moving mesh", TUREK + ["-turek_case", "fsi1", "-fluid_steady"], "-fluid_steady"),
         ("unknown mesh motion", CHANNEL + ["-mesh_motion", "biharmonc"], "-mesh_motion. Available options: harmonic elastic biharmonic"),
+        ("matrix-free fluid on PETSc's backend", F + ["-fluid_matfree", "-fem_backend", "petsc"], "-fluid_matfree"),
     ])
 
 

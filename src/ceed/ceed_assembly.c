@@ -35,7 +35,7 @@ PetscErrorCode FEMCeedAssemblySetUp(Ceed ceed, DM dm, PetscInt n, const CeedOper
     CeedInt *r, *c;
     counts[b] = 0;
     if (!ops[b]) continue;
-    PetscCallCeed(ceed, CeedOperatorLinearAssembleSymbolic(ops[b], &counts[b], &r, &c));
+    PetscCall(FEMCeedElementPattern(ceed, ops[b], &counts[b], &r, &c));
     PetscCall(PetscRealloc(sizeof(PetscInt) * (total + counts[b]), &rows));
     PetscCall(PetscRealloc(sizeof(PetscInt) * (total + counts[b]), &cols));
     for (CeedSize i = 0; i < counts[b]; ++i) {
@@ -43,8 +43,7 @@ PetscErrorCode FEMCeedAssemblySetUp(Ceed ceed, DM dm, PetscInt n, const CeedOper
       cols[total + i] = c[i];
     }
     total += counts[b];
-    free(r);
-    free(c);
+    PetscCall(PetscFree2(r, c));
   }
   /* local (L-vector) rows and columns, numbered globally; constrained ones become negative
      and MatSetValuesCOO drops them */
@@ -66,16 +65,8 @@ PetscErrorCode FEMCeedAssemble(Ceed ceed, PetscInt n, const CeedOperator ops[], 
   for (PetscInt b = 0; b < n; ++b) total += counts[b];
   PetscCall(PetscCalloc1(total, &values));
   for (PetscInt b = 0; b < n; ++b) {
-    CeedVector block;
-    if (!ops[b]) { /* a block of the pattern with no values in this assembly: zeros */
-      at += counts[b];
-      continue;
-    }
-    PetscCallCeed(ceed, CeedVectorCreate(ceed, counts[b], &block));
-    PetscCallCeed(ceed, CeedVectorSetArray(block, CEED_MEM_HOST, CEED_USE_POINTER, values + at));
-    PetscCallCeed(ceed, CeedOperatorLinearAssemble(ops[b], block));
-    PetscCallCeed(ceed, CeedVectorTakeArray(block, CEED_MEM_HOST, NULL));
-    PetscCallCeed(ceed, CeedVectorDestroy(&block));
+    /* a block of the pattern with no values in this assembly keeps its zeros */
+    if (ops[b]) PetscCall(FEMCeedElementMatrices(ceed, ops[b], values + at));
     at += counts[b];
   }
   PetscCall(MatSetValuesCOO(A, values, INSERT_VALUES));

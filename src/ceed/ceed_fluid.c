@@ -18,10 +18,15 @@ struct _n_FEMCeedFluid {
   CeedBasis            b_u, b_p, b_z;
   CeedVector           qdata, x, f, state, mesh_velocity;
   CeedQFunctionContext context;
-  CeedQFunction        qf_residual, qf_stabilization, qf_block[4];
+  CeedQFunction        qf_residual, qf_stabilization, qf_block[3], qf_uu_transpose;
   CeedOperator         op_residual, op_stabilization, op_block[4];
-  CeedOperator         op_pressure_pattern; /* without a stabilization: the pressure-pressure block's pattern only */
-  CeedSize             counts[5];
+  /* the matrix-free products of the last Jacobian, made at the first: operators of their own
+     (see MassCreate), the transpose only changing the velocity-velocity block */
+  CeedOperator op_apply[5], op_apply_uu_transpose; /* [4]: the old domains' mass */
+  CeedVector   apply_state, apply_mesh_velocity, apply_qdata, apply_mass_weight;
+  PetscBool    apply_old_mass;
+  CeedOperator op_pressure_pattern; /* without a stabilization: the pressure-pressure block's pattern only */
+  CeedSize     counts[5];
   /* moving meshes: the old domains' mass, weights per point of two domains and their sum */
   CeedElemRestriction r_x, r_w;
   CeedBasis           b_x;
@@ -31,22 +36,25 @@ struct _n_FEMCeedFluid {
   FEMCeedGeometryKey  geometry;                          /* the coordinates qdata is of */
 };
 
-/* -tau (grad p, grad q) on the active pressure: the residual's term or the Jacobian's block */
-static PetscErrorCode StabilizationCreate(FEMCeedFluid o, CeedQFunction *qf, CeedOperator *op)
+/* -tau (grad p, grad q) on the active pressure: the residual's term or the Jacobian's block
+   (one pointwise function for all) */
+static PetscErrorCode StabilizationCreate(FEMCeedFluid o, CeedVector qdata, CeedOperator *op)
 {
   Ceed          ceed = o->ceed;
   const CeedInt dim  = o->volume.dim;
 
   PetscFunctionBeginUser;
-  PetscCallCeed(ceed,
-                CeedQFunctionCreateInterior(ceed, 1, FluidPressureStabilization, FluidPressureStabilization_loc, qf));
-  PetscCallCeed(ceed, CeedQFunctionAddInput(*qf, "dp", dim, CEED_EVAL_GRAD));
-  PetscCallCeed(ceed, CeedQFunctionAddInput(*qf, "qdata", 1 + dim * dim, CEED_EVAL_NONE));
-  PetscCallCeed(ceed, CeedQFunctionAddOutput(*qf, "dq", dim, CEED_EVAL_GRAD));
-  PetscCallCeed(ceed, CeedQFunctionSetContext(*qf, o->context));
-  PetscCallCeed(ceed, CeedOperatorCreate(ceed, *qf, NULL, NULL, op));
+  if (!o->qf_stabilization) {
+    PetscCallCeed(ceed, CeedQFunctionCreateInterior(ceed, 1, FluidPressureStabilization, FluidPressureStabilization_loc,
+                                                    &o->qf_stabilization));
+    PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_stabilization, "dp", dim, CEED_EVAL_GRAD));
+    PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_stabilization, "qdata", 1 + dim * dim, CEED_EVAL_NONE));
+    PetscCallCeed(ceed, CeedQFunctionAddOutput(o->qf_stabilization, "dq", dim, CEED_EVAL_GRAD));
+    PetscCallCeed(ceed, CeedQFunctionSetContext(o->qf_stabilization, o->context));
+  }
+  PetscCallCeed(ceed, CeedOperatorCreate(ceed, o->qf_stabilization, NULL, NULL, op));
   PetscCallCeed(ceed, CeedOperatorSetField(*op, "dp", o->r_p, o->b_p, CEED_VECTOR_ACTIVE));
-  PetscCallCeed(ceed, CeedOperatorSetField(*op, "qdata", o->r_q, CEED_BASIS_NONE, o->qdata));
+  PetscCallCeed(ceed, CeedOperatorSetField(*op, "qdata", o->r_q, CEED_BASIS_NONE, qdata));
   PetscCallCeed(ceed, CeedOperatorSetField(*op, "dq", o->r_p, o->b_p, CEED_VECTOR_ACTIVE));
   PetscFunctionReturn(0);
 }
@@ -83,27 +91,33 @@ static PetscErrorCode ResidualCreate(FEMCeedFluid o)
   PetscCallCeed(ceed, CeedOperatorSetField(o->op_residual, "v", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
   PetscCallCeed(ceed, CeedOperatorSetField(o->op_residual, "dv", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
   PetscCallCeed(ceed, CeedOperatorSetField(o->op_residual, "q", o->r_p, o->b_p, CEED_VECTOR_ACTIVE));
-  if (o->volume.tau > 0) PetscCall(StabilizationCreate(o, &o->qf_stabilization, &o->op_stabilization));
+  if (o->volume.tau > 0) PetscCall(StabilizationCreate(o, o->qdata, &o->op_stabilization));
   PetscFunctionReturn(0);
 }
 
-/* the blocks at the passive state u0 (o->state): velocity-velocity, velocity-pressure,
-   pressure-velocity and, with a stabilization, pressure-pressure */
-static PetscErrorCode JacobianCreate(FEMCeedFluid o)
+/* the pointwise functions of the blocks at the passive state u0 (o->state): velocity-velocity
+   (and its transpose), velocity-pressure, pressure-velocity */
+static PetscErrorCode BlockQFunctionsCreate(FEMCeedFluid o)
 {
   Ceed          ceed = o->ceed;
   const CeedInt dim = o->volume.dim, qsize = 1 + dim * dim;
 
   PetscFunctionBeginUser;
-  PetscCallCeed(ceed, CeedQFunctionCreateInterior(ceed, 1, FluidJacobianUU, FluidJacobianUU_loc, &o->qf_block[0]));
-  PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_block[0], "w", dim, CEED_EVAL_INTERP));
-  PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_block[0], "dw", dim * dim, CEED_EVAL_GRAD));
-  PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_block[0], "u0", dim, CEED_EVAL_INTERP));
-  PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_block[0], "du0", dim * dim, CEED_EVAL_GRAD));
-  PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_block[0], "qdata", qsize, CEED_EVAL_NONE));
-  if (o->volume.moving) PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_block[0], "z", dim, CEED_EVAL_INTERP));
-  PetscCallCeed(ceed, CeedQFunctionAddOutput(o->qf_block[0], "v", dim, CEED_EVAL_INTERP));
-  PetscCallCeed(ceed, CeedQFunctionAddOutput(o->qf_block[0], "dv", dim * dim, CEED_EVAL_GRAD));
+  for (PetscInt t = 0; t < 2; ++t) {
+    CeedQFunction *qf = t ? &o->qf_uu_transpose : &o->qf_block[0];
+    PetscCallCeed(ceed,
+                  t ? CeedQFunctionCreateInterior(ceed, 1, FluidJacobianUUTranspose, FluidJacobianUUTranspose_loc, qf)
+                    : CeedQFunctionCreateInterior(ceed, 1, FluidJacobianUU, FluidJacobianUU_loc, qf));
+    PetscCallCeed(ceed, CeedQFunctionAddInput(*qf, "w", dim, CEED_EVAL_INTERP));
+    PetscCallCeed(ceed, CeedQFunctionAddInput(*qf, "dw", dim * dim, CEED_EVAL_GRAD));
+    PetscCallCeed(ceed, CeedQFunctionAddInput(*qf, "u0", dim, CEED_EVAL_INTERP));
+    PetscCallCeed(ceed, CeedQFunctionAddInput(*qf, "du0", dim * dim, CEED_EVAL_GRAD));
+    PetscCallCeed(ceed, CeedQFunctionAddInput(*qf, "qdata", qsize, CEED_EVAL_NONE));
+    if (o->volume.moving) PetscCallCeed(ceed, CeedQFunctionAddInput(*qf, "z", dim, CEED_EVAL_INTERP));
+    PetscCallCeed(ceed, CeedQFunctionAddOutput(*qf, "v", dim, CEED_EVAL_INTERP));
+    PetscCallCeed(ceed, CeedQFunctionAddOutput(*qf, "dv", dim * dim, CEED_EVAL_GRAD));
+    PetscCallCeed(ceed, CeedQFunctionSetContext(*qf, o->context));
+  }
   PetscCallCeed(ceed, CeedQFunctionCreateInterior(ceed, 1, FluidJacobianUP, FluidJacobianUP_loc, &o->qf_block[1]));
   PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_block[1], "p", 1, CEED_EVAL_INTERP));
   PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_block[1], "qdata", qsize, CEED_EVAL_NONE));
@@ -112,29 +126,46 @@ static PetscErrorCode JacobianCreate(FEMCeedFluid o)
   PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_block[2], "du", dim * dim, CEED_EVAL_GRAD));
   PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_block[2], "qdata", qsize, CEED_EVAL_NONE));
   PetscCallCeed(ceed, CeedQFunctionAddOutput(o->qf_block[2], "q", 1, CEED_EVAL_INTERP));
-  for (PetscInt b = 0; b < 3; ++b) {
-    PetscCallCeed(ceed, CeedQFunctionSetContext(o->qf_block[b], o->context));
-    PetscCallCeed(ceed, CeedOperatorCreate(ceed, o->qf_block[b], NULL, NULL, &o->op_block[b]));
-  }
-  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[0], "w", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
-  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[0], "dw", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
-  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[0], "u0", o->r_u, o->b_u, o->state));
-  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[0], "du0", o->r_u, o->b_u, o->state));
-  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[0], "qdata", o->r_q, CEED_BASIS_NONE, o->qdata));
-  if (o->volume.moving)
-    PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[0], "z", o->r_z, o->b_z, o->mesh_velocity));
-  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[0], "v", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
-  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[0], "dv", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
-  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[1], "p", o->r_p, o->b_p, CEED_VECTOR_ACTIVE));
-  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[1], "qdata", o->r_q, CEED_BASIS_NONE, o->qdata));
-  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[1], "dv", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
-  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[2], "du", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
-  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[2], "qdata", o->r_q, CEED_BASIS_NONE, o->qdata));
-  PetscCallCeed(ceed, CeedOperatorSetField(o->op_block[2], "q", o->r_p, o->b_p, CEED_VECTOR_ACTIVE));
+  for (PetscInt b = 1; b < 3; ++b) PetscCallCeed(ceed, CeedQFunctionSetContext(o->qf_block[b], o->context));
+  PetscFunctionReturn(0);
+}
+
+/* the block operators, velocity-velocity from qf_uu; the pressure-pressure one only with a
+   stabilization */
+static PetscErrorCode BlockOperatorsCreate(FEMCeedFluid o, CeedQFunction qf_uu, CeedVector state, CeedVector z,
+                                           CeedVector qdata, CeedOperator ops[4])
+{
+  Ceed ceed = o->ceed;
+
+  PetscFunctionBeginUser;
+  PetscCallCeed(ceed, CeedOperatorCreate(ceed, qf_uu, NULL, NULL, &ops[0]));
+  for (PetscInt b = 1; b < 3; ++b) PetscCallCeed(ceed, CeedOperatorCreate(ceed, o->qf_block[b], NULL, NULL, &ops[b]));
+  PetscCallCeed(ceed, CeedOperatorSetField(ops[0], "w", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(ops[0], "dw", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(ops[0], "u0", o->r_u, o->b_u, state));
+  PetscCallCeed(ceed, CeedOperatorSetField(ops[0], "du0", o->r_u, o->b_u, state));
+  PetscCallCeed(ceed, CeedOperatorSetField(ops[0], "qdata", o->r_q, CEED_BASIS_NONE, qdata));
+  if (o->volume.moving) PetscCallCeed(ceed, CeedOperatorSetField(ops[0], "z", o->r_z, o->b_z, z));
+  PetscCallCeed(ceed, CeedOperatorSetField(ops[0], "v", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(ops[0], "dv", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(ops[1], "p", o->r_p, o->b_p, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(ops[1], "qdata", o->r_q, CEED_BASIS_NONE, qdata));
+  PetscCallCeed(ceed, CeedOperatorSetField(ops[1], "dv", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(ops[2], "du", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(ops[2], "qdata", o->r_q, CEED_BASIS_NONE, qdata));
+  PetscCallCeed(ceed, CeedOperatorSetField(ops[2], "q", o->r_p, o->b_p, CEED_VECTOR_ACTIVE));
+  if (o->volume.tau > 0) PetscCall(StabilizationCreate(o, qdata, &ops[3]));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode JacobianCreate(FEMCeedFluid o)
+{
+  PetscFunctionBeginUser;
+  PetscCall(BlockQFunctionsCreate(o));
+  PetscCall(BlockOperatorsCreate(o, o->qf_block[0], o->state, o->mesh_velocity, o->qdata, o->op_block));
   /* PETSc's boundary integration adds whole element matrices, zeros of the pressure-pressure
      block included: without a stabilization that block is in the pattern with zeros */
-  if (o->volume.tau > 0) PetscCall(StabilizationCreate(o, &o->qf_block[3], &o->op_block[3]));
-  else PetscCall(StabilizationCreate(o, &o->qf_block[3], &o->op_pressure_pattern));
+  if (o->volume.tau <= 0) PetscCall(StabilizationCreate(o, o->qdata, &o->op_pressure_pattern));
   PetscFunctionReturn(0);
 }
 
@@ -293,8 +324,16 @@ PetscErrorCode FEMCeedFluidDestroy(FEMCeedFluid *fluid)
   Ceed ceed = o->ceed;
   for (PetscInt b = 0; b < 4; ++b) {
     PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_block[b]));
-    PetscCallCeed(ceed, CeedQFunctionDestroy(&o->qf_block[b]));
+    PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_apply[b]));
   }
+  PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_apply[4]));
+  PetscCallCeed(ceed, CeedVectorDestroy(&o->apply_state));
+  PetscCallCeed(ceed, CeedVectorDestroy(&o->apply_mesh_velocity));
+  PetscCallCeed(ceed, CeedVectorDestroy(&o->apply_qdata));
+  PetscCallCeed(ceed, CeedVectorDestroy(&o->apply_mass_weight));
+  for (PetscInt b = 0; b < 3; ++b) PetscCallCeed(ceed, CeedQFunctionDestroy(&o->qf_block[b]));
+  PetscCallCeed(ceed, CeedQFunctionDestroy(&o->qf_uu_transpose));
+  PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_apply_uu_transpose));
   PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_stabilization));
   PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_pressure_pattern));
   PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_mass));
@@ -372,5 +411,93 @@ PetscErrorCode FEMCeedFluidJacobian(FEMCeedFluid o, Vec xlocal, Vec zlocal, Pets
   PetscCall(FEMCeedVectorCopyFrom(o->ceed, o->state, xlocal));
   PetscCall(FEMCeedAssemble(o->ceed, 5, blocks, o->counts, A));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CEED_JACOBIAN, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMCeedFluidJacobianApplySetUp(FEMCeedFluid o, Vec xlocal, Vec zlocal, PetscBool old_mass)
+{
+  Ceed ceed = o->ceed;
+
+  PetscFunctionBeginUser;
+  PetscCheck(!old_mass || o->volume.moving, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG,
+             "libCEED fluid: no old-domain mass on a fixed mesh");
+  if (!o->op_apply[0]) {
+    CeedOperator t;
+    CeedSize     n;
+    PetscCallCeed(ceed, CeedVectorGetLength(o->state, &n));
+    PetscCallCeed(ceed, CeedVectorCreate(ceed, n, &o->apply_state));
+    PetscCallCeed(ceed, CeedVectorSetValue(o->apply_state, 0.0));
+    PetscCallCeed(ceed, CeedVectorGetLength(o->qdata, &n));
+    PetscCallCeed(ceed, CeedVectorCreate(ceed, n, &o->apply_qdata));
+    PetscCallCeed(ceed, CeedVectorSetValue(o->apply_qdata, 0.0));
+    if (o->volume.moving) {
+      PetscCallCeed(ceed, CeedVectorGetLength(o->mesh_velocity, &n));
+      PetscCallCeed(ceed, CeedVectorCreate(ceed, n, &o->apply_mesh_velocity));
+      PetscCallCeed(ceed, CeedVectorSetValue(o->apply_mesh_velocity, 0.0));
+      PetscCallCeed(ceed, CeedVectorGetLength(o->mass_weight, &n));
+      PetscCallCeed(ceed, CeedVectorCreate(ceed, n, &o->apply_mass_weight));
+      PetscCallCeed(ceed, CeedVectorSetValue(o->apply_mass_weight, 0.0));
+    }
+    PetscCall(
+      BlockOperatorsCreate(o, o->qf_block[0], o->apply_state, o->apply_mesh_velocity, o->apply_qdata, o->op_apply));
+    PetscCallCeed(ceed, CeedOperatorCreate(ceed, o->qf_uu_transpose, NULL, NULL, &o->op_apply_uu_transpose));
+    t = o->op_apply_uu_transpose;
+    PetscCallCeed(ceed, CeedOperatorSetField(t, "w", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
+    PetscCallCeed(ceed, CeedOperatorSetField(t, "dw", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
+    PetscCallCeed(ceed, CeedOperatorSetField(t, "u0", o->r_u, o->b_u, o->apply_state));
+    PetscCallCeed(ceed, CeedOperatorSetField(t, "du0", o->r_u, o->b_u, o->apply_state));
+    PetscCallCeed(ceed, CeedOperatorSetField(t, "qdata", o->r_q, CEED_BASIS_NONE, o->apply_qdata));
+    if (o->volume.moving) PetscCallCeed(ceed, CeedOperatorSetField(t, "z", o->r_z, o->b_z, o->apply_mesh_velocity));
+    PetscCallCeed(ceed, CeedOperatorSetField(t, "v", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
+    PetscCallCeed(ceed, CeedOperatorSetField(t, "dv", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
+    if (o->volume.moving) { /* the mass applied (the assembled one is op_mass_block) */
+      PetscCallCeed(ceed, CeedOperatorCreate(ceed, o->qf_mass, NULL, NULL, &o->op_apply[4]));
+      PetscCallCeed(ceed, CeedOperatorSetField(o->op_apply[4], "u", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
+      PetscCallCeed(ceed, CeedOperatorSetField(o->op_apply[4], "m", o->r_w, CEED_BASIS_NONE, o->apply_mass_weight));
+      PetscCallCeed(ceed, CeedOperatorSetField(o->op_apply[4], "v", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
+    }
+  }
+  /* the linearization is frozen with its geometry and old-domain weights, as the assembled
+     matrix is: a mesh move between Jacobians changes neither */
+  PetscCall(FEMCeedGeometryFollow(o->ceed, o->dm, o->velocity_fe, &o->geometry, &o->r_q, &o->qdata));
+  PetscCallCeed(ceed, CeedVectorCopy(o->qdata, o->apply_qdata));
+  if (o->volume.moving) PetscCallCeed(ceed, CeedVectorCopy(o->mass_weight, o->apply_mass_weight));
+  PetscCall(FEMCeedVectorCopyFrom(ceed, o->apply_state, xlocal));
+  if (o->volume.moving) {
+    PetscCheck(zlocal, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "libCEED fluid: a moving mesh needs its mesh velocity");
+    PetscCall(FEMCeedVectorCopyFrom(ceed, o->apply_mesh_velocity, zlocal));
+  }
+  o->apply_old_mass = old_mass;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMCeedFluidJacobianApply(FEMCeedFluid o, PetscBool transpose, Vec xlocal, Vec ylocal)
+{
+  Ceed         ceed = o->ceed;
+  CeedOperator ops[5];
+  PetscInt     n = 0;
+  PetscScalar *xa, *ya;
+
+  PetscFunctionBeginUser;
+  PetscCheck(o->op_apply[0], PETSC_COMM_SELF, PETSC_ERR_ORDER, "libCEED fluid: no Jacobian to apply yet");
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_FLUID_MATFREE, 0, 0, 0, 0));
+  /* the divergence blocks are each other's transposes, the others symmetric */
+  ops[n++] = transpose ? o->op_apply_uu_transpose : o->op_apply[0];
+  ops[n++] = o->op_apply[1];
+  ops[n++] = o->op_apply[2];
+  if (o->op_apply[3]) ops[n++] = o->op_apply[3];
+  if (o->apply_old_mass) ops[n++] = o->op_apply[4];
+  PetscCall(VecGetArray(xlocal, &xa));
+  PetscCall(VecGetArray(ylocal, &ya));
+  PetscCallCeed(ceed, CeedVectorSetArray(o->x, CEED_MEM_HOST, CEED_USE_POINTER, xa));
+  PetscCallCeed(ceed, CeedVectorSetArray(o->f, CEED_MEM_HOST, CEED_USE_POINTER, ya));
+  PetscCallCeed(ceed, CeedOperatorApply(ops[0], o->x, o->f, CEED_REQUEST_IMMEDIATE));
+  for (PetscInt k = 1; k < n; ++k)
+    PetscCallCeed(ceed, CeedOperatorApplyAdd(ops[k], o->x, o->f, CEED_REQUEST_IMMEDIATE));
+  PetscCallCeed(ceed, CeedVectorTakeArray(o->x, CEED_MEM_HOST, &xa));
+  PetscCallCeed(ceed, CeedVectorTakeArray(o->f, CEED_MEM_HOST, &ya));
+  PetscCall(VecRestoreArray(xlocal, &xa));
+  PetscCall(VecRestoreArray(ylocal, &ya));
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_FLUID_MATFREE, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }

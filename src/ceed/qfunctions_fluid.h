@@ -76,6 +76,39 @@ CEED_QFUNCTION(FluidJacobianUU)(void *ctx, CeedInt Q, const CeedScalar *const *i
   return 0;
 }
 
+/* the transpose of FluidJacobianUU, for the adjoint's matrix-free products: the same
+   inputs, the test and trial roles of the convection terms swapped (mass and viscosity are
+   symmetric) */
+CEED_QFUNCTION(FluidJacobianUUTranspose)(void *ctx, CeedInt Q, const CeedScalar *const *in, CeedScalar *const *out)
+{
+  const FluidVolume *fv  = (const FluidVolume *)ctx;
+  const CeedInt      dim = fv->dim;
+  const CeedScalar  *w = in[0], *dw = in[1], *u0 = in[2], *du0 = in[3], *qdata = in[4], *z = fv->moving ? in[5] : NULL;
+  CeedScalar        *v = out[0], *dv = out[1];
+
+  for (CeedInt i = 0; i < Q; ++i) {
+    const CeedScalar wdet = qdata[i], rho_conv = fv->rho * fv->op * fv->convection;
+    CeedScalar       B[3][3], G[3][3], G0[3][3], f1[3][3];
+    PhysicalGradient(dim, dw, qdata, i, Q, B, G);
+    PhysicalGradient(dim, du0, qdata, i, Q, B, G0);
+    for (CeedInt d = 0; d < dim; ++d) {
+      CeedScalar convection = 0;
+      for (CeedInt c = 0; c < dim; ++c) convection += w[c * Q + i] * G0[c][d];
+      v[d * Q + i] = wdet * (fv->mass * w[d * Q + i] + rho_conv * convection);
+    }
+    for (CeedInt c = 0; c < dim; ++c)
+      for (CeedInt d = 0; d < dim; ++d)
+        f1[c][d] = fv->op * fv->mu * (G[c][d] + G[d][c]) + rho_conv * CONVECTING(u0, z, d, i, Q) * w[c * Q + i];
+    for (CeedInt j = 0; j < dim; ++j)
+      for (CeedInt c = 0; c < dim; ++c) {
+        CeedScalar s = 0;
+        for (CeedInt k = 0; k < dim; ++k) s += f1[c][k] * B[j][k];
+        dv[(j * dim + c) * Q + i] = wdet * s;
+      }
+  }
+  return 0;
+}
+
 /* the velocity-pressure block: -(q, div v) */
 CEED_QFUNCTION(FluidJacobianUP)(void *ctx, CeedInt Q, const CeedScalar *const *in, CeedScalar *const *out)
 {

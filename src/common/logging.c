@@ -4,7 +4,9 @@ PetscLogStage FSIOPT_STAGE_SETUP, FSIOPT_STAGE_FLUID, FSIOPT_STAGE_STRUCTURE, FS
   FSIOPT_STAGE_OPTIMIZER, FSIOPT_STAGE_SENSITIVITY, FSIOPT_STAGE_ADJOINT, FSIOPT_STAGE_MESH_MOTION;
 PetscLogEvent FSIOPT_EVENT_MESH, FSIOPT_EVENT_FLUID_SOLVE, FSIOPT_EVENT_STRUCTURE_SOLVE, FSIOPT_EVENT_ERRORS,
   FSIOPT_EVENT_SENSITIVITY, FSIOPT_EVENT_ADJOINT, FSIOPT_EVENT_INTERFACE, FSIOPT_EVENT_PROBES, FSIOPT_EVENT_CHECKPOINT,
-  FSIOPT_EVENT_STEP_START, FSIOPT_EVENT_CEED_RESIDUAL, FSIOPT_EVENT_CEED_JACOBIAN, FSIOPT_EVENT_BOUNDARY_TERMS;
+  FSIOPT_EVENT_STEP_START, FSIOPT_EVENT_CEED_RESIDUAL, FSIOPT_EVENT_CEED_JACOBIAN, FSIOPT_EVENT_BOUNDARY_TERMS,
+  FSIOPT_EVENT_FLUID_RESIDUAL, FSIOPT_EVENT_FLUID_JACOBIAN, FSIOPT_EVENT_STRUCTURE_RESIDUAL,
+  FSIOPT_EVENT_STRUCTURE_JACOBIAN, FSIOPT_EVENT_FLUID_MATFREE;
 
 PetscErrorCode FsioptLogRegister(void)
 {
@@ -33,6 +35,12 @@ PetscErrorCode FsioptLogRegister(void)
   PetscCall(PetscLogEventRegister("CeedResidual", classid, &FSIOPT_EVENT_CEED_RESIDUAL));
   PetscCall(PetscLogEventRegister("CeedJacobian", classid, &FSIOPT_EVENT_CEED_JACOBIAN));
   PetscCall(PetscLogEventRegister("BoundaryTerms", classid, &FSIOPT_EVENT_BOUNDARY_TERMS));
+  /* the whole operator of libCEED's backend: volume, boundary terms, loads, assembly */
+  PetscCall(PetscLogEventRegister("FluidResidual", classid, &FSIOPT_EVENT_FLUID_RESIDUAL));
+  PetscCall(PetscLogEventRegister("FluidJacobian", classid, &FSIOPT_EVENT_FLUID_JACOBIAN));
+  PetscCall(PetscLogEventRegister("StructResidual", classid, &FSIOPT_EVENT_STRUCTURE_RESIDUAL));
+  PetscCall(PetscLogEventRegister("StructJacobian", classid, &FSIOPT_EVENT_STRUCTURE_JACOBIAN));
+  PetscCall(PetscLogEventRegister("FluidMatFreeMult", classid, &FSIOPT_EVENT_FLUID_MATFREE));
   /* -log_view names a stage after rank 0's record of it: with -structure_ranks, rank 0
      (a fluid rank) would otherwise never enter Structure, and the line would be nameless */
   for (PetscLogStage stage = FSIOPT_STAGE_SETUP; stage <= FSIOPT_STAGE_MESH_MOTION; ++stage) {

@@ -75,6 +75,10 @@ PetscErrorCode FluidSetFromOptions(Fluid f)
                              "Start from the Stokes projection of the scene's exact solution (discretely divergence "
                              "free) instead of its interpolant",
                              NULL, f->initial_projection, &f->initial_projection, NULL));
+  PetscCall(PetscOptionsBool("-fluid_matfree",
+                             "The solver's operator is libCEED's matrix-free Jacobian, preconditioned by the "
+                             "assembled one: for Krylov solvers (-fluid_ksp_type gmres); -fem_backend ceed only",
+                             NULL, f->matfree, &f->matfree, NULL));
   PetscOptionsEnd();
   PetscCall(FEMBackendGet(NULL, NULL)); /* read with the fluid's options, for -help */
   PetscCheck(f->pressure_degree < f->velocity_degree ||

@@ -46,6 +46,7 @@ PetscErrorCode FluidOperatorResidual(Fluid f, Vec xlocal, PetscBool old_mass, Ve
     }
     PetscFunctionReturn(0);
   }
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_FLUID_RESIDUAL, 0, 0, 0, 0));
   PetscCall(Synchronize(f));
   PetscCall(DMGetLocalVector(f->dm, &flocal));
   PetscCall(FEMCeedFluidResidual(f->ceed, xlocal, f->moving ? f->z_local : NULL, old_mass, flocal));
@@ -54,6 +55,7 @@ PetscErrorCode FluidOperatorResidual(Fluid f, Vec xlocal, PetscBool old_mass, Ve
   PetscCall(VecZeroEntries(F));
   PetscCall(DMLocalToGlobal(f->dm, flocal, ADD_VALUES, F));
   PetscCall(DMRestoreLocalVector(f->dm, &flocal));
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_FLUID_RESIDUAL, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
@@ -72,9 +74,7 @@ PetscErrorCode FluidVolumeResidualAll(Fluid f, Vec xlocal, PetscBool old_mass, V
   PetscFunctionReturn(0);
 }
 
-/* the libCEED volume blocks and PETSc's boundary terms at xlocal into A, a matrix of the
-   libCEED pattern */
-static PetscErrorCode AssembleCeed(Fluid f, Vec xlocal, PetscBool old_mass, Mat A)
+PetscErrorCode FluidCeedAssemble(Fluid f, Vec xlocal, PetscBool old_mass, Mat A)
 {
   PetscFunctionBeginUser;
   PetscCall(Synchronize(f));
@@ -94,10 +94,14 @@ PetscErrorCode FluidOperatorJacobian(Fluid f, Vec xlocal, PetscBool old_mass, Ma
     if (old_mass && f->mass_old && J != P) PetscCall(MatAXPY(J, 1.0, f->mass_old, SUBSET_NONZERO_PATTERN));
     PetscFunctionReturn(0);
   }
-  PetscCall(AssembleCeed(f, xlocal, old_mass, f->ceed_jacobian));
-  /* another matrix of the same pattern (the Dirichlet fluid's) gets a copy */
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_FLUID_JACOBIAN, 0, 0, 0, 0));
+  PetscCall(FluidCeedAssemble(f, xlocal, old_mass, f->ceed_jacobian));
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_FLUID_JACOBIAN, 0, 0, 0, 0));
+  /* another matrix of the same pattern (the Dirichlet fluid's) gets a copy; the solver's
+     matrix-free operator (-fluid_matfree) the state */
   if (P != f->ceed_jacobian) PetscCall(FEMCeedCopyMatrix(f->ceed_jacobian, P));
-  if (J != P && J != f->ceed_jacobian) PetscCall(FEMCeedCopyMatrix(f->ceed_jacobian, J));
+  if (J && J == f->matfree_jacobian) PetscCall(FluidMatFreeUpdate(f, xlocal, old_mass));
+  else if (J != P && J != f->ceed_jacobian) PetscCall(FEMCeedCopyMatrix(f->ceed_jacobian, J));
   PetscFunctionReturn(0);
 }
 
@@ -193,6 +197,8 @@ PetscErrorCode FluidBackendSetUp(Fluid f)
 
   PetscFunctionBeginUser;
   PetscCall(FEMBackendGet(&backend, &f->check_backends));
+  PetscCheck(!f->matfree || backend == FEM_BACKEND_CEED, f->comm, PETSC_ERR_ARG_INCOMP,
+             "option -fluid_matfree: needs -fem_backend ceed (the matrix-free operator is libCEED's)");
   if (backend != FEM_BACKEND_CEED && !f->check_backends) PetscFunctionReturn(0);
   PetscCall(DMGetDS(f->dm, &ds));
   PetscCall(PetscDSGetConstants(ds, &n, &constants));
@@ -206,6 +212,7 @@ PetscErrorCode FluidBackendSetUp(Fluid f)
   /* the callbacks FluidALESetUp installs on a moving mesh; on a fixed one they replace DMPlex's */
   PetscCall(SNESSetFunction(f->snes, NULL, FluidSNESResidual, f));
   PetscCall(SNESSetJacobian(f->snes, NULL, NULL, FluidSNESJacobian, f));
+  PetscCall(FluidMatFreeSetUp(f));
   PetscFunctionReturn(0);
 }
 
@@ -233,7 +240,7 @@ static PetscErrorCode CheckJacobians(void *ctx, Vec xlocal, Mat *petsc, Mat *cee
   PetscCall(DMPlexSNESComputeJacobianFEM(f->dm, xlocal, *petsc, *petsc, NULL));
   if (old_mass) PetscCall(MatAXPY(*petsc, 1.0, f->mass_old, SUBSET_NONZERO_PATTERN));
   PetscCall(FEMCeedFluidCreateMatrix(f->ceed, ceed));
-  PetscCall(AssembleCeed(f, xlocal, old_mass, *ceed));
+  PetscCall(FluidCeedAssemble(f, xlocal, old_mass, *ceed));
   PetscFunctionReturn(0);
 }
 
@@ -258,5 +265,6 @@ PetscErrorCode FluidBackendDestroy(Fluid f)
   PetscCall(VecDestroy(&f->boundary_values));
   PetscCall(PetscFree(f->boundary_dofs));
   PetscCall(FEMTractionCacheDestroy(&f->tractions));
+  PetscCall(FluidMatFreeDestroy(f));
   PetscFunctionReturn(0);
 }

@@ -70,7 +70,7 @@ static PetscErrorCode DirichletSetUp(Fluid f, IS rows)
   PetscCall(PetscObjectReference((PetscObject)rows));
   f->dirichlet_rows_global = rows;
   PetscCall(SNESSetUp(f->snes));
-  PetscCall(SNESGetJacobian(f->snes, &J, NULL, NULL, NULL));
+  PetscCall(SNESGetJacobian(f->snes, NULL, &J, NULL, NULL)); /* the assembled one (-fluid_matfree) */
   PetscCall(MatDuplicate(J, MAT_DO_NOT_COPY_VALUES, &f->dirichlet_jacobian));
   PetscCall(MatSetOption(f->dirichlet_jacobian, MAT_KEEP_NONZERO_PATTERN, PETSC_TRUE));
   PetscCall(VecDuplicate(f->x, &f->dirichlet_rhs));

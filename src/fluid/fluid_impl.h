@@ -83,6 +83,10 @@ struct _p_Fluid {
   PetscObjectId    boundary_values_id;
   PetscObjectState boundary_values_state;
   FEMTractionCache tractions; /* the scene's traction terms of a time and mesh */
+  PetscBool        matfree;   /* -fluid_matfree (fluid_matfree.c) */
+  PetscInt         matfree_checked_step;
+  Mat              matfree_jacobian; /* the SNES's operator; ceed_jacobian its preconditioner */
+  Mat              boundary_jacobian;
   PetscBool        check_backends;
   PetscInt         backend_checked_step;
   PhysicsData      data;
@@ -110,11 +114,19 @@ PetscErrorCode FluidOperatorJacobian(Fluid, Vec xlocal, PetscBool old_mass, Mat 
    when old_mass) on every row of dm_all, for the body force */
 PetscErrorCode FluidVolumeResidualAll(Fluid, Vec xlocal, PetscBool old_mass, Vec yall);
 PetscErrorCode FluidBackendSetUp(Fluid);
+/* libCEED's backend: the volume blocks and PETSc's boundary terms at xlocal into A, a matrix
+   of the libCEED pattern (FEMCeedFluidCreateMatrix) */
+PetscErrorCode FluidCeedAssemble(Fluid, Vec xlocal, PetscBool old_mass, Mat A);
 /* the SNES callbacks of the operators (on a moving mesh with the old domains' mass); PETSc's
    backend on a fixed mesh keeps DMPlex's own */
 PetscErrorCode FluidSNESResidual(SNES, Vec x, Vec F, void *);
 PetscErrorCode FluidSNESJacobian(SNES, Vec x, Mat J, Mat P, void *);
 PetscErrorCode FluidBackendCheck(Fluid);
+/* fluid_matfree.c: the shell operator and its boundary matrix (SetUp after the backend's);
+   Update at each of the solver's Jacobians (with -fem_backend_check: compared with it) */
+PetscErrorCode FluidMatFreeSetUp(Fluid);
+PetscErrorCode FluidMatFreeUpdate(Fluid, Vec xlocal, PetscBool old_mass);
+PetscErrorCode FluidMatFreeDestroy(Fluid);
 PetscErrorCode FluidBackendDestroy(Fluid);
 /* fluid_ale.c */
 PetscErrorCode FluidPrescribedDisplacement(Fluid, FieldFn motion, PetscReal t, Vec displacement);

@@ -33,6 +33,7 @@ PetscErrorCode StructureOperatorResidual(Structure s, Vec xlocal, Vec F)
     PetscCall(FEMResidual(s->dm, xlocal, F));
     PetscFunctionReturn(0);
   }
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_STRUCTURE_RESIDUAL, 0, 0, 0, 0));
   PetscCall(Synchronize(s));
   t = s->time;
   PetscCall(DMGetLocalVector(s->dm, &flocal));
@@ -44,6 +45,7 @@ PetscErrorCode StructureOperatorResidual(Structure s, Vec xlocal, Vec F)
   PetscCall(VecZeroEntries(F));
   PetscCall(DMLocalToGlobal(s->dm, flocal, ADD_VALUES, F));
   PetscCall(DMRestoreLocalVector(s->dm, &flocal));
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_STRUCTURE_RESIDUAL, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
@@ -88,7 +90,9 @@ static PetscErrorCode Jacobian(SNES snes, Vec x, Mat J, Mat P, void *ctx)
     PetscCall(DMRestoreLocalVector(s->dm, &xlocal));
     PetscFunctionReturn(0);
   }
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_STRUCTURE_JACOBIAN, 0, 0, 0, 0));
   PetscCall(AssembleCeed(s, xlocal, s->ceed_jacobian));
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_STRUCTURE_JACOBIAN, 0, 0, 0, 0));
   if (P != s->ceed_jacobian) PetscCall(FEMCeedCopyMatrix(s->ceed_jacobian, P));
   if (J != P && J != s->ceed_jacobian) PetscCall(FEMCeedCopyMatrix(s->ceed_jacobian, J));
   ++s->counts.factorizations;
