@@ -24,7 +24,7 @@ LDLIBS  += $(shell pkg-config --libs PETSc 2>/dev/null) $(shell pkg-config --lib
 SRC  := $(wildcard src/*.c src/*/*.c)
 OBJ  := $(SRC:%.c=build/%.o) build/known_options.o build/version.o
 GEO  := $(wildcard meshes/*.geo)
-MSH  := $(GEO:.geo=.msh)
+MSH  := $(GEO:.geo=.msh) meshes/tube3d-fluid-tets.msh meshes/tube3d-wall-tets.msh
 
 .PHONY: all deps run test test-quick check-memory format clean FORCE
 
@@ -84,6 +84,10 @@ meshes/%.msh: meshes/%.geo
 # the tube's volumes: hexahedra from the shared cross-section (the more specific rule wins)
 meshes/tube3d-%.msh: meshes/tube3d-%.geo meshes/tube3d-section.geoinc
 	gmsh -3 -format msh22 -v 2 -o $@ $< >/dev/null
+
+# and the same tube in tetrahedra
+meshes/tube3d-%-tets.msh: meshes/tube3d-%.geo meshes/tube3d-section.geoinc
+	gmsh -3 -format msh22 -v 2 -setnumber simplex 1 -o $@ $< >/dev/null
 
 meshes/turek-hron-%.msh: meshes/turek-hron-%.geo meshes/turek-hron.geoinc
 	gmsh -2 -format msh22 -v 2 -o $@ $< >/dev/null

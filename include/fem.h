@@ -26,6 +26,8 @@ typedef struct {
   PetscObjectState coordinates_state;
 } FEMTractionCache;
 PetscErrorCode FEMBoundaryTerms(DM dm, PetscReal t, Vec xlocal, Vec flocal, Mat A, FEMTractionCache *cache);
+/* the tractions' part alone (where the other terms have libCEED face operators) */
+PetscErrorCode FEMBoundaryTractions(DM dm, PetscReal t, Vec xlocal, Vec flocal, FEMTractionCache *cache);
 PetscErrorCode FEMTractionCacheDestroy(FEMTractionCache *);
 /* The scene's volume loads (f0, f1 on field 0) alone, on a copy of dm with its fields (and
    the auxiliary field aux when given), for the operators of the libCEED backend; NULL

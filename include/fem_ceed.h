@@ -64,6 +64,37 @@ PetscErrorCode FEMCeedPointRestriction(Ceed, CeedElemRestriction cells, CeedBasi
 /* n zeroed CeedVectors of dm's local size */
 PetscErrorCode FEMCeedLocalVectors(Ceed, DM dm, PetscInt n, CeedVector *vectors[]);
 
+/* The faces of a face set (the values of label), for boundary operators (ceed_faces.c): as
+   PETSc's boundary integration takes them, grouped by their local number k in the first
+   supporting cell. Per group: the cells' restrictions of dm's field and of dm_aux's field 0
+   (NULL: none), PETSc's face tabulations of face k as bases, and per face point
+   [w |J_face|, n] (qdata, 1 + dim values, n outward), recomputed by Geometry when the
+   coordinates changed. */
+#define FEM_CEED_MAX_CELL_FACES 6
+typedef struct {
+  PetscInt            local_face;
+  CeedInt             n;
+  CeedElemRestriction r_u, r_z, r_q;
+  CeedBasis           b_u, b_z;
+  CeedVector          qdata;
+} FEMCeedFaceGroup;
+typedef struct _n_FEMCeedFaces {
+  Ceed             ceed;
+  DM               dm;
+  PetscFE          fe;
+  CeedInt          dim, nq;
+  PetscInt         n, *group_of; /* the faces (points) and their local numbers */
+  IS               points;
+  PetscInt         n_groups;
+  FEMCeedFaceGroup groups[FEM_CEED_MAX_CELL_FACES];
+  PetscObjectId    coordinates_id;
+  PetscObjectState coordinates_state;
+} * FEMCeedFaces;
+PetscErrorCode FEMCeedFacesCreate(DM dm, PetscFE fe, PetscInt field, DM dm_aux, DMLabel label, PetscInt nvalues,
+                                  const PetscInt values[], FEMCeedFaces *);
+PetscErrorCode FEMCeedFacesGeometry(FEMCeedFaces);
+PetscErrorCode FEMCeedFacesDestroy(FEMCeedFaces *);
+
 /* An AIJ matrix of dm's global size for MatSetPreallocationCOO (DMCreateMatrix's would leak
    its variable block sizes there, PETSc 3.18). */
 PetscErrorCode FEMCeedCreateCOOMatrix(DM dm, Mat *);
@@ -79,9 +110,9 @@ PetscErrorCode FEMCeedElementMatrices(Ceed, CeedOperator, CeedScalar *values);
 PetscErrorCode FEMCeedAssemblySetUp(Ceed, DM dm, PetscInt n, const CeedOperator ops[], Mat A, CeedSize counts[]);
 PetscErrorCode FEMCeedAssemble(Ceed, PetscInt n, const CeedOperator ops[], const CeedSize counts[], Mat A);
 
-/* y = op x (+ op_add x) on PETSc local vectors, through the CeedVectors x and y that borrow
-   their arrays */
-PetscErrorCode FEMCeedApply(Ceed, CeedOperator op, CeedOperator op_add, CeedVector x, CeedVector y, Vec xlocal,
+/* y = sum of ops[k] x (n >= 1) on PETSc local vectors, through the CeedVectors x and y that
+   borrow their arrays */
+PetscErrorCode FEMCeedApply(Ceed, PetscInt n, const CeedOperator ops[], CeedVector x, CeedVector y, Vec xlocal,
                             Vec ylocal);
 /* a copy of a PETSc vector's values into a CeedVector of its size (passive inputs) */
 PetscErrorCode FEMCeedVectorCopyFrom(Ceed, CeedVector target, Vec source);
@@ -134,9 +165,15 @@ PetscErrorCode FEMCeedCheckSpaces(DM dm, const char name[], PetscReal tol);
 typedef struct _n_FEMCeedFluid *FEMCeedFluid;
 PetscErrorCode FEMCeedFluidCreate(DM dm, DM dm_mesh_velocity, const PetscScalar constants[], FEMCeedFluid *);
 PetscErrorCode FEMCeedFluidSetConstants(FEMCeedFluid, const PetscScalar constants[]);
+/* Face terms (qfunctions_fluid_faces.h) on the faces of the label's values: the backflow
+   stabilization (backflow) or the interface's convective term; before CreateMatrix */
+PetscErrorCode FEMCeedFluidAddFaces(FEMCeedFluid, DMLabel, PetscInt nvalues, const PetscInt values[],
+                                    PetscBool backflow);
+PetscBool      FEMCeedFluidHasFaces(FEMCeedFluid);
 /* flocal = the volume residual at xlocal (zlocal: the mesh velocity's local vector, or NULL),
-   with the old domains' mass term (below) when old_mass */
-PetscErrorCode FEMCeedFluidResidual(FEMCeedFluid, Vec xlocal, Vec zlocal, PetscBool old_mass, Vec flocal);
+   with the old domains' mass term (below) when old_mass and the face terms when faces */
+PetscErrorCode FEMCeedFluidResidual(FEMCeedFluid, Vec xlocal, Vec zlocal, PetscBool old_mass, PetscBool faces,
+                                    Vec flocal);
 /* A matrix of dm's global rows with the Jacobian's COO pattern, and the Jacobian at xlocal into it */
 PetscErrorCode FEMCeedFluidCreateMatrix(FEMCeedFluid, Mat *);
 PetscErrorCode FEMCeedFluidJacobian(FEMCeedFluid, Vec xlocal, Vec zlocal, PetscBool old_mass, Mat);

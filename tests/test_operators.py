@@ -16,12 +16,14 @@ def checked(args, nproc=1):
     return [(m[0], m[2], m[4], float(m[5]), float(m[6])) for m in CHECK.findall(stdout)]
 
 
-@test("libCEED bridge: mass and Laplacian of every space = PETSc's to 1e-14 (quads, triangles, hexes; 2 ranks; 2 backends)")
+@test("libCEED bridge: mass and Laplacian of every space = PETSc's to 1e-14 (quads, triangles, hexes, tets; 2 ranks; 2 backends)")
 def test_ceed_spaces_match_petsc():
     cases = [
         (["-options_file", "options/mms-ns.yaml"], 1, 3),                                # Q2, Q1 on quadrilaterals
         (["-options_file", "options/mms-fluid.yaml", "-fluid_dm_plex_filename", "meshes/square.msh"], 1, 2),  # P2, P1
         (["-options_file", "options/tube3d.yaml", "-t_final", "1e-4"], 1, 3),           # hexahedra, 3 components
+        (["-options_file", "options/tube3d.yaml", "-t_final", "1e-4", "-fluid_dm_plex_filename",
+          "meshes/tube3d-fluid-tets.msh", "-structure_dm_plex_filename", "meshes/tube3d-wall-tets.msh"], 1, 3),  # tetrahedra
         (TUREK + ["-turek_case", "fsi1", "-t_final", "0.1", "-dt", "0.1"], 1, 3),       # unstructured quadrilaterals
         (CHANNEL + ["-t_final", "1e-4"], 2, 3),                                          # 2 ranks: ghosts, global numbers
         (["-options_file", "options/mms-ns.yaml", "-ceed", "/cpu/self/ref/serial"], 1, 3),
@@ -48,7 +50,7 @@ BACKEND = re.compile(r"fsiopt: backend check: step (\d+): (fluid|structure) resi
 MOTION = re.compile(r"fsiopt: backend check: mesh motion operator ([0-9.e+-]+), libCEED relative to PETSc")
 
 
-@test("libCEED operators (-fem_backend ceed) = PETSc's to 1e-12 at the first steps' states and at random states: fluid (moving meshes, BDF2, loads, Stokes, (Q1,Q1), 3D, forces), structure (linear, St. Venant-Kirchhoff, loads), mesh motion (harmonic, elastic, stiffened); 2 ranks")
+@test("libCEED operators (-fem_backend ceed) = PETSc's to 1e-12 at the first steps' states and at random states: fluid (moving meshes, BDF2, loads, Stokes, (Q1,Q1), 3D, forces, face terms, moving triangles and tetrahedra), structure (linear, St. Venant-Kirchhoff, loads), mesh motion (harmonic, elastic, stiffened); 2 ranks")
 def test_backends_agree():
     three = ["-t_final", "3e-4"]
     # (options, ranks, checked steps of the fluid, of the structure, mesh motion checks)
@@ -64,7 +66,14 @@ def test_backends_agree():
              (["-options_file", "options/mms-structure.yaml", "-t_final", "0.575"], 1, 0, 3, 0),  # structure loads
              (["-options_file", "options/tube3d.yaml"] + three + ["-fem_backend", "ceed"], 1, 3, 3, 1),  # hexahedra
              (TUREK + ["-turek_case", "fsi1", "-t_final", "0.3", "-dt", "0.1", "-fem_backend", "petsc"], 1, 3, 3, 1),  # forces
-             (TUREK + ["-turek_case", "csm1", "-t_final", "0.3", "-dt", "0.1"], 1, 0, 3, 0)]  # gravity, equilibria
+             (TUREK + ["-turek_case", "csm1", "-t_final", "0.3", "-dt", "0.1"], 1, 0, 3, 0),  # gravity, equilibria
+             # face operators: backflow and the interface's convective term, 2D on 2 ranks, 3D
+             (CHANNEL + three + ["-fluid_backflow_stabilization", "-coupling_control", "convective"], 2, 3, 3, 1),
+             # simplices on moving meshes: (P2,P1) triangles, tetrahedra with backflow faces
+             (["-options_file", "options/mms-fluid.yaml", "-fluid_dm_plex_filename", "meshes/square.msh",
+               "-mms_mesh_motion", "0.1", "-t_final", "0.7"], 1, 2, 0, 0),
+             (["-options_file", "options/tube3d.yaml", "-t_final", "3e-4", "-fluid_dm_plex_filename",
+               "meshes/tube3d-fluid-tets.msh", "-structure_dm_plex_filename", "meshes/tube3d-wall-tets.msh"], 1, 3, 3, 1)]
     worst, checks = 0.0, 0
     for args, nproc, fluid, structure, motion in cases:
         rc, stdout, err, _ = run(args + ["-fem_backend_check"], nproc=nproc, out=out_dir("backends"))

@@ -83,7 +83,7 @@ PetscErrorCode FEMCeedCopyMatrix(Mat A, Mat B)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FEMCeedApply(Ceed ceed, CeedOperator op, CeedOperator op_add, CeedVector x, CeedVector y, Vec xlocal,
+PetscErrorCode FEMCeedApply(Ceed ceed, PetscInt n, const CeedOperator ops[], CeedVector x, CeedVector y, Vec xlocal,
                             Vec ylocal)
 {
   PetscScalar *xa, *ya;
@@ -93,8 +93,8 @@ PetscErrorCode FEMCeedApply(Ceed ceed, CeedOperator op, CeedOperator op_add, Cee
   PetscCall(VecGetArray(ylocal, &ya));
   PetscCallCeed(ceed, CeedVectorSetArray(x, CEED_MEM_HOST, CEED_USE_POINTER, xa));
   PetscCallCeed(ceed, CeedVectorSetArray(y, CEED_MEM_HOST, CEED_USE_POINTER, ya));
-  PetscCallCeed(ceed, CeedOperatorApply(op, x, y, CEED_REQUEST_IMMEDIATE));
-  if (op_add) PetscCallCeed(ceed, CeedOperatorApplyAdd(op_add, x, y, CEED_REQUEST_IMMEDIATE));
+  PetscCallCeed(ceed, CeedOperatorApply(ops[0], x, y, CEED_REQUEST_IMMEDIATE));
+  for (PetscInt k = 1; k < n; ++k) PetscCallCeed(ceed, CeedOperatorApplyAdd(ops[k], x, y, CEED_REQUEST_IMMEDIATE));
   PetscCallCeed(ceed, CeedVectorTakeArray(x, CEED_MEM_HOST, &xa));
   PetscCallCeed(ceed, CeedVectorTakeArray(y, CEED_MEM_HOST, &ya));
   PetscCall(VecRestoreArray(xlocal, &xa));

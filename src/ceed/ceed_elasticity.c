@@ -136,7 +136,7 @@ PetscErrorCode FEMCeedElasticityResidual(FEMCeedElasticity o, Vec xlocal, Vec fl
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CEED_RESIDUAL, 0, 0, 0, 0));
   PetscCall(FEMCeedGeometryFollow(o->ceed, o->dm, o->fe, &o->geometry, &o->r_q, &o->qdata));
-  PetscCall(FEMCeedApply(o->ceed, o->op_residual, NULL, o->x, o->f, xlocal, flocal));
+  PetscCall(FEMCeedApply(o->ceed, 1, &o->op_residual, o->x, o->f, xlocal, flocal));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CEED_RESIDUAL, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }

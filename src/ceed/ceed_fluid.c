@@ -7,7 +7,9 @@
 #include "fem_ceed.h"
 #include "fluid.h"
 #include "logging.h"
-#include "qfunctions_fluid.h"
+#include "qfunctions_fluid_faces.h"
+
+#define FEM_CEED_MAX_FACE_SETS 16
 
 struct _n_FEMCeedFluid {
   Ceed                 ceed;
@@ -26,7 +28,14 @@ struct _n_FEMCeedFluid {
   CeedVector   apply_state, apply_mesh_velocity, apply_qdata, apply_mass_weight;
   PetscBool    apply_old_mass;
   CeedOperator op_pressure_pattern; /* without a stabilization: the pressure-pressure block's pattern only */
-  CeedSize     counts[5];
+  CeedSize    *counts;              /* of the COO pattern's blocks: the five volume ones, then the faces' */
+  /* face terms: per set its faces, per group of a set a residual and a Jacobian operator */
+  DM            dm_mesh_velocity;
+  PetscInt      n_face_sets, n_face_ops;
+  FEMCeedFaces  face_sets[FEM_CEED_MAX_FACE_SETS];
+  CeedQFunction qf_face[2][2]; /* [backflow][Jacobian] */
+  CeedOperator  face_residual[FEM_CEED_MAX_FACE_SETS * FEM_CEED_MAX_CELL_FACES],
+    face_jacobian[FEM_CEED_MAX_FACE_SETS * FEM_CEED_MAX_CELL_FACES];
   /* moving meshes: the old domains' mass, weights per point of two domains and their sum */
   CeedElemRestriction r_x, r_w;
   CeedBasis           b_x;
@@ -235,7 +244,7 @@ PetscErrorCode FEMCeedFluidMassWeights(FEMCeedFluid o, PetscScalar a0, PetscScal
 PetscErrorCode FEMCeedFluidMassApply(FEMCeedFluid o, Vec xlocal, Vec ylocal)
 {
   PetscFunctionBeginUser;
-  PetscCall(FEMCeedApply(o->ceed, o->op_mass, NULL, o->x, o->f, xlocal, ylocal));
+  PetscCall(FEMCeedApply(o->ceed, 1, &o->op_mass, o->x, o->f, xlocal, ylocal));
   PetscFunctionReturn(0);
 }
 
@@ -287,9 +296,10 @@ PetscErrorCode FEMCeedFluidCreate(DM dm, DM dm_mesh_velocity, const PetscScalar 
   PetscCallCeed(ceed, CeedBasisGetNumQuadraturePoints(o->b_u, &nq));
   PetscCallCeed(ceed, CeedBasisGetNumQuadraturePoints(o->b_p, &nq_p));
   PetscCheck(nq == nq_p, PETSC_COMM_SELF, PETSC_ERR_SUP, "libCEED fluid: velocity and pressure need one quadrature");
-  o->volume.dim    = (CeedInt)dim;
-  o->volume.tau    = PetscRealPart(constants[FLUID_PRESSURE_STABILIZATION]);
-  o->volume.moving = dm_mesh_velocity ? 1 : 0;
+  o->volume.dim       = (CeedInt)dim;
+  o->volume.tau       = PetscRealPart(constants[FLUID_PRESSURE_STABILIZATION]);
+  o->volume.moving    = dm_mesh_velocity ? 1 : 0;
+  o->dm_mesh_velocity = dm_mesh_velocity;
   if (dm_mesh_velocity) {
     PetscFE  z_fe;
     CeedSize zsize;
@@ -334,6 +344,14 @@ PetscErrorCode FEMCeedFluidDestroy(FEMCeedFluid *fluid)
   for (PetscInt b = 0; b < 3; ++b) PetscCallCeed(ceed, CeedQFunctionDestroy(&o->qf_block[b]));
   PetscCallCeed(ceed, CeedQFunctionDestroy(&o->qf_uu_transpose));
   PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_apply_uu_transpose));
+  for (PetscInt k = 0; k < o->n_face_ops; ++k) {
+    PetscCallCeed(ceed, CeedOperatorDestroy(&o->face_residual[k]));
+    PetscCallCeed(ceed, CeedOperatorDestroy(&o->face_jacobian[k]));
+  }
+  for (PetscInt k = 0; k < o->n_face_sets; ++k) PetscCall(FEMCeedFacesDestroy(&o->face_sets[k]));
+  for (PetscInt b = 0; b < 2; ++b)
+    for (PetscInt j = 0; j < 2; ++j) PetscCallCeed(ceed, CeedQFunctionDestroy(&o->qf_face[b][j]));
+  PetscCall(PetscFree(o->counts));
   PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_stabilization));
   PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_pressure_pattern));
   PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_mass));
@@ -370,9 +388,75 @@ PetscErrorCode FEMCeedFluidDestroy(FEMCeedFluid *fluid)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FEMCeedFluidResidual(FEMCeedFluid o, Vec xlocal, Vec zlocal, PetscBool old_mass, Vec flocal)
+static PetscErrorCode FaceQFunction(FEMCeedFluid o, PetscBool backflow, PetscBool jacobian, CeedQFunction *qf)
+{
+  Ceed          ceed = o->ceed;
+  const CeedInt dim  = o->volume.dim;
+
+  PetscFunctionBeginUser;
+  if (jacobian)
+    PetscCallCeed(ceed,
+                  backflow
+                    ? CeedQFunctionCreateInterior(ceed, 1, FluidBackflowJacobian, FluidBackflowJacobian_loc, qf)
+                    : CeedQFunctionCreateInterior(ceed, 1, FluidConvectionJacobian, FluidConvectionJacobian_loc, qf));
+  else
+    PetscCallCeed(ceed,
+                  backflow
+                    ? CeedQFunctionCreateInterior(ceed, 1, FluidBackflowResidual, FluidBackflowResidual_loc, qf)
+                    : CeedQFunctionCreateInterior(ceed, 1, FluidConvectionResidual, FluidConvectionResidual_loc, qf));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(*qf, jacobian ? "du" : "u", dim, CEED_EVAL_INTERP));
+  if (jacobian) PetscCallCeed(ceed, CeedQFunctionAddInput(*qf, "u0", dim, CEED_EVAL_INTERP));
+  if (o->volume.moving) PetscCallCeed(ceed, CeedQFunctionAddInput(*qf, "z", dim, CEED_EVAL_INTERP));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(*qf, "qdata", 1 + dim, CEED_EVAL_NONE));
+  PetscCallCeed(ceed, CeedQFunctionAddOutput(*qf, "v", dim, CEED_EVAL_INTERP));
+  PetscCallCeed(ceed, CeedQFunctionSetContext(*qf, o->context));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMCeedFluidAddFaces(FEMCeedFluid o, DMLabel label, PetscInt nvalues, const PetscInt values[],
+                                    PetscBool backflow)
+{
+  Ceed         ceed = o->ceed;
+  FEMCeedFaces faces;
+
+  PetscFunctionBeginUser;
+  PetscCheck(!o->counts, PETSC_COMM_SELF, PETSC_ERR_ORDER, "libCEED fluid: faces after the matrix pattern");
+  PetscCheck(o->n_face_sets < FEM_CEED_MAX_FACE_SETS, PETSC_COMM_SELF, PETSC_ERR_SUP,
+             "libCEED fluid: too many face sets");
+  PetscCall(FEMCeedFacesCreate(o->dm, o->velocity_fe, 0, o->dm_mesh_velocity, label, nvalues, values, &faces));
+  o->face_sets[o->n_face_sets++] = faces;
+  for (PetscInt j = 0; j < 2; ++j)
+    if (!o->qf_face[backflow][j])
+      PetscCall(FaceQFunction(o, backflow, j ? PETSC_TRUE : PETSC_FALSE, &o->qf_face[backflow][j]));
+  for (PetscInt k = 0; k < faces->n_groups; ++k) {
+    FEMCeedFaceGroup *g = &faces->groups[k];
+    for (PetscInt j = 0; j < 2; ++j) {
+      CeedOperator *op = j ? &o->face_jacobian[o->n_face_ops] : &o->face_residual[o->n_face_ops];
+      PetscCallCeed(ceed, CeedOperatorCreate(ceed, o->qf_face[backflow][j], NULL, NULL, op));
+      PetscCallCeed(ceed, CeedOperatorSetField(*op, j ? "du" : "u", g->r_u, g->b_u, CEED_VECTOR_ACTIVE));
+      if (j) PetscCallCeed(ceed, CeedOperatorSetField(*op, "u0", g->r_u, g->b_u, o->state));
+      if (o->volume.moving) PetscCallCeed(ceed, CeedOperatorSetField(*op, "z", g->r_z, g->b_z, o->mesh_velocity));
+      PetscCallCeed(ceed, CeedOperatorSetField(*op, "qdata", g->r_q, CEED_BASIS_NONE, g->qdata));
+      PetscCallCeed(ceed, CeedOperatorSetField(*op, "v", g->r_u, g->b_u, CEED_VECTOR_ACTIVE));
+    }
+    ++o->n_face_ops;
+  }
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode FacesGeometry(FEMCeedFluid o)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt k = 0; k < o->n_face_sets; ++k) PetscCall(FEMCeedFacesGeometry(o->face_sets[k]));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMCeedFluidResidual(FEMCeedFluid o, Vec xlocal, Vec zlocal, PetscBool old_mass, PetscBool faces,
+                                    Vec flocal)
 {
   FluidVolume *fv;
+  CeedOperator ops[2 + FEM_CEED_MAX_FACE_SETS * FEM_CEED_MAX_CELL_FACES];
+  PetscInt     n = 0;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CEED_RESIDUAL, 0, 0, 0, 0));
@@ -383,33 +467,54 @@ PetscErrorCode FEMCeedFluidResidual(FEMCeedFluid o, Vec xlocal, Vec zlocal, Pets
   PetscCallCeed(o->ceed, CeedQFunctionContextRestoreData(o->context, &fv));
   PetscCall(FEMCeedGeometryFollow(o->ceed, o->dm, o->velocity_fe, &o->geometry, &o->r_q, &o->qdata));
   PetscCall(MeshVelocitySet(o, zlocal));
-  PetscCall(FEMCeedApply(o->ceed, o->op_residual, o->op_stabilization, o->x, o->f, xlocal, flocal));
+  ops[n++] = o->op_residual;
+  if (o->op_stabilization) ops[n++] = o->op_stabilization;
+  if (faces) {
+    PetscCall(FacesGeometry(o));
+    for (PetscInt k = 0; k < o->n_face_ops; ++k) ops[n++] = o->face_residual[k];
+  }
+  PetscCall(FEMCeedApply(o->ceed, n, ops, o->x, o->f, xlocal, flocal));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CEED_RESIDUAL, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
+PetscBool FEMCeedFluidHasFaces(FEMCeedFluid o)
+{
+  return o && o->n_face_sets > 0 ? PETSC_TRUE : PETSC_FALSE;
+}
+
 PetscErrorCode FEMCeedFluidCreateMatrix(FEMCeedFluid o, Mat *A)
 {
-  CeedOperator pattern[5] = {o->op_block[0], o->op_block[1], o->op_block[2],
-                             o->op_block[3] ? o->op_block[3] : o->op_pressure_pattern, o->op_mass_block};
+  CeedOperator   pattern[5 + FEM_CEED_MAX_FACE_SETS * FEM_CEED_MAX_CELL_FACES] = {o->op_block[0], o->op_block[1],
+                                                                                  o->op_block[2],
+                                                                                o->op_block[3] ? o->op_block[3]
+                                                                                                 : o->op_pressure_pattern,
+                                                                                  o->op_mass_block};
+  const PetscInt n                                                             = 5 + o->n_face_ops;
 
   PetscFunctionBeginUser;
+  for (PetscInt k = 0; k < o->n_face_ops; ++k) pattern[5 + k] = o->face_jacobian[k];
+  if (!o->counts) PetscCall(PetscMalloc1(n, &o->counts));
   PetscCall(FEMCeedCreateCOOMatrix(o->dm, A));
-  PetscCall(FEMCeedAssemblySetUp(o->ceed, o->dm, 5, pattern, *A, o->counts));
+  PetscCall(FEMCeedAssemblySetUp(o->ceed, o->dm, n, pattern, *A, o->counts));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode FEMCeedFluidJacobian(FEMCeedFluid o, Vec xlocal, Vec zlocal, PetscBool old_mass, Mat A)
 {
-  CeedOperator blocks[5] = {o->op_block[0], o->op_block[1], o->op_block[2], o->op_block[3],
-                            old_mass ? o->op_mass_block : NULL};
+  CeedOperator   blocks[5 + FEM_CEED_MAX_FACE_SETS * FEM_CEED_MAX_CELL_FACES] = {o->op_block[0], o->op_block[1],
+                                                                                 o->op_block[2], o->op_block[3],
+                                                                               old_mass ? o->op_mass_block : NULL};
+  const PetscInt n                                                            = 5 + o->n_face_ops;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CEED_JACOBIAN, 0, 0, 0, 0));
+  for (PetscInt k = 0; k < o->n_face_ops; ++k) blocks[5 + k] = o->face_jacobian[k];
   PetscCall(FEMCeedGeometryFollow(o->ceed, o->dm, o->velocity_fe, &o->geometry, &o->r_q, &o->qdata));
+  PetscCall(FacesGeometry(o));
   PetscCall(MeshVelocitySet(o, zlocal));
   PetscCall(FEMCeedVectorCopyFrom(o->ceed, o->state, xlocal));
-  PetscCall(FEMCeedAssemble(o->ceed, 5, blocks, o->counts, A));
+  PetscCall(FEMCeedAssemble(o->ceed, n, blocks, o->counts, A));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CEED_JACOBIAN, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -476,7 +581,6 @@ PetscErrorCode FEMCeedFluidJacobianApply(FEMCeedFluid o, PetscBool transpose, Ve
   Ceed         ceed = o->ceed;
   CeedOperator ops[5];
   PetscInt     n = 0;
-  PetscScalar *xa, *ya;
 
   PetscFunctionBeginUser;
   PetscCheck(o->op_apply[0], PETSC_COMM_SELF, PETSC_ERR_ORDER, "libCEED fluid: no Jacobian to apply yet");
@@ -487,17 +591,7 @@ PetscErrorCode FEMCeedFluidJacobianApply(FEMCeedFluid o, PetscBool transpose, Ve
   ops[n++] = o->op_apply[2];
   if (o->op_apply[3]) ops[n++] = o->op_apply[3];
   if (o->apply_old_mass) ops[n++] = o->op_apply[4];
-  PetscCall(VecGetArray(xlocal, &xa));
-  PetscCall(VecGetArray(ylocal, &ya));
-  PetscCallCeed(ceed, CeedVectorSetArray(o->x, CEED_MEM_HOST, CEED_USE_POINTER, xa));
-  PetscCallCeed(ceed, CeedVectorSetArray(o->f, CEED_MEM_HOST, CEED_USE_POINTER, ya));
-  PetscCallCeed(ceed, CeedOperatorApply(ops[0], o->x, o->f, CEED_REQUEST_IMMEDIATE));
-  for (PetscInt k = 1; k < n; ++k)
-    PetscCallCeed(ceed, CeedOperatorApplyAdd(ops[k], o->x, o->f, CEED_REQUEST_IMMEDIATE));
-  PetscCallCeed(ceed, CeedVectorTakeArray(o->x, CEED_MEM_HOST, &xa));
-  PetscCallCeed(ceed, CeedVectorTakeArray(o->f, CEED_MEM_HOST, &ya));
-  PetscCall(VecRestoreArray(xlocal, &xa));
-  PetscCall(VecRestoreArray(ylocal, &ya));
+  PetscCall(FEMCeedApply(ceed, n, ops, o->x, o->f, xlocal, ylocal));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_FLUID_MATFREE, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }

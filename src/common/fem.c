@@ -107,7 +107,15 @@ static PetscErrorCode NaturalBoundaries(DM dm, PetscReal t, PetscBool tractions,
 PetscErrorCode FEMBoundaryTerms(DM dm, PetscReal t, Vec xlocal, Vec flocal, Mat A, FEMTractionCache *cache)
 {
   PetscFunctionBeginUser;
-  if (flocal) {
+  if (flocal) PetscCall(FEMBoundaryTractions(dm, t, xlocal, flocal, cache));
+  PetscCall(NaturalBoundaries(dm, t, PETSC_FALSE, xlocal, flocal, A));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMBoundaryTractions(DM dm, PetscReal t, Vec xlocal, Vec flocal, FEMTractionCache *cache)
+{
+  PetscFunctionBeginUser;
+  {
     PetscDS            ds;
     PetscInt           n;
     const PetscScalar *constants;
@@ -137,7 +145,6 @@ PetscErrorCode FEMBoundaryTerms(DM dm, PetscReal t, Vec xlocal, Vec flocal, Mat 
     }
     PetscCall(VecAXPY(flocal, 1.0, cache->values));
   }
-  PetscCall(NaturalBoundaries(dm, t, PETSC_FALSE, xlocal, flocal, A));
   PetscFunctionReturn(0);
 }
 
@@ -332,20 +339,34 @@ PetscErrorCode FEMInvalidateGeometry(DM dm)
     }
     if (!cells) continue;
     PetscCall(PetscDSGetNumFields(ds, &Nf));
-    for (PetscInt f = 0; f < Nf; ++f) {
-      PetscObject     obj;
-      PetscQuadrature quad;
+    /* the geometry at each field's quadrature, and on affine cells (simplices) at the
+       coordinate field's default quadrature, which PETSc uses there instead */
+    for (PetscInt f = 0; f <= Nf; ++f) {
+      PetscQuadrature quad = NULL;
       PetscObjectId   id;
       char            key[64];
 
-      PetscCall(PetscDSGetDiscretization(ds, f, &obj));
-      PetscCall(PetscFEGetQuadrature((PetscFE)obj, &quad));
+      if (f < Nf) {
+        PetscObject obj;
+        PetscCall(PetscDSGetDiscretization(ds, f, &obj));
+        PetscCall(PetscFEGetQuadrature((PetscFE)obj, &quad));
+        PetscCall(PetscObjectReference((PetscObject)quad));
+      } else {
+        DMField  field;
+        PetscInt degree;
+        PetscCall(DMGetCoordinateField(dm, &field));
+        if (!field) continue;
+        PetscCall(DMFieldGetDegree(field, cells, NULL, &degree));
+        if (degree <= 1) PetscCall(DMFieldCreateDefaultQuadrature(field, cells, &quad));
+        if (!quad) continue;
+      }
       PetscCall(PetscObjectGetId((PetscObject)quad, &id));
       /* the key of PETSc 3.18's DMSNESGetFEGeom (dmplexsnes.c), in both of its spellings */
       PetscCall(PetscSNPrintf(key, 33, "DMSNESGetFEGeom_%" PetscInt64_FMT "\n", id));
       PetscCall(PetscObjectCompose((PetscObject)cells, key, NULL));
       PetscCall(PetscSNPrintf(key, 33, "DMSNESGetFEGeom_%x\n", (unsigned)id));
       PetscCall(PetscObjectCompose((PetscObject)cells, key, NULL));
+      PetscCall(PetscQuadratureDestroy(&quad));
     }
     PetscCall(ISDestroy(&cells));
   }

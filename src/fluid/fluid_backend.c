@@ -10,12 +10,64 @@
 #include "fem.h"
 #include "logging.h"
 
+/* PETSc's part of the boundary terms: the tractions alone where libCEED has the others */
 static PetscErrorCode BoundaryTerms(Fluid f, Vec xlocal, Vec flocal, Mat A)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_BOUNDARY_TERMS, 0, 0, 0, 0));
-  PetscCall(FEMBoundaryTerms(f->dm, f->time, xlocal, flocal, A, &f->tractions));
+  if (!FEMCeedFluidHasFaces(f->ceed)) PetscCall(FEMBoundaryTerms(f->dm, f->time, xlocal, flocal, A, &f->tractions));
+  else if (flocal) PetscCall(FEMBoundaryTractions(f->dm, f->time, xlocal, flocal, &f->tractions));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_BOUNDARY_TERMS, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+/* libCEED face operators for the weak form's non-traction boundary terms, when it knows
+   every one of them (backflow, the interface's convective term); else PETSc keeps them all */
+static PetscErrorCode FacesSetUp(Fluid f)
+{
+  PetscDS  ds;
+  PetscInt nb;
+  struct {
+    DMLabel         label;
+    PetscInt        nv;
+    const PetscInt *values;
+    PetscBool       backflow;
+  } sets[16];
+  PetscInt n = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetDS(f->dm, &ds));
+  PetscCall(PetscDSGetNumBoundary(ds, &nb));
+  for (PetscInt b = 0; b < nb; ++b) {
+    PetscWeakForm           wf;
+    DMBoundaryConditionType type;
+    DMLabel                 label;
+    const char             *name;
+    PetscInt                nv, field, n0, n1;
+    const PetscInt         *values;
+    PetscBool               traction;
+    void (**f0)(void), (**f1)(void);
+
+    PetscCall(PetscDSGetBoundary(ds, b, &wf, &type, &name, &label, &nv, &values, &field, NULL, NULL, NULL, NULL, NULL));
+    if (type != DM_BC_NATURAL) continue;
+    PetscCall(PetscStrncmp(name, FEM_TRACTION_BOUNDARY, sizeof(FEM_TRACTION_BOUNDARY) - 1, &traction));
+    if (traction) continue;
+    if (field != 0 || nv < 1 || n == 16) PetscFunctionReturn(0);
+    for (PetscInt v = 0; v < nv; ++v) {
+      PetscCall(PetscWeakFormGetBdResidual(wf, label, values[v], field, 0, &n0, (void *)&f0, &n1, (void *)&f1));
+      if (n0 != 1 || n1 != 0 ||
+          (f0[0] != (void (*)(void))FluidF0Backflow && f0[0] != (void (*)(void))FluidF0InterfaceConvection))
+        PetscFunctionReturn(0);
+    }
+    PetscCall(PetscWeakFormGetBdResidual(wf, label, values[0], field, 0, &n0, (void *)&f0, &n1, (void *)&f1));
+    sets[n].label    = label;
+    sets[n].nv       = nv;
+    sets[n].values   = values;
+    sets[n].backflow = f0[0] == (void (*)(void))FluidF0Backflow ? PETSC_TRUE : PETSC_FALSE;
+    ++n;
+  }
+  for (PetscInt k = 0; k < n; ++k)
+    PetscCall(FEMCeedFluidAddFaces(f->ceed, sets[k].label, sets[k].nv, sets[k].values, sets[k].backflow));
   PetscFunctionReturn(0);
 }
 
@@ -49,7 +101,7 @@ PetscErrorCode FluidOperatorResidual(Fluid f, Vec xlocal, PetscBool old_mass, Ve
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_FLUID_RESIDUAL, 0, 0, 0, 0));
   PetscCall(Synchronize(f));
   PetscCall(DMGetLocalVector(f->dm, &flocal));
-  PetscCall(FEMCeedFluidResidual(f->ceed, xlocal, f->moving ? f->z_local : NULL, old_mass, flocal));
+  PetscCall(FEMCeedFluidResidual(f->ceed, xlocal, f->moving ? f->z_local : NULL, old_mass, PETSC_TRUE, flocal));
   PetscCall(BoundaryTerms(f, xlocal, flocal, NULL));
   PetscCall(FEMLoadsAdd(f->dm, f->dm_loads, xlocal, flocal));
   PetscCall(VecZeroEntries(F));
@@ -66,7 +118,7 @@ PetscErrorCode FluidVolumeResidualAll(Fluid f, Vec xlocal, PetscBool old_mass, V
   PetscFunctionBeginUser;
   PetscCall(Synchronize(f));
   PetscCall(DMGetLocalVector(f->dm_all, &flocal));
-  PetscCall(FEMCeedFluidResidual(f->ceed, xlocal, f->z_local, old_mass, flocal));
+  PetscCall(FEMCeedFluidResidual(f->ceed, xlocal, f->z_local, old_mass, PETSC_FALSE, flocal));
   PetscCall(FEMLoadsAdd(f->dm, f->dm_loads, xlocal, flocal));
   PetscCall(VecZeroEntries(yall));
   PetscCall(DMLocalToGlobal(f->dm_all, flocal, ADD_VALUES, yall));
@@ -203,6 +255,7 @@ PetscErrorCode FluidBackendSetUp(Fluid f)
   PetscCall(DMGetDS(f->dm, &ds));
   PetscCall(PetscDSGetConstants(ds, &n, &constants));
   PetscCall(FEMCeedFluidCreate(f->dm, f->moving ? f->dm_aux : NULL, constants, &f->ceed));
+  PetscCall(FacesSetUp(f));
   PetscCall(FEMLoadsCreate(f->dm, f->data.load_value_kernel, f->data.load_stress_kernel, f->moving ? f->z_local : NULL,
                            &f->dm_loads));
   if (backend != FEM_BACKEND_CEED) PetscFunctionReturn(0); /* built for the check only */
