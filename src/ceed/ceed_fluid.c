@@ -4,46 +4,9 @@
    pressure stabilization of equal-order pairs as operators of its own, built only when
    tau > 0, and the mesh velocity as an input only on moving meshes. The geometry is
    recomputed when the coordinates change. */
-#include "fem_ceed.h"
-#include "fluid.h"
+#include "ceed_fluid_impl.h"
 #include "logging.h"
-#include "qfunctions_fluid_faces.h"
-
-#define FEM_CEED_MAX_FACE_SETS 16
-
-struct _n_FEMCeedFluid {
-  Ceed                 ceed;
-  DM                   dm;
-  PetscFE              velocity_fe;
-  FluidVolume          volume;
-  CeedElemRestriction  r_u, r_p, r_q, r_z;
-  CeedBasis            b_u, b_p, b_z;
-  CeedVector           qdata, x, f, state, mesh_velocity;
-  CeedQFunctionContext context;
-  CeedQFunction        qf_residual, qf_stabilization, qf_block[3], qf_uu_transpose;
-  CeedOperator         op_residual, op_stabilization, op_block[4];
-  /* the matrix-free products of the last Jacobian, made at the first: operators of their own
-     (see MassCreate), the transpose only changing the velocity-velocity block */
-  CeedOperator op_apply[5], op_apply_uu_transpose; /* [4]: the old domains' mass */
-  CeedVector   apply_state, apply_mesh_velocity, apply_qdata, apply_mass_weight;
-  PetscBool    apply_old_mass;
-  CeedOperator op_pressure_pattern; /* without a stabilization: the pressure-pressure block's pattern only */
-  CeedSize    *counts;              /* of the COO pattern's blocks: the five volume ones, then the faces' */
-  /* face terms: per set its faces, per group of a set a residual and a Jacobian operator */
-  DM            dm_mesh_velocity;
-  PetscInt      n_face_sets, n_face_ops;
-  FEMCeedFaces  face_sets[FEM_CEED_MAX_FACE_SETS];
-  CeedQFunction qf_face[2][2]; /* [backflow][Jacobian] */
-  CeedOperator  face_residual[FEM_CEED_MAX_FACE_SETS * FEM_CEED_MAX_CELL_FACES],
-    face_jacobian[FEM_CEED_MAX_FACE_SETS * FEM_CEED_MAX_CELL_FACES];
-  /* moving meshes: the old domains' mass, weights per point of two domains and their sum */
-  CeedElemRestriction r_x, r_w;
-  CeedBasis           b_x;
-  CeedVector          coordinates, domain_weight[2], mass_weight;
-  CeedQFunction       qf_mass, qf_domain;
-  CeedOperator        op_mass, op_mass_block, op_domain; /* the mass applied, and assembled */
-  FEMCeedGeometryKey  geometry;                          /* the coordinates qdata is of */
-};
+#include "qfunctions_fluid.h"
 
 /* -tau (grad p, grad q) on the active pressure: the residual's term or the Jacobian's block
    (one pointwise function for all) */
@@ -141,8 +104,8 @@ static PetscErrorCode BlockQFunctionsCreate(FEMCeedFluid o)
 
 /* the block operators, velocity-velocity from qf_uu; the pressure-pressure one only with a
    stabilization */
-static PetscErrorCode BlockOperatorsCreate(FEMCeedFluid o, CeedQFunction qf_uu, CeedVector state, CeedVector z,
-                                           CeedVector qdata, CeedOperator ops[4])
+PetscErrorCode FEMCeedFluidBlockOperatorsCreate(FEMCeedFluid o, CeedQFunction qf_uu, CeedVector state, CeedVector z,
+                                                CeedVector qdata, CeedOperator ops[4])
 {
   Ceed ceed = o->ceed;
 
@@ -171,7 +134,7 @@ static PetscErrorCode JacobianCreate(FEMCeedFluid o)
 {
   PetscFunctionBeginUser;
   PetscCall(BlockQFunctionsCreate(o));
-  PetscCall(BlockOperatorsCreate(o, o->qf_block[0], o->state, o->mesh_velocity, o->qdata, o->op_block));
+  PetscCall(FEMCeedFluidBlockOperatorsCreate(o, o->qf_block[0], o->state, o->mesh_velocity, o->qdata, o->op_block));
   /* PETSc's boundary integration adds whole element matrices, zeros of the pressure-pressure
      block included: without a stabilization that block is in the pattern with zeros */
   if (o->volume.tau <= 0) PetscCall(StabilizationCreate(o, o->qdata, &o->op_pressure_pattern));
@@ -264,7 +227,7 @@ PetscErrorCode FEMCeedFluidSetConstants(FEMCeedFluid o, const PetscScalar consta
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode MeshVelocitySet(FEMCeedFluid o, Vec z)
+PetscErrorCode FEMCeedFluidMeshVelocitySet(FEMCeedFluid o, Vec z)
 {
   PetscFunctionBeginUser;
   if (!o->volume.moving) PetscFunctionReturn(0);
@@ -388,69 +351,6 @@ PetscErrorCode FEMCeedFluidDestroy(FEMCeedFluid *fluid)
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode FaceQFunction(FEMCeedFluid o, PetscBool backflow, PetscBool jacobian, CeedQFunction *qf)
-{
-  Ceed          ceed = o->ceed;
-  const CeedInt dim  = o->volume.dim;
-
-  PetscFunctionBeginUser;
-  if (jacobian)
-    PetscCallCeed(ceed,
-                  backflow
-                    ? CeedQFunctionCreateInterior(ceed, 1, FluidBackflowJacobian, FluidBackflowJacobian_loc, qf)
-                    : CeedQFunctionCreateInterior(ceed, 1, FluidConvectionJacobian, FluidConvectionJacobian_loc, qf));
-  else
-    PetscCallCeed(ceed,
-                  backflow
-                    ? CeedQFunctionCreateInterior(ceed, 1, FluidBackflowResidual, FluidBackflowResidual_loc, qf)
-                    : CeedQFunctionCreateInterior(ceed, 1, FluidConvectionResidual, FluidConvectionResidual_loc, qf));
-  PetscCallCeed(ceed, CeedQFunctionAddInput(*qf, jacobian ? "du" : "u", dim, CEED_EVAL_INTERP));
-  if (jacobian) PetscCallCeed(ceed, CeedQFunctionAddInput(*qf, "u0", dim, CEED_EVAL_INTERP));
-  if (o->volume.moving) PetscCallCeed(ceed, CeedQFunctionAddInput(*qf, "z", dim, CEED_EVAL_INTERP));
-  PetscCallCeed(ceed, CeedQFunctionAddInput(*qf, "qdata", 1 + dim, CEED_EVAL_NONE));
-  PetscCallCeed(ceed, CeedQFunctionAddOutput(*qf, "v", dim, CEED_EVAL_INTERP));
-  PetscCallCeed(ceed, CeedQFunctionSetContext(*qf, o->context));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode FEMCeedFluidAddFaces(FEMCeedFluid o, DMLabel label, PetscInt nvalues, const PetscInt values[],
-                                    PetscBool backflow)
-{
-  Ceed         ceed = o->ceed;
-  FEMCeedFaces faces;
-
-  PetscFunctionBeginUser;
-  PetscCheck(!o->counts, PETSC_COMM_SELF, PETSC_ERR_ORDER, "libCEED fluid: faces after the matrix pattern");
-  PetscCheck(o->n_face_sets < FEM_CEED_MAX_FACE_SETS, PETSC_COMM_SELF, PETSC_ERR_SUP,
-             "libCEED fluid: too many face sets");
-  PetscCall(FEMCeedFacesCreate(o->dm, o->velocity_fe, 0, o->dm_mesh_velocity, label, nvalues, values, &faces));
-  o->face_sets[o->n_face_sets++] = faces;
-  for (PetscInt j = 0; j < 2; ++j)
-    if (!o->qf_face[backflow][j])
-      PetscCall(FaceQFunction(o, backflow, j ? PETSC_TRUE : PETSC_FALSE, &o->qf_face[backflow][j]));
-  for (PetscInt k = 0; k < faces->n_groups; ++k) {
-    FEMCeedFaceGroup *g = &faces->groups[k];
-    for (PetscInt j = 0; j < 2; ++j) {
-      CeedOperator *op = j ? &o->face_jacobian[o->n_face_ops] : &o->face_residual[o->n_face_ops];
-      PetscCallCeed(ceed, CeedOperatorCreate(ceed, o->qf_face[backflow][j], NULL, NULL, op));
-      PetscCallCeed(ceed, CeedOperatorSetField(*op, j ? "du" : "u", g->r_u, g->b_u, CEED_VECTOR_ACTIVE));
-      if (j) PetscCallCeed(ceed, CeedOperatorSetField(*op, "u0", g->r_u, g->b_u, o->state));
-      if (o->volume.moving) PetscCallCeed(ceed, CeedOperatorSetField(*op, "z", g->r_z, g->b_z, o->mesh_velocity));
-      PetscCallCeed(ceed, CeedOperatorSetField(*op, "qdata", g->r_q, CEED_BASIS_NONE, g->qdata));
-      PetscCallCeed(ceed, CeedOperatorSetField(*op, "v", g->r_u, g->b_u, CEED_VECTOR_ACTIVE));
-    }
-    ++o->n_face_ops;
-  }
-  PetscFunctionReturn(0);
-}
-
-static PetscErrorCode FacesGeometry(FEMCeedFluid o)
-{
-  PetscFunctionBeginUser;
-  for (PetscInt k = 0; k < o->n_face_sets; ++k) PetscCall(FEMCeedFacesGeometry(o->face_sets[k]));
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode FEMCeedFluidResidual(FEMCeedFluid o, Vec xlocal, Vec zlocal, PetscBool old_mass, PetscBool faces,
                                     Vec flocal)
 {
@@ -466,21 +366,16 @@ PetscErrorCode FEMCeedFluidResidual(FEMCeedFluid o, Vec xlocal, Vec zlocal, Pets
   fv->old_mass = old_mass ? 1 : 0;
   PetscCallCeed(o->ceed, CeedQFunctionContextRestoreData(o->context, &fv));
   PetscCall(FEMCeedGeometryFollow(o->ceed, o->dm, o->velocity_fe, &o->geometry, &o->r_q, &o->qdata));
-  PetscCall(MeshVelocitySet(o, zlocal));
+  PetscCall(FEMCeedFluidMeshVelocitySet(o, zlocal));
   ops[n++] = o->op_residual;
   if (o->op_stabilization) ops[n++] = o->op_stabilization;
   if (faces) {
-    PetscCall(FacesGeometry(o));
+    PetscCall(FEMCeedFluidFacesGeometry(o));
     for (PetscInt k = 0; k < o->n_face_ops; ++k) ops[n++] = o->face_residual[k];
   }
   PetscCall(FEMCeedApply(o->ceed, n, ops, o->x, o->f, xlocal, flocal));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CEED_RESIDUAL, 0, 0, 0, 0));
   PetscFunctionReturn(0);
-}
-
-PetscBool FEMCeedFluidHasFaces(FEMCeedFluid o)
-{
-  return o && o->n_face_sets > 0 ? PETSC_TRUE : PETSC_FALSE;
 }
 
 PetscErrorCode FEMCeedFluidCreateMatrix(FEMCeedFluid o, Mat *A)
@@ -511,87 +406,10 @@ PetscErrorCode FEMCeedFluidJacobian(FEMCeedFluid o, Vec xlocal, Vec zlocal, Pets
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CEED_JACOBIAN, 0, 0, 0, 0));
   for (PetscInt k = 0; k < o->n_face_ops; ++k) blocks[5 + k] = o->face_jacobian[k];
   PetscCall(FEMCeedGeometryFollow(o->ceed, o->dm, o->velocity_fe, &o->geometry, &o->r_q, &o->qdata));
-  PetscCall(FacesGeometry(o));
-  PetscCall(MeshVelocitySet(o, zlocal));
+  PetscCall(FEMCeedFluidFacesGeometry(o));
+  PetscCall(FEMCeedFluidMeshVelocitySet(o, zlocal));
   PetscCall(FEMCeedVectorCopyFrom(o->ceed, o->state, xlocal));
   PetscCall(FEMCeedAssemble(o->ceed, n, blocks, o->counts, A));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CEED_JACOBIAN, 0, 0, 0, 0));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode FEMCeedFluidJacobianApplySetUp(FEMCeedFluid o, Vec xlocal, Vec zlocal, PetscBool old_mass)
-{
-  Ceed ceed = o->ceed;
-
-  PetscFunctionBeginUser;
-  PetscCheck(!old_mass || o->volume.moving, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG,
-             "libCEED fluid: no old-domain mass on a fixed mesh");
-  if (!o->op_apply[0]) {
-    CeedOperator t;
-    CeedSize     n;
-    PetscCallCeed(ceed, CeedVectorGetLength(o->state, &n));
-    PetscCallCeed(ceed, CeedVectorCreate(ceed, n, &o->apply_state));
-    PetscCallCeed(ceed, CeedVectorSetValue(o->apply_state, 0.0));
-    PetscCallCeed(ceed, CeedVectorGetLength(o->qdata, &n));
-    PetscCallCeed(ceed, CeedVectorCreate(ceed, n, &o->apply_qdata));
-    PetscCallCeed(ceed, CeedVectorSetValue(o->apply_qdata, 0.0));
-    if (o->volume.moving) {
-      PetscCallCeed(ceed, CeedVectorGetLength(o->mesh_velocity, &n));
-      PetscCallCeed(ceed, CeedVectorCreate(ceed, n, &o->apply_mesh_velocity));
-      PetscCallCeed(ceed, CeedVectorSetValue(o->apply_mesh_velocity, 0.0));
-      PetscCallCeed(ceed, CeedVectorGetLength(o->mass_weight, &n));
-      PetscCallCeed(ceed, CeedVectorCreate(ceed, n, &o->apply_mass_weight));
-      PetscCallCeed(ceed, CeedVectorSetValue(o->apply_mass_weight, 0.0));
-    }
-    PetscCall(
-      BlockOperatorsCreate(o, o->qf_block[0], o->apply_state, o->apply_mesh_velocity, o->apply_qdata, o->op_apply));
-    PetscCallCeed(ceed, CeedOperatorCreate(ceed, o->qf_uu_transpose, NULL, NULL, &o->op_apply_uu_transpose));
-    t = o->op_apply_uu_transpose;
-    PetscCallCeed(ceed, CeedOperatorSetField(t, "w", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
-    PetscCallCeed(ceed, CeedOperatorSetField(t, "dw", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
-    PetscCallCeed(ceed, CeedOperatorSetField(t, "u0", o->r_u, o->b_u, o->apply_state));
-    PetscCallCeed(ceed, CeedOperatorSetField(t, "du0", o->r_u, o->b_u, o->apply_state));
-    PetscCallCeed(ceed, CeedOperatorSetField(t, "qdata", o->r_q, CEED_BASIS_NONE, o->apply_qdata));
-    if (o->volume.moving) PetscCallCeed(ceed, CeedOperatorSetField(t, "z", o->r_z, o->b_z, o->apply_mesh_velocity));
-    PetscCallCeed(ceed, CeedOperatorSetField(t, "v", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
-    PetscCallCeed(ceed, CeedOperatorSetField(t, "dv", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
-    if (o->volume.moving) { /* the mass applied (the assembled one is op_mass_block) */
-      PetscCallCeed(ceed, CeedOperatorCreate(ceed, o->qf_mass, NULL, NULL, &o->op_apply[4]));
-      PetscCallCeed(ceed, CeedOperatorSetField(o->op_apply[4], "u", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
-      PetscCallCeed(ceed, CeedOperatorSetField(o->op_apply[4], "m", o->r_w, CEED_BASIS_NONE, o->apply_mass_weight));
-      PetscCallCeed(ceed, CeedOperatorSetField(o->op_apply[4], "v", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
-    }
-  }
-  /* the linearization is frozen with its geometry and old-domain weights, as the assembled
-     matrix is: a mesh move between Jacobians changes neither */
-  PetscCall(FEMCeedGeometryFollow(o->ceed, o->dm, o->velocity_fe, &o->geometry, &o->r_q, &o->qdata));
-  PetscCallCeed(ceed, CeedVectorCopy(o->qdata, o->apply_qdata));
-  if (o->volume.moving) PetscCallCeed(ceed, CeedVectorCopy(o->mass_weight, o->apply_mass_weight));
-  PetscCall(FEMCeedVectorCopyFrom(ceed, o->apply_state, xlocal));
-  if (o->volume.moving) {
-    PetscCheck(zlocal, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "libCEED fluid: a moving mesh needs its mesh velocity");
-    PetscCall(FEMCeedVectorCopyFrom(ceed, o->apply_mesh_velocity, zlocal));
-  }
-  o->apply_old_mass = old_mass;
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode FEMCeedFluidJacobianApply(FEMCeedFluid o, PetscBool transpose, Vec xlocal, Vec ylocal)
-{
-  Ceed         ceed = o->ceed;
-  CeedOperator ops[5];
-  PetscInt     n = 0;
-
-  PetscFunctionBeginUser;
-  PetscCheck(o->op_apply[0], PETSC_COMM_SELF, PETSC_ERR_ORDER, "libCEED fluid: no Jacobian to apply yet");
-  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_FLUID_MATFREE, 0, 0, 0, 0));
-  /* the divergence blocks are each other's transposes, the others symmetric */
-  ops[n++] = transpose ? o->op_apply_uu_transpose : o->op_apply[0];
-  ops[n++] = o->op_apply[1];
-  ops[n++] = o->op_apply[2];
-  if (o->op_apply[3]) ops[n++] = o->op_apply[3];
-  if (o->apply_old_mass) ops[n++] = o->op_apply[4];
-  PetscCall(FEMCeedApply(ceed, n, ops, o->x, o->f, xlocal, ylocal));
-  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_FLUID_MATFREE, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }

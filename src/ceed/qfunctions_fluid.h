@@ -5,17 +5,7 @@
 #ifndef FSIOPT_QFUNCTIONS_FLUID_H
 #define FSIOPT_QFUNCTIONS_FLUID_H
 #include "qfunctions_geometry.h"
-
-typedef struct {
-  CeedInt    dim;
-  CeedScalar rho, mu, mass, op, convection;
-  CeedScalar tau;      /* op times the pressure stabilization's tau; 0: none */
-  CeedInt    moving;   /* the last inputs are the mesh velocity z and the old domains' mass weights m */
-  CeedInt    old_mass; /* the residual adds m u (moving meshes) */
-} FluidVolume;
-
-/* the convecting velocity u - z, component d at point i */
-#define CONVECTING(u, z, d, i, Q) ((u)[(d) * (Q) + (i)] - ((z) ? (z)[(d) * (Q) + (i)] : 0.0))
+#include "qfunctions_fluid_context.h"
 
 CEED_QFUNCTION(FluidVolumeResidual)(void *ctx, CeedInt Q, const CeedScalar *const *in, CeedScalar *const *out)
 {

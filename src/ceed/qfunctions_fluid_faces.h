@@ -5,7 +5,7 @@
    the mesh velocity z an input only on moving meshes. */
 #ifndef FSIOPT_QFUNCTIONS_FLUID_FACES_H
 #define FSIOPT_QFUNCTIONS_FLUID_FACES_H
-#include "qfunctions_fluid.h"
+#include "qfunctions_fluid_context.h"
 
 CEED_QFUNCTION_HELPER CeedScalar FaceNormalVelocity(CeedInt dim, const CeedScalar *u, const CeedScalar *z,
                                                     const CeedScalar *qdata, CeedInt i, CeedInt Q)
