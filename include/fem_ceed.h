@@ -94,6 +94,9 @@ PetscErrorCode FEMCeedFacesCreate(DM dm, PetscFE fe, PetscInt field, DM dm_aux, 
                                   const PetscInt values[], FEMCeedFaces *);
 PetscErrorCode FEMCeedFacesGeometry(FEMCeedFaces);
 PetscErrorCode FEMCeedFacesDestroy(FEMCeedFaces *);
+/* The vector mass of dm's field 0 on the faces of label's value (as PETSc's boundary
+   integration of g0 = I), in a new AIJ matrix of dm's global size holding those entries only */
+PetscErrorCode FEMCeedFaceMass(DM dm, DMLabel label, PetscInt value, Mat *A);
 
 /* An AIJ matrix of dm's global size for MatSetPreallocationCOO (DMCreateMatrix's would leak
    its variable block sizes there, PETSc 3.18). */

@@ -48,9 +48,10 @@ def test_ceed_spaces_match_petsc():
 BACKEND = re.compile(r"fsiopt: backend check: step (\d+): (fluid|structure) residual ([0-9.e+-]+) \(the step's start\) "
                      r"([0-9.e+-]+) \(a random state\), Jacobian ([0-9.e+-]+) ([0-9.e+-]+), libCEED relative to PETSc")
 MOTION = re.compile(r"fsiopt: backend check: mesh motion operator ([0-9.e+-]+), libCEED relative to PETSc")
+INTERFACE = re.compile(r"fsiopt: backend check: interface mass ([0-9.e+-]+), libCEED relative to PETSc")
 
 
-@test("libCEED operators (-fem_backend ceed) = PETSc's to 1e-12 at the first steps' states and at random states: fluid (moving meshes, BDF2, loads, Stokes, (Q1,Q1), 3D, forces, face terms, moving triangles and tetrahedra), structure (linear, St. Venant-Kirchhoff, loads), mesh motion (harmonic, elastic, stiffened); 2 ranks")
+@test("libCEED operators (-fem_backend ceed) = PETSc's to 1e-12 at the first steps' states and at random states: fluid (moving meshes, BDF2, loads, Stokes, (Q1,Q1), 3D, forces, face terms, moving triangles and tetrahedra), structure (linear, St. Venant-Kirchhoff, loads), mesh motion (harmonic, elastic, stiffened), interface mass; 2 ranks")
 def test_backends_agree():
     three = ["-t_final", "3e-4"]
     # (options, ranks, checked steps of the fluid, of the structure, mesh motion checks)
@@ -74,7 +75,7 @@ def test_backends_agree():
                "-mms_mesh_motion", "0.1", "-t_final", "0.7"], 1, 2, 0, 0),
              (["-options_file", "options/tube3d.yaml", "-t_final", "3e-4", "-fluid_dm_plex_filename",
                "meshes/tube3d-fluid-tets.msh", "-structure_dm_plex_filename", "meshes/tube3d-wall-tets.msh"], 1, 3, 3, 1)]
-    worst, checks = 0.0, 0
+    worst, checks, interfaces = 0.0, 0, 0
     for args, nproc, fluid, structure, motion in cases:
         rc, stdout, err, _ = run(args + ["-fem_backend_check"], nproc=nproc, out=out_dir("backends"))
         assert rc == 0, "%s: exit %d: %s" % (" ".join(args), rc, (err or stdout)[-300:])
@@ -84,9 +85,14 @@ def test_backends_agree():
         assert counts == (fluid, structure, motion), "%s: checks (fluid, structure, mesh motion) %s, expected %s" % (
             " ".join(args), counts, (fluid, structure, motion))
         values = [float(v) for l in lines for v in l[2:]] + [float(v) for v in MOTION.findall(stdout)]
+        interface = [float(v) for v in INTERFACE.findall(stdout)]
+        values += interface
+        interfaces += len(interface)
         assert max(values or [0]) <= 1e-12, "%s: %s relative to PETSc" % (" ".join(args), max(values))
         worst, checks = max([worst] + values), checks + len(values)
-    return "%d residuals, Jacobians and operators on %d set-ups, worst %.1e relative to PETSc's" % (checks, len(cases), worst)
+    assert interfaces >= 7, "%d interface mass checks, expected one per coupled set-up (7)" % interfaces
+    return "%d residuals, Jacobians and operators (%d interface masses) on %d set-ups, worst %.1e relative to PETSc's" % (
+        checks, interfaces, len(cases), worst)
 
 
 MATFREE = re.compile(r"fsiopt: backend check: step (\d+): fluid matrix-free Jacobian product ([0-9.e+-]+) \(the solver's "

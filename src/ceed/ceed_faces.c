@@ -6,6 +6,7 @@
    faces are grouped by their local number in the supporting cell: one operator per group. */
 #include <petsc/private/petscimpl.h> /* PetscObjectStateGet */
 #include "fem_ceed.h"
+#include "qfunctions_mass.h"
 
 /* the cells' rows of a field's restriction (DMPlexGetLocalOffsets) for the supporting cells */
 static PetscErrorCode CellsRestriction(Ceed ceed, DM dm, PetscInt field, PetscInt n, const PetscInt cells[],
@@ -277,5 +278,50 @@ PetscErrorCode FEMCeedFacesDestroy(FEMCeedFaces *faces)
   PetscCall(PetscFEDestroy(&o->fe));
   PetscCall(PetscFree(o));
   *faces = NULL;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMCeedFaceMass(DM dm, DMLabel label, PetscInt value, Mat *A)
+{
+  FEMCeedFaces         faces;
+  PetscFE              fe;
+  Ceed                 ceed;
+  CeedQFunction        qf;
+  CeedQFunctionContext context;
+  CeedOperator         ops[FEM_CEED_MAX_CELL_FACES];
+  CeedSize             counts[FEM_CEED_MAX_CELL_FACES];
+  SpaceShape           shape;
+  PetscInt             ncomp;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetField(dm, 0, NULL, (PetscObject *)&fe));
+  PetscCall(PetscFEGetNumComponents(fe, &ncomp));
+  PetscCall(FEMCeedFacesCreate(dm, fe, 0, NULL, label, 1, &value, &faces));
+  ceed        = faces->ceed;
+  shape.dim   = faces->dim;
+  shape.ncomp = (CeedInt)ncomp;
+  PetscCallCeed(ceed, CeedQFunctionContextCreate(ceed, &context));
+  PetscCallCeed(ceed, CeedQFunctionContextSetData(context, CEED_MEM_HOST, CEED_COPY_VALUES, sizeof(shape), &shape));
+  PetscCallCeed(ceed, CeedQFunctionCreateInterior(ceed, 1, ApplyMass, ApplyMass_loc, &qf));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(qf, "u", shape.ncomp, CEED_EVAL_INTERP));
+  PetscCallCeed(ceed, CeedQFunctionAddInput(qf, "qdata", 1 + shape.dim, CEED_EVAL_NONE));
+  PetscCallCeed(ceed, CeedQFunctionAddOutput(qf, "v", shape.ncomp, CEED_EVAL_INTERP));
+  PetscCallCeed(ceed, CeedQFunctionSetContext(qf, context));
+  for (PetscInt k = 0; k < faces->n_groups; ++k) {
+    FEMCeedFaceGroup *g = &faces->groups[k];
+    PetscCallCeed(ceed, CeedOperatorCreate(ceed, qf, NULL, NULL, &ops[k]));
+    PetscCallCeed(ceed, CeedOperatorSetField(ops[k], "u", g->r_u, g->b_u, CEED_VECTOR_ACTIVE));
+    PetscCallCeed(ceed, CeedOperatorSetField(ops[k], "qdata", g->r_q, CEED_BASIS_NONE, g->qdata));
+    PetscCallCeed(ceed, CeedOperatorSetField(ops[k], "v", g->r_u, g->b_u, CEED_VECTOR_ACTIVE));
+  }
+  PetscCall(FEMCeedCreateCOOMatrix(dm, A));
+  PetscCall(FEMCeedAssemblySetUp(ceed, dm, faces->n_groups, ops, *A, counts));
+  PetscCall(FEMCeedAssemble(ceed, faces->n_groups, ops, counts, *A));
+  PetscCall(MatAssemblyBegin(*A, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(*A, MAT_FINAL_ASSEMBLY));
+  for (PetscInt k = 0; k < faces->n_groups; ++k) PetscCallCeed(ceed, CeedOperatorDestroy(&ops[k]));
+  PetscCallCeed(ceed, CeedQFunctionDestroy(&qf));
+  PetscCallCeed(ceed, CeedQFunctionContextDestroy(&context));
+  PetscCall(FEMCeedFacesDestroy(&faces));
   PetscFunctionReturn(0);
 }

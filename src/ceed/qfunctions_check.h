@@ -4,20 +4,7 @@
 #ifndef FSIOPT_QFUNCTIONS_CHECK_H
 #define FSIOPT_QFUNCTIONS_CHECK_H
 #include "qfunctions_geometry.h"
-
-typedef struct {
-  CeedInt dim, ncomp;
-} SpaceShape;
-
-/* qdata as FEMCeedGeometry stores it: [w |det A|, B] */
-CEED_QFUNCTION(ApplyMass)(void *ctx, CeedInt Q, const CeedScalar *const *in, CeedScalar *const *out)
-{
-  const SpaceShape *shape = (const SpaceShape *)ctx;
-
-  for (CeedInt c = 0; c < shape->ncomp; ++c)
-    for (CeedInt i = 0; i < Q; ++i) out[0][c * Q + i] = in[1][i] * in[0][c * Q + i];
-  return 0;
-}
+#include "qfunctions_mass.h"
 
 /* w |det A| (grad u, grad v) = w |det A| sum_k (B^T du)_k (B^T dv)_k */
 CEED_QFUNCTION(ApplyLaplacian)(void *ctx, CeedInt Q, const CeedScalar *const *in, CeedScalar *const *out)

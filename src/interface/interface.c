@@ -31,9 +31,11 @@ static PetscErrorCode InterfaceAssembleMass(Interface itf, DM fluid, PetscInt fa
     DMLabel       label;
     PetscInt      bd, *rows;
     PetscSection  gs;
-    Mat           full;
-    Vec           zero;
+    Mat           full = NULL;
+    Vec           zero = NULL;
     IS            is;
+    FEMBackend    backend;
+    PetscBool     check;
 
     PetscCall(DMClone(fluid, &dm));
     PetscCall(DMGetField(fluid, 0, NULL, &fe));
@@ -44,13 +46,34 @@ static PetscErrorCode InterfaceAssembleMass(Interface itf, DM fluid, PetscInt fa
     PetscCall(DMGetDS(dm, &ds));
     PetscCall(PetscDSGetBoundary(ds, bd, &wf, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL, NULL));
     PetscCall(PetscWeakFormAddBdJacobian(wf, label, face, 0, 0, 0, MassG0, NULL, NULL, NULL));
-    PetscCall(DMCreateMatrix(dm, &full));
-    PetscCall(DMCreateLocalVector(dm, &zero));
-    PetscCall(VecZeroEntries(zero));
-    /* the faces alone: the whole-mesh Jacobian would visit every cell for nothing */
-    PetscCall(DMPlexComputeBdJacobianSingle(dm, 0.0, wf, label, 1, &face, 0, zero, NULL, 0.0, full, full));
-    PetscCall(MatAssemblyBegin(full, MAT_FINAL_ASSEMBLY));
-    PetscCall(MatAssemblyEnd(full, MAT_FINAL_ASSEMBLY));
+    PetscCall(FEMBackendGet(&backend, &check));
+    /* libCEED's face operator: a matrix of the faces' entries only; PETSc's integration
+       preallocates the whole velocity matrix first (11 s of tube3d level 2's set-up) */
+    if (backend == FEM_BACKEND_CEED) PetscCall(FEMCeedFaceMass(dm, label, face, &full));
+    if (backend == FEM_BACKEND_PETSC || check) {
+      Mat petsc;
+      PetscCall(DMCreateMatrix(dm, &petsc));
+      PetscCall(DMCreateLocalVector(dm, &zero));
+      PetscCall(VecZeroEntries(zero));
+      /* the faces alone: the whole-mesh Jacobian would visit every cell for nothing */
+      PetscCall(DMPlexComputeBdJacobianSingle(dm, 0.0, wf, label, 1, &face, 0, zero, NULL, 0.0, petsc, petsc));
+      PetscCall(MatAssemblyBegin(petsc, MAT_FINAL_ASSEMBLY));
+      PetscCall(MatAssemblyEnd(petsc, MAT_FINAL_ASSEMBLY));
+      if (full) {
+        PetscReal difference;
+        Mat       copy;
+        PetscCall(MatDuplicate(full, MAT_COPY_VALUES, &copy));
+        PetscCall(FEMCeedMatDifference(copy, petsc, &difference));
+        PetscCall(PetscPrintf(PetscObjectComm((PetscObject)dm),
+                              "fsiopt: backend check: interface mass %.2e, libCEED relative to PETSc\n",
+                              (double)difference));
+        PetscCheck(difference <= FEM_BACKEND_CHECK_TOL, PetscObjectComm((PetscObject)dm), PETSC_ERR_PLIB,
+                   "-fem_backend_check: the interface mass differs from PETSc's by %.1e, above %.0e",
+                   (double)difference, (double)FEM_BACKEND_CHECK_TOL);
+        PetscCall(MatDestroy(&copy));
+        PetscCall(MatDestroy(&petsc));
+      } else full = petsc;
+    }
     PetscCall(DMGetGlobalSection(dm, &gs));
     PetscCall(PetscMalloc1(itf->fluid.n * itf->dim, &rows));
     for (PetscInt i = 0; i < itf->fluid.n; ++i) {

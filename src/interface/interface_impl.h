@@ -3,6 +3,7 @@
 /* What the files of the interface share: the object, and the node matching by coordinates
    (interface_match.c) that InterfaceCreate (interface.c) starts with. */
 #include "interface.h"
+#include "fem_ceed.h"
 
 /* The interface nodes one rank owns on one side, in increasing point number. */
 typedef struct {
