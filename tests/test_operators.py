@@ -97,7 +97,7 @@ def test_backends_agree():
 
 MATFREE = re.compile(r"fsiopt: backend check: step (\d+): fluid matrix-free Jacobian product ([0-9.e+-]+) \(the solver's "
                      r"state\) ([0-9.e+-]+) \(a random state\), transposed ([0-9.e+-]+) ([0-9.e+-]+)")
-KRYLOV = ["-fluid_matfree", "-fluid_ksp_type", "gmres", "-fluid_ksp_rtol", "1e-14"]
+KRYLOV = ["-fem_backend", "ceed", "-fluid_matfree", "-fluid_ksp_type", "gmres", "-fluid_ksp_rtol", "1e-14"]
 
 
 @test("libCEED matrix-free fluid Jacobian (-fluid_matfree) = the assembled one to 1e-12, transposed too (moving mesh, BDF2, 3D backflow, (Q1,Q1)); GMRES on it: the LU run's probes to 1e-10, the adjoint identity to 1e-10")
