@@ -49,7 +49,7 @@ static PetscErrorCode InterfaceAssembleMass(Interface itf, DM fluid, PetscInt fa
     PetscCall(FEMBackendGet(&backend, &check));
     /* libCEED's face operator: a matrix of the faces' entries only; PETSc's integration
        preallocates the whole velocity matrix first (11 s of tube3d level 2's set-up) */
-    if (backend == FEM_BACKEND_CEED) PetscCall(FEMCeedFaceMass(dm, label, face, &full));
+    if (backend == FEM_BACKEND_CEED || check) PetscCall(FEMCeedFaceMass(dm, label, face, &full));
     if (backend == FEM_BACKEND_PETSC || check) {
       Mat petsc;
       PetscCall(DMCreateMatrix(dm, &petsc));
@@ -71,7 +71,10 @@ static PetscErrorCode InterfaceAssembleMass(Interface itf, DM fluid, PetscInt fa
                    "-fem_backend_check: the interface mass differs from PETSc's by %.1e, above %.0e",
                    (double)difference, (double)FEM_BACKEND_CHECK_TOL);
         PetscCall(MatDestroy(&copy));
-        PetscCall(MatDestroy(&petsc));
+        if (backend == FEM_BACKEND_PETSC) { /* the backend's own */
+          PetscCall(MatDestroy(&full));
+          full = petsc;
+        } else PetscCall(MatDestroy(&petsc));
       } else full = petsc;
     }
     PetscCall(DMGetGlobalSection(dm, &gs));
