@@ -7,6 +7,19 @@
 #include "qfunctions_geometry.h"
 #include "qfunctions_fluid_context.h"
 
+/* the weak form's (f1, grad v) at point i in the reference gradients libCEED applies:
+   dv[j][c] = w |det A| sum_k f1[c][k] B[j][k], B = A^{-1} */
+CEED_QFUNCTION_HELPER void TestGradient(CeedInt dim, CeedScalar f1[3][3], CeedScalar B[3][3], CeedScalar wdet,
+                                        CeedScalar *dv, CeedInt i, CeedInt Q)
+{
+  for (CeedInt j = 0; j < dim; ++j)
+    for (CeedInt c = 0; c < dim; ++c) {
+      CeedScalar s = 0;
+      for (CeedInt k = 0; k < dim; ++k) s += f1[c][k] * B[j][k];
+      dv[(j * dim + c) * Q + i] = wdet * s;
+    }
+}
+
 CEED_QFUNCTION(FluidVolumeResidual)(void *ctx, CeedInt Q, const CeedScalar *const *in, CeedScalar *const *out)
 {
   const FluidVolume *fv  = (const FluidVolume *)ctx;
@@ -27,23 +40,20 @@ CEED_QFUNCTION(FluidVolumeResidual)(void *ctx, CeedInt Q, const CeedScalar *cons
                      (m ? m[i] * u[c * Q + i] : 0.0);
       for (CeedInt d = 0; d < dim; ++d) f1[c][d] = fv->op * (fv->mu * (G[c][d] + G[d][c]) - (c == d ? p[i] : 0.0));
     }
-    for (CeedInt j = 0; j < dim; ++j)
-      for (CeedInt c = 0; c < dim; ++c) {
-        CeedScalar s = 0;
-        for (CeedInt k = 0; k < dim; ++k) s += f1[c][k] * B[j][k];
-        dv[(j * dim + c) * Q + i] = wdet * s;
-      }
+    TestGradient(dim, f1, B, wdet, dv, i, Q);
     q[i] = -wdet * fv->op * divergence;
   }
   return 0;
 }
-/* the velocity-velocity block of the Jacobian at the state u0: mass, both convection terms, viscosity */
-CEED_QFUNCTION(FluidJacobianUU)(void *ctx, CeedInt Q, const CeedScalar *const *in, CeedScalar *const *out)
+/* the velocity-velocity block of the Jacobian at the state u0 (mass, both convection terms,
+   viscosity) applied to w, or its transpose (for the adjoint's matrix-free products: the test
+   and trial roles of the convection terms swapped; mass and viscosity are symmetric) */
+CEED_QFUNCTION_HELPER int JacobianUU(const FluidVolume *fv, CeedInt transpose, CeedInt Q, const CeedScalar *const *in,
+                                     CeedScalar *const *out)
 {
-  const FluidVolume *fv  = (const FluidVolume *)ctx;
-  const CeedInt      dim = fv->dim;
-  const CeedScalar  *w = in[0], *dw = in[1], *u0 = in[2], *du0 = in[3], *qdata = in[4], *z = fv->moving ? in[5] : NULL;
-  CeedScalar        *v = out[0], *dv = out[1];
+  const CeedInt     dim = fv->dim;
+  const CeedScalar *w = in[0], *dw = in[1], *u0 = in[2], *du0 = in[3], *qdata = in[4], *z = fv->moving ? in[5] : NULL;
+  CeedScalar       *v = out[0], *dv = out[1];
 
   for (CeedInt i = 0; i < Q; ++i) {
     const CeedScalar wdet = qdata[i], rho_conv = fv->rho * fv->op * fv->convection;
@@ -52,51 +62,25 @@ CEED_QFUNCTION(FluidJacobianUU)(void *ctx, CeedInt Q, const CeedScalar *const *i
     PhysicalGradient(dim, du0, qdata, i, Q, B, G0);
     for (CeedInt c = 0; c < dim; ++c) {
       CeedScalar convection = 0;
-      for (CeedInt d = 0; d < dim; ++d) convection += w[d * Q + i] * G0[c][d] + CONVECTING(u0, z, d, i, Q) * G[c][d];
+      for (CeedInt d = 0; d < dim; ++d)
+        convection += transpose ? w[d * Q + i] * G0[d][c]
+                                : w[d * Q + i] * G0[c][d] + CONVECTING(u0, z, d, i, Q) * G[c][d];
       v[c * Q + i] = wdet * (fv->mass * w[c * Q + i] + rho_conv * convection);
-      for (CeedInt d = 0; d < dim; ++d) f1[c][d] = fv->op * fv->mu * (G[c][d] + G[d][c]);
+      for (CeedInt d = 0; d < dim; ++d)
+        f1[c][d] = fv->op * fv->mu * (G[c][d] + G[d][c]) +
+                   (transpose ? rho_conv * CONVECTING(u0, z, d, i, Q) * w[c * Q + i] : 0.0);
     }
-    for (CeedInt j = 0; j < dim; ++j)
-      for (CeedInt c = 0; c < dim; ++c) {
-        CeedScalar s = 0;
-        for (CeedInt k = 0; k < dim; ++k) s += f1[c][k] * B[j][k];
-        dv[(j * dim + c) * Q + i] = wdet * s;
-      }
+    TestGradient(dim, f1, B, wdet, dv, i, Q);
   }
   return 0;
 }
-
-/* the transpose of FluidJacobianUU, for the adjoint's matrix-free products: the same
-   inputs, the test and trial roles of the convection terms swapped (mass and viscosity are
-   symmetric) */
+CEED_QFUNCTION(FluidJacobianUU)(void *ctx, CeedInt Q, const CeedScalar *const *in, CeedScalar *const *out)
+{
+  return JacobianUU((const FluidVolume *)ctx, 0, Q, in, out);
+}
 CEED_QFUNCTION(FluidJacobianUUTranspose)(void *ctx, CeedInt Q, const CeedScalar *const *in, CeedScalar *const *out)
 {
-  const FluidVolume *fv  = (const FluidVolume *)ctx;
-  const CeedInt      dim = fv->dim;
-  const CeedScalar  *w = in[0], *dw = in[1], *u0 = in[2], *du0 = in[3], *qdata = in[4], *z = fv->moving ? in[5] : NULL;
-  CeedScalar        *v = out[0], *dv = out[1];
-
-  for (CeedInt i = 0; i < Q; ++i) {
-    const CeedScalar wdet = qdata[i], rho_conv = fv->rho * fv->op * fv->convection;
-    CeedScalar       B[3][3], G[3][3], G0[3][3], f1[3][3];
-    PhysicalGradient(dim, dw, qdata, i, Q, B, G);
-    PhysicalGradient(dim, du0, qdata, i, Q, B, G0);
-    for (CeedInt d = 0; d < dim; ++d) {
-      CeedScalar convection = 0;
-      for (CeedInt c = 0; c < dim; ++c) convection += w[c * Q + i] * G0[c][d];
-      v[d * Q + i] = wdet * (fv->mass * w[d * Q + i] + rho_conv * convection);
-    }
-    for (CeedInt c = 0; c < dim; ++c)
-      for (CeedInt d = 0; d < dim; ++d)
-        f1[c][d] = fv->op * fv->mu * (G[c][d] + G[d][c]) + rho_conv * CONVECTING(u0, z, d, i, Q) * w[c * Q + i];
-    for (CeedInt j = 0; j < dim; ++j)
-      for (CeedInt c = 0; c < dim; ++c) {
-        CeedScalar s = 0;
-        for (CeedInt k = 0; k < dim; ++k) s += f1[c][k] * B[j][k];
-        dv[(j * dim + c) * Q + i] = wdet * s;
-      }
-  }
-  return 0;
+  return JacobianUU((const FluidVolume *)ctx, 1, Q, in, out);
 }
 
 /* the velocity-pressure block: -(q, div v) */
