@@ -99,7 +99,7 @@ typedef struct {
 } CouplingStats;
 
 /* The methods by name (-coupling), as the scenes are: CouplingRegisterAll() adds opt, dn,
-   aitken and iqnils; a new method is one file whose create function fills the method's
+   aitken, iqnils and iqnimvj; a new method is one file whose create function fills the method's
    operations (coupling_impl.h) and one CouplingRegister line. */
 extern PetscFunctionList CouplingList;
 PetscErrorCode           CouplingRegister(const char name[], PetscErrorCode (*create)(Coupling));

@@ -168,24 +168,39 @@ def partitioned_runs():
     """channel2d, 10 steps, with the optimization-based and two partitioned couplings (the
     latter to a relative traction change of 1e-6, so that opt's tolerance dominates)."""
     if not _partitioned:
-        for m in ["opt", "aitken", "iqnils"]:
+        for m in ["opt", "aitken", "iqnils", "iqnimvj"]:
             out = os.path.join(WORK, "pt-" + m)
             s = solve(CHANNEL + ["-t_final", "0.001", "-coupling", m] + (["-coupling_rtol", "1e-6"] if m != "opt" else []), out=out)
             _partitioned[m] = (s, read_probes(os.path.join(out, "probes.csv"))[1])
     return _partitioned
 
 
-@test("opt, aitken, iqnils agree on channel2d probes (10 x tol)")
+@test("opt, aitken, iqnils, iqnimvj agree on channel2d probes (10 x tol)")
 def test_opt_aitken_iqnils_agree():
     runs, tol = partitioned_runs(), 1e-4  # -coupling_tol of options/channel2d.yaml
     _, ref = runs["opt"]
     worst = {}
-    for m in ["aitken", "iqnils"]:
+    for m in ["aitken", "iqnils", "iqnimvj"]:
         _, got = runs[m]
         worst[m] = max(max(abs(g[c] - r[c]) for g, r in zip(got, ref)) / max(abs(r[c]) for r in ref) for c in (2, 4, 6))
         assert worst[m] <= 10 * tol, "%s differs from opt by %.2e of the probe amplitude" % (m, worst[m])
         assert runs[m][0]["max_interface_jump"] <= 1e-10, "%s: velocity jump %.2e" % (m, runs[m][0]["max_interface_jump"])
     return ", ".join("%s %.1e" % kv for kv in worst.items())
+
+
+@test("iqnimvj: its inverse Jacobian, carried across steps, needs fewer sweeps than iqnils' reused columns over 100 steps; 2 ranks, fluid | structure = 1 rank")
+def test_iqnimvj_fewer_sweeps():
+    args = CHANNEL + ["-t_final", "0.01"]
+    runs = {}
+    for m, nproc, extra in (("iqnils", 1, []), ("iqnimvj", 1, []), ("iqnimvj-2", 2, []), ("iqnimvj-split", 2, ["-structure_ranks", "1"])):
+        out = os.path.join(WORK, "imvj-" + m)
+        s = solve(args + ["-coupling", m.split("-")[0]] + extra, nproc=nproc, out=out)
+        runs[m] = (s["avg_coupling_iterations"], read_probes(os.path.join(out, "probes.csv"))[1])
+    ils, imvj = runs["iqnils"][0], runs["iqnimvj"][0]
+    assert imvj < ils, "sweeps per step: iqnimvj %.2f, iqnils %.2f" % (imvj, ils)
+    layouts = max(probes_difference(runs[m][1], runs["iqnimvj"][1]) for m in ("iqnimvj-2", "iqnimvj-split"))
+    assert layouts <= 1e-10, "iqnimvj on 2 ranks differs from 1 rank by %.2e" % layouts
+    return "sweeps per step: iqnimvj %.2f, iqnils %.2f; 2 ranks within %.1e" % (imvj, ils, layouts)
 
 
 @test("iqnils needs fewer coupling iterations than aitken")

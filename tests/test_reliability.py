@@ -328,6 +328,9 @@ def test_help_lists_options():
                 "-coupling_omega", "-coupling_rtol", "-coupling_atol", "-coupling_iqn_reuse", "-mesh_motion",
                 "-channel_inlet_amplitude", "-fluid_backflow_stabilization", "-structure_model"]:
         assert opt in text, "%s not in -help of channel2d with -coupling iqnils" % opt
+    text = help_text(["-options_file", "options/channel2d.yaml", "-coupling", "iqnimvj"])
+    for opt in ["-coupling_imvj_restart", "-coupling_iqn_columns", "-coupling_iqn_filter"]:
+        assert opt in text, "%s not in -help of channel2d with -coupling iqnimvj" % opt
     text = help_text(TUREK)
     for opt in ["-turek_case", "-turek_mean_velocity", "-turek_ramp_time", "-turek_gravity", "-turek_gravity_ramp",
                 "-quantities_window", "-checkpoint_every", "-checkpoint_file", "-restart", "-fluid_steady",

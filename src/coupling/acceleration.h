@@ -7,7 +7,9 @@
    acceleration, one file each (the shape of preCICE's acceleration module):
      acceleration_constant.c  dn      u + omega r, omega fixed
      acceleration_aitken.c    aitken  Aitken's dynamic relaxation, the seed's reference
-     acceleration_iqnils.c    iqnils  interface quasi-Newton, least-squares inverse Jacobian */
+     acceleration_iqnils.c    iqnils  interface quasi-Newton, least-squares inverse Jacobian
+     acceleration_iqnimvj.c   iqnimvj interface quasi-Newton, multi-vector inverse Jacobian
+   (the last two share their columns and QR: acceleration_iqn.c) */
 typedef struct _p_Acceleration *Acceleration;
 struct _p_Acceleration {
   PetscReal omega;     /* the relaxation of a step without a model (-coupling_omega); aitken: the one in use */

@@ -22,6 +22,7 @@ PetscErrorCode CouplingRegisterAll(void)
   PetscCall(CouplingRegister("dn", CouplingCreate_DN));
   PetscCall(CouplingRegister("aitken", CouplingCreate_Aitken));
   PetscCall(CouplingRegister("iqnils", CouplingCreate_IQNILS));
+  PetscCall(CouplingRegister("iqnimvj", CouplingCreate_IQNIMVJ));
   PetscFunctionReturn(0);
 }
 

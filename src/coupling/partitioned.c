@@ -1,6 +1,6 @@
 /* The partitioned baselines (issue 5): Dirichlet-Neumann fixed-point iterations
    u_{k+1} = update(u_k, S(u_k), r_k), r_k = S(u_k) - u_k, S one sweep, the update an
-   acceleration (acceleration.h: dn, aitken, iqnils). The iterate u is the interface
+   acceleration (acceleration.h: dn, aitken, iqnils, iqnimvj). The iterate u is the interface
    traction (structure under the traction, fluid with the structure's interface velocity,
    the fluid's reaction as the new traction; CouplingProblemSweep) or, with
    -coupling_relax_velocity, the interface velocity (fluid under the velocity, structure
@@ -144,10 +144,11 @@ static PetscErrorCode PartitionedSetUp(Coupling C)
   pt->rtol = 1e-5;
   pt->atol = 1e-7;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Partitioned (Dirichlet-Neumann) coupling", "coupling");
-  PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_omega",
-                                "relaxation: fixed for dn (default 1, unrelaxed), the first step of aitken and iqnils "
-                                "(default 0.05, the seed's)",
-                                &pt->acc->omega));
+  PetscCall(
+    OptionsPositiveReal(PetscOptionsObject, "-coupling_omega",
+                        "relaxation: fixed for dn (default 1, unrelaxed), the first step of aitken, iqnils and iqnimvj "
+                        "(default 0.05, the seed's)",
+                        &pt->acc->omega));
   PetscCall(
     OptionsPositiveReal(PetscOptionsObject, "-coupling_rtol",
                         "a step has converged when the traction changes by less than this, relative, in L2(Gamma_I)",

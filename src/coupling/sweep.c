@@ -15,7 +15,8 @@ PetscErrorCode CouplingProblemCheckSweepable(CouplingProblem P)
   /* with the interface velocity prescribed too, an enclosed fluid's pressure is
      undetermined and its volume cannot change (the incompressibility dilemma) */
   PetscCheck(P->fluid_data.n_traction > 0, P->comm, PETSC_ERR_SUP,
-             "option -coupling: the Dirichlet-Neumann methods (dn, aitken, iqnils) need a fluid boundary with a "
+             "option -coupling: the Dirichlet-Neumann methods (dn, aitken, iqnils, iqnimvj) need a fluid boundary with "
+             "a "
              "traction condition besides the interface; this scene's fluid is enclosed (incompressibility dilemma): "
              "use -coupling opt");
   PetscFunctionReturn(0);

@@ -1,5 +1,5 @@
 /* The fluid with a prescribed interface velocity, for the Dirichlet-Neumann baselines
-   (-coupling dn|aitken|iqnils). The interface rows of R(x) = rhs are replaced by
+   (-coupling dn|aitken|iqnils|iqnimvj). The interface rows of R(x) = rhs are replaced by
    x_i = v_i; the DM, its kernels, the moving mesh and the boundary data are the ones of
    the traction-controlled fluid, and the reaction R(x)_i - history_i on those rows is the
    interface load B_f g that fluid would need for the same state: the consistent (weak)
