@@ -55,11 +55,17 @@ PetscErrorCode CouplingProblemSetTimeStep(CouplingProblem, PetscReal dt);
 PetscErrorCode CouplingProblemGetFailure(CouplingProblem, const char **reason);
 PetscErrorCode CouplingProblemResidual(CouplingProblem, Vec x, Vec F);
 PetscErrorCode CouplingProblemUpdateJacobian(CouplingProblem, Vec x);
+/* the same, with the fluid refactored at x whatever the lag (for an explicit J0 that many
+   iterations will use) */
+PetscErrorCode CouplingProblemRefreshJacobian(CouplingProblem, Vec x);
 /* Jumps at or below this need no new Jacobian: the optimizer accepts the point. */
 PetscErrorCode CouplingProblemSetConvergedJump(CouplingProblem, PetscReal);
 PetscErrorCode CouplingProblemJacobianMult(CouplingProblem, Vec h, Vec y);
 PetscErrorCode CouplingProblemJacobianMultBlock(CouplingProblem, Mat H, Mat Y); /* dense columns */
 PetscErrorCode CouplingProblemJacobianMultTranspose(CouplingProblem, Vec rho, Vec y);
+/* the products of the run so far: J h (a block's columns each) and J^T rho, one linearized
+   solve of each subproblem apiece */
+PetscErrorCode CouplingProblemGetProductCounts(CouplingProblem, PetscInt *forward, PetscInt *adjoint);
 /* ||u - v_s||_{L2(Gamma_I)} at x (with the consistent interface mass) */
 PetscErrorCode CouplingProblemJump(CouplingProblem, Vec x, PetscReal *jump);
 PetscErrorCode CouplingProblemEndStep(CouplingProblem, Vec x);
@@ -92,6 +98,7 @@ typedef struct {
   PetscInt iterations;       /* coupling iterations (Gauss-Newton or sweeps), summed over steps */
   PetscInt linearized_pairs; /* iterations that also solved the linearized and adjoint problems */
   PetscInt inner_iterations;
+  PetscInt forward_products, adjoint_products; /* linearized and adjoint solves (CouplingProblemGetProductCounts) */
   PetscInt stalled_steps;
   PetscReal
     max_jump; /* largest final interface velocity jump of a step (partitioned: zero to the solvers' tolerance) */

@@ -16,6 +16,7 @@ typedef struct {
   PetscReal        wall_time_s;
   SolverCounts     fluid, structure;
   PetscInt         coupling_iterations, inner_iterations, stalled_steps;
+  PetscInt         forward_products, adjoint_products;
   PetscReal        work_factor, max_interface_jump;
   PetscReal        worst_corner_ratio, worst_corner_time; /* moving fluid meshes (FluidGetMeshQuality) */
   PetscBool        converged, has_fluid, has_structure;

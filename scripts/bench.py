@@ -6,8 +6,9 @@ horizon and --extra options for all) and once more as the reference: opt with
 -coupling_tol 1e-7 -fluid_snes_rtol 1e-10 -fluid_rhs_rtol 1e-12 over the same horizon.
 Measures, per method:
 
-  wall time (summary.json wall_time_s), fluid nonlinear solves, fluid linear solves,
-  coupling iterations per step (for opt: Gauss-Newton iterations; for dn, aitken, iqnils:
+  wall time (summary.json wall_time_s), fluid nonlinear solves, fluid linear solves, the
+  coupling's linearized and adjoint solves (summary.json linearized_solves, the explicit
+  Jacobian's columns included), fluid factorizations, coupling iterations per step (for opt: Gauss-Newton iterations; for dn, aitken, iqnils:
   Dirichlet-Neumann sweeps), work factor, max interface jump, converged, the -log_view
   stage times (Main Stage, Setup, Fluid, Structure, Output, Optimizer = the coupling
   method's own work, Sensitivity, Adjoint), and the probe error against the reference:
@@ -286,6 +287,8 @@ NUMERIC = [  # (csv column, markdown header, format)
     ("wall_time_s", "wall s", "%.3g"),
     ("fluid_solves", "fluid solves", "%d"),
     ("fluid_linear_solves", "fluid linear solves", "%d"),
+    ("linearized_solves", "linearized + adjoint solves", "%d"),
+    ("factorizations_fluid", "fluid factorizations", "%d"),
     ("its_per_step", "coupling its/step", "%.3g"),
     ("work_factor", "work factor", "%.3g"),
     ("max_interface_jump", "max jump", "%.2e"),
@@ -300,10 +303,13 @@ def stage_key(stage):
 def bench_row(label, r, ref):
     s = r.summary if r.ok else {}
     f = s.get("factorizations", {})
+    lin = s.get("linearized_solves", {})
     row = {"method": label, "status": r.status, "reused": str(r.reused).lower(), "error": r.error,
            "attempts": r.attempts, "elapsed_s": "%.3f" % r.elapsed_s,
            "wall_time_s": s.get("wall_time_s", ""), "fluid_solves": s.get("fluid_solves", ""),
-           "fluid_linear_solves": s.get("fluid_linear_solves", ""), "structure_solves": s.get("structure_solves", ""),
+           "fluid_linear_solves": s.get("fluid_linear_solves", ""),
+           "linearized_solves": lin.get("forward", 0) + lin.get("adjoint", 0) if lin else "",
+           "structure_solves": s.get("structure_solves", ""),
            "coupling_iterations": s.get("coupling_iterations", ""), "its_per_step": s.get("avg_coupling_iterations", ""),
            "work_factor": s.get("work_factor", ""), "max_interface_jump": s.get("max_interface_jump", ""),
            "converged": str(s["converged"]).lower() if "converged" in s else "", "steps": s.get("steps", ""),
@@ -378,7 +384,7 @@ def bench(args, methods, extra):
     add_ratios(ok_rows, [k for k, _, _ in NUMERIC] + stage_keys)
     ref_row = bench_row("reference", ref, ref)
     fields = ["method", "status", "reused", "error", "attempts", "elapsed_s", "wall_time_s", "fluid_solves",
-              "fluid_linear_solves", "structure_solves", "coupling_iterations", "its_per_step", "work_factor",
+              "fluid_linear_solves", "linearized_solves", "structure_solves", "coupling_iterations", "its_per_step", "work_factor",
               "max_interface_jump", "converged", "steps", "factorizations_fluid", "factorizations_structure",
               "probe_error"] + stage_keys + [k + "_ratio" for k, _, _ in NUMERIC] + \
              [k + "_ratio" for k in stage_keys] + ["run_dir", "command"]

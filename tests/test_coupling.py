@@ -203,6 +203,36 @@ def test_iqnimvj_fewer_sweeps():
     return "sweeps per step: iqnimvj %.2f, iqnils %.2f; 2 ranks within %.1e" % (imvj, ils, layouts)
 
 
+@test("opt's inner solvers: gmres, bicgstab and chord agree with cgls on channel2d's 50-step probes (10 x tol) "
+      "without an adjoint solve, gmres with fewer linearized solves; gmres on fluid | structure ranks = 1 rank")
+def test_newton_krylov_inner():
+    args, tol = CHANNEL + ["-t_final", "0.005"], 1e-4  # -coupling_tol of options/channel2d.yaml
+    runs = {}
+    for tag, inner, nproc in (("cgls", "cgls", 1), ("gmres", "gmres", 1), ("bicgstab", "bicgstab", 1),
+                              ("chord", "chord", 1), ("gmres-split", "gmres", 2)):
+        out = os.path.join(WORK, "inner-" + tag)
+        extra = ["-structure_ranks", "1"] if nproc == 2 else []
+        s = solve(args + ["-coupling_inner", inner] + extra, nproc=nproc, out=out)
+        assert s["optimizer"] == ("brgn" if inner == "cgls" else inner), "optimizer %s" % s["optimizer"]
+        runs[tag] = (s, read_probes(os.path.join(out, "probes.csv"))[1])
+    cgls, ref = runs["cgls"]
+    assert cgls["linearized_solves"]["adjoint"] > 0, "cgls solved no adjoint problem: %s" % cgls["linearized_solves"]
+    worst = {}
+    for tag in ("gmres", "bicgstab", "chord"):
+        s, probes = runs[tag]
+        worst[tag] = probes_difference(probes, ref)
+        assert worst[tag] <= 10 * tol, "%s differs from cgls by %.2e of the probe amplitude" % (tag, worst[tag])
+        assert s["linearized_solves"]["adjoint"] == 0, "%s: %d adjoint solves" % (tag, s["linearized_solves"]["adjoint"])
+        assert s["max_interface_jump"] <= tol, "%s: jump %.2e" % (tag, s["max_interface_jump"])
+    gm, cg = runs["gmres"][0]["linearized_solves"]["forward"], sum(cgls["linearized_solves"].values())
+    assert gm < cg, "linearized solves: gmres %d, cgls %d" % (gm, cg)
+    assert runs["chord"][0]["inner_iterations"] == 0, "chord: %d inner iterations" % runs["chord"][0]["inner_iterations"]
+    split = probes_difference(runs["gmres-split"][1], runs["gmres"][1])
+    assert split <= 1e-8, "gmres on fluid | structure ranks differs by %.2e" % split
+    return "probes within %s of cgls; linearized solves gmres %d, cgls %d; 2 ranks within %.1e" % (
+        ", ".join("%.1e (%s)" % (v, k) for k, v in worst.items()), gm, cg, split)
+
+
 @test("iqnils needs fewer coupling iterations than aitken")
 def test_iqnils_fewer_iterations_than_aitken():
     runs = partitioned_runs()

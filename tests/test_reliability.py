@@ -237,6 +237,10 @@ def test_bad_input_numbers():
         ("zero relaxation", ["-scene", "mms-stokes", "-coupling", "dn", "-coupling_omega", "0"], "-coupling_omega"),
         ("negative Tikhonov weight", ["-scene", "mms-stokes", "-coupling_tikhonov", "-1"], "-coupling_tikhonov"),
         ("zero coupling tolerance", ["-scene", "mms-stokes", "-coupling_tol", "0"], "-coupling_tol"),
+        ("Newton-Krylov with a Tikhonov term", ["-scene", "mms-stokes", "-coupling_inner", "gmres", "-coupling_tikhonov", "1e-3"], "-coupling_inner"),
+        ("chord step without an explicit Jacobian", ["-scene", "mms-stokes", "-coupling_inner", "chord"], "-coupling_inner"),
+        ("unknown inner solver", ["-scene", "mms-stokes", "-coupling_inner", "cg"], "-coupling_inner"),
+        ("start correction without an explicit Jacobian", ["-scene", "mms-stokes", "-coupling_start_correction"], "-coupling_start_correction"),
         ("zero -dt_min", F + ["-dt_min", "0"], "-dt_min"),
         ("negative -dt_min", F + ["-dt_min", "-1e-3"], "-dt_min"),
         ("-dt_min above -dt", F + ["-dt", "0.1", "-dt_min", "0.2"], "-dt_min"),
@@ -335,7 +339,9 @@ def test_help_lists_options():
     for opt in ["-turek_case", "-turek_mean_velocity", "-turek_ramp_time", "-turek_gravity", "-turek_gravity_ramp",
                 "-quantities_window", "-checkpoint_every", "-checkpoint_file", "-restart", "-fluid_steady",
                 "-mesh_motion_stiffening", "-mesh_motion_incremental", "-dt_min", "-fluid_time_order",
-                "-coupling_explicit_jacobian_rebuild_its", "-interrupt_test_step", "-interrupt_test_signal"]:
+                "-coupling_explicit_jacobian_rebuild_its", "-interrupt_test_step", "-interrupt_test_signal",
+                "-coupling_inner", "-coupling_inner_jump_fraction", "-coupling_chord_contraction",
+                "-coupling_start_correction"]:
         assert opt in text, "%s not in -help of turek-hron" % opt
     # fsiopt's own options at the end, by prefix, with units in the scene's system
     groups = own_section(text)

@@ -141,6 +141,7 @@ PetscErrorCode CouplingStep(Coupling C, PetscInt step)
   PetscCall(CouplingProblemEndStep(C->problem, C->x));
   PetscCall(CheckProblemFailure(C, step, "at the end of", &failed));
   if (failed) PetscFunctionReturn(0);
+  if (C->ops.end_step) PetscCall((*C->ops.end_step)(C));
   if (it.stalled) {
     char label[64];
     CouplingLabel(C, label, sizeof(label));
@@ -208,6 +209,7 @@ PetscErrorCode CouplingGetStats(Coupling C, CouplingStats *stats)
 {
   PetscFunctionBeginUser;
   *stats = C->stats;
+  PetscCall(CouplingProblemGetProductCounts(C->problem, &stats->forward_products, &stats->adjoint_products));
   PetscFunctionReturn(0);
 }
 

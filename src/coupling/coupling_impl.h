@@ -47,7 +47,10 @@ struct _p_Coupling {
     /* after a checkpoint file or a new dt: drop what was built from the steps before */
     PetscErrorCode (*resynchronize)(Coupling);
     PetscErrorCode (*checkpoint)(Coupling, Checkpoint, PetscBool load); /* the method's own state; may be NULL */
-    PetscBool restartable;                                              /* its state is all in checkpoint files */
+    /* after the step is accepted and its state final: may change C->x, the control the next
+       step's start is extrapolated from (never the state); may be NULL */
+    PetscErrorCode (*end_step)(Coupling);
+    PetscBool restartable; /* its state is all in checkpoint files */
   } ops;
   void *data;
 };

@@ -6,6 +6,7 @@ struct _p_ExplicitJacobian {
   Vec        e, all, y, z; /* e: the control layout */
   VecScatter to_all;
   PetscBool  rebuild, factored;
+  PetscBool  normal_equations; /* apply (J0^T J0)^{-1}, else J0^{-1} */
   PetscInt   builds;
   PetscInt   block;         /* at most this many columns per product J [e_j ...] */
   Mat        units, images; /* one width for every block and build: the products' work
@@ -65,30 +66,35 @@ static PetscErrorCode Apply(PC pc, Vec x, Vec out)
   if (E->rebuild || !E->factored) PetscCall(Build(E));
   PetscCall(VecScatterBegin(E->to_all, x, E->all, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterEnd(E->to_all, x, E->all, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(MatSolveTranspose(E->J0, E->all, E->y)); /* J0^{-T} x */
-  PetscCall(MatSolve(E->J0, E->y, E->z));            /* J0^{-1} J0^{-T} x */
+  if (E->normal_equations) {
+    PetscCall(MatSolveTranspose(E->J0, E->all, E->y)); /* J0^{-T} x */
+    PetscCall(MatSolve(E->J0, E->y, E->z));            /* J0^{-1} J0^{-T} x */
+  } else PetscCall(MatSolve(E->J0, E->all, E->z));
   PetscCall(VecScatterBegin(E->to_all, E->z, out, INSERT_VALUES, SCATTER_REVERSE));
   PetscCall(VecScatterEnd(E->to_all, E->z, out, INSERT_VALUES, SCATTER_REVERSE));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode ExplicitJacobianCreate(Mat J, PetscInt block, KSP ksp, ExplicitJacobian *explicit_jacobian)
+PetscErrorCode ExplicitJacobianCreate(Mat J, PetscInt block, PetscBool normal_equations, KSP ksp,
+                                      ExplicitJacobian *explicit_jacobian)
 {
   ExplicitJacobian E;
   PC               pc;
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&E));
-  E->J       = J;
-  E->block   = block;
-  E->rebuild = PETSC_TRUE;
+  E->J                = J;
+  E->block            = block;
+  E->normal_equations = normal_equations;
+  E->rebuild          = PETSC_TRUE;
   PetscCall(MatCreateVecs(J, &E->e, NULL));
   PetscCall(VecScatterCreateToAll(E->e, &E->to_all, &E->all));
   PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(PCSetType(pc, PCSHELL));
   PetscCall(PCShellSetContext(pc, E));
   PetscCall(PCShellSetApply(pc, Apply));
-  PetscCall(PCShellSetName(pc, "explicit Gauss-Newton Jacobian (LU)"));
+  PetscCall(PCShellSetName(pc, normal_equations ? "explicit Gauss-Newton Jacobian (LU of J0, applied as (J0^T J0)^-1)"
+                                                : "explicit Jacobian (LU of J0, applied as J0^-1)"));
   *explicit_jacobian = E;
   PetscFunctionReturn(0);
 }
@@ -97,6 +103,26 @@ PetscErrorCode ExplicitJacobianRequestRebuild(ExplicitJacobian E)
 {
   PetscFunctionBeginUser;
   E->rebuild = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ExplicitJacobianSolve(ExplicitJacobian E, Vec b, Vec x, PetscBool *solved)
+{
+  PetscFunctionBeginUser;
+  *solved = E && E->factored ? PETSC_TRUE : PETSC_FALSE;
+  if (!*solved) PetscFunctionReturn(0);
+  PetscCall(VecScatterBegin(E->to_all, b, E->all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(E->to_all, b, E->all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(MatSolve(E->J0, E->all, E->z));
+  PetscCall(VecScatterBegin(E->to_all, E->z, x, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(E->to_all, E->z, x, INSERT_VALUES, SCATTER_REVERSE));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ExplicitJacobianGetBuilds(ExplicitJacobian E, PetscInt *builds)
+{
+  PetscFunctionBeginUser;
+  *builds = E ? E->builds : 0;
   PetscFunctionReturn(0);
 }
 

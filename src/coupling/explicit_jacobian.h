@@ -2,14 +2,18 @@
 #define FSIOPT_EXPLICIT_JACOBIAN_H
 #include <petscksp.h>
 
-/* A preconditioner for CG on the Gauss-Newton normal equations J^T J d = -J^T F: the
-   inverse (J0^T J0)^{-1} = J0^{-1} J0^{-T} of an explicitly built Jacobian J0 (one
-   sensitivity product per control, `block` of them per multi-right-hand-side solve; a
-   dense LU on every rank). J changes little from step
-   to step, so J0 from an earlier step leaves CG a handful of iterations. */
+/* A preconditioner from an explicitly built Jacobian J0 (one sensitivity product per
+   control, `block` of them per multi-right-hand-side solve; a dense LU on every rank):
+   for CG on the Gauss-Newton normal equations J^T J d = -J^T F (normal_equations) the
+   inverse (J0^T J0)^{-1} = J0^{-1} J0^{-T}, for a Krylov method on J d = -F itself J0^{-1}.
+   J changes little from step to step, so J0 from an earlier step leaves the Krylov method
+   a handful of iterations. */
 typedef struct _p_ExplicitJacobian *ExplicitJacobian;
 
-PetscErrorCode ExplicitJacobianCreate(Mat J, PetscInt block, KSP ksp, ExplicitJacobian *);
+PetscErrorCode ExplicitJacobianCreate(Mat J, PetscInt block, PetscBool normal_equations, KSP ksp, ExplicitJacobian *);
+/* x = J0^{-1} b with the J0 in hand; solved is false when none has been built */
+PetscErrorCode ExplicitJacobianSolve(ExplicitJacobian, Vec b, Vec x, PetscBool *solved);
+PetscErrorCode ExplicitJacobianGetBuilds(ExplicitJacobian, PetscInt *builds);
 PetscErrorCode ExplicitJacobianRequestRebuild(ExplicitJacobian);
 PetscErrorCode ExplicitJacobianDestroy(ExplicitJacobian *);
 #endif

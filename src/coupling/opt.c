@@ -3,11 +3,9 @@
    brgn (Gauss-Newton, CG on the normal equations inside), lmvm, bncg, or the seed's
    relaxed steepest descent (Algorithm 4.11, TAO type "sdrelaxed"). The run's own test
    stops it: the interface jump below -coupling_tol, or a stall. */
-#include "coupling_impl.h"
+#include "opt_impl.h"
 #include "options.h"
 #include "logging.h"
-#include <petsctao.h>
-#include "explicit_jacobian.h"
 
 /* PETSc fixes the signatures of TAO callbacks; each uses a few of their arguments. */
 #pragma GCC diagnostic ignored "-Wunused-parameter"
@@ -15,21 +13,7 @@
 PetscErrorCode TaoCreate_RelaxedSteepestDescent(Tao);
 PetscErrorCode TaoRelaxedSDSetTikhonov(Tao, PetscReal);
 
-typedef struct {
-  Tao        tao, inner; /* inner: the Tao that iterates (brgn's subsolver, or tao) */
-  Vec        F;
-  Mat        J;
-  PetscReal  tikhonov, tol; /* -coupling_tikhonov, -coupling_tol */
-  PetscInt   step, stall_its, inner_seen;
-  PetscReal *objectives; /* this step's, by iteration */
-  PetscBool  stalled, test_adjoint, test_taylor;
-  PetscReal  last_jump, first_jump;
-  /* the explicit-Jacobian preconditioner of the inner CG (explicit_jacobian.c) */
-  ExplicitJacobian explicit_jacobian;
-  PetscInt         rebuild_every, build_block;
-  PetscInt         rebuild_inner; /* and when a Gauss-Newton iteration's CG needed more than this */
-  PetscInt         last_iteration;
-} Opt;
+const char *const OptInnerNames[] = {"cgls", "gmres", "bicgstab", "chord", "OptInner", "OPT_INNER_", NULL};
 
 static PetscErrorCode Residual(Tao tao, Vec x, Vec F, void *ctx)
 {
@@ -76,48 +60,76 @@ static PetscErrorCode ObjectiveAndGradient(Tao tao, Vec x, PetscReal *f, Vec g, 
 
 /* Stops on the interface jump (DESIGN §3): converged below -coupling_tol; stalled when the
    objective has not improved by 1 % over -coupling_stall_its iterations; failed past
-   -coupling_max_it. Also writes the history row of the iteration. */
-static PetscErrorCode ConvergenceTest(Tao tao, void *ctx)
+   -coupling_max_it. */
+PetscErrorCode OptTestIteration(Coupling C, PetscInt its, PetscReal f, PetscInt inner_total, OptVerdict *verdict)
 {
-  Coupling           C   = (Coupling)ctx;
-  Opt               *opt = (Opt *)C->data;
-  PetscInt           its, inner_total;
-  PetscReal          f, jump;
-  TaoConvergedReason reason;
-  Vec                x;
-
+  Opt        *opt = (Opt *)C->data;
+  PetscReal   jump;
+  PetscInt    inner;
   const char *failure;
 
   PetscFunctionBeginUser;
-  PetscCall(TaoGetSolutionStatus(tao, &its, &f, NULL, NULL, NULL, &reason));
-  PetscCall(TaoGetSolution(tao, &x));
-  PetscCall(PetscLogStagePop());
-  PetscCall(CouplingProblemJump(C->problem, x, &jump));
-  PetscCall(PetscLogStagePush(FSIOPT_STAGE_OPTIMIZER));
+  /* TAO and SNES iterate on C->x itself */
+  PetscCall(CouplingProblemJump(C->problem, C->x, &jump));
   opt->last_iteration = its;
   PetscCall(CouplingProblemGetFailure(C->problem, &failure));
   if (failure) {
-    PetscCall(TaoSetConvergedReason(tao, TAO_DIVERGED_USER));
+    *verdict = opt->verdict = OPT_FAILED;
     PetscFunctionReturn(0);
   }
-  PetscCall(TaoGetLinearSolveIterations(tao, &inner_total));
-  PetscCall(HistoryAppend(C->history, opt->step, C->dt, its, f, jump, inner_total - opt->inner_seen));
+  inner = opt->inner_type == OPT_INNER_CHORD ? 0 : inner_total - opt->inner_seen; /* preonly counts one */
+  PetscCall(HistoryAppend(C->history, opt->step, C->dt, its, f, jump, inner));
   /* J moved away from the explicit one (a flag swinging): build it anew for the next solve */
-  if (opt->explicit_jacobian && opt->rebuild_inner > 0 && inner_total - opt->inner_seen > opt->rebuild_inner)
+  if (opt->explicit_jacobian && opt->rebuild_inner > 0 && inner > opt->rebuild_inner)
     PetscCall(ExplicitJacobianRequestRebuild(opt->explicit_jacobian));
-  C->stats.inner_iterations += inner_total - opt->inner_seen;
+  if (its > 0 && (opt->inner_type == OPT_INNER_CGLS || inner > 0)) opt->linearized_iterations++;
+  C->stats.inner_iterations += inner;
   opt->inner_seen = inner_total;
-  opt->last_jump  = jump;
-  if (its <= C->max_it) opt->objectives[its] = f;
   if (its == 0) opt->first_jump = jump;
-  if (jump <= opt->tol) reason = TAO_CONVERGED_USER;
-  else if (PetscIsInfOrNanReal(jump) || (its > 0 && jump > 1e3 * opt->first_jump))
-    reason = TAO_DIVERGED_USER; /* blowing up */
+  else if (opt->inner_type == OPT_INNER_CHORD && opt->explicit_jacobian &&
+           jump > opt->chord_contraction * opt->last_jump)
+    PetscCall(ExplicitJacobianRequestRebuild(opt->explicit_jacobian)); /* J0 no longer contracts */
+  opt->last_jump = jump;
+  if (its <= C->max_it) opt->objectives[its] = f;
+  if (jump <= opt->tol) *verdict = OPT_CONVERGED;
+  else if (PetscIsInfOrNanReal(jump) || (its > 0 && jump > 1e3 * opt->first_jump)) *verdict = OPT_DIVERGED;
   else if (its >= opt->stall_its && f > 0.99 * opt->objectives[its - opt->stall_its]) {
-    reason       = TAO_CONVERGED_USER;
+    *verdict     = OPT_CONVERGED;
     opt->stalled = PETSC_TRUE;
-  } else if (its >= C->max_it) reason = TAO_DIVERGED_MAXITS;
-  else reason = TAO_CONTINUE_ITERATING;
+  } else if (its >= C->max_it) *verdict = OPT_MAX_IT;
+  else *verdict = OPT_CONTINUE;
+  opt->verdict = *verdict;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode ConvergenceTest(Tao tao, void *ctx)
+{
+  Coupling           C = (Coupling)ctx;
+  PetscInt           its, inner_total;
+  PetscReal          f;
+  OptVerdict         verdict;
+  TaoConvergedReason reason;
+
+  PetscFunctionBeginUser;
+  PetscCall(TaoGetSolutionStatus(tao, &its, &f, NULL, NULL, NULL, NULL));
+  PetscCall(TaoGetLinearSolveIterations(tao, &inner_total));
+  PetscCall(PetscLogStagePop());
+  PetscCall(OptTestIteration(C, its, f, inner_total, &verdict));
+  PetscCall(PetscLogStagePush(FSIOPT_STAGE_OPTIMIZER));
+  switch (verdict) {
+  case OPT_CONTINUE:
+    reason = TAO_CONTINUE_ITERATING;
+    break;
+  case OPT_CONVERGED:
+  case OPT_STALLED:
+    reason = TAO_CONVERGED_USER;
+    break;
+  case OPT_MAX_IT:
+    reason = TAO_DIVERGED_MAXITS;
+    break;
+  default:
+    reason = TAO_DIVERGED_USER;
+  }
   PetscCall(TaoSetConvergedReason(tao, reason));
   PetscFunctionReturn(0);
 }
@@ -135,26 +147,30 @@ static PetscErrorCode OptResynchronize(Coupling C)
 
 static PetscErrorCode OptIterate(Coupling C, PetscInt step, CouplingIterations *it)
 {
-  Opt               *opt = (Opt *)C->data;
-  TaoConvergedReason reason;
-  const char        *failure;
+  Opt        *opt = (Opt *)C->data;
+  const char *failure, *reason = NULL;
 
   PetscFunctionBeginUser;
-  opt->step       = step;
-  opt->stalled    = PETSC_FALSE;
-  opt->inner_seen = 0;
+  opt->step                  = step;
+  opt->stalled               = PETSC_FALSE;
+  opt->linearized_iterations = 0;
+  opt->verdict               = OPT_CONTINUE;
   if (step == 1 && opt->test_adjoint) PetscCall(CouplingProblemTestAdjoint(C->problem, C->x));
   if (step == 1 && opt->test_taylor) PetscCall(CouplingProblemTestTaylor(C->problem, C->x));
-  opt->inner_seen = 0; /* TaoSolve restarts TAO's count */
+  opt->inner_seen = 0; /* TaoSolve and SNESSolve restart their counts */
   if (opt->explicit_jacobian && opt->rebuild_every > 0 && (step - 1) % opt->rebuild_every == 0)
     PetscCall(ExplicitJacobianRequestRebuild(opt->explicit_jacobian));
-  PetscCall(TaoSetSolution(opt->tao, C->x));
-  PetscCall(PetscLogStagePush(FSIOPT_STAGE_OPTIMIZER));
-  PetscCall(TaoSolve(opt->tao));
-  PetscCall(PetscLogStagePop());
-  PetscCall(TaoGetConvergedReason(opt->tao, &reason));
+  if (opt->inner_type == OPT_INNER_CGLS) {
+    TaoConvergedReason tao_reason;
+    PetscCall(TaoSetSolution(opt->tao, C->x));
+    PetscCall(PetscLogStagePush(FSIOPT_STAGE_OPTIMIZER));
+    PetscCall(TaoSolve(opt->tao));
+    PetscCall(PetscLogStagePop());
+    PetscCall(TaoGetConvergedReason(opt->tao, &tao_reason));
+    if (tao_reason <= 0) reason = TaoConvergedReasons[tao_reason];
+  } else PetscCall(OptNewtonKrylovSolve(C, &reason));
   it->iterations       = opt->last_iteration;
-  it->linearized_pairs = opt->last_iteration;
+  it->linearized_pairs = opt->linearized_iterations;
   it->jump             = opt->last_jump;
   it->stalled          = opt->stalled && opt->last_jump > opt->tol ? PETSC_TRUE : PETSC_FALSE;
   PetscCall(CouplingProblemGetFailure(C->problem, &failure));
@@ -164,20 +180,41 @@ static PetscErrorCode OptIterate(Coupling C, PetscInt step, CouplingIterations *
                              C->ops.optimizer(C), step, opt->last_iteration, failure));
     PetscFunctionReturn(0);
   }
-  if (reason <= 0)
+  if (reason)
     PetscCall(StepFailureSet(&C->failure,
                              "coupling opt (%s) failed at step %" PetscInt_FMT ", iteration %" PetscInt_FMT
-                             ": TAO reason %s, interface jump %.3e > -coupling_tol %.3e%s",
-                             C->ops.optimizer(C), step, opt->last_iteration, TaoConvergedReasons[reason],
-                             (double)opt->last_jump, (double)opt->tol,
-                             reason == TAO_DIVERGED_USER ? " (the jump grew 1000-fold: diverging)" : ""));
+                             ": %s reason %s, interface jump %.3e > -coupling_tol %.3e%s",
+                             C->ops.optimizer(C), step, opt->last_iteration,
+                             opt->inner_type == OPT_INNER_CGLS ? "TAO" : "SNES", reason, (double)opt->last_jump,
+                             (double)opt->tol,
+                             opt->verdict == OPT_DIVERGED ? " (the jump grew 1000-fold: diverging)" : ""));
   PetscFunctionReturn(0);
 }
 
+/* The accepted control leaves a jump up to -coupling_tol; extrapolated, that error would
+   start the next step. Corrected by the chord step -J0^{-1} F(x), with F the accepted
+   state's (in hand) and J0 the explicit Jacobian's LU, the past controls are those of a
+   jump of O(tol ||I - J J0^{-1}||), for one dense triangular solve and no fluid solve. The
+   state stays the accepted one: only the extrapolation's values change. */
+static PetscErrorCode OptEndStep(Coupling C)
+{
+  Opt      *opt = (Opt *)C->data;
+  PetscBool solved;
+
+  PetscFunctionBeginUser;
+  if (!opt->start_correction) PetscFunctionReturn(0);
+  PetscCall(CouplingProblemResidual(C->problem, C->x, opt->F)); /* the accepted state's, in hand */
+  PetscCall(ExplicitJacobianSolve(opt->explicit_jacobian, opt->F, opt->correction, &solved));
+  if (solved) PetscCall(VecAXPY(C->x, -1.0, opt->correction));
+  PetscFunctionReturn(0);
+}
+
+/* "brgn", or the Newton-Krylov inner method ("gmres") */
 static const char *OptOptimizer(Coupling C)
 {
   Opt    *opt = (Opt *)C->data;
   TaoType type;
+  if (opt->inner_type != OPT_INNER_CGLS) return OptInnerNames[opt->inner_type];
   (void)TaoGetType(opt->tao, &type);
   return type;
 }
@@ -188,8 +225,10 @@ static PetscErrorCode OptDestroy(Coupling C)
 
   PetscFunctionBeginUser;
   PetscCall(TaoDestroy(&opt->tao));
+  PetscCall(OptNewtonKrylovDestroy(C));
   PetscCall(MatDestroy(&opt->J));
   PetscCall(VecDestroy(&opt->F));
+  PetscCall(VecDestroy(&opt->correction));
   PetscCall(ExplicitJacobianDestroy(&opt->explicit_jacobian));
   PetscCall(PetscFree(opt->objectives));
   PetscCall(PetscFree(C->data));
@@ -203,16 +242,29 @@ static PetscErrorCode OptSetUp(Coupling C)
   char      ls_type[64];
 
   PetscFunctionBeginUser;
-  opt->stall_its = 5;
-  opt->tol       = 1e-10;
+  opt->stall_its            = 5;
+  opt->tol                  = 1e-10;
+  opt->krylov_jump_fraction = 0.5;
+  opt->chord_contraction    = 0.5;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Optimization-based coupling", "coupling");
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_tol",
                                 "stop when ||u - v_s||_{L2(Gamma_I)} falls below this", &opt->tol));
+  {
+    PetscInt inner = OPT_INNER_CGLS;
+    PetscCall(
+      PetscOptionsEList("-coupling_inner",
+                        "the step of an iteration: cgls (TAO Gauss-Newton, CG on J^T J), or Newton on the square "
+                        "system J h = -F by gmres or bicgstab (right-preconditioned by the explicit J0, no "
+                        "adjoint solve), or chord (h = -J0^-1 F, no linearized solve)",
+                        NULL, OptInnerNames, 4, OptInnerNames[OPT_INNER_CGLS], &inner, NULL));
+    opt->inner_type = (OptInner)inner;
+  }
   opt->rebuild_every = 0;
-  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian",
-                              "Precondition the inner CG with the LU of an explicitly built J, rebuilt every K steps "
-                              "(0: no preconditioner, the seed's plain CGLS)",
-                              0, 1000000, &opt->rebuild_every));
+  PetscCall(
+    OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian",
+                      "Precondition the inner Krylov method with the LU of an explicitly built J, rebuilt every "
+                      "K steps (0: no preconditioner, the seed's plain CGLS)",
+                      0, 1000000, &opt->rebuild_every));
   opt->build_block = 32;
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian_block",
                               "build that J from products J [e_j ...] of at most this many columns (all blocks of one "
@@ -226,17 +278,40 @@ static PetscErrorCode OptSetUp(Coupling C)
     OptionsIntInRange(PetscOptionsObject, "-coupling_stall_its",
                       "stop a step as stalled when the objective has not improved by 1% over this many iterations", 1,
                       1000, &opt->stall_its));
+  if (opt->inner_type != OPT_INNER_CGLS || OptionsHelpRequested()) {
+    PetscCall(
+      OptionsRealInRange(PetscOptionsObject, "-coupling_inner_jump_fraction",
+                         "gmres, bicgstab: stop the Krylov method when the linearized jump ||F + J h|| is below "
+                         "this fraction of -coupling_tol",
+                         1e-12, 1.0, &opt->krylov_jump_fraction));
+    PetscCall(OptionsRealInRange(PetscOptionsObject, "-coupling_chord_contraction",
+                                 "chord: rebuild the explicit J0 after an iteration that shrank the jump by less than "
+                                 "this factor",
+                                 0.0, 1.0, &opt->chord_contraction));
+  }
+  PetscCall(PetscOptionsBool("-coupling_start_correction",
+                             "extrapolate the next step's start from the accepted controls corrected by the chord step "
+                             "-J0^-1 F of their state (needs -coupling_explicit_jacobian; no extra solve)",
+                             NULL, opt->start_correction, &opt->start_correction, NULL));
   PetscCall(PetscOptionsBool("-coupling_test_adjoint", "At the first step, check <J h, r> = <h, J^T r> for random h, r",
                              NULL, opt->test_adjoint, &opt->test_adjoint, NULL));
   PetscCall(PetscOptionsBool("-coupling_test_taylor",
                              "At the first step, print the Taylor remainders ||F(x+th) - F(x) - t J h|| for halving t",
                              NULL, opt->test_taylor, &opt->test_taylor, NULL));
   PetscOptionsEnd();
+  PetscCheck(!opt->start_correction || opt->rebuild_every > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
+             "option -coupling_start_correction: the correction solves with the explicit J0; expected "
+             "-coupling_explicit_jacobian K > 0");
   PetscCall(CouplingProblemSetConvergedJump(C->problem, opt->tol));
   PetscCall(PetscMalloc1(C->max_it + 1, &opt->objectives));
   PetscCall(CouplingProblemGetTikhonov(C->problem, &opt->tikhonov));
   PetscCall(VecDuplicate(C->x, &opt->F));
+  PetscCall(VecDuplicate(C->x, &opt->correction));
   PetscCall(CouplingProblemCreateJacobian(C->problem, &opt->J));
+  if (opt->inner_type != OPT_INNER_CGLS) {
+    PetscCall(OptNewtonKrylovSetUp(C));
+    PetscFunctionReturn(0);
+  }
   PetscCall(TaoRegister("sdrelaxed", TaoCreate_RelaxedSteepestDescent));
 
   /* Defaults that reproduce the seed's Gauss-Newton (Algorithm 3.3): unit steps, CG on
@@ -279,7 +354,7 @@ static PetscErrorCode OptSetUp(Coupling C)
     PetscCall(TaoGetKSP(opt->inner, &ksp));
     PetscCheck(ksp, PETSC_COMM_WORLD, PETSC_ERR_SUP,
                "option -coupling_explicit_jacobian: the Gauss-Newton subsolver has no KSP");
-    PetscCall(ExplicitJacobianCreate(opt->J, opt->build_block, ksp, &opt->explicit_jacobian));
+    PetscCall(ExplicitJacobianCreate(opt->J, opt->build_block, PETSC_TRUE, ksp, &opt->explicit_jacobian));
   }
   PetscFunctionReturn(0);
 }
@@ -297,6 +372,7 @@ PetscErrorCode CouplingCreate_Opt(Coupling C)
   C->ops.destroy       = OptDestroy;
   C->ops.optimizer     = OptOptimizer;
   C->ops.resynchronize = OptResynchronize;
+  C->ops.end_step      = OptEndStep;
   C->ops.restartable   = PETSC_TRUE;
   PetscFunctionReturn(0);
 }

@@ -26,6 +26,7 @@ struct _p_CouplingProblem {
   Mat                      fluid_rhs_block, fluid_sol_block, structure_rhs_block, structure_sol_block; /* J H */
   Vec                      state_x, state_F, jacobian_x;
   PetscBool                state_valid, jacobian_valid;
+  PetscBool                jacobian_fresh; /* the fluid was factored at jacobian_x, not lagged */
   PetscReal                state_jump;
   PetscReal                converged_jump;             /* at or below it, no new Jacobian: the optimizer stops there */
   PetscInt                 jacobian_lag, jacobian_age; /* refactor the fluid every jacobian_lag requests */
@@ -37,10 +38,11 @@ struct _p_CouplingProblem {
   DomainUpdate             domain;
   Vec                      mesh_displacement, mesh_displacement_before; /* d^{n-2} */
   KSP                      control_mass_ksp;
-  PetscBool                swept;                /* the state is the last sweep's */
-  IS                       fluid_interface_rows; /* Dirichlet-Neumann sweeps */
-  PetscBool                spacing_changed;      /* d^{n-2} is not one step of this dt back */
-  StepFailure              failure;              /* of the step in progress, on every rank */
+  PetscBool                swept;                              /* the state is the last sweep's */
+  IS                       fluid_interface_rows;               /* Dirichlet-Neumann sweeps */
+  PetscBool                spacing_changed;                    /* d^{n-2} is not one step of this dt back */
+  StepFailure              failure;                            /* of the step in progress, on every rank */
+  PetscInt                 forward_products, adjoint_products; /* linearized and adjoint solves of the run */
 };
 
 /* problem.c */

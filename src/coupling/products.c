@@ -57,6 +57,7 @@ PetscErrorCode CouplingProblemJacobianMult(CouplingProblem P, Vec h, Vec y)
     PetscCall(VecCopy(h, y));
     PetscFunctionReturn(0);
   }
+  P->forward_products++;
   PetscCall(PetscLogStagePush(FSIOPT_STAGE_SENSITIVITY));
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_SENSITIVITY, 0, 0, 0, 0));
   PetscCall(ControlToLoad(P, h, P->all_q));
@@ -74,6 +75,7 @@ PetscErrorCode CouplingProblemJacobianMultTranspose(CouplingProblem P, Vec rho, 
     PetscCall(VecCopy(rho, y));
     PetscFunctionReturn(0);
   }
+  P->adjoint_products++;
   PetscCall(PetscLogStagePush(FSIOPT_STAGE_ADJOINT));
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_ADJOINT, 0, 0, 0, 0));
   PetscCall(VecPointwiseMult(P->g, rho, P->weight_sqrt));
@@ -143,6 +145,7 @@ PetscErrorCode CouplingProblemJacobianMultBlock(CouplingProblem P, Mat H, Mat Y)
   PetscCall(PetscLogStagePush(FSIOPT_STAGE_SENSITIVITY));
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_SENSITIVITY, 0, 0, 0, 0));
   PetscCall(MatGetSize(H, NULL, &columns));
+  P->forward_products += columns;
   PetscCall(EnsureBlocks(P->fluid ? P->fluid_vec : NULL, columns, &P->fluid_rhs_block, &P->fluid_sol_block));
   PetscCall(
     EnsureBlocks(P->structure ? P->structure_vec : NULL, columns, &P->structure_rhs_block, &P->structure_sol_block));
@@ -198,6 +201,14 @@ static PetscErrorCode ShellMultTranspose(Mat J, Vec rho, Vec y)
   PetscFunctionBeginUser;
   PetscCall(MatShellGetContext(J, &P));
   PetscCall(CouplingProblemJacobianMultTranspose(P, rho, y));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemGetProductCounts(CouplingProblem P, PetscInt *forward, PetscInt *adjoint)
+{
+  PetscFunctionBeginUser;
+  *forward = P->forward_products;
+  *adjoint = P->adjoint_products;
   PetscFunctionReturn(0);
 }
 

@@ -165,11 +165,15 @@ PetscErrorCode UpdateJacobian(CouplingProblem P, Vec x, PetscBool force)
   if (P->domain == DOMAIN_LAGGED) PetscCall(MoveMesh(P));
   if (StepFailed(&P->failure)) PetscFunctionReturn(0);
   if (P->jacobian_valid) PetscCall(VecEqual(x, P->jacobian_x, &same));
-  if (same) PetscFunctionReturn(0);
-  if (P->fluid && (force || ++P->jacobian_age >= P->jacobian_lag)) {
-    PetscCall(PetscLogStagePush(FSIOPT_STAGE_FLUID));
-    PetscCall(FluidUpdateJacobian(P->fluid));
-    PetscCall(PetscLogStagePop());
+  if (same && (!force || P->jacobian_fresh)) PetscFunctionReturn(0);
+  /* the same decision on every rank */
+  P->jacobian_fresh = force || ++P->jacobian_age >= P->jacobian_lag ? PETSC_TRUE : PETSC_FALSE;
+  if (P->jacobian_fresh) {
+    if (P->fluid) {
+      PetscCall(PetscLogStagePush(FSIOPT_STAGE_FLUID));
+      PetscCall(FluidUpdateJacobian(P->fluid));
+      PetscCall(PetscLogStagePop());
+    }
     P->jacobian_age = 0;
   }
   PetscCall(VecCopy(x, P->jacobian_x));
@@ -181,5 +185,12 @@ PetscErrorCode CouplingProblemUpdateJacobian(CouplingProblem P, Vec x)
 {
   PetscFunctionBeginUser;
   PetscCall(UpdateJacobian(P, x, PETSC_FALSE));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemRefreshJacobian(CouplingProblem P, Vec x)
+{
+  PetscFunctionBeginUser;
+  PetscCall(UpdateJacobian(P, x, PETSC_TRUE));
   PetscFunctionReturn(0);
 }

@@ -216,6 +216,8 @@ PetscErrorCode SummaryWrite(MPI_Comm comm, const char dir[], const RunSummary *s
   fprintf(fp, "  \"coupling_iterations\": %d,\n", (int)s->coupling_iterations);
   fprintf(fp, "  \"avg_coupling_iterations\": %.6g,\n", (double)avg);
   fprintf(fp, "  \"inner_iterations\": %d,\n", (int)s->inner_iterations);
+  fprintf(fp, "  \"linearized_solves\": {\"forward\": %d, \"adjoint\": %d},\n", (int)s->forward_products,
+          (int)s->adjoint_products);
   fprintf(fp, "  \"stalled_steps\": %d,\n", (int)s->stalled_steps);
   WriteNumberOrNull(fp, "work_factor", s->work_factor, ",");
   WriteNumberOrNull(fp, "max_interface_jump", s->max_interface_jump, ",");
@@ -310,6 +312,8 @@ PetscErrorCode SummaryGather(RunSummary *s, PetscBool has_fluid, PetscBool has_s
     PetscCall(ShareWithAll(&fluid_solves, sizeof(fluid_solves), 0));
     s->coupling_iterations = stats.iterations;
     s->inner_iterations    = stats.inner_iterations;
+    s->forward_products    = stats.forward_products;
+    s->adjoint_products    = stats.adjoint_products;
     s->max_interface_jump  = stats.max_jump;
     s->stalled_steps       = stats.stalled_steps;
     /* seed eq. 6.5: a forward run with the traction known needs one fluid solve per step */

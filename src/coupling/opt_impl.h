@@ -1,0 +1,65 @@
+#ifndef FSIOPT_OPT_IMPL_H
+#define FSIOPT_OPT_IMPL_H
+/* What the two inner solvers of -coupling opt share: opt.c (TAO: Gauss-Newton with CG on
+   the normal equations, and the optimizers that see only the objective) and
+   opt_newton_krylov.c (SNES: Newton on the square system F(x) = 0, a Krylov method on J
+   itself). Both stop on the interface jump with the same test. */
+#include "coupling_impl.h"
+#include "explicit_jacobian.h"
+#include <petsctao.h>
+#include <petscsnes.h>
+
+typedef enum {
+  OPT_INNER_CGLS, /* TAO's brgn (or another TAO type): CG on J^T J, a forward and an adjoint solve per iteration */
+  OPT_INNER_GMRES,
+  OPT_INNER_BICGSTAB,
+  OPT_INNER_CHORD /* h = -J0^{-1} F: no linearized solve at all */
+} OptInner;
+extern const char *const OptInnerNames[];
+
+typedef enum {
+  OPT_CONTINUE,
+  OPT_CONVERGED,
+  OPT_STALLED,
+  OPT_DIVERGED, /* the jump grew 1000-fold, or is not a number */
+  OPT_MAX_IT,
+  OPT_FAILED /* a subproblem failed */
+} OptVerdict;
+
+typedef struct {
+  OptInner   inner_type;
+  Tao        tao, inner; /* inner: the Tao that iterates (brgn's subsolver, or tao) */
+  SNES       snes;       /* the Newton-Krylov solver (inner_type != OPT_INNER_CGLS) */
+  Vec        F;
+  Mat        J;
+  PetscReal  tikhonov, tol; /* -coupling_tikhonov, -coupling_tol */
+  PetscInt   step, stall_its, inner_seen;
+  PetscReal *objectives; /* this step's, by iteration */
+  PetscBool  stalled, test_adjoint, test_taylor;
+  PetscReal  last_jump, first_jump;
+  /* the explicit-Jacobian preconditioner of the inner Krylov method (explicit_jacobian.c) */
+  ExplicitJacobian explicit_jacobian;
+  PetscInt         rebuild_every, build_block;
+  PetscInt         rebuild_inner; /* and when a Gauss-Newton iteration's CG needed more than this */
+  PetscInt         last_iteration;
+  PetscInt         linearized_iterations; /* this step's iterations that solved linearized problems */
+  OptVerdict       verdict;
+  /* opt_newton_krylov.c */
+  Mat       J_newton;              /* J at x_linearization; the explicit J0's columns on fresh fluid factors */
+  Vec       x_linearization;       /* that point */
+  PetscBool linearization_current; /* the problem's factors are those of x_linearization */
+  PetscReal krylov_jump_fraction;  /* the Krylov method stops when the predicted jump is below this x tol */
+  PetscReal chord_contraction;     /* a chord step that shrinks the jump less than this rebuilds J0 */
+  PetscBool start_correction;      /* -coupling_start_correction */
+  Vec       correction;
+} Opt;
+
+/* The stopping test of an iteration (DESIGN §3): writes its history row, counts its inner
+   iterations (the solver's running total `inner_total`) and decides. */
+PetscErrorCode OptTestIteration(Coupling, PetscInt its, PetscReal objective, PetscInt inner_total, OptVerdict *);
+
+/* opt_newton_krylov.c */
+PetscErrorCode OptNewtonKrylovSetUp(Coupling);
+PetscErrorCode OptNewtonKrylovSolve(Coupling, const char **reason);
+PetscErrorCode OptNewtonKrylovDestroy(Coupling);
+#endif

@@ -1,0 +1,200 @@
+/* -coupling opt -coupling_inner gmres|bicgstab|chord: Newton on the square interface system
+   F(x) = 0 (SNES newtonls, unit steps). With no Tikhonov term the control and the jump live
+   in the same interface space, so an iteration's step solves J h = -F itself: by GMRES or
+   BiCGStab right-preconditioned by the LU of the explicit J0 in hand (one linearized solve
+   per Krylov iteration, no adjoint solve, the conditioning of J instead of J^T J), or as the
+   chord step h = -J0^{-1} F, which costs no linearized solve at all. The Krylov method stops
+   when the linearized jump ||F + J h|| is below -coupling_inner_jump_fraction x -coupling_tol:
+   solving further only sharpens a prediction the next residual replaces. */
+#include "opt_impl.h"
+#include "logging.h"
+
+/* PETSc fixes the signatures of SNES callbacks; each uses a few of their arguments. */
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+
+static PetscErrorCode Residual(SNES snes, Vec x, Vec F, void *ctx)
+{
+  Coupling C = (Coupling)ctx;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogStagePop());
+  PetscCall(CouplingProblemResidual(C->problem, x, F));
+  PetscCall(PetscLogStagePush(FSIOPT_STAGE_OPTIMIZER));
+  PetscFunctionReturn(0);
+}
+
+/* fresh: refactor the fluid whatever the lag */
+static PetscErrorCode Linearize(Coupling C, PetscBool fresh)
+{
+  Opt *opt = (Opt *)C->data;
+
+  PetscFunctionBeginUser;
+  if (opt->linearization_current && !fresh) PetscFunctionReturn(0);
+  PetscCall(PetscLogStagePop());
+  if (fresh) PetscCall(CouplingProblemRefreshJacobian(C->problem, opt->x_linearization));
+  else PetscCall(CouplingProblemUpdateJacobian(C->problem, opt->x_linearization));
+  PetscCall(PetscLogStagePush(FSIOPT_STAGE_OPTIMIZER));
+  opt->linearization_current = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+/* The problem linearizes at x at once, also for a chord step, which multiplies by no J:
+   the factors in hand (lagged by -coupling_jacobian_lag) then predict the next fluid
+   solve's start (-coupling_predictor), which saves that solve a Newton iteration. */
+static PetscErrorCode Jacobian(SNES snes, Vec x, Mat A, Mat B, void *ctx)
+{
+  Coupling C   = (Coupling)ctx;
+  Opt     *opt = (Opt *)C->data;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecCopy(x, opt->x_linearization));
+  opt->linearization_current = PETSC_FALSE;
+  PetscCall(Linearize(C, PETSC_FALSE));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode NewtonMult(Mat A, Vec h, Vec y)
+{
+  Coupling C;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatShellGetContext(A, &C));
+  PetscCall(Linearize(C, PETSC_FALSE));
+  PetscCall(CouplingProblemJacobianMult(C->problem, h, y));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode NewtonMultTranspose(Mat A, Vec rho, Vec y)
+{
+  Coupling C;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatShellGetContext(A, &C));
+  PetscCall(Linearize(C, PETSC_FALSE));
+  PetscCall(CouplingProblemJacobianMultTranspose(C->problem, rho, y));
+  PetscFunctionReturn(0);
+}
+
+/* the explicit J0's columns, a block of them per multi-right-hand-side solve: J0 serves many
+   iterations, so it is built on fresh fluid factors */
+static PetscErrorCode NewtonMatMult(Mat A, Mat H, Mat Y, void *product_data)
+{
+  Coupling C;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatShellGetContext(A, &C));
+  PetscCall(Linearize(C, PETSC_TRUE));
+  PetscCall(CouplingProblemJacobianMultBlock(C->problem, H, Y));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode ConvergenceTest(SNES snes, PetscInt its, PetscReal xnorm, PetscReal step_norm, PetscReal Fnorm,
+                                      SNESConvergedReason *reason, void *ctx)
+{
+  Coupling   C = (Coupling)ctx;
+  PetscInt   krylov_total;
+  OptVerdict verdict;
+
+  PetscFunctionBeginUser;
+  PetscCall(SNESGetLinearSolveIterations(snes, &krylov_total));
+  PetscCall(PetscLogStagePop());
+  PetscCall(OptTestIteration(C, its, 0.5 * Fnorm * Fnorm, krylov_total, &verdict));
+  PetscCall(PetscLogStagePush(FSIOPT_STAGE_OPTIMIZER));
+  switch (verdict) {
+  case OPT_CONTINUE:
+    *reason = SNES_CONVERGED_ITERATING;
+    break;
+  case OPT_CONVERGED:
+  case OPT_STALLED:
+    *reason = SNES_CONVERGED_FNORM_ABS;
+    break;
+  case OPT_MAX_IT:
+    *reason = SNES_DIVERGED_MAX_IT;
+    break;
+  case OPT_DIVERGED:
+    *reason = SNES_DIVERGED_DTOL;
+    break;
+  default:
+    *reason = SNES_DIVERGED_INNER;
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode OptNewtonKrylovSetUp(Coupling C)
+{
+  Opt           *opt     = (Opt *)C->data;
+  const KSPType  types[] = {NULL, KSPGMRES, KSPBCGS, KSPPREONLY};
+  KSP            ksp;
+  SNESLineSearch linesearch;
+  PetscInt       n, N;
+
+  PetscFunctionBeginUser;
+  PetscCheck(opt->tikhonov == 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
+             "option -coupling_inner %s: Newton on the square system solves F(x) = 0; expected -coupling_tikhonov 0, "
+             "got %g (use -coupling_inner cgls)",
+             OptInnerNames[opt->inner_type], (double)opt->tikhonov);
+  PetscCheck(opt->inner_type != OPT_INNER_CHORD || opt->rebuild_every > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
+             "option -coupling_inner chord: the chord step is -J0^-1 F with the explicit J0; expected "
+             "-coupling_explicit_jacobian K > 0");
+  PetscCall(VecDuplicate(C->x, &opt->x_linearization));
+  PetscCall(VecGetLocalSize(C->x, &n));
+  PetscCall(VecGetSize(C->x, &N));
+  PetscCall(MatCreateShell(PETSC_COMM_WORLD, n, n, N, N, C, &opt->J_newton));
+  PetscCall(MatShellSetOperation(opt->J_newton, MATOP_MULT, (void (*)(void))NewtonMult));
+  PetscCall(MatShellSetOperation(opt->J_newton, MATOP_MULT_TRANSPOSE, (void (*)(void))NewtonMultTranspose));
+  PetscCall(
+    MatShellSetMatProductOperation(opt->J_newton, MATPRODUCT_AB, NULL, NewtonMatMult, NULL, MATSEQDENSE, MATDENSE));
+  PetscCall(
+    MatShellSetMatProductOperation(opt->J_newton, MATPRODUCT_AB, NULL, NewtonMatMult, NULL, MATMPIDENSE, MATDENSE));
+
+  PetscCall(SNESCreate(PETSC_COMM_WORLD, &opt->snes));
+  PetscCall(SNESSetOptionsPrefix(opt->snes, "coupling_"));
+  PetscCall(SNESSetType(opt->snes, SNESNEWTONLS));
+  PetscCall(SNESGetLineSearch(opt->snes, &linesearch));
+  PetscCall(SNESLineSearchSetType(linesearch, SNESLINESEARCHBASIC));
+  PetscCall(SNESSetFunction(opt->snes, opt->F, Residual, C));
+  PetscCall(SNESSetJacobian(opt->snes, opt->J_newton, opt->J_newton, Jacobian, C));
+  PetscCall(SNESSetConvergenceTest(opt->snes, ConvergenceTest, C, NULL));
+  PetscCall(SNESSetTolerances(opt->snes, 0.0, 0.0, 0.0, C->max_it + 1, 100 * (C->max_it + 1)));
+  /* a Krylov method stopped at its iteration limit still gives a step; the jump judges it */
+  PetscCall(SNESSetMaxLinearSolveFailures(opt->snes, C->max_it + 2));
+  PetscCall(SNESGetKSP(opt->snes, &ksp));
+  PetscCall(KSPSetType(ksp, types[opt->inner_type]));
+  if (opt->inner_type != OPT_INNER_CHORD) PetscCall(KSPSetPCSide(ksp, PC_RIGHT)); /* the true ||F + J h|| */
+  PetscCall(KSPSetTolerances(ksp, 1e-12, opt->krylov_jump_fraction * opt->tol, PETSC_DEFAULT, 100));
+  if (opt->rebuild_every > 0)
+    PetscCall(ExplicitJacobianCreate(opt->J_newton, opt->build_block, PETSC_FALSE, ksp, &opt->explicit_jacobian));
+  else {
+    PC pc;
+    PetscCall(KSPGetPC(ksp, &pc));
+    PetscCall(PCSetType(pc, PCNONE));
+  }
+  PetscCall(SNESSetFromOptions(opt->snes));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode OptNewtonKrylovSolve(Coupling C, const char **failed_reason)
+{
+  Opt                *opt = (Opt *)C->data;
+  SNESConvergedReason reason;
+
+  PetscFunctionBeginUser;
+  opt->linearization_current = PETSC_FALSE;
+  PetscCall(PetscLogStagePush(FSIOPT_STAGE_OPTIMIZER));
+  PetscCall(SNESSolve(opt->snes, NULL, C->x));
+  PetscCall(PetscLogStagePop());
+  PetscCall(SNESGetConvergedReason(opt->snes, &reason));
+  *failed_reason = reason < 0 ? SNESConvergedReasons[reason] : NULL;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode OptNewtonKrylovDestroy(Coupling C)
+{
+  Opt *opt = (Opt *)C->data;
+
+  PetscFunctionBeginUser;
+  PetscCall(SNESDestroy(&opt->snes));
+  PetscCall(MatDestroy(&opt->J_newton));
+  PetscCall(VecDestroy(&opt->x_linearization));
+  PetscFunctionReturn(0);
+}
