@@ -186,7 +186,7 @@ PetscErrorCode CouplingCheckpoint(Coupling C, Checkpoint cp, PetscBool load)
 {
   PetscFunctionBeginUser;
   PetscCheck(C->ops.restartable || !CheckpointIsFile(cp), PETSC_COMM_WORLD, PETSC_ERR_SUP,
-             "option %s: checkpoints are supported for -coupling opt, not %s (its past iterates are not saved)",
+             "option %s: checkpoints are not supported for -coupling %s (its past iterates are not saved)",
              load ? "-restart" : "-checkpoint_every", C->method);
   PetscCall(CheckpointPushGroup(cp, "/coupling"));
   PetscCall(CheckpointVec(cp, "control", C->x, load));

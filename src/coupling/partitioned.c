@@ -191,5 +191,8 @@ PetscErrorCode CouplingCreate_Partitioned(Coupling C, Acceleration acc)
   C->ops.optimizer     = PartitionedOptimizer;
   C->ops.resynchronize = PartitionedResynchronize;
   C->ops.checkpoint    = PartitionedCheckpoint;
+  /* the model of the past steps (iqnils' reused columns, iqnimvj's inverse Jacobian) is
+     dropped at a checkpoint file, as a restarted run starts without it */
+  C->ops.restartable = PETSC_TRUE;
   PetscFunctionReturn(0);
 }
