@@ -7,6 +7,7 @@ horizon and --extra options for all) and once more as the reference: opt with
 Measures, per method:
 
   wall time (summary.json wall_time_s), fluid nonlinear solves, fluid linear solves, the
+  fluid residual evaluations (-log_view's FluidResidual events), the
   coupling's linearized and adjoint solves (summary.json linearized_solves, the explicit
   Jacobian's columns included), fluid factorizations, coupling iterations per step (for opt: Gauss-Newton iterations; for dn, aitken, iqnils:
   Dirichlet-Neumann sweeps), work factor, max interface jump, converged, the -log_view
@@ -241,8 +242,11 @@ def run_all(runs, fsiopt, runs_dir, jobs=1, timeout=None, force=False, rerun_fai
 
 
 # ---------------------------------------------------------------------------- probes
+PROBE_PREFIXES = ("dy(",)  # --probes
+
+
 def read_probes(run_dir):
-    """(t, {column name: dy}) from probes.csv (the dy(...) columns)."""
+    """(t, {column name: values}) from probes.csv (the columns named by PROBE_PREFIXES, dy(...) by default)."""
     path = os.path.join(run_dir, "probes.csv")
     with open(path, newline="") as f:
         rows = [r for r in csv.reader(f) if r]
@@ -250,9 +254,9 @@ def read_probes(run_dir):
     if len(rows) < 2 or names[0] != "t":
         raise ValueError("%s: no data or no first column t" % rel(path))
     data = np.array([[float(x) for x in r] for r in rows[1:]])
-    dy = {n: data[:, i] for i, n in enumerate(names) if n.startswith("dy(")}
+    dy = {n: data[:, i] for i, n in enumerate(names) if n.startswith(PROBE_PREFIXES)}
     if not dy:
-        raise ValueError("%s: no dy(...) columns" % rel(path))
+        raise ValueError("%s: no %s columns" % (rel(path), " or ".join(p + "...)" for p in PROBE_PREFIXES)))
     return data[:, 0], dy
 
 
@@ -287,6 +291,7 @@ NUMERIC = [  # (csv column, markdown header, format)
     ("wall_time_s", "wall s", "%.3g"),
     ("fluid_solves", "fluid solves", "%d"),
     ("fluid_linear_solves", "fluid linear solves", "%d"),
+    ("fluid_residuals", "fluid residuals", "%d"),
     ("linearized_solves", "linearized + adjoint solves", "%d"),
     ("factorizations_fluid", "fluid factorizations", "%d"),
     ("its_per_step", "coupling its/step", "%.3g"),
@@ -314,7 +319,11 @@ def bench_row(label, r, ref):
            "work_factor": s.get("work_factor", ""), "max_interface_jump": s.get("max_interface_jump", ""),
            "converged": str(s["converged"]).lower() if "converged" in s else "", "steps": s.get("steps", ""),
            "factorizations_fluid": f.get("fluid", ""), "factorizations_structure": f.get("structure", ""),
-           "probe_error": "", "run_dir": rel(r.run_dir) if r.run_dir else "", "command": r.cmdline}
+           "probe_error": "", "fluid_residuals": "", "run_dir": rel(r.run_dir) if r.run_dir else "", "command": r.cmdline}
+    if r.ok and r.run_dir and os.path.isfile(os.path.join(r.run_dir, "stdout.log")):
+        with open(os.path.join(r.run_dir, "stdout.log"), errors="replace") as f:
+            count = fr.parse_event_count(f.read(), "FluidResidual")
+        row["fluid_residuals"] = count if count is not None else ""
     e = probe_error(r, ref)
     if not math.isnan(e):
         row["probe_error"] = e
@@ -384,7 +393,7 @@ def bench(args, methods, extra):
     add_ratios(ok_rows, [k for k, _, _ in NUMERIC] + stage_keys)
     ref_row = bench_row("reference", ref, ref)
     fields = ["method", "status", "reused", "error", "attempts", "elapsed_s", "wall_time_s", "fluid_solves",
-              "fluid_linear_solves", "linearized_solves", "structure_solves", "coupling_iterations", "its_per_step", "work_factor",
+              "fluid_linear_solves", "fluid_residuals", "linearized_solves", "structure_solves", "coupling_iterations", "its_per_step", "work_factor",
               "max_interface_jump", "converged", "steps", "factorizations_fluid", "factorizations_structure",
               "probe_error"] + stage_keys + [k + "_ratio" for k, _, _ in NUMERIC] + \
              [k + "_ratio" for k in stage_keys] + ["run_dir", "command"]
@@ -397,8 +406,8 @@ def bench(args, methods, extra):
           "Scene: `%s`, t_final = %s%s; runs %s, %d at a time%s." % (
               " ".join(base), tf, ", extra options `%s`" % " ".join(extra) if extra else "", rel(args.runs_dir),
               args.jobs, " (timings compete for the cores)" if args.jobs > 1 else ""),
-          "Reference: `%s`. Probe error: max over t and the three dy probes of |dy - dy_ref| / max |dy_ref|." %
-          " ".join(REFERENCE_OPTIONS), "(xR) = ratio to the best method in that column. Coupling its/step: "
+          "Reference: `%s`. Probe error: max over t and the %s probes of |d - d_ref| / max |d_ref|." %
+          (" ".join(REFERENCE_OPTIONS), ", ".join(p[:-1] for p in PROBE_PREFIXES)), "(xR) = ratio to the best method in that column. Coupling its/step: "
           "Gauss-Newton iterations for opt, Dirichlet-Neumann sweeps for the partitioned methods.", "",
           "| method | status | " + " | ".join(h for _, h, _ in NUMERIC) + " | converged |",
           "|" + "---|" * (3 + len(NUMERIC))]
@@ -531,6 +540,8 @@ def main():
                                                               "timeout (default 0: no limit)")
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "bench"), help="output directory (default out/bench)")
     ap.add_argument("--runs-dir", default=None, help="where the runs go (default <out>/runs)")
+    ap.add_argument("--probes", default="dy", help="the probes.csv columns the probe error compares, by their "
+                    "names' start before the parenthesis, comma separated (default dy; tube3d: dx,dy,dz)")
     ap.add_argument("--bin", default=FSIOPT, help="fsiopt binary (default bin/fsiopt)")
     ap.add_argument("--force", action="store_true", help="run again even when a complete matching run exists")
     ap.add_argument("--rerun-failed", action="store_true", help="run again runs that failed or timed out before")
@@ -543,6 +554,10 @@ def main():
                                                                 "methods (default 1e-3,1e-4,1e-5,1e-6)")
     ap.add_argument("--refine-levels", type=ints, default=[0], help="work-precision: -refine levels (default 0)")
     args = ap.parse_args()
+    global PROBE_PREFIXES
+    PROBE_PREFIXES = tuple(p.strip() + "(" for p in args.probes.split(",") if p.strip())
+    if not PROBE_PREFIXES:
+        ap.error("--probes: no column")
     args.out = os.path.abspath(args.out)
     args.runs_dir = os.path.abspath(args.runs_dir or os.path.join(args.out, "runs"))
     try:

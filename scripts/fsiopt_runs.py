@@ -209,6 +209,16 @@ def parse_stages(stdout_text):
     return stages
 
 
+def parse_event_count(stdout_text, event):
+    """how many times -log_view's event `event` ran, summed over the stages (None when absent)"""
+    total, seen = 0, False
+    for line in stdout_text.splitlines():
+        fields = line.split()
+        if len(fields) > 2 and fields[0] == event and fields[1].isdigit():
+            total, seen = total + int(fields[1]), True
+    return total if seen else None
+
+
 def probes_difference(rows, reference):
     """the largest difference of two probe series (rows of numbers, t first), relative to
     each column's largest value in the reference"""

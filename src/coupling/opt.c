@@ -15,14 +15,19 @@ PetscErrorCode TaoRelaxedSDSetTikhonov(Tao, PetscReal);
 
 const char *const OptInnerNames[] = {"cgls", "gmres", "bicgstab", "chord", "OptInner", "OPT_INNER_", NULL};
 
-static PetscErrorCode Residual(Tao tao, Vec x, Vec F, void *ctx)
+PetscErrorCode OptResidual(Coupling C, Vec x, Vec F)
 {
-  Coupling C = (Coupling)ctx;
-
   PetscFunctionBeginUser;
-  PetscCall(PetscLogStagePop());
+  PetscCall(PetscLogStagePop()); /* the subproblems log in their own stages */
   PetscCall(CouplingProblemResidual(C->problem, x, F));
   PetscCall(PetscLogStagePush(FSIOPT_STAGE_OPTIMIZER));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Residual(Tao tao, Vec x, Vec F, void *ctx)
+{
+  PetscFunctionBeginUser;
+  PetscCall(OptResidual((Coupling)ctx, x, F));
   PetscFunctionReturn(0);
 }
 

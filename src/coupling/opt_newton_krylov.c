@@ -14,12 +14,8 @@
 
 static PetscErrorCode Residual(SNES snes, Vec x, Vec F, void *ctx)
 {
-  Coupling C = (Coupling)ctx;
-
   PetscFunctionBeginUser;
-  PetscCall(PetscLogStagePop());
-  PetscCall(CouplingProblemResidual(C->problem, x, F));
-  PetscCall(PetscLogStagePush(FSIOPT_STAGE_OPTIMIZER));
+  PetscCall(OptResidual((Coupling)ctx, x, F));
   PetscFunctionReturn(0);
 }
 
