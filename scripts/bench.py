@@ -541,7 +541,7 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "out", "bench"), help="output directory (default out/bench)")
     ap.add_argument("--runs-dir", default=None, help="where the runs go (default <out>/runs)")
     ap.add_argument("--probes", default="dy", help="the probes.csv columns the probe error compares, by their "
-                    "names' start before the parenthesis, comma separated (default dy; tube3d: dx,dy,dz)")
+                    "names' start before the parenthesis, comma separated (default dy; tube3d: dx,dz, its dy probes being zero by symmetry)")
     ap.add_argument("--bin", default=FSIOPT, help="fsiopt binary (default bin/fsiopt)")
     ap.add_argument("--force", action="store_true", help="run again even when a complete matching run exists")
     ap.add_argument("--rerun-failed", action="store_true", help="run again runs that failed or timed out before")

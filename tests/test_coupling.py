@@ -233,6 +233,29 @@ def test_newton_krylov_inner():
         ", ".join("%.1e (%s)" % (v, k) for k, v in worst.items()), gm, cg, split)
 
 
+@test("start variants on channel2d's first 200 steps (chord steps): the corrected controls and the fitted recurrence "
+      "save a tenth of the iterations of the plain extrapolation, every variant's probes within 10 x tol")
+def test_start_variants():
+    args, tol = CHANNEL + ["-t_final", "0.02", "-coupling_inner", "chord"], 1e-4
+    variants = {"plain": [], "corrected": ["-coupling_start_correction"],
+                "recurrence": ["-coupling_start_correction", "-coupling_extrapolation_points", "12",
+                               "-coupling_extrapolation_recurrence", "6"]}
+    runs = {}
+    for tag, extra in variants.items():
+        out = os.path.join(WORK, "start-" + tag)
+        s = solve(args + extra, out=out)
+        runs[tag] = (s["coupling_iterations"], read_probes(os.path.join(out, "probes.csv"))[1])
+    plain, ref = runs["plain"]
+    worst = {}
+    for tag in ("corrected", "recurrence"):
+        worst[tag] = probes_difference(runs[tag][1], ref)
+        assert worst[tag] <= 10 * tol, "%s start: probes differ by %.2e of their amplitude" % (tag, worst[tag])
+    rec = runs["recurrence"][0]
+    assert rec <= 0.9 * plain, "iterations: recurrence %d, plain extrapolation %d (ratio %.2f > 0.9)" % (rec, plain, rec / plain)
+    return "iterations: plain %d, corrected %d, recurrence %d; probes within %s" % (
+        plain, runs["corrected"][0], rec, ", ".join("%.1e (%s)" % (v, k) for k, v in worst.items()))
+
+
 @test("iqnils needs fewer coupling iterations than aitken")
 def test_iqnils_fewer_iterations_than_aitken():
     runs = partitioned_runs()

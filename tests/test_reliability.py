@@ -257,6 +257,7 @@ def test_bad_input_numbers():
         ("Newton-Krylov with a Tikhonov term", ["-scene", "mms-stokes", "-coupling_inner", "gmres", "-coupling_tikhonov", "1e-3"], "-coupling_inner"),
         ("chord step without an explicit Jacobian", ["-scene", "mms-stokes", "-coupling_inner", "chord"], "-coupling_inner"),
         ("unknown inner solver", ["-scene", "mms-stokes", "-coupling_inner", "cg"], "-coupling_inner"),
+        ("recurrence fitted to too few controls", CHANNEL + ["-coupling_extrapolation_recurrence", "4"], "-coupling_extrapolation_recurrence"),
         ("start correction without an explicit Jacobian", ["-scene", "mms-stokes", "-coupling_start_correction"], "-coupling_start_correction"),
         ("zero -dt_min", F + ["-dt_min", "0"], "-dt_min"),
         ("negative -dt_min", F + ["-dt_min", "-1e-3"], "-dt_min"),
@@ -357,7 +358,7 @@ def test_help_lists_options():
                 "-mesh_motion_stiffening", "-mesh_motion_incremental", "-dt_min", "-fluid_time_order",
                 "-coupling_explicit_jacobian_rebuild_its", "-interrupt_test_step", "-interrupt_test_signal",
                 "-coupling_inner", "-coupling_inner_jump_fraction", "-coupling_chord_contraction",
-                "-coupling_start_correction"]:
+                "-coupling_start_correction", "-coupling_extrapolation_recurrence"]:
         assert opt in text, "%s not in -help of turek-hron" % opt
     # fsiopt's own options at the end, by prefix, with units in the scene's system
     groups = own_section(text)

@@ -57,7 +57,7 @@ PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, cons
                               PetscReal dt, Coupling *coupling)
 {
   Coupling C;
-  PetscInt degree, points;
+  PetscInt degree, points, ar_order;
   PetscErrorCode (*create)(Coupling) = NULL;
 
   PetscFunctionBeginUser;
@@ -84,6 +84,17 @@ PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, cons
              "option -coupling_extrapolation_points: expected at least -coupling_extrapolation + 1 = %" PetscInt_FMT
              " steps, got %" PetscInt_FMT,
              degree + 1, points);
+  ar_order = 0;
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_extrapolation_recurrence",
+                              "also fit the linear recurrence g^n = sum_{i<=P} a_i g^{n-i} to the last steps' controls "
+                              "(least squares) and start from it when, fitted without the last control, it predicted "
+                              "that control better than the polynomial did (0: the polynomial only)",
+                              0, FSIOPT_EXTRAPOLATION_POINTS_MAX - 3, &ar_order));
+  PetscCheck(ar_order == 0 || points >= ar_order + 3, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "option -coupling_extrapolation_recurrence %" PetscInt_FMT
+             ": its fit needs the last P+3 controls; expected -coupling_extrapolation_points >= %" PetscInt_FMT
+             ", got %" PetscInt_FMT,
+             ar_order, ar_order + 3, points);
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_max_it",
                               "coupling iterations per step before the step fails", 1, 100000, &C->max_it));
   PetscOptionsEnd();
@@ -91,6 +102,7 @@ PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, cons
   PetscCall(CouplingProblemCreateControl(problem, &C->x));
   PetscCall(CouplingProblemInitialControl(problem, t0, C->x));
   PetscCall(ExtrapolationCreate(C->x, degree, points, &C->start));
+  C->start.ar_order = ar_order;
   PetscCall(HistoryOpen(PETSC_COMM_WORLD, output_dir, &C->history));
   PetscCall((*C->ops.setup)(C));
   *coupling = C;
@@ -233,6 +245,9 @@ PetscErrorCode CouplingDestroy(Coupling *coupling)
 
   PetscFunctionBeginUser;
   if (!C) PetscFunctionReturn(0);
+  if (C->start.ar_order > 0)
+    PetscCall(PetscInfo(NULL, "the fitted recurrence started %" PetscInt_FMT " of %" PetscInt_FMT " steps\n",
+                        C->start.recurrence_predictions, C->start.predictions));
   if (C->ops.destroy) PetscCall((*C->ops.destroy)(C));
   PetscCall(HistoryClose(&C->history, PETSC_FALSE));
   PetscCall(VecDestroy(&C->x));

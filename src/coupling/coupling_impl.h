@@ -6,10 +6,12 @@
 /* A step's start from the values of the last M steps: the polynomial of degree K fitted to
    them by least squares (lower degree and fewer values while fewer are recorded). */
 #define FSIOPT_EXTRAPOLATION_MAX        3
-#define FSIOPT_EXTRAPOLATION_POINTS_MAX 8
+#define FSIOPT_EXTRAPOLATION_POINTS_MAX 16
 typedef struct {
   Vec      past[FSIOPT_EXTRAPOLATION_POINTS_MAX]; /* newest first */
   PetscInt npast, degree, points;
+  PetscInt ar_order;                          /* > 0: also the fitted linear recurrence of this order */
+  PetscInt predictions, recurrence_predictions; /* how often the recurrence was chosen */
 } Extrapolation;
 PetscErrorCode ExtrapolationCreate(Vec model, PetscInt degree, PetscInt points, Extrapolation *);
 PetscErrorCode ExtrapolationRecord(Extrapolation *, Vec x);  /* x: the newest value */
