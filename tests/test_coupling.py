@@ -233,8 +233,8 @@ def test_newton_krylov_inner():
         ", ".join("%.1e (%s)" % (v, k) for k, v in worst.items()), gm, cg, split)
 
 
-@test("start variants on channel2d's first 200 steps (chord steps): the corrected controls and the fitted recurrence "
-      "save a tenth of the iterations of the plain extrapolation, every variant's probes within 10 x tol")
+@test("start variants on channel2d's first 200 steps (chord steps): the recurrence fitted to the corrected controls "
+      "saves a tenth of the plain extrapolation's iterations; every variant's probes within 10 x tol")
 def test_start_variants():
     args, tol = CHANNEL + ["-t_final", "0.02", "-coupling_inner", "chord"], 1e-4
     variants = {"plain": [], "corrected": ["-coupling_start_correction"],

@@ -86,8 +86,8 @@ static PetscBool SmallSolve(PetscInt n, PetscReal A[][FSIOPT_EXTRAPOLATION_POINT
 
 /* The recurrence y_j = sum_{i=1..p} a_i y_{j+i} fitted by least squares to the past values
    y_first, ..., y_{n-1} (newest first, Gram matrix G of their inner products) */
-static PetscBool FitRecurrence(PetscInt p, PetscInt first, PetscInt n,
-                               PetscReal G[][FSIOPT_EXTRAPOLATION_POINTS_MAX], PetscReal a[])
+static PetscBool FitRecurrence(PetscInt p, PetscInt first, PetscInt n, PetscReal G[][FSIOPT_EXTRAPOLATION_POINTS_MAX],
+                               PetscReal a[])
 {
   PetscReal A[FSIOPT_EXTRAPOLATION_POINTS_MAX][FSIOPT_EXTRAPOLATION_POINTS_MAX] = {{0}};
 
