@@ -204,7 +204,8 @@ def test_iqnimvj_fewer_sweeps():
 
 
 @test("opt's inner solvers: gmres, bicgstab and chord agree with cgls on channel2d's 50-step probes (10 x tol) "
-      "without an adjoint solve, gmres with fewer linearized solves; gmres on fluid | structure ranks = 1 rank")
+      "without an adjoint solve, gmres with fewer linearized solves; gmres and chord with the learned start on fluid | "
+      "structure ranks = 1 rank")
 def test_newton_krylov_inner():
     args, tol = CHANNEL + ["-t_final", "0.005"], 1e-4  # -coupling_tol of options/channel2d.yaml
     runs = {}
@@ -229,17 +230,29 @@ def test_newton_krylov_inner():
     assert runs["chord"][0]["inner_iterations"] == 0, "chord: %d inner iterations" % runs["chord"][0]["inner_iterations"]
     split = probes_difference(runs["gmres-split"][1], runs["gmres"][1])
     assert split <= 1e-8, "gmres on fluid | structure ranks differs by %.2e" % split
-    return "probes within %s of cgls; linearized solves gmres %d, cgls %d; 2 ranks within %.1e" % (
-        ", ".join("%.1e (%s)" % (v, k) for k, v in worst.items()), gm, cg, split)
+    # the chord steps with every start option and the secant updates, on 1 and on 2 ranks
+    learned = ["-coupling_inner", "chord", "-coupling_start_correction", "-coupling_extrapolation_points", "12",
+               "-coupling_extrapolation_recurrence", "6", "-coupling_secant_updates", "20"]
+    probes = []
+    for nproc, extra in ((1, []), (2, ["-structure_ranks", "1"])):
+        out = os.path.join(WORK, "inner-learned-%d" % nproc)
+        solve(args + learned + extra, nproc=nproc, out=out)
+        probes.append(read_probes(os.path.join(out, "probes.csv"))[1])
+    learned_split = probes_difference(probes[1], probes[0])
+    assert learned_split <= 1e-8, "chord with the learned start on 2 ranks differs by %.2e" % learned_split
+    return "probes within %s of cgls; linearized solves gmres %d, cgls %d; 2 ranks within %.1e (gmres), %.1e (chord, learned start)" % (
+        ", ".join("%.1e (%s)" % (v, k) for k, v in worst.items()), gm, cg, split, learned_split)
 
 
 @test("start variants on channel2d's first 200 steps (chord steps): the recurrence fitted to the corrected controls "
-      "saves a tenth of the plain extrapolation's iterations; every variant's probes within 10 x tol")
+      "saves a tenth of the plain extrapolation's iterations, secant updates of J0^-1 save some; every variant's "
+      "probes within 10 x tol")
 def test_start_variants():
     args, tol = CHANNEL + ["-t_final", "0.02", "-coupling_inner", "chord"], 1e-4
     variants = {"plain": [], "corrected": ["-coupling_start_correction"],
                 "recurrence": ["-coupling_start_correction", "-coupling_extrapolation_points", "12",
-                               "-coupling_extrapolation_recurrence", "6"]}
+                               "-coupling_extrapolation_recurrence", "6"],
+                "secant": ["-coupling_secant_updates", "20"]}
     runs = {}
     for tag, extra in variants.items():
         out = os.path.join(WORK, "start-" + tag)
@@ -247,13 +260,15 @@ def test_start_variants():
         runs[tag] = (s["coupling_iterations"], read_probes(os.path.join(out, "probes.csv"))[1])
     plain, ref = runs["plain"]
     worst = {}
-    for tag in ("corrected", "recurrence"):
+    for tag in ("corrected", "recurrence", "secant"):
         worst[tag] = probes_difference(runs[tag][1], ref)
         assert worst[tag] <= 10 * tol, "%s start: probes differ by %.2e of their amplitude" % (tag, worst[tag])
-    rec = runs["recurrence"][0]
+    rec, sec = runs["recurrence"][0], runs["secant"][0]
     assert rec <= 0.9 * plain, "iterations: recurrence %d, plain extrapolation %d (ratio %.2f > 0.9)" % (rec, plain, rec / plain)
-    return "iterations: plain %d, corrected %d, recurrence %d; probes within %s" % (
-        plain, runs["corrected"][0], rec, ", ".join("%.1e (%s)" % (v, k) for k, v in worst.items()))
+    # Broyden's corrections of J0^-1 make the chord steps contract more, never less here
+    assert sec < plain, "iterations: with secant updates %d, without %d" % (sec, plain)
+    return "iterations: plain %d, corrected %d, recurrence %d, secant updates %d; probes within %s" % (
+        plain, runs["corrected"][0], rec, sec, ", ".join("%.1e (%s)" % (v, k) for k, v in worst.items()))
 
 
 @test("iqnils needs fewer coupling iterations than aitken")

@@ -358,7 +358,7 @@ def test_help_lists_options():
                 "-mesh_motion_stiffening", "-mesh_motion_incremental", "-dt_min", "-fluid_time_order",
                 "-coupling_explicit_jacobian_rebuild_its", "-interrupt_test_step", "-interrupt_test_signal",
                 "-coupling_inner", "-coupling_inner_jump_fraction", "-coupling_chord_contraction",
-                "-coupling_start_correction", "-coupling_extrapolation_recurrence"]:
+                "-coupling_start_correction", "-coupling_extrapolation_recurrence", "-coupling_secant_updates"]:
         assert opt in text, "%s not in -help of turek-hron" % opt
     # fsiopt's own options at the end, by prefix, with units in the scene's system
     groups = own_section(text)

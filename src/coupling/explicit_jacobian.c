@@ -11,6 +11,9 @@ struct _p_ExplicitJacobian {
   PetscInt   block;         /* at most this many columns per product J [e_j ...] */
   Mat        units, images; /* one width for every block and build: the products' work
                                blocks are allocated once */
+  /* J^{-1} ~ J0^{-1} + sum_i a_i b_i^T: Broyden's secant corrections since the last build */
+  PetscInt max_secants, nsecants;
+  Vec     *secant_a, *secant_b;
 };
 
 static PetscErrorCode Build(ExplicitJacobian E)
@@ -53,7 +56,26 @@ static PetscErrorCode Build(ExplicitJacobian E)
   if (!E->z) PetscCall(VecDuplicate(E->all, &E->z));
   E->factored = PETSC_TRUE;
   E->rebuild  = PETSC_FALSE;
+  E->nsecants = 0; /* J0 is J now */
   E->builds++;
+  PetscFunctionReturn(0);
+}
+
+/* out = (J0^{-1} + sum_i a_i b_i^T) x, J0 factored */
+static PetscErrorCode ApplyInverse(ExplicitJacobian E, Vec x, Vec out)
+{
+  PetscScalar dots[64];
+
+  PetscFunctionBeginUser;
+  PetscCall(VecScatterBegin(E->to_all, x, E->all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(VecScatterEnd(E->to_all, x, E->all, INSERT_VALUES, SCATTER_FORWARD));
+  PetscCall(MatSolve(E->J0, E->all, E->z));
+  PetscCall(VecScatterBegin(E->to_all, E->z, out, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(VecScatterEnd(E->to_all, E->z, out, INSERT_VALUES, SCATTER_REVERSE));
+  if (E->nsecants) {
+    PetscCall(VecMDot(x, E->nsecants, E->secant_b, dots));
+    PetscCall(VecMAXPY(out, E->nsecants, dots, E->secant_a));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -64,12 +86,14 @@ static PetscErrorCode Apply(PC pc, Vec x, Vec out)
   PetscFunctionBeginUser;
   PetscCall(PCShellGetContext(pc, &E));
   if (E->rebuild || !E->factored) PetscCall(Build(E));
+  if (!E->normal_equations) {
+    PetscCall(ApplyInverse(E, x, out));
+    PetscFunctionReturn(0);
+  }
   PetscCall(VecScatterBegin(E->to_all, x, E->all, INSERT_VALUES, SCATTER_FORWARD));
   PetscCall(VecScatterEnd(E->to_all, x, E->all, INSERT_VALUES, SCATTER_FORWARD));
-  if (E->normal_equations) {
-    PetscCall(MatSolveTranspose(E->J0, E->all, E->y)); /* J0^{-T} x */
-    PetscCall(MatSolve(E->J0, E->y, E->z));            /* J0^{-1} J0^{-T} x */
-  } else PetscCall(MatSolve(E->J0, E->all, E->z));
+  PetscCall(MatSolveTranspose(E->J0, E->all, E->y)); /* J0^{-T} x */
+  PetscCall(MatSolve(E->J0, E->y, E->z));            /* J0^{-1} J0^{-T} x */
   PetscCall(VecScatterBegin(E->to_all, E->z, out, INSERT_VALUES, SCATTER_REVERSE));
   PetscCall(VecScatterEnd(E->to_all, E->z, out, INSERT_VALUES, SCATTER_REVERSE));
   PetscFunctionReturn(0);
@@ -111,11 +135,41 @@ PetscErrorCode ExplicitJacobianSolve(ExplicitJacobian E, Vec b, Vec x, PetscBool
   PetscFunctionBeginUser;
   *solved = E && E->factored ? PETSC_TRUE : PETSC_FALSE;
   if (!*solved) PetscFunctionReturn(0);
-  PetscCall(VecScatterBegin(E->to_all, b, E->all, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(E->to_all, b, E->all, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(MatSolve(E->J0, E->all, E->z));
-  PetscCall(VecScatterBegin(E->to_all, E->z, x, INSERT_VALUES, SCATTER_REVERSE));
-  PetscCall(VecScatterEnd(E->to_all, E->z, x, INSERT_VALUES, SCATTER_REVERSE));
+  PetscCall(ApplyInverse(E, b, x));
+  PetscFunctionReturn(0);
+}
+
+/* "Bad" Broyden on the inverse: H+ = H + (s - H y) y^T / (y^T y), so that H+ y = s. When
+   the corrections fill up they start again from J0^{-1}. */
+PetscErrorCode ExplicitJacobianSecantUpdate(ExplicitJacobian E, Vec s, Vec y)
+{
+  PetscReal yy;
+
+  PetscFunctionBeginUser;
+  if (!E->factored || E->rebuild || E->max_secants == 0) PetscFunctionReturn(0);
+  if (E->nsecants == E->max_secants) E->nsecants = 0;
+  PetscCall(VecNorm(y, NORM_2, &yy));
+  if (!(yy > 0)) PetscFunctionReturn(0);
+  if (!E->secant_a) {
+    PetscCall(VecDuplicateVecs(E->e, E->max_secants, &E->secant_a));
+    PetscCall(VecDuplicateVecs(E->e, E->max_secants, &E->secant_b));
+  }
+  {
+    Vec a = E->secant_a[E->nsecants], b = E->secant_b[E->nsecants];
+    PetscCall(ApplyInverse(E, y, a));
+    PetscCall(VecAYPX(a, -1.0, s)); /* s - H y */
+    PetscCall(VecScale(a, 1.0 / (yy * yy)));
+    PetscCall(VecCopy(y, b));
+  }
+  E->nsecants++;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode ExplicitJacobianSetSecants(ExplicitJacobian E, PetscInt max_secants)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(max_secants <= 64, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "at most 64 secant corrections");
+  E->max_secants = max_secants;
   PetscFunctionReturn(0);
 }
 
@@ -139,6 +193,10 @@ PetscErrorCode ExplicitJacobianDestroy(ExplicitJacobian *explicit_jacobian)
   PetscCall(VecDestroy(&E->all));
   PetscCall(VecDestroy(&E->y));
   PetscCall(VecDestroy(&E->z));
+  if (E->secant_a) {
+    PetscCall(VecDestroyVecs(E->max_secants, &E->secant_a));
+    PetscCall(VecDestroyVecs(E->max_secants, &E->secant_b));
+  }
   PetscCall(VecScatterDestroy(&E->to_all));
   PetscCall(PetscFree(*explicit_jacobian));
   PetscFunctionReturn(0);

@@ -13,6 +13,11 @@ typedef struct _p_ExplicitJacobian *ExplicitJacobian;
 PetscErrorCode ExplicitJacobianCreate(Mat J, PetscInt block, PetscBool normal_equations, KSP ksp, ExplicitJacobian *);
 /* x = J0^{-1} b with the J0 in hand; solved is false when none has been built */
 PetscErrorCode ExplicitJacobianSolve(ExplicitJacobian, Vec b, Vec x, PetscBool *solved);
+/* For J d = -F (not the normal equations): correct the inverse by a Broyden secant update
+   from a step s and the change y of F it caused (at most `max_secants`, then they start again from J0;
+   0: none, the default) */
+PetscErrorCode ExplicitJacobianSetSecants(ExplicitJacobian, PetscInt max_secants);
+PetscErrorCode ExplicitJacobianSecantUpdate(ExplicitJacobian, Vec s, Vec y);
 PetscErrorCode ExplicitJacobianGetBuilds(ExplicitJacobian, PetscInt *builds);
 PetscErrorCode ExplicitJacobianRequestRebuild(ExplicitJacobian);
 PetscErrorCode ExplicitJacobianDestroy(ExplicitJacobian *);

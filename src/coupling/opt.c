@@ -293,6 +293,10 @@ static PetscErrorCode OptSetUp(Coupling C)
                                  "chord: rebuild the explicit J0 after an iteration that shrank the jump by less than "
                                  "this factor",
                                  0.0, 1.0, &opt->chord_contraction));
+    PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_secant_updates",
+                                "correct the explicit J0^-1 after each iteration by Broyden's secant update from its "
+                                "step and the change of F, at most K of them until J0 is rebuilt (0: none)",
+                                0, 64, &opt->secants));
   }
   PetscCall(PetscOptionsBool("-coupling_start_correction",
                              "extrapolate the next step's start from the accepted controls corrected by the chord step "

@@ -45,12 +45,14 @@ typedef struct {
   PetscInt         linearized_iterations; /* this step's iterations that solved linearized problems */
   OptVerdict       verdict;
   /* opt_newton_krylov.c */
-  Mat       J_newton;              /* J at x_linearization; the explicit J0's columns on fresh fluid factors */
-  Vec       x_linearization;       /* that point */
-  PetscBool linearization_current; /* the problem's factors are those of x_linearization */
-  PetscReal krylov_jump_fraction;  /* the Krylov method stops when the predicted jump is below this x tol */
-  PetscReal chord_contraction;     /* a chord step that shrinks the jump less than this rebuilds J0 */
-  PetscBool start_correction;      /* -coupling_start_correction */
+  Mat       J_newton;               /* J at x_linearization; the explicit J0's columns on fresh fluid factors */
+  Vec       x_linearization;        /* that point */
+  PetscBool linearization_current;  /* the problem's factors are those of x_linearization */
+  PetscReal krylov_jump_fraction;   /* the Krylov method stops when the predicted jump is below this x tol */
+  PetscReal chord_contraction;      /* a chord step that shrinks the jump less than this rebuilds J0 */
+  PetscBool start_correction;       /* -coupling_start_correction */
+  PetscInt  secants;                /* -coupling_secant_updates */
+  Vec       x_previous, F_previous; /* the last iterate and its F, for the secant update */
   Vec       correction;
 } Opt;
 

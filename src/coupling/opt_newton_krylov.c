@@ -87,11 +87,24 @@ static PetscErrorCode NewtonMatMult(Mat A, Mat H, Mat Y, void *product_data)
 static PetscErrorCode ConvergenceTest(SNES snes, PetscInt its, PetscReal xnorm, PetscReal step_norm, PetscReal Fnorm,
                                       SNESConvergedReason *reason, void *ctx)
 {
-  Coupling   C = (Coupling)ctx;
+  Coupling   C   = (Coupling)ctx;
+  Opt       *opt = (Opt *)C->data;
   PetscInt   krylov_total;
   OptVerdict verdict;
 
   PetscFunctionBeginUser;
+  if (opt->secants > 0 && opt->explicit_jacobian) {
+    /* J0^{-1} learns from the step just taken: H y = s for s = x_k - x_{k-1}, y = F_k - F_{k-1} */
+    Vec F;
+    PetscCall(SNESGetFunction(snes, &F, NULL, NULL));
+    if (its > 0) {
+      PetscCall(VecAYPX(opt->x_previous, -1.0, C->x));
+      PetscCall(VecAYPX(opt->F_previous, -1.0, F));
+      PetscCall(ExplicitJacobianSecantUpdate(opt->explicit_jacobian, opt->x_previous, opt->F_previous));
+    }
+    PetscCall(VecCopy(C->x, opt->x_previous));
+    PetscCall(VecCopy(F, opt->F_previous));
+  }
   PetscCall(SNESGetLinearSolveIterations(snes, &krylov_total));
   PetscCall(PetscLogStagePop());
   PetscCall(OptTestIteration(C, its, 0.5 * Fnorm * Fnorm, krylov_total, &verdict));
@@ -158,9 +171,12 @@ PetscErrorCode OptNewtonKrylovSetUp(Coupling C)
   PetscCall(KSPSetType(ksp, types[opt->inner_type]));
   if (opt->inner_type != OPT_INNER_CHORD) PetscCall(KSPSetPCSide(ksp, PC_RIGHT)); /* the true ||F + J h|| */
   PetscCall(KSPSetTolerances(ksp, 1e-12, opt->krylov_jump_fraction * opt->tol, PETSC_DEFAULT, 100));
-  if (opt->rebuild_every > 0)
+  if (opt->rebuild_every > 0) {
     PetscCall(ExplicitJacobianCreate(opt->J_newton, opt->build_block, PETSC_FALSE, ksp, &opt->explicit_jacobian));
-  else {
+    PetscCall(ExplicitJacobianSetSecants(opt->explicit_jacobian, opt->secants));
+    PetscCall(VecDuplicate(C->x, &opt->x_previous));
+    PetscCall(VecDuplicate(C->x, &opt->F_previous));
+  } else {
     PC pc;
     PetscCall(KSPGetPC(ksp, &pc));
     PetscCall(PCSetType(pc, PCNONE));
@@ -192,5 +208,7 @@ PetscErrorCode OptNewtonKrylovDestroy(Coupling C)
   PetscCall(SNESDestroy(&opt->snes));
   PetscCall(MatDestroy(&opt->J_newton));
   PetscCall(VecDestroy(&opt->x_linearization));
+  PetscCall(VecDestroy(&opt->x_previous));
+  PetscCall(VecDestroy(&opt->F_previous));
   PetscFunctionReturn(0);
 }
