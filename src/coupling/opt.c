@@ -126,7 +126,6 @@ static PetscErrorCode ConvergenceTest(Tao tao, void *ctx)
     reason = TAO_CONTINUE_ITERATING;
     break;
   case OPT_CONVERGED:
-  case OPT_STALLED:
     reason = TAO_CONVERGED_USER;
     break;
   case OPT_MAX_IT:
@@ -295,7 +294,8 @@ static PetscErrorCode OptSetUp(Coupling C)
                                  0.0, 1.0, &opt->chord_contraction));
     PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_secant_updates",
                                 "correct the explicit J0^-1 after each iteration by Broyden's secant update from its "
-                                "step and the change of F, at most K of them until J0 is rebuilt (0: none)",
+                                "step and the change of F, carried across steps; after K of them they start again from "
+                                "J0^-1 (0: none)",
                                 0, 64, &opt->secants));
   }
   PetscCall(PetscOptionsBool("-coupling_start_correction",

@@ -19,9 +19,8 @@ extern const char *const OptInnerNames[];
 
 typedef enum {
   OPT_CONTINUE,
-  OPT_CONVERGED,
-  OPT_STALLED,
-  OPT_DIVERGED, /* the jump grew 1000-fold, or is not a number */
+  OPT_CONVERGED, /* below the tolerance, or stalled (Opt.stalled) */
+  OPT_DIVERGED,  /* the jump grew 1000-fold, or is not a number */
   OPT_MAX_IT,
   OPT_FAILED /* a subproblem failed */
 } OptVerdict;

@@ -114,7 +114,6 @@ static PetscErrorCode ConvergenceTest(SNES snes, PetscInt its, PetscReal xnorm, 
     *reason = SNES_CONVERGED_ITERATING;
     break;
   case OPT_CONVERGED:
-  case OPT_STALLED:
     *reason = SNES_CONVERGED_FNORM_ABS;
     break;
   case OPT_MAX_IT:
