@@ -68,6 +68,9 @@ PetscErrorCode CouplingProblemJacobianMultTranspose(CouplingProblem, Vec rho, Ve
 PetscErrorCode CouplingProblemGetProductCounts(CouplingProblem, PetscInt *forward, PetscInt *adjoint);
 /* ||u - v_s||_{L2(Gamma_I)} at x (with the consistent interface mass) */
 PetscErrorCode CouplingProblemJump(CouplingProblem, Vec x, PetscReal *jump);
+/* ||v_s||_{L2(Gamma_I)}, the structure's interface velocity under the control x: the scale of
+   a relative coupling tolerance */
+PetscErrorCode CouplingProblemInterfaceVelocity(CouplingProblem, Vec x, PetscReal *velocity);
 PetscErrorCode CouplingProblemEndStep(CouplingProblem, Vec x);
 /* One Dirichlet-Neumann sweep (the partitioned baselines): the structure under the
    control x, the fluid mesh moved to its displacement, the fluid with the structure's

@@ -271,6 +271,28 @@ def test_start_variants():
         plain, runs["corrected"][0], rec, sec, ", ".join("%.1e (%s)" % (v, k) for k, v in worst.items()))
 
 
+@test("a relative coupling tolerance: at dt = 1e-6 on channel2d the absolute one accepts every extrapolated start, "
+      "-coupling_tol_relative 1e-3 iterates every step far below its first jump")
+def test_relative_tolerance():
+    args = CHANNEL + ["-dt", "1e-6", "-t_final", "5e-6"]
+    runs = {}
+    for tag, extra in (("absolute", []), ("relative", ["-coupling_tol_relative", "1e-3"])):
+        out = os.path.join(WORK, "tol-" + tag)
+        s = solve(args + extra, out=out)
+        rows = list(csv.DictReader(open(os.path.join(out, "history.csv"))))
+        steps = {}
+        for r in rows:
+            steps.setdefault(int(r["step"]), []).append((int(r["iteration"]), float(r["jump"])))
+        runs[tag] = (s["coupling_iterations"], steps)
+    assert runs["absolute"][0] == 0, "the absolute tolerance iterated %d times" % runs["absolute"][0]
+    its, steps = runs["relative"]
+    assert len(steps) == 5 and all(len(v) >= 2 for v in steps.values()), "relative: iterations per step %s" % {
+        k: len(v) - 1 for k, v in steps.items()}
+    worst = max(v[-1][1] / v[0][1] for v in steps.values())
+    assert worst <= 1e-3, "relative: a step ended at %.1e of its first jump" % worst
+    return "absolute tolerance: 0 iterations in 5 steps; relative: %d, each step's jump reduced to at most %.1e of its first" % (its, worst)
+
+
 @test("iqnils needs fewer coupling iterations than aitken")
 def test_iqnils_fewer_iterations_than_aitken():
     runs = partitioned_runs()

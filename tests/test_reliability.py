@@ -254,6 +254,7 @@ def test_bad_input_numbers():
         ("zero relaxation", ["-scene", "mms-stokes", "-coupling", "dn", "-coupling_omega", "0"], "-coupling_omega"),
         ("negative Tikhonov weight", ["-scene", "mms-stokes", "-coupling_tikhonov", "-1"], "-coupling_tikhonov"),
         ("zero coupling tolerance", ["-scene", "mms-stokes", "-coupling_tol", "0"], "-coupling_tol"),
+        ("negative relative coupling tolerance", ["-scene", "mms-stokes", "-coupling_tol_relative", "-1"], "-coupling_tol_relative"),
         ("Newton-Krylov with a Tikhonov term", ["-scene", "mms-stokes", "-coupling_inner", "gmres", "-coupling_tikhonov", "1e-3"], "-coupling_inner"),
         ("chord step without an explicit Jacobian", ["-scene", "mms-stokes", "-coupling_inner", "chord"], "-coupling_inner"),
         ("unknown inner solver", ["-scene", "mms-stokes", "-coupling_inner", "cg"], "-coupling_inner"),
@@ -358,7 +359,7 @@ def test_help_lists_options():
                 "-mesh_motion_stiffening", "-mesh_motion_incremental", "-dt_min", "-fluid_time_order",
                 "-coupling_explicit_jacobian_rebuild_its", "-interrupt_test_step", "-interrupt_test_signal",
                 "-coupling_inner", "-coupling_inner_jump_fraction", "-coupling_chord_contraction",
-                "-coupling_start_correction", "-coupling_extrapolation_recurrence", "-coupling_secant_updates"]:
+                "-coupling_start_correction", "-coupling_extrapolation_recurrence", "-coupling_secant_updates", "-coupling_tol_relative"]:
         assert opt in text, "%s not in -help of turek-hron" % opt
     # fsiopt's own options at the end, by prefix, with units in the scene's system
     groups = own_section(text)

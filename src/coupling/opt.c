@@ -69,7 +69,7 @@ static PetscErrorCode ObjectiveAndGradient(Tao tao, Vec x, PetscReal *f, Vec g, 
 PetscErrorCode OptTestIteration(Coupling C, PetscInt its, PetscReal f, PetscInt inner_total, OptVerdict *verdict)
 {
   Opt        *opt = (Opt *)C->data;
-  PetscReal   jump;
+  PetscReal   jump, tol = opt->tol;
   PetscInt    inner;
   const char *failure;
 
@@ -96,7 +96,13 @@ PetscErrorCode OptTestIteration(Coupling C, PetscInt its, PetscReal f, PetscInt 
     PetscCall(ExplicitJacobianRequestRebuild(opt->explicit_jacobian)); /* J0 no longer contracts */
   opt->last_jump = jump;
   if (its <= C->max_it) opt->objectives[its] = f;
-  if (jump <= opt->tol) *verdict = OPT_CONVERGED;
+  if (opt->tol_relative > 0) { /* the tighter of the absolute and the relative tolerance */
+    PetscReal velocity;
+    PetscCall(CouplingProblemInterfaceVelocity(C->problem, C->x, &velocity));
+    tol = PetscMin(tol, opt->tol_relative * velocity);
+  }
+  opt->last_tol = tol;
+  if (jump <= tol) *verdict = OPT_CONVERGED;
   else if (PetscIsInfOrNanReal(jump) || (its > 0 && jump > 1e3 * opt->first_jump)) *verdict = OPT_DIVERGED;
   else if (its >= opt->stall_its && f > 0.99 * opt->objectives[its - opt->stall_its]) {
     *verdict     = OPT_CONVERGED;
@@ -176,7 +182,7 @@ static PetscErrorCode OptIterate(Coupling C, PetscInt step, CouplingIterations *
   it->iterations       = opt->last_iteration;
   it->linearized_pairs = opt->linearized_iterations;
   it->jump             = opt->last_jump;
-  it->stalled          = opt->stalled && opt->last_jump > opt->tol ? PETSC_TRUE : PETSC_FALSE;
+  it->stalled          = opt->stalled && opt->last_jump > opt->last_tol ? PETSC_TRUE : PETSC_FALSE;
   PetscCall(CouplingProblemGetFailure(C->problem, &failure));
   if (failure) {
     PetscCall(StepFailureSet(&C->failure,
@@ -187,10 +193,10 @@ static PetscErrorCode OptIterate(Coupling C, PetscInt step, CouplingIterations *
   if (reason)
     PetscCall(StepFailureSet(&C->failure,
                              "coupling opt (%s) failed at step %" PetscInt_FMT ", iteration %" PetscInt_FMT
-                             ": %s reason %s, interface jump %.3e > -coupling_tol %.3e%s",
+                             ": %s reason %s, interface jump %.3e > the tolerance %.3e%s",
                              C->ops.optimizer(C), step, opt->last_iteration,
                              opt->inner_type == OPT_INNER_CGLS ? "TAO" : "SNES", reason, (double)opt->last_jump,
-                             (double)opt->tol,
+                             (double)opt->last_tol,
                              opt->verdict == OPT_DIVERGED ? " (the jump grew 1000-fold: diverging)" : ""));
   PetscFunctionReturn(0);
 }
@@ -253,6 +259,11 @@ static PetscErrorCode OptSetUp(Coupling C)
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Optimization-based coupling", "coupling");
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_tol",
                                 "stop when ||u - v_s||_{L2(Gamma_I)} falls below this", &opt->tol));
+  PetscCall(
+    OptionsNonNegativeReal(PetscOptionsObject, "-coupling_tol_relative",
+                           "and, when positive, below this times ||v_s||_{L2(Gamma_I)} (the tighter of the two: "
+                           "a relative accuracy while the wall barely moves)",
+                           &opt->tol_relative));
   {
     PetscInt inner = OPT_INNER_CGLS;
     PetscCall(
@@ -311,7 +322,8 @@ static PetscErrorCode OptSetUp(Coupling C)
   PetscCheck(!opt->start_correction || opt->rebuild_every > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
              "option -coupling_start_correction: the correction solves with the explicit J0; expected "
              "-coupling_explicit_jacobian K > 0");
-  PetscCall(CouplingProblemSetConvergedJump(C->problem, opt->tol));
+  /* below it the optimizer stops, so no Jacobian is needed there; a relative tolerance moves */
+  PetscCall(CouplingProblemSetConvergedJump(C->problem, opt->tol_relative > 0 ? 0.0 : opt->tol));
   PetscCall(PetscMalloc1(C->max_it + 1, &opt->objectives));
   PetscCall(CouplingProblemGetTikhonov(C->problem, &opt->tikhonov));
   PetscCall(VecDuplicate(C->x, &opt->F));

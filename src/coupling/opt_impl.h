@@ -32,10 +32,12 @@ typedef struct {
   Vec        F;
   Mat        J;
   PetscReal  tikhonov, tol; /* -coupling_tikhonov, -coupling_tol */
+  PetscReal  tol_relative;  /* -coupling_tol_relative */
   PetscInt   step, stall_its, inner_seen;
   PetscReal *objectives; /* this step's, by iteration */
   PetscBool  stalled, test_adjoint, test_taylor;
   PetscReal  last_jump, first_jump;
+  PetscReal  last_tol; /* the tolerance the last iteration was held to */
   /* the explicit-Jacobian preconditioner of the inner Krylov method (explicit_jacobian.c) */
   ExplicitJacobian explicit_jacobian;
   PetscInt         rebuild_every, build_block;

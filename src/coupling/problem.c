@@ -165,6 +165,8 @@ PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure struc
   PetscCall(VecDuplicate(P->all_a, &P->all_b));
   PetscCall(VecDuplicate(P->all_a, &P->all_q));
   PetscCall(VecDuplicate(P->all_a, &P->datum_load));
+  PetscCall(VecDuplicate(P->all_a, &P->all_velocity));
+  PetscCall(VecDuplicate(P->all_a, &P->all_mass_velocity));
   if (fluid) {
     DM dm;
     PetscCall(FluidGetDM(fluid, &dm));
@@ -227,6 +229,8 @@ PetscErrorCode CouplingProblemDestroy(CouplingProblem *problem)
   PetscCall(VecDestroy(&P->jacobian_x));
   PetscCall(VecDestroy(&P->control_change));
   PetscCall(VecDestroy(&P->all_a));
+  PetscCall(VecDestroy(&P->all_velocity));
+  PetscCall(VecDestroy(&P->all_mass_velocity));
   PetscCall(VecDestroy(&P->all_b));
   PetscCall(VecDestroy(&P->all_q));
   PetscCall(VecDestroy(&P->datum_load));

@@ -22,12 +22,14 @@ struct _p_CouplingProblem {
   Vec                      weight_sqrt;                     /* W^{1/2} on the control nodes */
   Vec                      g, r;                            /* control layout */
   Vec                      all_a, all_b, all_q, datum_load; /* all interface nodes */
+  Vec                      all_velocity, all_mass_velocity; /* the structure's interface velocity, M times it */
   Vec                      fluid_vec, fluid_sol, fluid_local, structure_vec, structure_sol, structure_local;
   Mat                      fluid_rhs_block, fluid_sol_block, structure_rhs_block, structure_sol_block; /* J H */
   Vec                      state_x, state_F, jacobian_x;
   PetscBool                state_valid, jacobian_valid;
   PetscBool                jacobian_fresh; /* the fluid was factored at jacobian_x, not lagged */
   PetscReal                state_jump;
+  PetscReal                state_velocity;             /* ||v_s||_{L2(Gamma_I)} of the state */
   PetscReal                converged_jump;             /* at or below it, no new Jacobian: the optimizer stops there */
   PetscInt                 jacobian_lag, jacobian_age; /* refactor the fluid every jacobian_lag requests */
   PetscBool                predict;                    /* fluid's first guess from the linearization */

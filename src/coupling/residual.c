@@ -122,6 +122,13 @@ PetscErrorCode CouplingProblemResidual(CouplingProblem P, Vec x, Vec F)
     PetscFunctionReturn(0);
   }
   PetscCall(Jump(P, 1.0, P->r, &P->state_jump));
+  {
+    PetscScalar dot;
+    PetscCall(InterfaceStructureTrace(P->itf, P->structure_local, P->all_velocity));
+    PetscCall(MatMult(P->mass, P->all_velocity, P->all_mass_velocity));
+    PetscCall(VecDot(P->all_velocity, P->all_mass_velocity, &dot));
+    P->state_velocity = PetscSqrtReal(PetscMax(PetscRealPart(dot), 0.0));
+  }
   PetscCall(VecPointwiseMult(F, P->r, P->weight_sqrt));
   PetscCall(VecCopy(x, P->state_x));
   PetscCall(VecCopy(F, P->state_F));
@@ -141,6 +148,14 @@ PetscErrorCode CouplingProblemJump(CouplingProblem P, Vec x, PetscReal *jump)
   PetscFunctionBeginUser;
   PetscCall(EnsureState(P, x));
   *jump = P->state_jump;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemInterfaceVelocity(CouplingProblem P, Vec x, PetscReal *velocity)
+{
+  PetscFunctionBeginUser;
+  PetscCall(EnsureState(P, x));
+  *velocity = P->state_velocity;
   PetscFunctionReturn(0);
 }
 
