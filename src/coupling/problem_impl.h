@@ -29,7 +29,6 @@ struct _p_CouplingProblem {
   PetscBool                state_valid, jacobian_valid;
   PetscBool                jacobian_fresh; /* the fluid was factored at jacobian_x, not lagged */
   PetscReal                state_jump;
-  PetscReal                state_velocity;             /* ||v_s||_{L2(Gamma_I)} of the state */
   PetscReal                converged_jump;             /* at or below it, no new Jacobian: the optimizer stops there */
   PetscInt                 jacobian_lag, jacobian_age; /* refactor the fluid every jacobian_lag requests */
   PetscBool                predict;                    /* fluid's first guess from the linearization */

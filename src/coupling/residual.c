@@ -122,13 +122,6 @@ PetscErrorCode CouplingProblemResidual(CouplingProblem P, Vec x, Vec F)
     PetscFunctionReturn(0);
   }
   PetscCall(Jump(P, 1.0, P->r, &P->state_jump));
-  {
-    PetscScalar dot;
-    PetscCall(InterfaceStructureTrace(P->itf, P->structure_local, P->all_velocity));
-    PetscCall(MatMult(P->mass, P->all_velocity, P->all_mass_velocity));
-    PetscCall(VecDot(P->all_velocity, P->all_mass_velocity, &dot));
-    P->state_velocity = PetscSqrtReal(PetscMax(PetscRealPart(dot), 0.0));
-  }
   PetscCall(VecPointwiseMult(F, P->r, P->weight_sqrt));
   PetscCall(VecCopy(x, P->state_x));
   PetscCall(VecCopy(F, P->state_F));
@@ -151,11 +144,17 @@ PetscErrorCode CouplingProblemJump(CouplingProblem P, Vec x, PetscReal *jump)
   PetscFunctionReturn(0);
 }
 
+/* only when asked (a relative tolerance): from the state of x, in hand */
 PetscErrorCode CouplingProblemInterfaceVelocity(CouplingProblem P, Vec x, PetscReal *velocity)
 {
+  PetscScalar dot;
+
   PetscFunctionBeginUser;
   PetscCall(EnsureState(P, x));
-  *velocity = P->state_velocity;
+  PetscCall(InterfaceStructureTrace(P->itf, P->structure_local, P->all_velocity));
+  PetscCall(MatMult(P->mass, P->all_velocity, P->all_mass_velocity));
+  PetscCall(VecDot(P->all_velocity, P->all_mass_velocity, &dot));
+  *velocity = PetscSqrtReal(PetscMax(PetscRealPart(dot), 0.0));
   PetscFunctionReturn(0);
 }
 
