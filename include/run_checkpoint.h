@@ -7,6 +7,7 @@
 #include "probes.h"
 #include "fields.h"
 #include "summary.h"
+#include "step_retry.h"
 
 /* A run's checkpoints (checkpoint.h): the options, and the whole state to or from a file. */
 typedef struct {
@@ -14,15 +15,19 @@ typedef struct {
   char      file[PETSC_MAX_PATH_LEN];    /* -checkpoint_file */
   char      restart[PETSC_MAX_PATH_LEN]; /* -restart */
   PetscBool restarting;
-  PetscBool possible; /* this set-up can write one: then SIGINT/SIGTERM write one too */
-  PetscInt  last;     /* the step of the last one written, -1: none */
+  PetscBool change_dt; /* -restart_change_dt: the checkpoint may have been written with another dt */
+  PetscBool possible;  /* this set-up can write one: then SIGINT/SIGTERM write one too */
+  PetscInt  last;      /* the step of the last one written, -1: none */
 } RunCheckpointParams;
 
 /* restartable: the coupling method (if any) keeps all its state in checkpoints. */
 PetscErrorCode RunCheckpointSetFromOptions(const RunParams *, PetscBool separate_ranks, PetscBool restartable,
                                            RunCheckpointParams *);
-/* What the next step needs, to or from `path`; `step` is the step the state ends. A load
-   checks that the file was written with the same dt, unknowns and ranks. */
+/* What the next step needs, to or from `path`; `step` is the step the state ends (of this
+   run's dt). A load checks that the file was written with the same t_start, unknowns and
+   ranks, and the same dt unless `dt_change` is given: then a checkpoint of another dt whose
+   time is a whole number of this run's steps goes on through the step-change path of a
+   retried step (StepRetrySetTimeStep). */
 PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, const RunParams *, const RunSummary *,
-                             Fluid, Structure, Coupling, Probes, FieldWriter);
+                             Fluid, Structure, Coupling, Probes, FieldWriter, StepRetry dt_change);
 #endif

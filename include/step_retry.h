@@ -23,6 +23,9 @@ PetscErrorCode StepRetryCreate(const RunParams *, Fluid, Structure, Coupling, St
    is NULL, or the reason the step failed with the smallest dt allowed; the state is then
    the failed attempt's. Collective. */
 PetscErrorCode StepRetryAdvance(StepRetry, PetscInt step, const char **failure);
+/* Sets the dt of the fluid, structure and coupling, as a retried step does: BDF2 starts
+   again with one backward-Euler step and the coupling drops its extrapolation history. */
+PetscErrorCode StepRetrySetTimeStep(StepRetry, PetscReal dt);
 PetscErrorCode StepRetryGetStats(StepRetry, StepRetryStats *);
 PetscErrorCode StepRetryDestroy(StepRetry *);
 #endif

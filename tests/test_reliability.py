@@ -1,6 +1,6 @@
 """Reliability: signals (deterministic, -interrupt_test_step), checkpoints and restarts,
 diverging steps and their retries, summary.json, bad input, -help."""
-import csv, os, shutil, subprocess
+import csv, math, os, shutil, subprocess
 
 from harness import (CHANNEL, FLUID_SPACE, ROOT, TUREK, WORK, fail_text, fr, last_rows, out_dir, read_probes,  # noqa: F401
                      run, same_file, solve, test)
@@ -168,6 +168,33 @@ def test_retried_steps():
         retried["steps"], s["retried_steps"], s["smallest_dt"], to_fine, to_coarse)
 
 
+@test("restart at another dt (-restart_change_dt): the probes converge at the fluid scheme's order (1, 2)")
+def test_restart_change_dt():
+    ck = os.path.join(WORK, "change-dt-ck")
+    solve(CHANNEL + ["-t_final", "0.005", "-checkpoint_every", "50"], out=ck)
+    orders = {}
+    for order in (1, 2):
+        ends = []
+        for dt in ("5e-5", "2.5e-5", "1.25e-5"):
+            out = os.path.join(WORK, "change-dt-%d-%s" % (order, dt))
+            s = solve(CHANNEL + ["-t_final", "0.0055", "-dt", dt, "-restart", os.path.join(ck, "checkpoint.h5"),
+                                 "-restart_change_dt", "-coupling_tol", "1e-9", "-fluid_time_order", str(order),
+                                 "-structure_time_order", str(order)], out=out)
+            first = int(round(0.005 / float(dt))) + 1
+            assert s["first_step"] == first and s["steps_done"] == int(round(0.0055 / float(dt))), "dt %s: steps %s to %s" % (
+                dt, s["first_step"], s["steps_done"])
+            head, rows = read_probes(os.path.join(out, "probes.csv"))
+            after = [r[0] for r in rows if r[0] > 0.005 + 1e-12]
+            assert len(after) == int(round(0.0005 / float(dt))) and abs(after[0] - 0.005 - float(dt)) < 1e-12 \
+                and abs(after[-1] - 0.0055) < 1e-12, "dt %s: probe times after the restart %s" % (dt, after)
+            ends.append(rows[-1][1:])
+        d = [max(abs(a - b) for a, b in zip(ends[k], ends[k + 1])) for k in range(2)]
+        orders[order] = math.log2(d[0] / d[1])
+    assert 0.8 <= orders[1] <= 1.2 and orders[2] >= 1.7, "observed orders %s" % orders
+    return "from a channel2d checkpoint of dt 1e-4 at t = 0.005, dt 5e-5 .. 1.25e-5 to 0.0055: observed order %.2f " \
+        "(backward Euler), %.2f (BDF2)" % (orders[1], orders[2])
+
+
 @test("summary.json has every DESIGN key", quick=True)
 def test_summary_keys():
     s = solve(FLUID_SPACE)
@@ -312,6 +339,10 @@ def test_bad_input_restarts():
         ("restart with another dt", CHANNEL + ["-t_final", "0.001", "-dt", "5e-5", "-restart", checkpoint], "dt"),
         ("restart of another mesh", CHANNEL + ["-t_final", "0.002", "-refine", "1", "-restart", checkpoint], "-restart"),
         ("restart past the end", CHANNEL + ["-t_final", "0.0001", "-restart", checkpoint], "-restart"),
+        ("-restart_change_dt without -restart", CHANNEL + ["-restart_change_dt"], "-restart_change_dt"),
+        ("new dt off the checkpoint's time", CHANNEL + ["-t_final", "0.0012", "-dt", "3e-4", "-restart", checkpoint, "-restart_change_dt"], "whole number of steps"),
+        ("new dt with -write_fields", CHANNEL + ["-t_final", "0.001", "-dt", "5e-5", "-restart", checkpoint, "-restart_change_dt", "-write_fields"], "-write_fields"),
+        ("restart with another t_start", CHANNEL + ["-t_start", "1e-4", "-t_final", "0.001", "-restart", checkpoint], "t_start"),
     ])
 
 

@@ -17,7 +17,7 @@ static PetscErrorCode WriteCheckpoint(Run run, PetscInt step)
   PetscCall(OutputsGetFields(run->outputs, &fields));
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CHECKPOINT, 0, 0, 0, 0));
   PetscCall(RunCheckpoint(run->checkpoint.file, PETSC_FALSE, &saved, &run->params, &run->summary, run->fluid,
-                          run->structure, run->coupling, probes, fields));
+                          run->structure, run->coupling, probes, fields, NULL));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CHECKPOINT, 0, 0, 0, 0));
   run->checkpoint.last = step;
   PetscFunctionReturn(0);

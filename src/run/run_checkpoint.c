@@ -10,6 +10,7 @@ PetscErrorCode RunCheckpointSetFromOptions(const RunParams *params, PetscBool se
   cp->every      = 0;
   cp->last       = -1;
   cp->restart[0] = 0;
+  cp->change_dt  = PETSC_FALSE;
   PetscCall(PetscSNPrintf(cp->file, sizeof(cp->file), "%s/checkpoint.h5", params->output_dir));
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Checkpoints and restarts", "fsiopt");
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-checkpoint_every", "write the state every K steps (0: never)", 0,
@@ -18,7 +19,15 @@ PetscErrorCode RunCheckpointSetFromOptions(const RunParams *params, PetscBool se
                                cp->file, sizeof(cp->file), NULL));
   PetscCall(PetscOptionsString("-restart", "continue from this checkpoint", NULL, cp->restart, cp->restart,
                                sizeof(cp->restart), &cp->restarting));
+  PetscCall(
+    PetscOptionsBool("-restart_change_dt",
+                     "the -restart checkpoint may have been written with another dt: go on at -dt from its time "
+                     "(a whole number of steps of -dt after -t_start) as a retried step does (BDF2 starts with "
+                     "one backward-Euler step, the extrapolated start is dropped)",
+                     NULL, cp->change_dt, &cp->change_dt, NULL));
   PetscOptionsEnd();
+  PetscCheck(!cp->change_dt || cp->restarting, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
+             "option -restart_change_dt: expected with -restart FILE");
   PetscCheck(!(cp->every || cp->restarting) || !separate_ranks, PETSC_COMM_WORLD, PETSC_ERR_SUP,
              "option %s: checkpoints need fluid and structure on the same ranks (-structure_ranks 0)",
              cp->restarting ? "-restart" : "-checkpoint_every");
@@ -26,26 +35,55 @@ PetscErrorCode RunCheckpointSetFromOptions(const RunParams *params, PetscBool se
   PetscFunctionReturn(0);
 }
 
+/* The step of this run's dt that ends at the checkpoint's time (written with dt_written). */
+static PetscErrorCode StepAtNewTimeStep(const char path[], PetscInt step_written, PetscReal dt_written,
+                                        const RunParams *params, PetscInt *step)
+{
+  const PetscReal elapsed = step_written * dt_written, ratio = elapsed / params->dt;
+
+  PetscFunctionBeginUser;
+  *step = (PetscInt)PetscFloorReal(ratio + 0.5);
+  PetscCheck(PetscAbsReal(ratio - *step) < 1e-6 * PetscMax(1.0, ratio), PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
+             "option -restart_change_dt: the checkpoint %s ends at t = %g, %g after -t_start, which is not a whole "
+             "number of steps of -dt %g",
+             path, (double)(params->t_start + elapsed), (double)elapsed, (double)params->dt);
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, const RunParams *params,
                              const RunSummary *summary, Fluid fluid, Structure structure, Coupling coupling,
-                             Probes probes, FieldWriter fields)
+                             Probes probes, FieldWriter fields, StepRetry dt_change)
 {
   Checkpoint cp;
-  PetscReal  dt         = params->dt;
+  PetscReal  dt = params->dt, t_start = params->t_start;
   PetscInt   fluid_dofs = summary->fluid_dofs, structure_dofs = summary->structure_dofs, ranks = summary->total_ranks;
+  PetscBool  has_t_start = PETSC_TRUE, other_dt;
 
   PetscFunctionBeginUser;
   PetscCall(CheckpointOpen(PETSC_COMM_WORLD, path, load, &cp));
   PetscCall(CheckpointPushGroup(cp, "/run"));
   PetscCall(CheckpointInt(cp, "step", step, load));
   PetscCall(CheckpointReal(cp, "dt", &dt, load));
+  if (load) PetscCall(CheckpointHasAttribute(cp, "t_start", &has_t_start)); /* not in checkpoints before it */
+  if (has_t_start) PetscCall(CheckpointReal(cp, "t_start", &t_start, load));
   PetscCall(CheckpointInt(cp, "fluid_dofs", &fluid_dofs, load));
   PetscCall(CheckpointInt(cp, "structure_dofs", &structure_dofs, load));
   PetscCall(CheckpointInt(cp, "ranks", &ranks, load));
   PetscCall(CheckpointPopGroup(cp));
+  other_dt = load && PetscAbsReal(dt - params->dt) > 1e-12 * params->dt ? PETSC_TRUE : PETSC_FALSE;
   if (load) {
-    PetscCheck(PetscAbsReal(dt - params->dt) <= 1e-12 * params->dt, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
-               "option -restart %s: written with dt = %g, this run has -dt %g", path, (double)dt, (double)params->dt);
+    PetscCheck(!other_dt || dt_change, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
+               "option -restart %s: written with dt = %g, this run has -dt %g (add -restart_change_dt to go on at "
+               "the new dt)",
+               path, (double)dt, (double)params->dt);
+    PetscCheck(PetscAbsReal(t_start - params->t_start) <= 1e-12 * PetscMax(1.0, PetscAbsReal(t_start)),
+               PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
+               "option -restart %s: written with t_start = %g, this run has -t_start %g", path, (double)t_start,
+               (double)params->t_start);
+    PetscCheck(!other_dt || !fields, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
+               "option -restart_change_dt: not with -write_fields (the fields written are listed by steps of the "
+               "checkpoint's dt %g)",
+               (double)dt);
     PetscCheck(fluid_dofs == summary->fluid_dofs && structure_dofs == summary->structure_dofs, PETSC_COMM_WORLD,
                PETSC_ERR_ARG_INCOMP,
                "option -restart %s: written for %" PetscInt_FMT " fluid and %" PetscInt_FMT
@@ -55,16 +93,26 @@ PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, 
                "option -restart %s: written on %" PetscInt_FMT
                " ranks, this run has %d (the meshes' distribution must be the same)",
                path, ranks, (int)summary->total_ranks);
+    if (other_dt) PetscCall(StepAtNewTimeStep(path, *step, dt, params, step));
     PetscCheck(*step >= 0 && *step < params->steps, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
                "option -restart %s: it ends step %" PetscInt_FMT
                ", expected a step before this run's last (%" PetscInt_FMT ")",
                path, *step, params->steps);
   }
+  /* the modules' states belong to the checkpoint's dt; the next step leaves it as a retried step does */
+  if (other_dt) PetscCall(StepRetrySetTimeStep(dt_change, dt));
   if (fluid) PetscCall(FluidCheckpoint(fluid, cp, load));
   if (structure) PetscCall(StructureCheckpoint(structure, cp, load));
   if (coupling) PetscCall(CouplingCheckpoint(coupling, cp, load));
   if (probes) PetscCall(ProbesCheckpoint(probes, cp, load));
   PetscCall(FieldWriterCheckpoint(fields, cp, load));
   PetscCall(CheckpointClose(PETSC_COMM_WORLD, path, load, &cp));
+  if (other_dt) {
+    PetscCall(StepRetrySetTimeStep(dt_change, params->dt));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD,
+                          "fsiopt: -restart_change_dt: the checkpoint's dt %g becomes -dt %g at step %" PetscInt_FMT
+                          " (t = %g)\n",
+                          (double)dt, (double)params->dt, *step, (double)(params->t_start + *step * params->dt)));
+  }
   PetscFunctionReturn(0);
 }

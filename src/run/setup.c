@@ -160,7 +160,8 @@ static PetscErrorCode CheckpointOrStart(Run run)
   if (restart) {
     PetscInt restart_step = 0;
     PetscCall(RunCheckpoint(run->checkpoint.restart, PETSC_TRUE, &restart_step, &run->params, &run->summary, run->fluid,
-                            run->structure, run->coupling, probes, fields));
+                            run->structure, run->coupling, probes, fields,
+                            run->checkpoint.change_dt ? run->retry : NULL));
     run->first_step = restart_step + 1;
   }
   PetscCall(OutputsOpen(run->outputs));

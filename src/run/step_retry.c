@@ -41,7 +41,7 @@ PetscErrorCode StepRetryCreate(const RunParams *params, Fluid fluid, Structure s
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode SetTimeStep(StepRetry R, PetscReal dt)
+PetscErrorCode StepRetrySetTimeStep(StepRetry R, PetscReal dt)
 {
   PetscFunctionBeginUser;
   if (R->coupling) PetscCall(CouplingSetTimeStep(R->coupling, dt)); /* and its fluid and structure */
@@ -94,7 +94,7 @@ static PetscErrorCode Attempt(StepRetry R, PetscInt step, PetscReal t, PetscReal
 
   PetscFunctionBeginUser;
   if (R->start) PetscCall(KeepStart(R, PETSC_FALSE));
-  PetscCall(SetTimeStep(R, dt));
+  PetscCall(StepRetrySetTimeStep(R, dt));
   PetscCall(TakeStep(R, step, &reason));
   *failed = reason ? PETSC_TRUE : PETSC_FALSE;
   if (!*failed) {
