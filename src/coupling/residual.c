@@ -151,7 +151,17 @@ PetscErrorCode CouplingProblemInterfaceVelocity(CouplingProblem P, Vec x, PetscR
 
   PetscFunctionBeginUser;
   PetscCall(EnsureState(P, x));
-  PetscCall(InterfaceStructureTrace(P->itf, P->structure_local, P->all_velocity));
+  /* from the structure's state: structure_local is the products' work vector once they ran at x */
+  if (P->structure) {
+    DM  dm;
+    Vec velocity_local;
+
+    PetscCall(StructureGetDM(P->structure, &dm));
+    PetscCall(DMGetLocalVector(dm, &velocity_local));
+    PetscCall(StructureVelocityLocal(P->structure, P->measure, velocity_local));
+    PetscCall(InterfaceStructureTrace(P->itf, velocity_local, P->all_velocity));
+    PetscCall(DMRestoreLocalVector(dm, &velocity_local));
+  } else PetscCall(InterfaceStructureTrace(P->itf, NULL, P->all_velocity));
   PetscCall(MatMult(P->mass, P->all_velocity, P->all_mass_velocity));
   PetscCall(VecDot(P->all_velocity, P->all_mass_velocity, &dot));
   *velocity = PetscSqrtReal(PetscMax(PetscRealPart(dot), 0.0));
