@@ -209,6 +209,26 @@ def parse_stages(stdout_text):
     return stages
 
 
+def parse_stage_events(stdout_text):
+    """{stage name: {event name: seconds (max over ranks)}} from -log_view's event table."""
+    events, stage = {}, None
+    for line in stdout_text.splitlines():
+        if line.startswith("Object Type") and events:
+            break   # the object tables repeat the stage headers
+        m = re.match(r"--- Event Stage \d+: (.+)$", line)
+        if m:
+            stage = m.group(1).strip()
+            events.setdefault(stage, {})
+            continue
+        fields = line.split()
+        if stage and len(fields) > 4 and fields[1].isdigit():
+            try:
+                events[stage][fields[0]] = float(fields[3])
+            except ValueError:
+                pass
+    return events
+
+
 def parse_event_count(stdout_text, event):
     """how many times -log_view's event `event` ran, summed over the stages (None when absent)"""
     total, seen = 0, False

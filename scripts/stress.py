@@ -26,9 +26,26 @@ an `fsiopt: error:` message and timeouts (after at least the current --timeout),
 --rerun-failed or --force. The script exits 0 when every run has an outcome (a failing run
 is a result here, not an error).
 
+From rest the wall barely moves over a few steps of a small dt, so a cell there tests little
+(opt's absolute tolerance is met at iteration 0). --developed T0:DT starts every cell from a
+developed state instead: for each ratio one run of --developed-method (default opt) to T0 with
+that DT writes a checkpoint, and each cell restarts from it at its own dt
+(-restart_change_dt) to T0 + steps x dt. --restart FILE:T0 starts every cell from one given
+checkpoint at time T0 (e.g. a periodic Turek-Hron state; its density is then changed to each
+ratio's). Every cell runs with -dt_min equal to its dt: a step that fails is not retried
+with dt/2, it fails the cell. --relative R holds every method to the same relative accuracy: opt stops when the
+jump is below R ||v_s|| (-coupling_tol_relative R, the absolute tolerance out of the way), the
+partitioned methods when the traction changes by less than R relative (-coupling_rtol R,
+-coupling_atol 0). A cell counts only when the wall moved during it: some probe (--probes,
+default dy) changed by at least --moved (default 1e-6) of its largest value over the series;
+the others are marked "wall at rest" and left out of the counts.
+
 Examples (build first: make all):
   scripts/stress.py --jobs 2
-  scripts/stress.py --steps 3 --ratios 1.1,0.1 --dts 1e-4,1e-5 --methods opt,iqnils --out /tmp/s1"""
+  scripts/stress.py --steps 3 --ratios 1.1,0.1 --dts 1e-4,1e-5 --methods opt,iqnils --out /tmp/s1
+  scripts/stress.py --steps 3 --developed 0.012:1e-4 --relative 1e-5
+  scripts/stress.py --options-file options/turek-hron.yaml --extra "-turek_case fsi3" --fluid-density 1000 \
+      --restart out/fsi3-swing/checkpoint.h5:5 --ratios 1,0.5,0.1,0.01 --relative 1e-5 --out out/stress-fsi3"""
 import argparse, math, os, re, shlex, sys
 
 import matplotlib
@@ -62,6 +79,12 @@ def reason(r):
     m = re.search(r"did not converge at step (\d+)", e)
     if m:
         return "max_it s%s" % m.group(1)
+    m = re.search(r"at step (\d+), iteration (\d+): (fluid mesh inverted)", e)
+    if m:
+        return "mesh inverted s%s it%s" % m.groups()[:2]
+    m = re.search(r"at step (\d+), iteration (\d+): (fluid|structure) solve", e)
+    if m:
+        return "%s solve failed s%s it%s" % (m.group(3), m.group(1), m.group(2))
     m = re.match(r"killed by signal (\d+)", e)
     if m:
         return "signal %s" % m.group(1)
@@ -80,27 +103,126 @@ def max_dy(r):
     return max(float(np.max(np.abs(c))) for c in dy.values())
 
 
-def notes(r):
-    """remarks on a finished run: not converged (stalled), wall at rest."""
+def motion(r):
+    """How far the wall moved during the cell's own steps (after its start time t0): the
+    largest change of a probe over them relative to that probe's largest value over the
+    series; nan if unreadable."""
+    if not r.ok:
+        return float("nan")
+    try:
+        t, dy = B.read_probes(r.run_dir)
+    except (OSError, ValueError):
+        return float("nan")
+    start = int(np.searchsorted(t, r.params.get("t0", 0.0) - 1e-12 * max(1.0, abs(t[-1]))))
+    moved = 0.0
+    for c in dy.values():
+        scale = float(np.max(np.abs(c)))
+        if scale > 0:
+            moved = max(moved, float(np.max(np.abs(c[start:] - c[start]))) / scale)
+    return moved
+
+
+def counted(r, args):
+    """a finished cell in which the wall moved (the others test nothing)."""
+    return r.ok and motion(r) >= args.moved
+
+
+def notes(r, args):
+    """remarks on a finished run: not converged (stalled), wall at rest (not counted)."""
     out = []
     if r.summary.get("converged") is False:
         out.append("not converged")
-    if max_dy(r) == 0:
+    if r.ok and not counted(r, args):
         out.append("wall at rest")
+    if r.ok and r.summary.get("retried_steps"):
+        out.append("%d retried, dt down to %g" % (r.summary["retried_steps"], r.summary.get("smallest_dt", 0)))
     return out
 
 
-def cell_runs(args, methods, extra):
+def end_probes(r):
+    """{column: (value at the end, largest |value| over the series)} of a finished run, {} if unreadable."""
+    if not r.ok:
+        return {}
+    try:
+        _, dy = B.read_probes(r.run_dir)
+    except (OSError, ValueError):
+        return {}
+    return {k: (float(c[-1]), float(np.max(np.abs(c)))) for k, c in dy.items()}
+
+
+def difference(r, ref):
+    """the largest difference of the end probes of r and ref, relative to each probe's largest value; nan if
+    either is missing."""
+    a, b = end_probes(r), end_probes(ref) if ref is not None else {}
+    if not a or not b:
+        return float("nan")
+    return max(abs(a[k][0] - b[k][0]) / max(a[k][1], b[k][1], 1e-300) for k in a if k in b)
+
+
+def relative_options(m, args):
+    """the same relative accuracy for every method (--relative); the method's own options follow"""
+    if not args.relative:
+        return []
+    if m.partitioned:
+        return ["-coupling_rtol", B.fmt_num(args.relative), "-coupling_atol", "0"]
+    return ["-coupling_tol", "1e30", "-coupling_tol_relative", B.fmt_num(args.relative)]
+
+
+def parse_start(text, what):
+    """'A:T0' -> (A, T0)"""
+    head, sep, t0 = text.rpartition(":")
+    try:
+        return head, float(t0)
+    except ValueError:
+        raise SystemExit("stress.py: %s: expected %s, got %r" % (what, "T0:DT" if what == "--developed" else
+                                                                   "FILE:T0", text)) from None
+
+
+def developed_runs(args, extra):
+    """{ratio: Run}: the state each ratio's cells start from (--developed)."""
+    if not args.developed:
+        return {}
+    t0_text, dt = parse_start(args.developed, "--developed")
+    t0 = float(t0_text)
+    steps = int(round(t0 / dt))
+    if steps < 1 or abs(steps * dt - t0) > 1e-9 * t0:
+        raise SystemExit("stress.py: --developed %s: T0 must be a whole number of steps of DT" % args.developed)
+    m = B.Method(args.developed_method)
+    runs = {}
+    for ratio in args.ratios:
+        opts = ["-options_file", args.options_file, "-structure_density", "%g" % (ratio * args.fluid_density),
+                "-dt", B.fmt_num(dt), "-t_final", B.fmt_num(t0), "-checkpoint_every", str(steps)]
+        name = "developed-%s-rho%g-T%g-dt%g%s" % (m.slug, ratio, t0, dt, B.extra_tag(extra))
+        runs[ratio] = B.Run(name, "developed state, rho_s/rho_f %g" % ratio, opts + m.coupling_options() + extra,
+                            ratio=ratio, dt=dt)
+    return runs
+
+
+def cell_runs(args, methods, extra, developed):
     """{(method slug, ratio, dt): Run}"""
     grid = {}
+    t0, restart = 0.0, None
+    if args.restart:
+        restart, t0 = parse_start(args.restart, "--restart")
+        restart = os.path.abspath(restart)
+    elif args.developed:
+        t0 = float(args.developed.rpartition(":")[0])
     for m in methods:
         for ratio in args.ratios:
             for dt in args.dts:
-                opts = ["-options_file", args.options_file, "-structure_density", "%g" % ratio,
-                        "-dt", B.fmt_num(dt), "-t_final", B.fmt_num(args.steps * dt)]
-                name = "%s-rho%g-dt%g-n%d%s" % (m.slug, ratio, dt, args.steps, B.extra_tag(extra))
+                opts = ["-options_file", args.options_file,
+                        "-structure_density", "%g" % (ratio * args.fluid_density),
+                        "-dt", B.fmt_num(dt), "-t_final", B.fmt_num(t0 + args.steps * dt),
+                        "-dt_min", B.fmt_num(dt)]   # no retries at dt/2: the cell is about this dt
+                start = restart or (os.path.join(args.runs_dir, developed[ratio].name, "checkpoint.h5")
+                                    if developed else None)
+                if start:
+                    opts += ["-restart", B.rel(start), "-restart_change_dt"]
+                name = "%s-rho%g-dt%g-n%d%s%s" % (m.slug, ratio, dt, args.steps, "-t%g" % t0 if start else "",
+                                                  B.extra_tag(extra + relative_options(m, args)))
                 grid[m.slug, ratio, dt] = B.Run(name, "%s, rho_s/rho_f %g, dt %g" % (m.spec, ratio, dt),
-                                                opts + m.coupling_options() + extra, ratio=ratio, dt=dt)
+                                                opts + relative_options(m, args) + m.coupling_options() + extra,
+                                                ratio=ratio, dt=dt, t0=t0, developed=developed.get(ratio))
     return grid
 
 
@@ -123,7 +245,7 @@ def draw_map(ax, args, m, grid, norm, cmap, ylabel=True):
                 its = s.get("avg_coupling_iterations", float("nan"))
                 rgba = cm(norm(max(its, norm.vmin))) if math.isfinite(its) else (1, 1, 1, 1)
                 dark = 0.299 * rgba[0] + 0.587 * rgba[1] + 0.114 * rgba[2] < 0.5
-                text = "\n".join(["%.3g its/step" % its, "%.2g s" % r.wall] + notes(r))
+                text = "\n".join(["%.3g its/step" % its, "%.2g s" % r.wall] + notes(r, args))
                 ax.text(j, i, text, ha="center", va="center", fontsize=7, color="white" if dark else "black")
             else:
                 ax.plot([j - 0.45, j + 0.45], [i - 0.45, i + 0.45], color="#b2182b", lw=1.5)
@@ -169,7 +291,20 @@ def main():
     ap.add_argument("--retries", type=int, default=1, help="retries of a run that dies without an fsiopt error "
                                                            "(default 1)")
     ap.add_argument("--cmap", default="viridis", help="matplotlib colour map (default viridis)")
+    ap.add_argument("--fluid-density", type=float, default=1.0, help="rho_f: -structure_density = ratio x rho_f "
+                                                                     "(default 1, channel2d; 1000 for turek-hron)")
+    start = ap.add_mutually_exclusive_group()
+    start.add_argument("--developed", metavar="T0:DT", help="start every cell from a state developed to T0 with dt "
+                                                            "DT by --developed-method, one per ratio")
+    start.add_argument("--restart", metavar="FILE:T0", help="start every cell from this checkpoint (time T0)")
+    ap.add_argument("--developed-method", default="opt", help="NAME[:options] of the developing runs (default opt)")
+    ap.add_argument("--relative", type=float, default=0.0, help="the same relative accuracy for every method "
+                                                                "(default 0: each method's own tolerance)")
+    ap.add_argument("--moved", type=float, default=1e-6, help="a cell counts when a probe changed by this much of "
+                                                              "its largest value during it (default 1e-6)")
+    ap.add_argument("--probes", default="dy", help="comma-separated probe columns to watch (default dy)")
     args = ap.parse_args()
+    B.PROBE_PREFIXES = tuple(p.strip() + "(" for p in args.probes.split(",") if p.strip())
     args.out = os.path.abspath(args.out)
     args.runs_dir = os.path.abspath(args.runs_dir or os.path.join(args.out, "runs"))
     try:
@@ -179,7 +314,15 @@ def main():
     if not methods or not args.ratios or not args.dts or args.steps < 1:
         ap.error("need at least one method, ratio, dt and step")
     extra = shlex.split(args.extra)
-    grid = cell_runs(args, methods, extra)
+    developed = developed_runs(args, extra)
+    if developed:
+        B.run_all(list(developed.values()), args.bin, args.runs_dir, args.jobs, 0, args.force, args.rerun_failed,
+                  args.retries)
+        bad = [r for r in developed.values() if not r.ok]
+        if bad:
+            raise SystemExit("stress.py: the developed state failed: " + "; ".join("%s: %s" % (r.name, r.error)
+                                                                                 for r in bad))
+    grid = cell_runs(args, methods, extra, developed)
     # the heavy walls (few sweeps) first, the light ones (slow or failing partitioned runs) last
     order = sorted(grid.values(), key=lambda r: (-r.params["ratio"], -r.params["dt"]))
     B.run_all(order, args.bin, args.runs_dir, args.jobs, args.timeout, args.force, args.rerun_failed, args.retries)
@@ -200,6 +343,10 @@ def main():
                              "fluid_solves": s.get("fluid_solves", ""), "work_factor": s.get("work_factor", ""),
                              "max_interface_jump": s.get("max_interface_jump", ""),
                              "max_abs_dy": "" if math.isnan(max_dy(r)) else max_dy(r),
+                             "motion": "" if math.isnan(motion(r)) else "%.3g" % motion(r),
+                             "counted": str(counted(r, args)).lower() if r.ok else "true",
+                             "difference_to_first_opt": "" if not r.ok else "%.3g" % difference(
+                                 r, next((grid[q.slug, ratio, dt] for q in methods if not q.partitioned), None)),
                              "converged": str(s["converged"]).lower() if "converged" in s else "",
                              "run_dir": B.rel(r.run_dir), "command": r.cmdline})
     fields = list(rows[0].keys())
@@ -214,7 +361,13 @@ def main():
     norm = LogNorm(vmin=vmin, vmax=vmax)
     cbar_label = "coupling iterations per step" + (" (below %g: drawn as %g)" % (vmin, vmin)
                                                    if any(x < vmin for x in its) else "")
-    title = "channel2d stress: %d steps, %s" % (args.steps, "extra " + " ".join(extra) if extra else "")
+    scene = os.path.splitext(os.path.basename(args.options_file))[0]
+    if "-turek_case" in extra[:-1]:
+        scene += " " + extra[extra.index("-turek_case") + 1]
+    start = ("from %s" % args.restart) if args.restart else ("from developed states (%s)" % args.developed
+                                                              if args.developed else "from rest")
+    title = "%s stress: %d steps %s%s, %s" % (scene, args.steps, start, ", relative accuracy %g" % args.relative
+                                              if args.relative else "", "extra " + " ".join(extra) if extra else "")
     pngs = []
     for m in methods:
         fig, ax = plt.subplots(figsize=(1.6 * len(args.dts) + 2.6, 0.75 * len(args.ratios) + 1.8))
@@ -236,14 +389,41 @@ def main():
     fig.savefig(base + "-all.png", dpi=110, bbox_inches="tight")
     plt.close(fig)
 
-    md = ["# channel2d stability stress test", "",
-          "%d steps per run (-t_final = steps x dt), `-options_file %s`%s, timeout %s, %d run(s) at a time. "
+    if args.relative:
+        accuracy = ("every method held to the relative accuracy %g (opt: `-coupling_tol_relative`, the jump below "
+                    "%g ||v_s||; partitioned: `-coupling_rtol`, `-coupling_atol 0`)" % (args.relative, args.relative))
+    else:
+        accuracy = "each method's own tolerance"
+    if args.restart:
+        begin = "Every cell restarts from `%s` at its own dt (`-restart_change_dt`)" % args.restart
+    elif args.developed:
+        begin = ("Every cell restarts at its own dt (`-restart_change_dt`) from a state developed to T0:DT = %s by "
+                 "%s at its ratio" % (args.developed, args.developed_method))
+    else:
+        begin = "Every cell starts from rest"
+    md = ["# %s stability stress test" % scene, "",
+          "%d steps per run, `-options_file %s`%s, timeout %s, %d run(s) at a time. %s; %s. "
           "Coupling its/step: Gauss-Newton iterations for opt, Dirichlet-Neumann sweeps for the partitioned "
-          "methods. Cells: its/step, wall s; or the failure. \"wall at rest\": every probe's dy stayed 0 (opt accepted "
-          "the zero traction: its -coupling_tol is an absolute interface velocity jump, met at iteration 0 when "
-          "the flow is still weak)." % (
+          "methods. Cells: its/step, wall s; or the failure. \"wall at rest\": no probe changed by %g of its "
+          "largest value during the cell's steps: the cell tests nothing and is not counted." % (
               args.steps, args.options_file, ", extra `%s`" % " ".join(extra) if extra else "",
-              "%g s" % args.timeout if args.timeout else "none", args.jobs), ""]
+              "%g s" % args.timeout if args.timeout else "none", args.jobs, begin, accuracy, args.moved), ""]
+    ref_method = next((m for m in methods if not m.partitioned), None)
+    if ref_method is not None:
+        md += ["\"X from %s\": the largest difference of the cell's last probe values (%s) from %s's in the same "
+               "cell, relative to each probe's largest value over the series." % (
+                   ref_method.name, args.probes, ref_method.spec), ""]
+    md += ["| method | counted cells | converged | failed | its/step (counted, converged) |", "|---|---|---|---|---|"]
+    for m in methods:
+        cells = [grid[m.slug, q, d] for q in args.ratios for d in args.dts]
+        count = [r for r in cells if not r.ok or counted(r, args)]
+        conv = [r for r in count if r.ok and r.summary.get("converged") is not False]
+        its = [r.summary.get("avg_coupling_iterations") for r in conv]
+        its = [x for x in its if isinstance(x, (int, float))]
+        md.append("| %s | %d of %d | %d | %d | %s |" % (B.md_escape(m.spec), len(count), len(cells), len(conv),
+                                                       len(count) - len(conv),
+                                                       "%.3g-%.3g" % (min(its), max(its)) if its else "-"))
+    md.append("")
     for m in methods:
         md += ["## %s" % m.spec, "", "| rho_s/rho_f \\ dt | " + " | ".join("%g" % d for d in args.dts) + " |",
                "|" + "---|" * (1 + len(args.dts))]
@@ -253,7 +433,11 @@ def main():
                 r = grid[m.slug, ratio, dt]
                 if r.ok:
                     s = r.summary
-                    n = notes(r)
+                    n = notes(r, args)
+                    if ref_method is not None and m is not ref_method:
+                        diff = difference(r, grid[ref_method.slug, ratio, dt])
+                        if math.isfinite(diff):
+                            n = n + ["%.1e from %s" % (diff, ref_method.name)]
                     cells.append("%.3g, %.2g s%s" % (s.get("avg_coupling_iterations", float("nan")), r.wall,
                                                      " (%s)" % ", ".join(n) if n else ""))
                 else:

@@ -6,7 +6,7 @@ PetscLogEvent FSIOPT_EVENT_MESH, FSIOPT_EVENT_FLUID_SOLVE, FSIOPT_EVENT_STRUCTUR
   FSIOPT_EVENT_SENSITIVITY, FSIOPT_EVENT_ADJOINT, FSIOPT_EVENT_INTERFACE, FSIOPT_EVENT_PROBES, FSIOPT_EVENT_CHECKPOINT,
   FSIOPT_EVENT_STEP_START, FSIOPT_EVENT_CEED_RESIDUAL, FSIOPT_EVENT_CEED_JACOBIAN, FSIOPT_EVENT_BOUNDARY_TERMS,
   FSIOPT_EVENT_FLUID_RESIDUAL, FSIOPT_EVENT_FLUID_JACOBIAN, FSIOPT_EVENT_STRUCTURE_RESIDUAL,
-  FSIOPT_EVENT_STRUCTURE_JACOBIAN, FSIOPT_EVENT_FLUID_MATFREE;
+  FSIOPT_EVENT_STRUCTURE_JACOBIAN, FSIOPT_EVENT_FLUID_MATFREE, FSIOPT_EVENT_FLUID_LINEAR, FSIOPT_EVENT_STRUCTURE_LINEAR;
 
 PetscErrorCode FsioptLogRegister(void)
 {
@@ -41,6 +41,10 @@ PetscErrorCode FsioptLogRegister(void)
   PetscCall(PetscLogEventRegister("StructResidual", classid, &FSIOPT_EVENT_STRUCTURE_RESIDUAL));
   PetscCall(PetscLogEventRegister("StructJacobian", classid, &FSIOPT_EVENT_STRUCTURE_JACOBIAN));
   PetscCall(PetscLogEventRegister("FluidMatFreeMult", classid, &FSIOPT_EVENT_FLUID_MATFREE));
+  /* the linearized solves on factors in hand (sensitivity, adjoint, predictor): what separate
+     fluid and structure ranks can do at the same time (scripts/strong_scaling.py's ideal) */
+  PetscCall(PetscLogEventRegister("FluidLinSolve", classid, &FSIOPT_EVENT_FLUID_LINEAR));
+  PetscCall(PetscLogEventRegister("StructLinSolve", classid, &FSIOPT_EVENT_STRUCTURE_LINEAR));
   /* -log_view names a stage after rank 0's record of it: with -structure_ranks, rank 0
      (a fluid rank) would otherwise never enter Structure, and the line would be nameless */
   for (PetscLogStage stage = FSIOPT_STAGE_SETUP; stage <= FSIOPT_STAGE_MESH_MOTION; ++stage) {

@@ -341,7 +341,9 @@ PetscErrorCode FluidUpdateJacobian(Fluid f)
 PetscErrorCode FluidLinearSolve(Fluid f, Vec rhs, Vec x, PetscBool transpose)
 {
   PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_FLUID_LINEAR, 0, 0, 0, 0));
   PetscCall(FEMLinearSolve(f->snes, rhs, x, transpose));
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_FLUID_LINEAR, 0, 0, 0, 0));
   f->counts.linear_solves += 1;
   PetscFunctionReturn(0);
 }
@@ -352,7 +354,9 @@ PetscErrorCode FluidLinearSolveBlock(Fluid f, Mat rhs, Mat x)
 
   PetscFunctionBeginUser;
   PetscCall(MatGetSize(rhs, NULL, &columns));
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_FLUID_LINEAR, 0, 0, 0, 0));
   PetscCall(FEMLinearSolveBlock(f->snes, rhs, x));
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_FLUID_LINEAR, 0, 0, 0, 0));
   f->counts.linear_solves += columns;
   PetscFunctionReturn(0);
 }

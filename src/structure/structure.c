@@ -370,7 +370,9 @@ PetscErrorCode StructureSetInitialLoad(Structure s, Vec load)
 PetscErrorCode StructureLinearSolve(Structure s, Vec rhs, Vec x, PetscBool transpose)
 {
   PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_STRUCTURE_LINEAR, 0, 0, 0, 0));
   PetscCall(FEMLinearSolve(s->snes, rhs, x, transpose));
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_STRUCTURE_LINEAR, 0, 0, 0, 0));
   s->counts.linear_solves += 1;
   PetscFunctionReturn(0);
 }
@@ -381,7 +383,9 @@ PetscErrorCode StructureLinearSolveBlock(Structure s, Mat rhs, Mat x)
 
   PetscFunctionBeginUser;
   PetscCall(MatGetSize(rhs, NULL, &columns));
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_STRUCTURE_LINEAR, 0, 0, 0, 0));
   PetscCall(FEMLinearSolveBlock(s->snes, rhs, x));
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_STRUCTURE_LINEAR, 0, 0, 0, 0));
   s->counts.linear_solves += columns;
   PetscFunctionReturn(0);
 }
