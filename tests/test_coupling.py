@@ -4,7 +4,7 @@ the agreement of the optimization-based and the partitioned couplings."""
 import csv, math, os
 
 from harness import (CHANNEL, NS_STEP, SHORT, WORK, check_rates, fail_text, last_rows, printed,  # noqa: F401
-                     probes_difference, read_probes, run, solve, test)
+                     probes_difference, read_probes, run, same_file, solve, test)
 
 
 def adjoint_cases(nproc):
@@ -201,6 +201,38 @@ def test_iqnimvj_fewer_sweeps():
     layouts = max(probes_difference(runs[m][1], runs["iqnimvj"][1]) for m in ("iqnimvj-2", "iqnimvj-split"))
     assert layouts <= 1e-10, "iqnimvj on 2 ranks differs from 1 rank by %.2e" % layouts
     return "sweeps per step: iqnimvj %.2f, iqnils %.2f; 2 ranks within %.1e" % (imvj, ils, layouts)
+
+
+@test("iqnimvj restart modes: slide over the whole run = no restart byte for byte, svd without truncation = no "
+      "restart (1e-10); every 5 steps ls and svd need fewer sweeps than zero; all agree (1e-5); svd on fluid | "
+      "structure ranks = 1 rank")
+def test_iqnimvj_restart_modes():
+    args = CHANNEL + ["-t_final", "0.005", "-coupling", "iqnimvj", "-coupling_rtol", "1e-7"]
+    every5 = ["-coupling_imvj_restart", "5", "-coupling_imvj_restart_mode"]
+    cases = (("none", 1, []), ("slide-all", 1, ["-coupling_imvj_restart", "200", "-coupling_imvj_restart_mode", "slide",
+                                                 "-coupling_iqn_columns", "1000"]),
+             ("svd-untruncated", 1, every5 + ["svd", "-coupling_imvj_svd_truncation", "0"]),
+             ("zero", 1, every5 + ["zero"]), ("ls", 1, every5 + ["ls"]), ("svd", 1, every5 + ["svd"]),
+             ("slide", 1, every5 + ["slide"]), ("svd-split", 2, every5 + ["svd", "-structure_ranks", "1"]))
+    runs = {}
+    for tag, nproc, extra in cases:
+        out = os.path.join(WORK, "imvj-mode-" + tag)
+        s = solve(args + extra, nproc=nproc, out=out)
+        assert s["converged"], "%s did not converge" % tag
+        runs[tag] = (s["coupling_iterations"], read_probes(os.path.join(out, "probes.csv"))[1], out)
+    assert same_file(os.path.join(runs["none"][2], "probes.csv"), os.path.join(runs["slide-all"][2], "probes.csv")), \
+        "slide over every step differs from no restart"
+    untruncated = probes_difference(runs["svd-untruncated"][1], runs["none"][1])
+    assert untruncated <= 1e-10, "svd without truncation differs from no restart by %.2e" % untruncated
+    its = {t: runs[t][0] for t in runs}
+    assert its["ls"] < its["zero"] and its["svd"] < its["zero"], "sweeps with a restart every 5 steps: %s" % its
+    worst = max(probes_difference(runs[t][1], runs["none"][1]) for t in ("zero", "ls", "svd", "slide"))
+    assert worst <= 1e-5, "a restart mode's probes differ from no restart by %.2e" % worst
+    split = probes_difference(runs["svd-split"][1], runs["svd"][1])
+    assert split <= 1e-10, "svd on fluid | structure ranks differs from 1 rank by %.2e" % split
+    return "sweeps in 50 steps: none %d, every 5 steps zero %d, ls %d, svd %d, slide %d; untruncated svd %.1e from " \
+        "none, modes within %.1e, split %.1e" % (its["none"], its["zero"], its["ls"], its["svd"], its["slide"],
+                                               untruncated, worst, split)
 
 
 @test("opt's inner solvers: gmres, bicgstab and chord agree with cgls on channel2d's 50-step probes (10 x tol) "

@@ -74,13 +74,20 @@ PetscErrorCode IQNColumnsRecord(IQNColumns *qn, PetscInt step, PetscInt k, Vec s
 
 PetscErrorCode IQNColumnsFactor(IQNColumns *qn)
 {
+  PetscFunctionBeginUser;
+  PetscCall(IQNColumnsFactorRange(qn, 0, qn->ncols));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode IQNColumnsFactorRange(IQNColumns *qn, PetscInt first, PetscInt count)
+{
   const PetscInt n = qn->max_cols;
   Vec           *Q = qn->Q;
 
   PetscFunctionBeginUser;
   qn->kept = 0;
   PetscCall(PetscArrayzero(qn->R, n * n));
-  for (PetscInt j = 0; j < qn->ncols; ++j) {
+  for (PetscInt j = first; j < first + count && j < qn->ncols; ++j) {
     const PetscInt kept = qn->kept;
     PetscReal      norm0, norm;
     PetscCall(VecCopy(qn->V[j], Q[kept]));
@@ -126,6 +133,14 @@ PetscErrorCode IQNColumnsLeastSquares(IQNColumns *qn, Vec r, Vec dx, Vec remaind
   for (PetscInt i = 0; i < kept; ++i) PetscCall(VecAXPY(dx, c[i], qn->W[qn->keep[i]]));
   PetscCall(PetscFree2(rhs, c));
   PetscFunctionReturn(0);
+}
+
+PetscInt IQNColumnsOfStep(const IQNColumns *qn, PetscInt step)
+{
+  PetscInt n = 0;
+
+  while (n < qn->ncols && qn->col_step[n] == step) n++;
+  return n;
 }
 
 PetscErrorCode IQNColumnsDestroy(IQNColumns *qn)

@@ -23,6 +23,10 @@ PetscErrorCode IQNColumnsDropBefore(IQNColumns *, PetscInt step, PetscInt reuse)
 /* QR of the columns by modified Gram-Schmidt; a column whose new part is below filter times
    its norm is dropped (it would make R nearly singular) */
 PetscErrorCode IQNColumnsFactor(IQNColumns *);
+/* the same on the columns first .. first + count - 1 only (keep[] holds their indices) */
+PetscErrorCode IQNColumnsFactorRange(IQNColumns *, PetscInt first, PetscInt count);
+/* how many of the newest columns came from step `step` */
+PetscInt IQNColumnsOfStep(const IQNColumns *, PetscInt step);
 /* after Factor: c = argmin ||V c + r||, dx = W c; remainder (may be NULL) = r + V c, the part
    of r the columns do not span */
 PetscErrorCode IQNColumnsLeastSquares(IQNColumns *, Vec r, Vec dx, Vec remainder);
