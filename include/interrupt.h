@@ -2,15 +2,18 @@
 #define FSIOPT_INTERRUPT_H
 #include <petscsys.h>
 
-/* SIGINT and SIGTERM end a run after the step in progress: the outputs are completed up
-   to that step, summary.json says converged: false and names the signal, and the run
-   exits non-zero. A second signal of the same kind stops the process at once. */
+/* SIGINT, SIGTERM and SIGHUP end a run after the step in progress: the outputs are
+   completed up to that step, summary.json says converged: false and names the signal, and
+   the run exits non-zero. A second signal of the same kind stops the process at once.
+   SIGUSR1 (what batch systems send before a time limit) asks for a checkpoint after the
+   step in progress; the run goes on. */
 PetscErrorCode InterruptInstall(void);
 /* -interrupt_test_step K, -interrupt_test_signal: a signal the process sends itself after
    step K's outputs (and before the interrupt check of that step), for deterministic tests */
 PetscErrorCode InterruptSetFromOptions(void);
 PetscErrorCode InterruptTestAfterStep(PetscInt step);
-/* The signal any rank has received since the start (0: none); collective. */
-PetscErrorCode InterruptCheck(MPI_Comm, int *signum);
+/* The stopping signal any rank has received since the start (0: none), and whether any
+   rank received a SIGUSR1 since the last check; collective. */
+PetscErrorCode InterruptCheck(MPI_Comm, int *signum, PetscBool *checkpoint);
 const char    *InterruptName(int signum);
 #endif

@@ -9,4 +9,8 @@
    cell. */
 PetscErrorCode MeshCreate(MPI_Comm, const char prefix[], PetscInt refine, PetscInt dim, PetscInt nrequired,
                           const PetscInt required[], DM *);
+/* A number that changes when the mesh is split or numbered differently: the owned cells'
+   centroids weighted by their global numbers, summed over the ranks. A checkpoint's
+   vectors are in that numbering; collective. */
+PetscErrorCode MeshLayoutSignature(DM, PetscReal *);
 #endif

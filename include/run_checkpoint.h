@@ -15,19 +15,23 @@ typedef struct {
   char      file[PETSC_MAX_PATH_LEN];    /* -checkpoint_file */
   char      restart[PETSC_MAX_PATH_LEN]; /* -restart */
   PetscBool restarting;
-  PetscBool change_dt; /* -restart_change_dt: the checkpoint may have been written with another dt */
-  PetscBool possible;  /* this set-up can write one: then SIGINT/SIGTERM write one too */
-  PetscInt  last;      /* the step of the last one written, -1: none */
+  PetscBool change_dt;  /* -restart_change_dt: the checkpoint may have been written with another dt */
+  PetscBool possible;   /* this set-up can write one: then SIGINT/SIGTERM write one too */
+  PetscInt  last;       /* the step of the last one written, -1: none */
+  PetscReal layouts[2]; /* MeshLayoutSignature of the fluid and structure meshes at set-up, before they moved */
 } RunCheckpointParams;
 
 /* restartable: the coupling method (if any) keeps all its state in checkpoints. */
 PetscErrorCode RunCheckpointSetFromOptions(const RunParams *, PetscBool separate_ranks, PetscBool restartable,
                                            RunCheckpointParams *);
+/* The meshes' layout signatures, taken at set-up (the meshes at rest). */
+PetscErrorCode RunCheckpointSetLayouts(RunCheckpointParams *, Fluid, Structure);
 /* What the next step needs, to or from `path`; `step` is the step the state ends (of this
    run's dt). A load checks that the file was written with the same t_start, unknowns and
-   ranks, and the same dt unless `dt_change` is given: then a checkpoint of another dt whose
-   time is a whole number of this run's steps goes on through the step-change path of a
-   retried step (StepRetrySetTimeStep). */
-PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, const RunParams *, const RunSummary *,
-                             Fluid, Structure, Coupling, Probes, FieldWriter, StepRetry dt_change);
+   ranks, the same split of the meshes, and the same dt unless -restart_change_dt is given:
+   then a checkpoint of another dt whose time is a whole number of this run's steps goes on
+   through the step-change path of a retried step (StepRetrySetTimeStep). */
+PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, const RunParams *,
+                             const RunCheckpointParams *, const RunSummary *, Fluid, Structure, Coupling, Probes,
+                             FieldWriter, StepRetry);
 #endif

@@ -55,6 +55,9 @@ int main(int argc, char **argv)
   PetscErrorCode ierr;
 
   if (CheckOptionsFiles(argc, argv)) return 1;
+  /* PT-Scotch's threads split a mesh differently from run to run; a checkpoint's vectors,
+     stored in the partition's ordering, need the same split at the restart (mesh.c) */
+  setenv("SCOTCH_PTHREAD_NUMBER", "1", 1);
   ierr = PetscInitialize(&argc, &argv, NULL, help);
   if (ierr) return 1;
   /* a reader that stops reading (fsiopt -help | head) ends the run quietly, as it ends any

@@ -14,10 +14,10 @@ def interrupted(name, step, nproc=1, extra=()):
     return rc, err, out
 
 
-@test("SIGINT, SIGTERM: the run stops after the step, outputs complete, converged false, exit != 0", quick=True)
+@test("SIGINT, SIGTERM, SIGHUP: the run stops after the step, outputs complete, converged false, exit != 0", quick=True)
 def test_sigint_sigterm_stop_after_the_step():
     details = []
-    for name, step, nproc in (("SIGINT", 7, 1), ("SIGTERM", 10, 2)):
+    for name, step, nproc in (("SIGINT", 7, 1), ("SIGTERM", 10, 2), ("SIGHUP", 5, 1)):
         rc, err, out = interrupted(name, step, nproc)
         lines = [l for l in err.splitlines() if l.strip()]
         if nproc > 1:   # mpiexec adds its own lines about the ranks' exit status
@@ -39,6 +39,41 @@ def test_sigint_sigterm_stop_after_the_step():
         details.append("%s on %d rank%s: stopped after step %d exactly, restarted at step %d" % (
             name, nproc, "s" if nproc > 1 else "", step, more["first_step"]))
     return ", ".join(details)
+
+
+@test("SIGUSR1: a checkpoint of the step and the run goes on to its end (exit 0); the checkpoint continues it exactly")
+def test_sigusr1_checkpoint():
+    details = []
+    for step, nproc in ((7, 1), (4, 2)):
+        rc, err, out = interrupted("SIGUSR1", step, nproc, extra=["-t_final", "0.002"])
+        stdout = open(os.path.join(out, "stdout.log")).read() if os.path.exists(os.path.join(out, "stdout.log")) else ""
+        s = fr.read_summary(out)
+        assert rc == 0 and s["converged"] and s["steps_done"] == 20 and not s.get("interrupted"), \
+            "SIGUSR1 on %d ranks: exit %s, summary %s, stderr %s" % (nproc, rc, s, err)
+        assert fr.checkpoint_step(os.path.join(out, "checkpoint.h5")) == step, "the checkpoint is not of step %d" % step
+        again = os.path.join(WORK, "sigusr1-again-%d" % nproc)
+        more = solve(CHANNEL + ["-t_final", "0.002", "-restart", os.path.join(out, "checkpoint.h5")], nproc=nproc, out=again)
+        assert more["first_step"] == step + 1, "restart at step %s" % more["first_step"]
+        assert same_file(os.path.join(out, "probes.csv"), os.path.join(again, "probes.csv")), \
+            "SIGUSR1 on %d ranks: the restarted probes differ from the run that went on" % nproc
+        details.append("%d rank%s: checkpoint of step %d, run went on to step 20, restart = it byte for byte" % (
+            nproc, "s" if nproc > 1 else "", step))
+    return "; ".join(details)
+
+
+@test("2 ranks: every run splits the meshes the same way (6 runs: the same layout signatures and checkpoint vectors)")
+def test_partition_deterministic():
+    import h5py
+    sigs, states = set(), []
+    for i in range(6):
+        out = os.path.join(WORK, "split-%d" % i)
+        solve(CHANNEL + ["-t_final", "0.0004", "-checkpoint_every", "4"], nproc=2, out=out)
+        with h5py.File(os.path.join(out, "checkpoint.h5"), "r") as f:
+            sigs.add((float(f["run"].attrs["fluid_layout"]), float(f["run"].attrs["structure_layout"])))
+            states.append([float(x) for x in f["fluid"]["state"][()]])
+    spread = max(max(abs(a - b) for a, b in zip(s, states[0])) for s in states) / max(abs(x) for x in states[0])
+    assert len(sigs) == 1 and spread <= 1e-10, "layouts %s, fluid states differ by %.2e" % (sigs, spread)
+    return "one layout in 6 runs, fluid states within %.1e" % spread
 
 
 @test("restart from a checkpoint continues exactly, also after SIGKILL")
@@ -345,6 +380,7 @@ def test_bad_input_restarts():
         ("-restart_change_dt without -restart", CHANNEL + ["-restart_change_dt"], "-restart_change_dt"),
         ("new dt off the checkpoint's time", CHANNEL + ["-t_final", "0.0012", "-dt", "3e-4", "-restart", checkpoint, "-restart_change_dt"], "whole number of steps"),
         ("new dt with -write_fields", CHANNEL + ["-t_final", "0.001", "-dt", "5e-5", "-restart", checkpoint, "-restart_change_dt", "-write_fields"], "-write_fields"),
+        ("restart with a renumbered fluid mesh", CHANNEL + ["-t_final", "0.001", "-restart", checkpoint, "-fluid_dm_plex_reorder", "rcm"], "another split or numbering of the fluid mesh"),
         ("restart with another t_start", CHANNEL + ["-t_start", "1e-4", "-t_final", "0.001", "-restart", checkpoint], "t_start"),
     ])
 

@@ -2,12 +2,20 @@
 #include "interrupt.h"
 
 static volatile sig_atomic_t caught      = 0;
+static volatile sig_atomic_t requests    = 0; /* SIGUSR1s received */
+static int                   answered    = 0; /* of those, the ones InterruptCheck has reported */
 static PetscInt              test_step   = 0; /* -interrupt_test_step */
 static int                   test_signal = SIGTERM;
 
 static void Catch(int signum)
 {
   caught = signum;
+}
+
+static void CatchCheckpointRequest(int signum)
+{
+  (void)signum;
+  requests = requests + 1;
 }
 
 PetscErrorCode InterruptInstall(void)
@@ -19,16 +27,23 @@ PetscErrorCode InterruptInstall(void)
   action.sa_handler = Catch;
   action.sa_flags   = SA_RESETHAND; /* the second signal takes the default action */
   sigemptyset(&action.sa_mask);
-  PetscCheck(sigaction(SIGINT, &action, NULL) == 0 && sigaction(SIGTERM, &action, NULL) == 0, PETSC_COMM_SELF,
-             PETSC_ERR_SYS, "cannot install the SIGINT/SIGTERM handler");
+  /* SIGHUP: the terminal or the batch system's session went away, as a SIGTERM */
+  PetscCheck(sigaction(SIGINT, &action, NULL) == 0 && sigaction(SIGTERM, &action, NULL) == 0 &&
+               sigaction(SIGHUP, &action, NULL) == 0,
+             PETSC_COMM_SELF, PETSC_ERR_SYS, "cannot install the SIGINT/SIGTERM/SIGHUP handler");
+  memset(&action, 0, sizeof(action));
+  action.sa_handler = CatchCheckpointRequest; /* every SIGUSR1 asks again */
+  sigemptyset(&action.sa_mask);
+  PetscCheck(sigaction(SIGUSR1, &action, NULL) == 0, PETSC_COMM_SELF, PETSC_ERR_SYS,
+             "cannot install the SIGUSR1 handler");
   PetscFunctionReturn(0);
 }
 
 /* Tests need a signal that lands after a known step, on a loaded machine as on an idle one. */
 PetscErrorCode InterruptSetFromOptions(void)
 {
-  const char *const names[]   = {"SIGTERM", "SIGINT", "SIGKILL"};
-  const int         numbers[] = {SIGTERM, SIGINT, SIGKILL};
+  const char *const names[]   = {"SIGTERM", "SIGINT", "SIGKILL", "SIGHUP", "SIGUSR1"};
+  const int         numbers[] = {SIGTERM, SIGINT, SIGKILL, SIGHUP, SIGUSR1};
   PetscInt          which     = 0;
 
   PetscFunctionBeginUser;
@@ -36,7 +51,7 @@ PetscErrorCode InterruptSetFromOptions(void)
   PetscCall(PetscOptionsInt("-interrupt_test_step",
                             "testing: the process sends itself -interrupt_test_signal after this step (0: never)", NULL,
                             test_step, &test_step, NULL));
-  PetscCall(PetscOptionsEList("-interrupt_test_signal", "testing: the signal of -interrupt_test_step", NULL, names, 3,
+  PetscCall(PetscOptionsEList("-interrupt_test_signal", "testing: the signal of -interrupt_test_step", NULL, names, 5,
                               names[which], &which, NULL));
   PetscOptionsEnd();
   test_signal = numbers[which];
@@ -52,16 +67,20 @@ PetscErrorCode InterruptTestAfterStep(PetscInt step)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode InterruptCheck(MPI_Comm comm, int *signum)
+PetscErrorCode InterruptCheck(MPI_Comm comm, int *signum, PetscBool *checkpoint)
 {
-  int local = (int)caught;
+  const int seen     = (int)requests;
+  int       local[2] = {(int)caught, seen > answered}, any[2];
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Allreduce(&local, signum, 1, MPI_INT, MPI_MAX, comm));
+  answered = seen;
+  PetscCallMPI(MPI_Allreduce(local, any, 2, MPI_INT, MPI_MAX, comm));
+  *signum     = any[0];
+  *checkpoint = any[1] ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionReturn(0);
 }
 
 const char *InterruptName(int signum)
 {
-  return signum == SIGINT ? "SIGINT" : signum == SIGTERM ? "SIGTERM" : "a signal";
+  return signum == SIGINT ? "SIGINT" : signum == SIGTERM ? "SIGTERM" : signum == SIGHUP ? "SIGHUP" : "a signal";
 }

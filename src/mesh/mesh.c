@@ -1,6 +1,8 @@
 #include "mesh.h"
 #include "options.h"
 #include "logging.h"
+#include <stdio.h>
+#include <scotch/scotch.h> /* SCOTCH_randomSeed: the partitioner under PETSc (libscotch-dev) */
 
 static PetscErrorCode MeshCheckFaceSets(DM dm, const char prefix[], const char source[], PetscInt nrequired,
                                         const PetscInt required[])
@@ -109,6 +111,11 @@ PetscErrorCode MeshCreate(MPI_Comm comm, const char prefix[], PetscInt refine, P
     PetscCall(DMPlexGetPartitioner(dm, &partitioner));
     PetscCall(PetscPartitionerSetType(partitioner, PETSCPARTITIONERPTSCOTCH));
     PetscCall(PetscPartitionerSetFromOptions(partitioner));
+    /* PT-Scotch draws random numbers: from the same seed, the same mesh on the same ranks is
+       split the same way in every run, which a checkpoint's vectors (stored in the
+       partition's ordering) rely on */
+    SCOTCH_randomSeed(1);
+    SCOTCH_randomReset();
     PetscCall(DMPlexDistribute(dm, 0, NULL, &parallel));
     if (parallel) {
       PetscCall(DMDestroy(&dm));
@@ -126,5 +133,28 @@ PetscErrorCode MeshCreate(MPI_Comm comm, const char prefix[], PetscInt refine, P
   PetscCall(DMViewFromOptions(dm, NULL, "-dm_view"));
   *mesh = dm;
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_MESH, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode MeshLayoutSignature(DM dm, PetscReal *signature)
+{
+  IS              numbering;
+  const PetscInt *global;
+  PetscInt        cStart, cEnd, dim;
+  PetscReal       local = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetDimension(dm, &dim));
+  PetscCall(DMPlexGetHeightStratum(dm, 0, &cStart, &cEnd));
+  PetscCall(DMPlexGetCellNumbering(dm, &numbering));
+  PetscCall(ISGetIndices(numbering, &global));
+  for (PetscInt c = cStart; c < cEnd; ++c) {
+    PetscReal centroid[3] = {0, 0, 0}, volume;
+    if (global[c - cStart] < 0) continue; /* owned elsewhere */
+    PetscCall(DMPlexComputeCellGeometryFVM(dm, c, &volume, centroid, NULL));
+    for (PetscInt d = 0; d < dim; ++d) local += (global[c - cStart] + 1) * (d + 1) * centroid[d];
+  }
+  PetscCall(ISRestoreIndices(numbering, &global));
+  PetscCallMPI(MPI_Allreduce(&local, signature, 1, MPIU_REAL, MPIU_SUM, PetscObjectComm((PetscObject)dm)));
   PetscFunctionReturn(0);
 }

@@ -16,8 +16,8 @@ static PetscErrorCode WriteCheckpoint(Run run, PetscInt step)
   PetscCall(OutputsGetProbes(run->outputs, &probes));
   PetscCall(OutputsGetFields(run->outputs, &fields));
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CHECKPOINT, 0, 0, 0, 0));
-  PetscCall(RunCheckpoint(run->checkpoint.file, PETSC_FALSE, &saved, &run->params, &run->summary, run->fluid,
-                          run->structure, run->coupling, probes, fields, NULL));
+  PetscCall(RunCheckpoint(run->checkpoint.file, PETSC_FALSE, &saved, &run->params, &run->checkpoint, &run->summary,
+                          run->fluid, run->structure, run->coupling, probes, fields, run->retry));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CHECKPOINT, 0, 0, 0, 0));
   run->checkpoint.last = step;
   PetscFunctionReturn(0);
@@ -25,7 +25,8 @@ static PetscErrorCode WriteCheckpoint(Run run, PetscInt step)
 
 PetscErrorCode RunAdvance(Run run)
 {
-  RunSummary *s = &run->summary;
+  RunSummary *s         = &run->summary;
+  PetscBool   requested = PETSC_FALSE;
 
   PetscFunctionBeginUser;
   PetscCall(InterruptInstall());
@@ -50,11 +51,22 @@ PetscErrorCode RunAdvance(Run run)
     }
     PetscCall(ProgressStep(run->progress, step, run->coupling));
     PetscCall(InterruptTestAfterStep(step));
-    PetscCall(InterruptCheck(PETSC_COMM_WORLD, &run->signal_caught));
+    PetscCall(InterruptCheck(PETSC_COMM_WORLD, &run->signal_caught, &requested));
     /* an interrupted run leaves a checkpoint of its last step when its set-up can */
     if ((run->checkpoint.every && step % run->checkpoint.every == 0) ||
-        (run->signal_caught && run->checkpoint.possible && step < run->params.steps))
+        ((run->signal_caught || requested) && run->checkpoint.possible && step < run->params.steps))
       PetscCall(WriteCheckpoint(run, step));
+    if (requested && !run->signal_caught) {
+      if (run->checkpoint.last == step)
+        PetscCall(PetscPrintf(PETSC_COMM_WORLD,
+                              "fsiopt: SIGUSR1: checkpoint of step %" PetscInt_FMT " in %s; the run goes on\n", step,
+                              run->checkpoint.file));
+      else
+        PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fsiopt: SIGUSR1 after step %" PetscInt_FMT ": %s; the run goes on\n",
+                              step,
+                              step == run->params.steps ? "the last step, no checkpoint needed"
+                                                        : "this set-up writes no checkpoints"));
+    }
     if (run->signal_caught) {
       s->steps_done  = step;
       s->interrupted = InterruptName(run->signal_caught);

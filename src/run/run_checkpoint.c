@@ -2,6 +2,7 @@
 #include "run_checkpoint.h"
 #include "checkpoint.h"
 #include "options.h"
+#include "mesh.h"
 
 PetscErrorCode RunCheckpointSetFromOptions(const RunParams *params, PetscBool separate_ranks, PetscBool restartable,
                                            RunCheckpointParams *cp)
@@ -50,9 +51,49 @@ static PetscErrorCode StepAtNewTimeStep(const char path[], PetscInt step_written
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode RunCheckpointSetLayouts(RunCheckpointParams *cp, Fluid fluid, Structure structure)
+{
+  DM dm;
+
+  PetscFunctionBeginUser;
+  cp->layouts[0] = cp->layouts[1] = 0;
+  if (fluid) {
+    PetscCall(FluidGetDM(fluid, &dm));
+    PetscCall(MeshLayoutSignature(dm, &cp->layouts[0]));
+  }
+  if (structure) {
+    PetscCall(StructureGetDM(structure, &dm));
+    PetscCall(MeshLayoutSignature(dm, &cp->layouts[1]));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* The meshes' splits and numberings, which the vectors of the file are stored in: a restart
+   must have the same (the same mesh, ranks and partitioner). Not in checkpoints before it. */
+static PetscErrorCode CheckpointLayouts(Checkpoint cp, const char path[], PetscBool load,
+                                        const RunCheckpointParams *cpp)
+{
+  const char *names[2] = {"fluid_layout", "structure_layout"};
+
+  PetscFunctionBeginUser;
+  for (PetscInt k = 0; k < 2; ++k) {
+    PetscReal written = cpp->layouts[k];
+    PetscBool has     = PETSC_TRUE;
+    if (load) PetscCall(CheckpointHasAttribute(cp, names[k], &has));
+    if (!has) continue;
+    PetscCall(CheckpointReal(cp, names[k], &written, load));
+    PetscCheck(PetscAbsReal(written - cpp->layouts[k]) <= 1e-10 * PetscMax(1.0, PetscAbsReal(cpp->layouts[k])),
+               PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
+               "option -restart %s: written with another split or numbering of the %s mesh on these ranks (another "
+               "mesh, partitioner or PETSc); restart with the set-up that wrote it",
+               path, k ? "structure" : "fluid");
+  }
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, const RunParams *params,
-                             const RunSummary *summary, Fluid fluid, Structure structure, Coupling coupling,
-                             Probes probes, FieldWriter fields, StepRetry dt_change)
+                             const RunCheckpointParams *cpp, const RunSummary *summary, Fluid fluid,
+                             Structure structure, Coupling coupling, Probes probes, FieldWriter fields, StepRetry retry)
 {
   Checkpoint cp;
   PetscReal  dt = params->dt, t_start = params->t_start;
@@ -69,10 +110,11 @@ PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, 
   PetscCall(CheckpointInt(cp, "fluid_dofs", &fluid_dofs, load));
   PetscCall(CheckpointInt(cp, "structure_dofs", &structure_dofs, load));
   PetscCall(CheckpointInt(cp, "ranks", &ranks, load));
+  PetscCall(CheckpointLayouts(cp, path, load, cpp));
   PetscCall(CheckpointPopGroup(cp));
   other_dt = load && PetscAbsReal(dt - params->dt) > 1e-12 * params->dt ? PETSC_TRUE : PETSC_FALSE;
   if (load) {
-    PetscCheck(!other_dt || dt_change, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
+    PetscCheck(!other_dt || cpp->change_dt, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
                "option -restart %s: written with dt = %g, this run has -dt %g (add -restart_change_dt to go on at "
                "the new dt)",
                path, (double)dt, (double)params->dt);
@@ -100,7 +142,7 @@ PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, 
                path, *step, params->steps);
   }
   /* the modules' states belong to the checkpoint's dt; the next step leaves it as a retried step does */
-  if (other_dt) PetscCall(StepRetrySetTimeStep(dt_change, dt));
+  if (other_dt) PetscCall(StepRetrySetTimeStep(retry, dt));
   if (fluid) PetscCall(FluidCheckpoint(fluid, cp, load));
   if (structure) PetscCall(StructureCheckpoint(structure, cp, load));
   if (coupling) PetscCall(CouplingCheckpoint(coupling, cp, load));
@@ -108,7 +150,7 @@ PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, 
   PetscCall(FieldWriterCheckpoint(fields, cp, load));
   PetscCall(CheckpointClose(PETSC_COMM_WORLD, path, load, &cp));
   if (other_dt) {
-    PetscCall(StepRetrySetTimeStep(dt_change, params->dt));
+    PetscCall(StepRetrySetTimeStep(retry, params->dt));
     PetscCall(PetscPrintf(PETSC_COMM_WORLD,
                           "fsiopt: -restart_change_dt: the checkpoint's dt %g becomes -dt %g at step %" PetscInt_FMT
                           " (t = %g)\n",

@@ -155,13 +155,13 @@ static PetscErrorCode CheckpointOrStart(Run run)
   PetscCall(OutputsGetProbes(run->outputs, &probes));
   PetscCall(OutputsGetFields(run->outputs, &fields));
   PetscCall(RunCheckpointSetFromOptions(&run->params, separate, restartable, &run->checkpoint));
-  restart         = run->checkpoint.restarting && !run->help;
+  restart = run->checkpoint.restarting && !run->help;
+  if (run->checkpoint.possible) PetscCall(RunCheckpointSetLayouts(&run->checkpoint, run->fluid, run->structure));
   run->first_step = 1;
   if (restart) {
     PetscInt restart_step = 0;
-    PetscCall(RunCheckpoint(run->checkpoint.restart, PETSC_TRUE, &restart_step, &run->params, &run->summary, run->fluid,
-                            run->structure, run->coupling, probes, fields,
-                            run->checkpoint.change_dt ? run->retry : NULL));
+    PetscCall(RunCheckpoint(run->checkpoint.restart, PETSC_TRUE, &restart_step, &run->params, &run->checkpoint,
+                            &run->summary, run->fluid, run->structure, run->coupling, probes, fields, run->retry));
     run->first_step = restart_step + 1;
   }
   PetscCall(OutputsOpen(run->outputs));
