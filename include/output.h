@@ -5,6 +5,14 @@
 
 PetscErrorCode OutputMakeDirectories(const char dir[]);
 
+/* A run owns its -output_dir: rank 0 creates <dir>/.fsiopt.lock (pid, host, start time)
+   or refuses, on every rank, with one line naming the directory and its owner. A lock of
+   a run that no longer runs on this host is taken over with a notice. Released (and a
+   directory made for the run removed if empty) by OutputLockRelease, also on main's error
+   path (no PETSc calls). Collective. */
+PetscErrorCode OutputLockTake(MPI_Comm, const char dir[]);
+void           OutputLockRelease(void);
+
 /* A CSV written by rank 0 as <dir>/<name>.partial and renamed to <dir>/<name> only when
    the run completes: a failed run never leaves a file that looks complete. */
 typedef struct {

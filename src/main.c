@@ -72,6 +72,7 @@ int main(int argc, char **argv)
     if (!rank) fprintf(stderr, "fsiopt: error: %s\n", ErrorReportingFirstMessage());
     OptionsCaptureAbandon();
     OutputRemoveSetUpFiles();
+    OutputLockRelease();
     fflush(stderr);
     /* On one rank finish cleanly; on several, a rank that did not fail may wait in a
        collective call, and only an abort is sure not to hang. */

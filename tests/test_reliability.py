@@ -76,6 +76,49 @@ def test_partition_deterministic():
     return "one layout in 6 runs, fluid states within %.1e" % spread
 
 
+@test("-output_dir is owned: a second run into it is refused with one line naming the owner, the first completes "
+      "unharmed; a dead run's lock is taken over with a notice, another host's is refused")
+def test_output_dir_lock():
+    import socket, time
+    shared, alone = os.path.join(WORK, "lock-shared"), os.path.join(WORK, "lock-alone")
+    long_run = CHANNEL + ["-t_final", "0.01"]
+    first = subprocess.Popen(fr.fsiopt_command(long_run, out_dir=shared), cwd=ROOT, env=fr.fsiopt_env(),
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    lock = os.path.join(shared, ".fsiopt.lock")
+    for _ in range(200):   # until the first run holds the directory
+        if os.path.exists(lock):
+            break
+        time.sleep(0.05)
+    rc, stdout, err, _ = run(CHANNEL + ["-t_final", "0.001"], out=shared)
+    _, first_err = first.communicate(timeout=300)
+    lines = [l for l in (stdout + err).splitlines() if l.strip()]
+    assert rc != 0 and len(lines) == 1 and lines[0].startswith("fsiopt: error: option -output_dir %s: in use by run %d" % (
+        shared, first.pid)), "second run: exit %s, %s" % (rc, lines)
+    assert first.returncode == 0, "the first run failed: %s" % first_err
+    solve(long_run, out=alone)
+    assert same_file(os.path.join(shared, "probes.csv"), os.path.join(alone, "probes.csv")) and \
+        not os.path.exists(lock), "the first run's outputs were disturbed, or its lock stayed"
+    # a lock left by a killed run on this host: taken over with a notice
+    dead = subprocess.Popen(["true"])
+    dead.wait()
+    with open(lock, "w") as f:
+        f.write("%d %s 2026-01-01T00:00:00\n" % (dead.pid, socket.gethostname()))
+    rc, _, err, s = run(CHANNEL + ["-t_final", "0.0005"], out=shared)
+    notice = [l for l in err.splitlines() if "taking over the lock of run %d" % dead.pid in l]
+    assert rc == 0 and s and s["steps_done"] == 5 and len(notice) == 1 and not os.path.exists(lock), \
+        "stale lock: exit %s, stderr %s" % (rc, err)
+    # another host's lock cannot be judged from here: refused
+    with open(lock, "w") as f:
+        f.write("1 some-other-host 2026-01-01T00:00:00\n")
+    rc, stdout, err, _ = run(CHANNEL + ["-t_final", "0.0005"], out=shared)
+    lines = [l for l in (stdout + err).splitlines() if l.strip()]
+    assert rc != 0 and len(lines) == 1 and "in use by run 1 on some-other-host" in lines[0] and os.path.exists(lock), \
+        "other host's lock: exit %s, %s" % (rc, lines)
+    os.remove(lock)
+    return "second run refused naming run %d; first run's probes = a run alone; a dead run's lock taken over with " \
+        "one notice; another host's lock refused" % first.pid
+
+
 @test("restart from a checkpoint continues exactly, also after SIGKILL")
 def test_restart_after_sigkill():
     every = ["-t_final", "0.01", "-checkpoint_every", "5"]

@@ -2,6 +2,7 @@
    the coupling, the outputs, a restart; and the run's destruction. */
 #include <time.h>
 #include "run_impl.h"
+#include "output.h"
 #include "help.h"
 #include "fem_ceed.h"
 #include "options.h"
@@ -221,6 +222,7 @@ PetscErrorCode RunCreate(Run *created)
   /* the scene first: it sets its defaults, -dt and -t_final among them */
   PetscCall(SceneCreate(run->params.scene, &run->scene));
   PetscCall(RunParamsSetFromOptions(&run->params));
+  if (!run->help) PetscCall(OutputLockTake(PETSC_COMM_WORLD, run->params.output_dir));
   PetscCall(InterruptSetFromOptions());
   run->coupled = run->scene.has_fluid && run->scene.has_structure;
   PetscCall(SplitRanks(run));
@@ -286,5 +288,6 @@ PetscErrorCode RunDestroy(Run *destroyed)
   PetscCall(SceneFinalize());
   PetscCall(CouplingFinalize());
   PetscCall(PetscFree(*destroyed));
+  OutputLockRelease();
   PetscFunctionReturn(0);
 }
