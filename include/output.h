@@ -16,12 +16,19 @@ void           OutputLockRelease(void);
 /* A CSV written by rank 0 as <dir>/<name>.partial and renamed to <dir>/<name> only when
    the run completes: a failed run never leaves a file that looks complete. */
 typedef struct {
-  MPI_Comm comm;
-  FILE    *fp;
-  char     path[PETSC_MAX_PATH_LEN], partial[PETSC_MAX_PATH_LEN];
+  MPI_Comm  comm;
+  FILE     *fp; /* rank 0's; NULL elsewhere */
+  PetscBool open;
+  char      path[PETSC_MAX_PATH_LEN], partial[PETSC_MAX_PATH_LEN];
 } PartialFile;
 
 PetscErrorCode PartialFileOpen(MPI_Comm, const char dir[], const char name[], PartialFile *);
+/* Flushes what was written so far; a write error (a full disk, a quota, an I/O error)
+   stops the run with one line naming the file, the .partial kept. Collective. */
+PetscErrorCode PartialFileCheck(PartialFile *);
+/* Why writing `path` failed: the errno text, or what the file system says (no space left,
+   read-only) when the error came through a library without one. */
+PetscErrorCode OutputWriteErrorText(const char path[], int errnum, char why[], size_t len);
 
 /* The files the set-up opens (the .partial outputs) are removed when the run stops with an
    error before its first step is recorded and its options checked: a refused set-up leaves

@@ -4,7 +4,9 @@
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <unistd.h>
 #include "run.h"
+#include "checkpoint.h"
 #include "options.h"
 #include "output.h"
 #include "help.h"
@@ -58,6 +60,10 @@ int main(int argc, char **argv)
   /* PT-Scotch's threads split a mesh differently from run to run; a checkpoint's vectors,
      stored in the partition's ordering, need the same split at the restart (mesh.c) */
   setenv("SCOTCH_PTHREAD_NUMBER", "1", 1);
+  /* MPI-IO (the checkpoints' HDF5) through ROMIO unless the user chose: Open MPI's OMPIO
+     prints its own line on a failed write, and its shared-file-pointer component leaves
+     semaphores behind when a writing run is killed */
+  setenv("OMPI_MCA_io", "romio321", 0);
   ierr = PetscInitialize(&argc, &argv, NULL, help);
   if (ierr) return 1;
   /* a reader that stops reading (fsiopt -help | head) ends the run quietly, as it ends any
@@ -77,6 +83,10 @@ int main(int argc, char **argv)
     /* On one rank finish cleanly; on several, a rank that did not fail may wait in a
        collective call, and only an abort is sure not to hang. */
     if (size > 1 && !collective_stop) MPI_Abort(PETSC_COMM_WORLD, 1);
+    if (CheckpointWriteFailed()) {
+      fflush(stdout);
+      _exit(1);
+    }
     PetscFinalize();
     return 1;
   }

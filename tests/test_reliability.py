@@ -119,6 +119,79 @@ def test_output_dir_lock():
         "one notice; another host's lock refused" % first.pid
 
 
+def small_disk(kib):
+    """a tmpfs of kib KiB (root only): its mount point, or None"""
+    if os.geteuid() != 0:
+        return None
+    d = os.path.join(WORK, "disk-%dk" % kib)
+    os.makedirs(d, exist_ok=True)
+    r = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=%dk" % kib, "tmpfs", d], capture_output=True)
+    return d if r.returncode == 0 else None
+
+
+@test("a full disk: one line naming the file, nothing truncated under a final name, no temporary, the last "
+      "checkpoint intact; an unwritable -checkpoint_file refused before step 1 (tmpfs: root only)")
+def test_full_disk():
+    details = []
+    for kib, args, token in ((12, [], "cannot write %s/probes.csv (No space left on device)"),
+                             (120, ["-checkpoint_every", "50"], "cannot write the checkpoint of step 50"),
+                             (200, ["-checkpoint_every", "50"], "the one of step 50 stays")):
+        disk = small_disk(kib)
+        if disk is None:
+            return "skipped: mounting a tmpfs needs root"
+        try:
+            out = os.path.join(disk, "out")
+            rc, stdout, err, summary = run(CHANNEL + ["-t_final", "0.05", "-quiet"] + args, out=out)
+            lines = [l for l in (stdout + err).splitlines() if l.strip() and not l.startswith("fsiopt: channel2d:")]
+            left = sorted(os.listdir(out))
+            assert rc != 0 and len(lines) == 1 and lines[0].startswith("fsiopt: error:") and \
+                (token % out if "%s" in token else token) in lines[0], "%d KiB: exit %s, %s" % (kib, rc, lines)
+            assert not [f for f in left if f in ("probes.csv", "history.csv", "summary.json") or f.endswith(".tmp")], \
+                "%d KiB: left %s" % (kib, left)
+            assert "probes.csv.partial" in left and "history.csv.partial" in left, "%d KiB: left %s" % (kib, left)
+            if "stays" in token:
+                assert fr.checkpoint_step(os.path.join(out, "checkpoint.h5")) == 50, "the checkpoint of step 50 is gone"
+            details.append("%d KiB: %s" % (kib, lines[0].split(": ", 2)[-1][:70]))
+        finally:
+            subprocess.run(["umount", disk], capture_output=True)
+    rc, stdout, err, _ = run(CHANNEL + ["-t_final", "0.001", "-checkpoint_every", "5", "-checkpoint_file",
+                                        "/etc/passwd/ck.h5"], out=os.path.join(WORK, "ck-unwritable"))
+    lines = [l for l in (stdout + err).splitlines() if l.strip()]
+    assert rc != 0 and len(lines) == 1 and "option -checkpoint_file /etc/passwd/ck.h5: cannot write there" in lines[0] \
+        and not os.path.exists(os.path.join(WORK, "ck-unwritable")), "unwritable checkpoint file: %s" % lines
+    return "; ".join(details) + "; unwritable -checkpoint_file refused before step 1"
+
+
+@test("10 SIGKILLs while checkpoints are written, then a run with the same checkpoint name and directory: it "
+      "completes (no lock, semaphore or shared-memory file left behind), and its checkpoint restarts")
+def test_killed_checkpoint_writes():
+    import random, time
+    out = os.path.join(WORK, "killed-writes")
+    ck = os.path.join(out, "ck.h5")
+    args = CHANNEL + ["-t_final", "0.01", "-checkpoint_every", "1", "-checkpoint_file", ck, "-quiet"]
+    shm_before = set(os.listdir("/dev/shm")) if os.path.isdir("/dev/shm") else set()
+    rng, kills = random.Random(7), 0
+    for _ in range(10):
+        p = subprocess.Popen(fr.fsiopt_command(args, out_dir=out), cwd=ROOT, env=fr.fsiopt_env(),
+                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        for _ in range(400):   # until it writes its first checkpoint
+            if os.path.exists(ck) or os.path.exists(ck + ".tmp"):
+                break
+            time.sleep(0.01)
+        time.sleep(rng.uniform(0.0, 0.3))
+        p.kill()
+        p.wait()
+        kills += p.returncode == -9
+    left = sorted(set(os.listdir("/dev/shm")) - shm_before) if os.path.isdir("/dev/shm") else []
+    s = solve(args, out=out)
+    assert s["converged"] and s["steps_done"] == 100, "the run after the kills: %s" % s
+    more = solve(CHANNEL + ["-t_final", "0.0102", "-restart", ck], out=os.path.join(WORK, "killed-writes-restart"))
+    assert more["first_step"] == 101, "its checkpoint restarts at step %s" % more["first_step"]
+    assert not [f for f in left if "sm" in f.lower() or "ompi" in f.lower()], "left in /dev/shm: %s" % left
+    return "%d of 10 runs killed mid-run; the next run with the same names completed and its checkpoint restarts; " \
+        "nothing of theirs in /dev/shm" % kills
+
+
 @test("restart from a checkpoint continues exactly, also after SIGKILL")
 def test_restart_after_sigkill():
     every = ["-t_final", "0.01", "-checkpoint_every", "5"]

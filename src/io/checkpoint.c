@@ -3,6 +3,11 @@
    ProbesCheckpoint). */
 #include <stdio.h>
 #include "checkpoint.h"
+#include <stdio.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/statvfs.h>
+#include <unistd.h>
 #include "options.h"
 
 typedef struct {
@@ -268,11 +273,59 @@ PetscErrorCode CheckpointOpen(MPI_Comm comm, const char path[], PetscBool load, 
     }
   } else {
     PetscCall(TemporaryName(path, tmp, sizeof(tmp)));
+    /* a failing write (a full disk) is reported in one line by the caller, not by HDF5's
+       own diagnostic stack */
+    H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
     PetscCall(PetscViewerHDF5Open(comm, tmp, FILE_MODE_WRITE, &viewer));
   }
   PetscCall(PetscNew(cp));
   (*cp)->viewer = viewer;
   PetscFunctionReturn(0);
+}
+
+static PetscBool write_failed = PETSC_FALSE;
+
+PetscBool CheckpointWriteFailed(void)
+{
+  return write_failed;
+}
+
+PetscErrorCode CheckpointEnsureSpace(MPI_Comm comm, const char path[], double at_least, PetscBool *enough,
+                                     double *free_bytes, double *needed)
+{
+  PetscMPIInt rank;
+  double      sizes[2] = {0, 0};
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (!rank) {
+    char           dir[PETSC_MAX_PATH_LEN];
+    struct statvfs fs;
+    struct stat    st;
+    char          *slash;
+    PetscCall(PetscStrncpy(dir, path, sizeof(dir)));
+    slash = strrchr(dir, '/');
+    if (slash) *slash = 0;
+    else PetscCall(PetscStrncpy(dir, ".", sizeof(dir)));
+    sizes[1] = at_least;
+    if (stat(path, &st) == 0) sizes[1] = PetscMax(sizes[1], (double)st.st_size); /* the last one written */
+    sizes[1] = 1.1 * sizes[1] + 65536;
+    sizes[0] = statvfs(dir[0] ? dir : "/", &fs) == 0 ? (double)fs.f_bavail * (double)fs.f_frsize : 1e300;
+  }
+  PetscCallMPI(MPI_Bcast(sizes, 2, MPI_DOUBLE, 0, comm));
+  *free_bytes = sizes[0];
+  *needed     = sizes[1];
+  *enough     = sizes[0] >= sizes[1] ? PETSC_TRUE : PETSC_FALSE;
+  PetscFunctionReturn(0);
+}
+
+void CheckpointRemoveTemporary(const char path[])
+{
+  write_failed = PETSC_TRUE;
+  char tmp[PETSC_MAX_PATH_LEN];
+
+  (void)snprintf(tmp, sizeof(tmp), "%s.tmp", path);
+  (void)unlink(tmp); /* every rank: the ones that did not create it get ENOENT */
 }
 
 PetscErrorCode CheckpointClose(MPI_Comm comm, const char path[], PetscBool load, Checkpoint *cp)

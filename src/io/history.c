@@ -23,6 +23,7 @@ PetscErrorCode HistoryAppend(History h, PetscInt step, PetscReal dt, PetscInt it
   PetscCall(PetscFPrintf(h->file.comm, h->file.fp,
                          "%" PetscInt_FMT ",%" PetscInt_FMT ",%.10e,%.10e,%" PetscInt_FMT ",%.10e,\n", step, iteration,
                          (double)objective, (double)jump, inner, (double)dt));
+  PetscCall(PartialFileCheck(&h->file));
   PetscFunctionReturn(0);
 }
 
@@ -31,6 +32,7 @@ PetscErrorCode HistoryAppendEvent(History h, PetscInt step, PetscReal dt, const 
   PetscFunctionBeginUser;
   PetscCall(
     PetscFPrintf(h->file.comm, h->file.fp, "%" PetscInt_FMT ",-1,nan,nan,0,%.10e,%s\n", step, (double)dt, event));
+  PetscCall(PartialFileCheck(&h->file));
   PetscFunctionReturn(0);
 }
 

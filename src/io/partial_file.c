@@ -1,5 +1,9 @@
 #include "output.h"
 #include "options.h"
+#include <errno.h>
+#include <libgen.h>
+#include <string.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #define MAX_SETUP_FILES 8
@@ -38,6 +42,7 @@ PetscErrorCode PartialFileOpen(MPI_Comm comm, const char dir[], const char name[
   if (help) { /* -help runs no step and leaves no trace: the writers write to nothing */
     file->path[0] = file->partial[0] = 0;
     PetscCall(PetscFOpen(comm, "/dev/null", "w", &file->fp));
+    file->open = PETSC_TRUE;
     PetscFunctionReturn(0);
   }
   PetscCall(PetscSNPrintf(file->path, sizeof(file->path), "%s/%s", dir, name));
@@ -46,7 +51,62 @@ PetscErrorCode PartialFileOpen(MPI_Comm comm, const char dir[], const char name[
   if (!rank) PetscCall(OutputMakeDirectories(dir));
   PetscCallMPI(MPI_Barrier(comm));
   PetscCall(PetscFOpen(comm, file->partial, "w", &file->fp));
+  file->open = PETSC_TRUE;
   PetscCall(OutputRegisterSetUpFile(file->partial));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode OutputWriteErrorText(const char path[], int errnum, char why[], size_t len)
+{
+  char           dir[PETSC_MAX_PATH_LEN];
+  struct statvfs fs;
+
+  PetscFunctionBeginUser;
+  /* errnum -1 or 0: not known (a stream's earlier error, a library's): the file system tells */
+  if (errnum == ENOSPC || errnum == EDQUOT || errnum == EIO || errnum == EROFS || errnum == EACCES || errnum == EFBIG) {
+    PetscCall(PetscSNPrintf(why, len, "%s", strerror(errnum)));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(PetscStrncpy(dir, path, sizeof(dir)));
+  if (statvfs(dirname(dir), &fs) == 0 && fs.f_bavail == 0) PetscCall(PetscSNPrintf(why, len, "%s", strerror(ENOSPC)));
+  else if (statvfs(dir, &fs) == 0 && (fs.f_flag & ST_RDONLY)) PetscCall(PetscSNPrintf(why, len, "%s", strerror(EROFS)));
+  else PetscCall(PetscSNPrintf(why, len, "%s", errnum > 0 ? strerror(errnum) : "write failed"));
+  PetscFunctionReturn(0);
+}
+
+/* rank 0 writes: it says whether the writes so far reached the file */
+static PetscErrorCode Flushed(PartialFile *file, PetscBool closing)
+{
+  PetscMPIInt rank;
+  int         cause = 0;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(file->comm, &rank));
+  if (!rank && file->fp) {
+    errno = 0;
+    if (fflush(file->fp) != 0 || ferror(file->fp)) cause = errno ? errno : -1; /* -1: the stream's earlier error */
+    if (closing) {
+      if (fclose(file->fp) != 0 && !cause) cause = errno ? errno : -1;
+    }
+  }
+  if (closing) {
+    file->fp   = NULL;
+    file->open = PETSC_FALSE;
+  }
+  PetscCallMPI(MPI_Bcast(&cause, 1, MPI_INT, 0, file->comm));
+  if (cause) {
+    char why[256];
+    PetscCall(OutputWriteErrorText(file->partial, cause, why, sizeof(why)));
+    SETERRQ(file->comm, PETSC_ERR_FILE_WRITE, "cannot write %s (%s); what was written is in %s", file->path, why,
+            file->partial);
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode PartialFileCheck(PartialFile *file)
+{
+  PetscFunctionBeginUser;
+  if (file->open && file->path[0]) PetscCall(Flushed(file, PETSC_FALSE));
   PetscFunctionReturn(0);
 }
 
@@ -55,9 +115,13 @@ PetscErrorCode PartialFileClose(PartialFile *file, PetscBool complete)
   PetscMPIInt rank;
 
   PetscFunctionBeginUser;
-  if (!file->fp) PetscFunctionReturn(0);
-  PetscCall(PetscFClose(file->comm, file->fp));
-  file->fp = NULL;
+  if (!file->open) PetscFunctionReturn(0);
+  if (file->path[0]) PetscCall(Flushed(file, PETSC_TRUE)); /* never renamed when incomplete */
+  else {
+    PetscCall(PetscFClose(file->comm, file->fp));
+    file->fp   = NULL;
+    file->open = PETSC_FALSE;
+  }
   PetscCallMPI(MPI_Comm_rank(file->comm, &rank));
   if (complete && !rank && file->path[0])
     PetscCheck(rename(file->partial, file->path) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot rename %s to %s",

@@ -138,15 +138,17 @@ PetscErrorCode ProbesRecord(Probes P, PetscReal t, Vec displacement, const Petsc
     PetscCall(VecScatterEnd(P->to_zero, displacement, P->values, INSERT_VALUES, SCATTER_FORWARD));
   }
   PetscCallMPI(MPI_Comm_rank(P->comm, &rank));
-  if (rank) PetscFunctionReturn(0);
-  if (P->npoints) {
-    const PetscScalar *v;
-    PetscCall(VecGetArrayRead(P->values, &v));
-    for (PetscInt i = 0; i < P->npoints * P->dim; ++i) row[i] = PetscRealPart(v[i]);
-    PetscCall(VecRestoreArrayRead(P->values, &v));
+  if (!rank) {
+    if (P->npoints) {
+      const PetscScalar *v;
+      PetscCall(VecGetArrayRead(P->values, &v));
+      for (PetscInt i = 0; i < P->npoints * P->dim; ++i) row[i] = PetscRealPart(v[i]);
+      PetscCall(VecRestoreArrayRead(P->values, &v));
+    }
+    for (PetscInt e = 0; e < P->nextra; ++e) row[P->npoints * P->dim + e] = extra[e];
+    PetscCall(AppendRow(P, t, row));
   }
-  for (PetscInt e = 0; e < P->nextra; ++e) row[P->npoints * P->dim + e] = extra[e];
-  PetscCall(AppendRow(P, t, row));
+  PetscCall(PartialFileCheck(&P->file)); /* the row reached the disk, or the run stops here */
   PetscFunctionReturn(0);
 }
 

@@ -1,3 +1,5 @@
+#include <errno.h>
+#include <unistd.h>
 #include "summary.h"
 #include "output.h"
 #include "logging.h"
@@ -239,8 +241,18 @@ PetscErrorCode SummaryWrite(MPI_Comm comm, const char dir[], const RunSummary *s
   WriteStringOrNull(fp, "host", s->host);
   PetscCall(WriteOptions(fp));
   fprintf(fp, "}\n");
-  PetscCheck(fclose(fp) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "option -output_dir %s: writing %s failed", dir,
-             tmp);
+  {
+    int cause = 0;
+    errno     = 0;
+    if (ferror(fp) || fflush(fp) != 0) cause = errno ? errno : -1;
+    if (fclose(fp) != 0 && !cause) cause = errno ? errno : -1;
+    if (cause) {
+      char why[256];
+      (void)unlink(tmp); /* no stale temporary; summary.json of an earlier run, if any, stays */
+      PetscCall(OutputWriteErrorText(tmp, cause, why, sizeof(why)));
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s (%s)", path, why);
+    }
+  }
   PetscCheck(rename(tmp, path) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE,
              "option -output_dir %s: cannot rename %s to %s", dir, tmp, path);
   PetscFunctionReturn(0);

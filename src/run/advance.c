@@ -1,6 +1,8 @@
 /* A run's time loop (run.h): each step taken (with its retries, step_retry.c), its outputs
    recorded, checkpoints written, a signal ending the run after the step in progress. */
+#include <errno.h>
 #include "run_impl.h"
+#include "checkpoint.h"
 #include "logging.h"
 #include "interrupt.h"
 #include "output.h"
@@ -8,16 +10,54 @@
 
 static PetscErrorCode WriteCheckpoint(Run run, PetscInt step)
 {
-  PetscInt    saved = step;
-  Probes      probes;
-  FieldWriter fields;
+  PetscInt       saved = step;
+  Probes         probes;
+  FieldWriter    fields;
+  PetscErrorCode ierr;
+  int            cause;
 
   PetscFunctionBeginUser;
   PetscCall(OutputsGetProbes(run->outputs, &probes));
   PetscCall(OutputsGetFields(run->outputs, &fields));
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CHECKPOINT, 0, 0, 0, 0));
-  PetscCall(RunCheckpoint(run->checkpoint.file, PETSC_FALSE, &saved, &run->params, &run->checkpoint, &run->summary,
-                          run->fluid, run->structure, run->coupling, probes, fields, run->retry));
+  /* a write that fails (a full disk, a quota, an I/O error) stops the run with one line; the
+     last complete checkpoint stays and no temporary is left */
+  {
+    /* a write that runs out of room part-way fails inside MPI-IO: refuse it before it starts */
+    PetscBool enough;
+    double    free_bytes, needed, lower = 8.0 * 3 * (run->summary.fluid_dofs + run->summary.structure_dofs);
+    PetscCall(CheckpointEnsureSpace(PETSC_COMM_WORLD, run->checkpoint.file, lower, &enough, &free_bytes, &needed));
+    if (!enough) {
+      if (run->checkpoint.last >= 0)
+        SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_FILE_WRITE,
+                "cannot write the checkpoint of step %" PetscInt_FMT " to %s: %.0f kB free on its file system, it "
+                "needs about %.0f kB; the one of step %" PetscInt_FMT " stays",
+                step, run->checkpoint.file, free_bytes / 1024, needed / 1024, run->checkpoint.last);
+      SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_FILE_WRITE,
+              "cannot write the checkpoint of step %" PetscInt_FMT " to %s: %.0f kB free on its file system, it needs "
+              "about %.0f kB; no earlier checkpoint",
+              step, run->checkpoint.file, free_bytes / 1024, needed / 1024);
+    }
+  }
+  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+  errno = 0;
+  ierr  = RunCheckpoint(run->checkpoint.file, PETSC_FALSE, &saved, &run->params, &run->checkpoint, &run->summary,
+                        run->fluid, run->structure, run->coupling, probes, fields, run->retry);
+  cause = errno;
+  PetscCall(PetscPopErrorHandler());
+  if (ierr) {
+    char why[256];
+    CheckpointRemoveTemporary(run->checkpoint.file);
+    PetscCall(OutputWriteErrorText(run->checkpoint.file, cause, why, sizeof(why)));
+    if (run->checkpoint.last >= 0)
+      SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_FILE_WRITE,
+              "cannot write the checkpoint of step %" PetscInt_FMT " to %s (%s); the one of step %" PetscInt_FMT
+              " stays",
+              step, run->checkpoint.file, why, run->checkpoint.last);
+    SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_FILE_WRITE,
+            "cannot write the checkpoint of step %" PetscInt_FMT " to %s (%s); no earlier checkpoint", step,
+            run->checkpoint.file, why);
+  }
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CHECKPOINT, 0, 0, 0, 0));
   run->checkpoint.last = step;
   PetscFunctionReturn(0);

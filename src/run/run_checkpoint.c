@@ -1,8 +1,38 @@
 /* The run's checkpoint: which options, and which modules' states, in one HDF5 file. */
+#include <errno.h>
+#include <fcntl.h>
+#include <string.h>
+#include <unistd.h>
 #include "run_checkpoint.h"
 #include "checkpoint.h"
 #include "options.h"
 #include "mesh.h"
+
+/* Before the first step: a checkpoint that cannot be written would stop the run at its
+   first checkpoint, hours in. */
+static PetscErrorCode CheckWritable(const char path[])
+{
+  PetscMPIInt rank;
+  int         cause = 0;
+  char        tmp[PETSC_MAX_PATH_LEN];
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
+  if (!rank) {
+    int fd;
+    PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
+    fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd < 0) cause = errno;
+    else {
+      (void)close(fd);
+      (void)unlink(tmp);
+    }
+  }
+  PetscCallMPI(MPI_Bcast(&cause, 1, MPI_INT, 0, PETSC_COMM_WORLD));
+  PetscCheck(!cause, PETSC_COMM_WORLD, PETSC_ERR_FILE_OPEN, "option -checkpoint_file %s: cannot write there (%s)", path,
+             strerror(cause));
+  PetscFunctionReturn(0);
+}
 
 PetscErrorCode RunCheckpointSetFromOptions(const RunParams *params, PetscBool separate_ranks, PetscBool restartable,
                                            RunCheckpointParams *cp)
@@ -33,6 +63,7 @@ PetscErrorCode RunCheckpointSetFromOptions(const RunParams *params, PetscBool se
              "option %s: checkpoints need fluid and structure on the same ranks (-structure_ranks 0)",
              cp->restarting ? "-restart" : "-checkpoint_every");
   cp->possible = !separate_ranks && restartable ? PETSC_TRUE : PETSC_FALSE;
+  if (cp->every && !OptionsHelpRequested()) PetscCall(CheckWritable(cp->file));
   PetscFunctionReturn(0);
 }
 
@@ -91,6 +122,18 @@ static PetscErrorCode CheckpointLayouts(Checkpoint cp, const char path[], PetscB
   PetscFunctionReturn(0);
 }
 
+static PetscErrorCode ModulesCheckpoint(Checkpoint cp, PetscBool load, Fluid fluid, Structure structure,
+                                        Coupling coupling, Probes probes, FieldWriter fields)
+{
+  PetscFunctionBeginUser;
+  if (fluid) PetscCall(FluidCheckpoint(fluid, cp, load));
+  if (structure) PetscCall(StructureCheckpoint(structure, cp, load));
+  if (coupling) PetscCall(CouplingCheckpoint(coupling, cp, load));
+  if (probes) PetscCall(ProbesCheckpoint(probes, cp, load));
+  PetscCall(FieldWriterCheckpoint(fields, cp, load));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, const RunParams *params,
                              const RunCheckpointParams *cpp, const RunSummary *summary, Fluid fluid,
                              Structure structure, Coupling coupling, Probes probes, FieldWriter fields, StepRetry retry)
@@ -143,11 +186,16 @@ PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, 
   }
   /* the modules' states belong to the checkpoint's dt; the next step leaves it as a retried step does */
   if (other_dt) PetscCall(StepRetrySetTimeStep(retry, dt));
-  if (fluid) PetscCall(FluidCheckpoint(fluid, cp, load));
-  if (structure) PetscCall(StructureCheckpoint(structure, cp, load));
-  if (coupling) PetscCall(CouplingCheckpoint(coupling, cp, load));
-  if (probes) PetscCall(ProbesCheckpoint(probes, cp, load));
-  PetscCall(FieldWriterCheckpoint(fields, cp, load));
+  if (load) PetscCall(ModulesCheckpoint(cp, PETSC_TRUE, fluid, structure, coupling, probes, fields));
+  else {
+    /* a write that fails (a full disk) closes the file before it returns the error */
+    PetscErrorCode ierr;
+    PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+    ierr = ModulesCheckpoint(cp, PETSC_FALSE, fluid, structure, coupling, probes, fields);
+    if (ierr) (void)CheckpointDestroy(&cp);
+    PetscCall(PetscPopErrorHandler());
+    if (ierr) return ierr;
+  }
   PetscCall(CheckpointClose(PETSC_COMM_WORLD, path, load, &cp));
   if (other_dt) {
     PetscCall(StepRetrySetTimeStep(retry, params->dt));
