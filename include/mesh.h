@@ -13,4 +13,8 @@ PetscErrorCode MeshCreate(MPI_Comm, const char prefix[], PetscInt refine, PetscI
    centroids weighted by their global numbers, summed over the ranks. A checkpoint's
    vectors are in that numbering; collective. */
 PetscErrorCode MeshLayoutSignature(DM, PetscReal *);
+/* A gmsh file's own consistency (gmsh_check.c), before PETSc reads it: counts, node tags,
+   element types and dimension (dim: the scene's, 0: any), no crack. One line naming the
+   option, the file and the first problem; collective. */
+PetscErrorCode MeshCheckGmshFile(MPI_Comm, const char option[], const char path[], PetscInt dim);
 #endif

@@ -466,6 +466,33 @@ def test_bad_input_meshes():
                               "4 1 1 0\n5 0.5 1 0\n6 0 1 0\n$EndNodes\n$Elements\n8\n1 1 2 1 1 1 2\n2 1 2 1 1 2 3\n"
                               "3 1 2 2 2 3 4\n4 1 2 3 3 4 5\n5 1 2 3 3 5 6\n6 1 2 4 4 6 1\n7 3 2 1 1 1 2 5 6\n"
                               "8 3 2 1 1 2 5 4 3\n$EndElements\n")
+    # hostile gmsh files: PETSc's reader trusts them (a missing node gave a mesh that ran to a wrong answer)
+    square = ("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n6\n1 0 0 0\n2 0.5 0 0\n3 1 0 0\n4 1 1 0\n5 0.5 1 0\n"
+              "6 0 1 0\n$EndNodes\n$Elements\n8\n1 1 2 1 1 1 2\n2 1 2 1 1 2 3\n3 1 2 2 2 3 4\n4 1 2 3 3 4 5\n"
+              "5 1 2 3 3 5 6\n6 1 2 4 4 6 1\n7 3 2 1 1 1 2 5 6\n8 3 2 1 1 2 3 4 5\n$EndElements\n")
+    hostile = {
+        "missing-node": square.replace("8 3 2 1 1 2 3 4 5", "8 3 2 1 1 2 3 4 9"),
+        "duplicated-node": square.replace("\n6\n1 0 0 0", "\n7\n1 0 0 0").replace("6 0 1 0\n", "6 0 1 0\n6 0 1 0\n"),
+        "zero-node": square.replace("8 3 2 1 1 2 3 4 5", "8 3 2 1 1 2 3 4 0"),
+        "wrong-count": square.replace("$Elements\n8\n", "$Elements\n9\n"),
+        "crack": square.replace("\n6\n1 0 0 0", "\n7\n1 0 0 0").replace("$EndNodes", "7 0.5 0 0\n$EndNodes")
+                       .replace("8 3 2 1 1 2 3 4 5", "8 3 2 1 1 7 3 4 5"),
+        "volume-element": square.replace("$Elements\n8\n", "$Elements\n9\n").replace(
+            "$EndElements", "9 4 2 1 1 1 2 3 4\n$EndElements"),
+        "unknown-type": square.replace("8 3 2 1 1 2 3 4 5", "8 6 2 1 1 1 2 3 4 5 6"),
+    }
+    paths = {}
+    for name, text in hostile.items():
+        paths[name] = os.path.join(d, name + ".msh")
+        open(paths[name], "w").write(text)
+    square4 = os.path.join(d, "square41.msh")
+    subprocess.run(["gmsh", "-2", "-format", "msh41", "-v", "0", "-o", square4, os.path.join(ROOT, "meshes", "square.geo")],
+                   check=True, capture_output=True)
+    lines = open(square4).read().split("\n")
+    end = lines.index("$EndElements")
+    lines[end - 1] = " ".join(lines[end - 1].split()[:-1] + ["999"])
+    missing41 = os.path.join(d, "missing41.msh")
+    open(missing41, "w").write("\n".join(lines))
     truncated = os.path.join(d, "truncated.msh")
     open(truncated, "w").write(open(os.path.join(ROOT, "meshes", "wall.msh")).read()[:600])
     return refused([
@@ -474,7 +501,15 @@ def test_bad_input_meshes():
         ("mesh lacking labels", F + ["-fluid_dm_plex_filename", nolabel], "Face Sets"),
         ("mesh with an inverted cell", F + ["-fluid_dm_plex_filename", inverted], "inverted or degenerate"),
         ("truncated mesh file", S + ["-structure_dm_plex_filename", truncated], "truncated.msh"),
-        ("3D mesh for a 2D scene", F + ["-fluid_dm_plex_filename", "meshes/tube3d-fluid.msh"], "expected a 2D mesh"),
+        ("3D mesh for a 2D scene", F + ["-fluid_dm_plex_filename", "meshes/tube3d-fluid.msh"], "is 3D"),
+        ("gmsh: a cell's node missing", F + ["-fluid_dm_plex_filename", paths["missing-node"]], "refers to node 9, which $Nodes does not have"),
+        ("gmsh 4.1: a cell's node missing", F + ["-fluid_dm_plex_filename", missing41], "refers to node 999"),
+        ("gmsh: a node listed twice", F + ["-fluid_dm_plex_filename", paths["duplicated-node"]], "listed twice"),
+        ("gmsh: node 0", F + ["-fluid_dm_plex_filename", paths["zero-node"]], "refers to node 0"),
+        ("gmsh: a wrong element count", F + ["-fluid_dm_plex_filename", paths["wrong-count"]], "declares 9 elements"),
+        ("gmsh: a crack", F + ["-fluid_dm_plex_filename", paths["crack"]], "a crack or a duplicated node"),
+        ("gmsh: a tetrahedron in a 2D mesh", F + ["-fluid_dm_plex_filename", paths["volume-element"]], "is 3D"),
+        ("gmsh: a prism", F + ["-fluid_dm_plex_filename", paths["unknown-type"]], "gmsh type 6"),
         ("non-conforming interface (counts)", ["-scene", "mms-stokes", "-structure_dm_plex_box_faces", "5,2"], "do not conform"),
         ("non-conforming interface (shifted)", ["-scene", "mms-stokes", "-structure_dm_plex_box_lower", "0.01,1", "-structure_dm_plex_box_upper", "1.01,1.5"], "fluid node (0"),
     ])
@@ -487,7 +522,31 @@ def test_bad_input_restarts():
     open(not_hdf5, "w").write("not hdf5\n")
     solve(CHANNEL + ["-t_final", "0.0002", "-checkpoint_every", "1"], out=os.path.join(d, "ck"))
     checkpoint = os.path.join(d, "ck", "checkpoint.h5")
+    import h5py, numpy as np
+    damaged = {}
+    data = open(checkpoint, "rb").read()
+    damaged["truncated"] = os.path.join(d, "ck-truncated.h5")
+    open(damaged["truncated"], "wb").write(data[:len(data) // 2])
+    for name in ("missing", "short", "nan", "noattr"):
+        damaged[name] = os.path.join(d, "ck-%s.h5" % name)
+        shutil.copy(checkpoint, damaged[name])
+        with h5py.File(damaged[name], "a") as f:
+            if name == "noattr":
+                del f["run"].attrs["step"]
+                continue
+            a = np.array(f["fluid/state"])
+            del f["fluid/state"]
+            if name == "short":
+                f["fluid/state"] = a[:len(a) // 2]
+            elif name == "nan":
+                a[3] = np.nan
+                f["fluid/state"] = a
     return refused([
+        ("checkpoint truncated", CHANNEL + ["-restart", damaged["truncated"]], "truncated, or not a checkpoint"),
+        ("checkpoint without a dataset", CHANNEL + ["-restart", damaged["missing"]], "has no dataset /fluid/state"),
+        ("checkpoint with a mis-sized dataset", CHANNEL + ["-restart", damaged["short"]], "dataset /fluid/state has"),
+        ("checkpoint with a NaN", CHANNEL + ["-restart", damaged["nan"]], "holds NaN or Inf"),
+        ("checkpoint without its step", CHANNEL + ["-restart", damaged["noattr"]], "no attribute 'step'"),
         ("restart from a file that is not HDF5", CHANNEL + ["-restart", not_hdf5], "not an HDF5 file"),
         ("restart from a missing file", CHANNEL + ["-restart", os.path.join(d, "nosuch.h5")], "-restart"),
         ("restart with another dt", CHANNEL + ["-t_final", "0.001", "-dt", "5e-5", "-restart", checkpoint], "dt"),

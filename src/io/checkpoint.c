@@ -19,6 +19,7 @@ typedef struct {
 
 struct _p_Checkpoint {
   PetscViewer  viewer; /* NULL: in memory */
+  char         path[PETSC_MAX_PATH_LEN];
   char         group[64];
   MemoryEntry *entries;
   PetscInt     n, max;
@@ -120,6 +121,31 @@ static PetscErrorCode MemoryVec(Checkpoint cp, const char name[], Vec v, PetscBo
 
 /* Through a plain vector of the same layout: a vector with a DMPlex would go to the
    DM's own HDF5 layout (/fields, /vertex_fields), not this group. */
+/* the number of values of dataset group/name (every dimension's extent multiplied) */
+static PetscErrorCode DatasetSize(PetscViewer viewer, const char group[], const char name[], PetscInt *size)
+{
+  hid_t   file, dataset, space;
+  hsize_t dims[8];
+  int     ndims;
+  char    full[PETSC_MAX_PATH_LEN];
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerHDF5GetFileId(viewer, &file));
+  PetscCall(PetscSNPrintf(full, sizeof(full), "%s/%s", group, name));
+  *size   = -1;
+  dataset = H5Dopen2(file, full, H5P_DEFAULT);
+  if (dataset < 0) PetscFunctionReturn(0);
+  space = H5Dget_space(dataset);
+  ndims = space >= 0 ? H5Sget_simple_extent_ndims(space) : -1;
+  if (ndims >= 0 && ndims <= 8 && H5Sget_simple_extent_dims(space, dims, NULL) >= 0) {
+    *size = 1;
+    for (int d = 0; d < ndims; ++d) *size *= (PetscInt)dims[d];
+  }
+  if (space >= 0) H5Sclose(space);
+  H5Dclose(dataset);
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode CheckpointVec(Checkpoint cp, const char name[], Vec v, PetscBool load)
 {
   PetscViewer viewer = cp->viewer;
@@ -137,10 +163,27 @@ PetscErrorCode CheckpointVec(Checkpoint cp, const char name[], Vec v, PetscBool 
   PetscCall(PetscObjectSetName((PetscObject)plain, name));
   if (load) {
     PetscBool has;
+    char     *group;
+    PetscReal norm;
+    PetscInt  stored;
+    PetscCall(PetscViewerHDF5GetGroup(viewer, NULL, &group));
     PetscCall(PetscViewerHDF5HasObject(viewer, (PetscObject)plain, &has));
     PetscCheck(has, PetscObjectComm((PetscObject)v), PETSC_ERR_FILE_UNEXPECTED,
-               "option -restart: the checkpoint has no '%s': written by another scene or set-up", name);
+               "option -restart %s: the checkpoint has no dataset %s/%s (written by another scene or set-up, or "
+               "damaged)",
+               cp->path, group, name);
+    PetscCall(DatasetSize(viewer, group, name, &stored));
+    PetscCheck(stored == N, PetscObjectComm((PetscObject)v), PETSC_ERR_FILE_UNEXPECTED,
+               "option -restart %s: dataset %s/%s has %" PetscInt_FMT " values, this run's has %" PetscInt_FMT
+               " (written by another set-up, or damaged)",
+               cp->path, group, name, stored, N);
     PetscCall(VecLoad(plain, viewer));
+    PetscCall(VecNorm(plain, NORM_INFINITY, &norm));
+    PetscCheck(!PetscIsInfOrNanReal(norm), PetscObjectComm((PetscObject)v), PETSC_ERR_FILE_UNEXPECTED,
+               "option -restart %s: dataset %s/%s holds NaN or Inf values (damaged, or written by a run that "
+               "diverged)",
+               cp->path, group, name);
+    PetscCall(PetscFree(group));
     PetscCall(VecCopy(plain, v));
   } else {
     PetscCall(VecCopy(v, plain));
@@ -170,7 +213,8 @@ static PetscErrorCode CheckpointAttribute(Checkpoint cp, const char name[], Pets
     PetscBool has;
     PetscCall(PetscViewerHDF5HasAttribute(viewer, NULL, name, &has));
     PetscCheck(has, PetscObjectComm((PetscObject)viewer), PETSC_ERR_FILE_UNEXPECTED,
-               "option -restart: the checkpoint has no attribute '%s': not an fsiopt checkpoint of this set-up", name);
+               "option -restart %s: the checkpoint has no attribute '%s': not an fsiopt checkpoint of this set-up",
+               cp->path, name);
     PetscCall(PetscViewerHDF5ReadAttribute(viewer, NULL, name, type, NULL, value));
   } else PetscCall(PetscViewerHDF5WriteAttribute(viewer, NULL, name, type, value));
   PetscFunctionReturn(0);
@@ -268,7 +312,8 @@ PetscErrorCode CheckpointOpen(MPI_Comm comm, const char path[], PetscBool load, 
       H5Eset_auto2(H5E_DEFAULT, report, report_data);
       if (ierr) {
         PetscCall(ErrorReportingForget());
-        SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED, "option -restart %s: not an HDF5 file", path);
+        SETERRQ(comm, PETSC_ERR_FILE_UNEXPECTED,
+                "option -restart %s: not an HDF5 file (truncated, or not a checkpoint)", path);
       }
     }
   } else {
@@ -280,6 +325,7 @@ PetscErrorCode CheckpointOpen(MPI_Comm comm, const char path[], PetscBool load, 
   }
   PetscCall(PetscNew(cp));
   (*cp)->viewer = viewer;
+  PetscCall(PetscStrncpy((*cp)->path, path, sizeof((*cp)->path)));
   PetscFunctionReturn(0);
 }
 

@@ -2,6 +2,7 @@
 #include "options.h"
 #include "logging.h"
 #include <stdio.h>
+#include <string.h>
 #include <scotch/scotch.h> /* SCOTCH_randomSeed: the partitioner under PETSc (libscotch-dev) */
 
 static PetscErrorCode MeshCheckFaceSets(DM dm, const char prefix[], const char source[], PetscInt nrequired,
@@ -77,6 +78,11 @@ PetscErrorCode MeshCreate(MPI_Comm comm, const char prefix[], PetscInt refine, P
   PetscCall(PetscSNPrintf(option, sizeof(option), "-%sdm_plex_filename", prefix));
   PetscCall(PetscOptionsGetString(NULL, NULL, option, filename, sizeof(filename), &from_file));
   if (from_file) PetscCall(CheckReadableFile(comm, option, filename));
+  if (from_file) {
+    size_t len;
+    PetscCall(PetscStrlen(filename, &len));
+    if (len > 4 && !strcmp(filename + len - 4, ".msh")) PetscCall(MeshCheckGmshFile(comm, option, filename, dim));
+  }
 
   PetscCall(DMCreate(comm, &dm));
   PetscCall(DMSetType(dm, DMPLEX));
