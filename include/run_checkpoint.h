@@ -15,15 +15,20 @@ typedef struct {
   char      file[PETSC_MAX_PATH_LEN];    /* -checkpoint_file */
   char      restart[PETSC_MAX_PATH_LEN]; /* -restart */
   PetscBool restarting;
-  PetscBool change_dt;  /* -restart_change_dt: the checkpoint may have been written with another dt */
-  PetscBool possible;   /* this set-up can write one: then SIGINT/SIGTERM write one too */
-  PetscInt  last;       /* the step of the last one written, -1: none */
-  PetscReal layouts[2]; /* MeshLayoutSignature of the fluid and structure meshes at set-up, before they moved */
+  PetscBool change_dt;    /* -restart_change_dt: the checkpoint may have been written with another dt */
+  char      change[1024]; /* -restart_change a,b: problem options that may differ from the checkpoint's */
+  PetscBool possible;     /* this set-up can write one: then SIGINT/SIGTERM write one too */
+  PetscInt  last;         /* the step of the last one written, -1: none */
+  PetscReal layouts[2];   /* MeshLayoutSignature of the fluid and structure meshes at set-up, before they moved */
 } RunCheckpointParams;
 
 /* restartable: the coupling method (if any) keeps all its state in checkpoints. */
 PetscErrorCode RunCheckpointSetFromOptions(const RunParams *, PetscBool separate_ranks, PetscBool restartable,
                                            RunCheckpointParams *);
+/* The options that define the discrete problem, "name value" lines (run_fingerprint.c); and
+   the first difference of a checkpoint's from this run's, outside `change`, refused. */
+PetscErrorCode RunFingerprint(char text[], size_t len);
+PetscErrorCode RunFingerprintCompare(const char path[], const char written[], const char mine[], const char change[]);
 /* The meshes' layout signatures, taken at set-up (the meshes at rest). */
 PetscErrorCode RunCheckpointSetLayouts(RunCheckpointParams *, Fluid, Structure);
 /* What the next step needs, to or from `path`; `step` is the step the state ends (of this

@@ -217,7 +217,8 @@ def cell_runs(args, methods, extra, developed):
                 start = restart or (os.path.join(args.runs_dir, developed[ratio].name, "checkpoint.h5")
                                     if developed else None)
                 if start:
-                    opts += ["-restart", B.rel(start), "-restart_change_dt"]
+                    # the same state for every method (developed by one), and at --restart every ratio's density
+                    opts += ["-restart", B.rel(start), "-restart_change_dt", "-restart_change", "coupling,structure_density"]
                 name = "%s-rho%g-dt%g-n%d%s%s" % (m.slug, ratio, dt, args.steps, "-t%g" % t0 if start else "",
                                                   B.extra_tag(extra + relative_options(m, args)))
                 grid[m.slug, ratio, dt] = B.Run(name, "%s, rho_s/rho_f %g, dt %g" % (m.spec, ratio, dt),

@@ -330,7 +330,8 @@ def test_restart_change_dt():
             out = os.path.join(WORK, "change-dt-%d-%s" % (order, dt))
             s = solve(CHANNEL + ["-t_final", "0.0055", "-dt", dt, "-restart", os.path.join(ck, "checkpoint.h5"),
                                  "-restart_change_dt", "-coupling_tol", "1e-9", "-fluid_time_order", str(order),
-                                 "-structure_time_order", str(order)], out=out)
+                                 "-structure_time_order", str(order), "-restart_change",
+                                 "fluid_time_order,structure_time_order"], out=out)
             first = int(round(0.005 / float(dt))) + 1
             assert s["first_step"] == first and s["steps_done"] == int(round(0.0055 / float(dt))), "dt %s: steps %s to %s" % (
                 dt, s["first_step"], s["steps_done"])
@@ -556,6 +557,12 @@ def test_bad_input_restarts():
         ("new dt off the checkpoint's time", CHANNEL + ["-t_final", "0.0012", "-dt", "3e-4", "-restart", checkpoint, "-restart_change_dt"], "whole number of steps"),
         ("new dt with -write_fields", CHANNEL + ["-t_final", "0.001", "-dt", "5e-5", "-restart", checkpoint, "-restart_change_dt", "-write_fields"], "-write_fields"),
         ("restart with a renumbered fluid mesh", CHANNEL + ["-t_final", "0.001", "-restart", checkpoint, "-fluid_dm_plex_reorder", "rcm"], "another split or numbering of the fluid mesh"),
+        ("restart with another density", CHANNEL + ["-t_final", "0.001", "-restart", checkpoint, "-structure_density", "2"], "written with -structure_density 1.1, this run has -structure_density 2"),
+        ("restart with another coupling method", CHANNEL + ["-t_final", "0.001", "-restart", checkpoint, "-coupling", "iqnils"], "-restart_change coupling"),
+        ("restart with another time scheme", CHANNEL + ["-t_final", "0.001", "-restart", checkpoint, "-fluid_time_order", "2"], "-fluid_time_order"),
+        ("restart with another mesh motion", CHANNEL + ["-t_final", "0.001", "-restart", checkpoint, "-mesh_motion", "elastic"], "-mesh_motion"),
+        ("restart with another Young's modulus", CHANNEL + ["-t_final", "0.001", "-restart", checkpoint, "-structure_youngs_modulus", "1e7"], "-structure_youngs_modulus"),
+        ("-restart_change without -restart", CHANNEL + ["-restart_change", "structure_density"], "-restart_change"),
         ("restart with another t_start", CHANNEL + ["-t_start", "1e-4", "-t_final", "0.001", "-restart", checkpoint], "t_start"),
     ])
 

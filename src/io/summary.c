@@ -1,6 +1,7 @@
 #include <errno.h>
 #include <unistd.h>
 #include "summary.h"
+#include "option_pairs.h"
 #include "output.h"
 #include "logging.h"
 #include "help.h"
@@ -64,41 +65,6 @@ static void WriteEscaped(FILE *fp, const char *text, size_t n)
   fputc('"', fp);
 }
 
-/* A dash and a letter after a blank start an option's name (a negative number is a value). */
-static PetscBool StartsOption(const char *c, const char *start)
-{
-  return c[0] == '-' && ((c[1] >= 'a' && c[1] <= 'z') || (c[1] >= 'A' && c[1] <= 'Z')) && (c == start || c[-1] == ' ')
-         ? PETSC_TRUE
-         : PETSC_FALSE;
-}
-
-#define MAX_GIVEN 1024
-typedef struct {
-  PetscInt    n;
-  const char *name[MAX_GIVEN], *value[MAX_GIVEN];
-  size_t      name_len[MAX_GIVEN], value_len[MAX_GIVEN];
-} OptionPairs;
-
-/* The database's "-a 1 -b -c x y" as pairs pointing into it */
-static void ParseDatabase(const char *all, OptionPairs *pairs)
-{
-  pairs->n = 0;
-  for (const char *c = all; *c && pairs->n < MAX_GIVEN;) {
-    const PetscInt i = pairs->n;
-    while (*c == ' ') ++c;
-    if (!*c) break;
-    pairs->name[i] = c;
-    while (*c && *c != ' ') ++c;
-    pairs->name_len[i] = (size_t)(c - pairs->name[i]);
-    while (*c == ' ') ++c;
-    pairs->value[i] = c;
-    while (*c && !StartsOption(c, pairs->value[i])) ++c;
-    pairs->value_len[i] = (size_t)(c - pairs->value[i]);
-    while (pairs->value_len[i] && pairs->value[i][pairs->value_len[i] - 1] == ' ') --pairs->value_len[i];
-    pairs->n++;
-  }
-}
-
 static PetscInt FindGiven(const OptionPairs *given, const char name[])
 {
   for (PetscInt i = 0; i < given->n; ++i)
@@ -131,7 +97,7 @@ static PetscErrorCode WriteOptions(FILE *fp)
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&given));
   PetscCall(PetscOptionsGetAll(NULL, &all));
-  ParseDatabase(all, given);
+  OptionPairsParse(all, given);
   PetscCall(OptionsCapturedGet(&n, &names, &values));
   fprintf(fp, "  \"options\": {");
   for (PetscInt i = 0; i < n; ++i) {

@@ -42,6 +42,7 @@ PetscErrorCode RunCheckpointSetFromOptions(const RunParams *params, PetscBool se
   cp->last       = -1;
   cp->restart[0] = 0;
   cp->change_dt  = PETSC_FALSE;
+  cp->change[0]  = 0;
   PetscCall(PetscSNPrintf(cp->file, sizeof(cp->file), "%s/checkpoint.h5", params->output_dir));
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Checkpoints and restarts", "fsiopt");
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-checkpoint_every", "write the state every K steps (0: never)", 0,
@@ -56,9 +57,16 @@ PetscErrorCode RunCheckpointSetFromOptions(const RunParams *params, PetscBool se
                      "(a whole number of steps of -dt after -t_start) as a retried step does (BDF2 starts with "
                      "one backward-Euler step, the extrapolated start is dropped)",
                      NULL, cp->change_dt, &cp->change_dt, NULL));
+  PetscCall(
+    PetscOptionsString("-restart_change",
+                       "options (a,b,...) that define the problem and may differ from the -restart checkpoint's "
+                       "(a restart otherwise refuses any: it would compute another problem from the old history)",
+                       NULL, cp->change, cp->change, sizeof(cp->change), NULL));
   PetscOptionsEnd();
   PetscCheck(!cp->change_dt || cp->restarting, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
              "option -restart_change_dt: expected with -restart FILE");
+  PetscCheck(!cp->change[0] || cp->restarting, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
+             "option -restart_change: expected with -restart FILE");
   PetscCheck(!(cp->every || cp->restarting) || !separate_ranks, PETSC_COMM_WORLD, PETSC_ERR_SUP,
              "option %s: checkpoints need fluid and structure on the same ranks (-structure_ranks 0)",
              cp->restarting ? "-restart" : "-checkpoint_every");
@@ -122,6 +130,8 @@ static PetscErrorCode CheckpointLayouts(Checkpoint cp, const char path[], PetscB
   PetscFunctionReturn(0);
 }
 
+#define FINGERPRINT_LEN 65536
+
 static PetscErrorCode ModulesCheckpoint(Checkpoint cp, PetscBool load, Fluid fluid, Structure structure,
                                         Coupling coupling, Probes probes, FieldWriter fields)
 {
@@ -141,7 +151,8 @@ PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, 
   Checkpoint cp;
   PetscReal  dt = params->dt, t_start = params->t_start;
   PetscInt   fluid_dofs = summary->fluid_dofs, structure_dofs = summary->structure_dofs, ranks = summary->total_ranks;
-  PetscBool  has_t_start = PETSC_TRUE, other_dt;
+  PetscBool  has_t_start = PETSC_TRUE, has_fingerprint = PETSC_TRUE, other_dt;
+  char      *fingerprint, *written;
 
   PetscFunctionBeginUser;
   PetscCall(CheckpointOpen(PETSC_COMM_WORLD, path, load, &cp));
@@ -154,6 +165,11 @@ PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, 
   PetscCall(CheckpointInt(cp, "structure_dofs", &structure_dofs, load));
   PetscCall(CheckpointInt(cp, "ranks", &ranks, load));
   PetscCall(CheckpointLayouts(cp, path, load, cpp));
+  PetscCall(PetscMalloc2(FINGERPRINT_LEN, &fingerprint, FINGERPRINT_LEN, &written));
+  PetscCall(RunFingerprint(fingerprint, FINGERPRINT_LEN));
+  PetscCall(PetscStrncpy(written, fingerprint, FINGERPRINT_LEN));
+  if (load) PetscCall(CheckpointHasAttribute(cp, "problem_options", &has_fingerprint)); /* not before it */
+  if (has_fingerprint) PetscCall(CheckpointString(cp, "problem_options", written, FINGERPRINT_LEN, load));
   PetscCall(CheckpointPopGroup(cp));
   other_dt = load && PetscAbsReal(dt - params->dt) > 1e-12 * params->dt ? PETSC_TRUE : PETSC_FALSE;
   if (load) {
@@ -178,6 +194,7 @@ PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, 
                "option -restart %s: written on %" PetscInt_FMT
                " ranks, this run has %d (the meshes' distribution must be the same)",
                path, ranks, (int)summary->total_ranks);
+    if (has_fingerprint) PetscCall(RunFingerprintCompare(path, written, fingerprint, cpp->change));
     if (other_dt) PetscCall(StepAtNewTimeStep(path, *step, dt, params, step));
     PetscCheck(*step >= 0 && *step < params->steps, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
                "option -restart %s: it ends step %" PetscInt_FMT
@@ -197,6 +214,7 @@ PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, 
     if (ierr) return ierr;
   }
   PetscCall(CheckpointClose(PETSC_COMM_WORLD, path, load, &cp));
+  PetscCall(PetscFree2(fingerprint, written));
   if (other_dt) {
     PetscCall(StepRetrySetTimeStep(retry, params->dt));
     PetscCall(PetscPrintf(PETSC_COMM_WORLD,
