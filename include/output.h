@@ -12,6 +12,8 @@ PetscErrorCode OutputMakeDirectories(const char dir[]);
    path (no PETSc calls). Collective. */
 PetscErrorCode OutputLockTake(MPI_Comm, const char dir[]);
 void           OutputLockRelease(void);
+/* A rank that ends the whole job (its error is not the others'): the job's lock goes. */
+void OutputLockReleaseForJob(void);
 
 /* A CSV written by rank 0 as <dir>/<name>.partial and renamed to <dir>/<name> only when
    the run completes: a failed run never leaves a file that looks complete. */

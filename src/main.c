@@ -4,6 +4,7 @@
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <time.h>
 #include <unistd.h>
 #include "run.h"
 #include "checkpoint.h"
@@ -41,6 +42,25 @@ static PetscErrorCode RunMain(void)
   PetscFunctionReturn(0);
 }
 
+/* Ranks that stop on an error meet here; a rank that did not fail never comes. */
+static MPI_Comm error_comm = MPI_COMM_NULL;
+
+/* Whether every rank stopped on the error (the same check on all of them, or a stop they
+   agreed on): a barrier of the failed ranks that completes within a few seconds. */
+static PetscBool EveryRankStopped(MPI_Comm comm)
+{
+  MPI_Request     barrier;
+  int             done  = 0;
+  struct timespec pause = {0, 10000000}; /* 10 ms */
+
+  if (comm == MPI_COMM_NULL || MPI_Ibarrier(comm, &barrier) != MPI_SUCCESS) return PETSC_FALSE;
+  for (int waited = 0; waited < 300 && !done; ++waited) { /* 3 s */
+    if (MPI_Test(&barrier, &done, MPI_STATUS_IGNORE) != MPI_SUCCESS) return PETSC_FALSE;
+    if (!done) nanosleep(&pause, NULL);
+  }
+  return done ? PETSC_TRUE : PETSC_FALSE;
+}
+
 /* One line from the first rank only: MPI is not running yet, the launcher says which rank we are. */
 static int CheckOptionsFiles(int argc, char **argv)
 {
@@ -69,20 +89,29 @@ int main(int argc, char **argv)
   /* a reader that stops reading (fsiopt -help | head) ends the run quietly, as it ends any
      Unix tool, instead of PETSc's signal banner */
   signal(SIGPIPE, SIG_DFL);
+  MPI_Comm_dup(PETSC_COMM_WORLD, &error_comm);
   ierr = ErrorReportingPush();
   if (!ierr) ierr = RunMain();
   if (ierr) {
     PetscMPIInt rank, size;
+    PetscBool   every_rank = PETSC_TRUE;
     MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
     MPI_Comm_size(PETSC_COMM_WORLD, &size);
-    if (!rank) fprintf(stderr, "fsiopt: error: %s\n", ErrorReportingFirstMessage());
     OptionsCaptureAbandon();
+    if (size > 1 && !collective_stop) every_rank = EveryRankStopped(error_comm);
     OutputRemoveSetUpFiles();
-    OutputLockRelease();
+    if (every_rank) OutputLockRelease();
+    if (!every_rank) {
+      /* the others wait in a call this rank will not make: it says why and ends the job
+         (the launcher stops the other ranks) */
+      fprintf(stderr, "fsiopt: error: rank %d: %s\n", (int)rank, ErrorReportingFirstMessage());
+      OutputLockReleaseForJob();
+      fflush(stderr);
+      fflush(stdout);
+      _exit(1);
+    }
+    if (!rank) fprintf(stderr, "fsiopt: error: %s\n", ErrorReportingFirstMessage());
     fflush(stderr);
-    /* On one rank finish cleanly; on several, a rank that did not fail may wait in a
-       collective call, and only an abort is sure not to hang. */
-    if (size > 1 && !collective_stop) MPI_Abort(PETSC_COMM_WORLD, 1);
     if (CheckpointWriteFailed()) {
       fflush(stdout);
       _exit(1);

@@ -192,6 +192,42 @@ def test_killed_checkpoint_writes():
         "nothing of theirs in /dev/shm" % kills
 
 
+@test("an error on any rank: one fsiopt line (with the rank when only some ranks stop), exit != 0, no MPI_ABORT "
+      "banner, no lock or directory left, on 2 and 3 ranks, shared and split")
+def test_errors_on_any_rank():
+    bad_wall = os.path.join(inputs_dir(), "rank-missing-node.msh")
+    lines = open(os.path.join(ROOT, "meshes", "wall.msh")).read().split("\n")
+    end = lines.index("$EndElements")
+    lines[end - 1] = " ".join(lines[end - 1].split()[:-1] + ["999"])
+    open(bad_wall, "w").write("\n".join(lines))
+    short = CHANNEL + ["-t_final", "0.0002"]
+    cases = (
+        ("2 ranks shared, every rank", 2, ["-scene", "mms-stokes", "-fluid_density", "0"], "option -fluid_density", False),
+        ("2 ranks split, the structure's rank", 2, ["-scene", "mms-stokes", "-structure_ranks", "1", "-structure_density", "0"],
+         "rank 1: option -structure_density", True),
+        ("3 ranks split, the structure's rank", 3, short + ["-structure_ranks", "1", "-structure_dm_plex_filename", bad_wall],
+         "rank 2: option -structure_dm_plex_filename", True),
+        ("3 ranks, every rank", 3, S + ["-structure_dm_plex_filename", bad_wall], "refers to node 999", False),
+        ("-structure_ranks 2 on 2 ranks", 2, ["-scene", "mms-stokes", "-structure_ranks", "2"], "option -structure_ranks", False),
+        ("-structure_ranks 3 on 3 ranks", 3, ["-scene", "mms-stokes", "-structure_ranks", "3"], "option -structure_ranks", False),
+    )
+    problems = []
+    for name, nproc, args, token, ranked in cases:
+        out = os.path.join(WORK, "rank-error-%d" % len(problems + [name]) + name.split()[0])
+        rc, stdout, err, summary = run(args, nproc=nproc, out=out)
+        ours = [l for l in (stdout + err).splitlines() if l.startswith("fsiopt")]
+        why = []
+        if rc == 0: why.append("exit 0")
+        if "MPI_ABORT" in stdout + err: why.append("MPI_ABORT banner")
+        if "PETSC ERROR" in stdout + err: why.append("PETSc traceback")
+        if len(ours) != 1 or not ours[0].startswith("fsiopt: error:") or token not in ours[0]: why.append("lines %s" % ours)
+        if ranked != ("rank " in ours[0] if ours else False): why.append("rank named: %s" % ranked)
+        if os.path.exists(out): why.append("left %s" % os.listdir(out))
+        if why: problems.append("%s: %s" % (name, ", ".join(why)))
+    assert not problems, "; ".join(problems)
+    return "%d cases: one line each, the rank named where only the structure's ranks stopped" % len(cases)
+
+
 @test("restart from a checkpoint continues exactly, also after SIGKILL")
 def test_restart_after_sigkill():
     every = ["-t_final", "0.01", "-checkpoint_every", "5"]

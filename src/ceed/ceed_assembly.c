@@ -36,8 +36,12 @@ PetscErrorCode FEMCeedAssemblySetUp(Ceed ceed, DM dm, PetscInt n, const CeedOper
     counts[b] = 0;
     if (!ops[b]) continue;
     PetscCall(FEMCeedElementPattern(ceed, ops[b], &counts[b], &r, &c));
-    PetscCall(PetscRealloc(sizeof(PetscInt) * (total + counts[b]), &rows));
-    PetscCall(PetscRealloc(sizeof(PetscInt) * (total + counts[b]), &cols));
+    /* a rank without any of these elements keeps its arrays: MPI refuses NULL buffers in the
+       collective MatSetPreallocationCOO (seen on 3 ranks, a rank without a face set) */
+    if (counts[b]) {
+      PetscCall(PetscRealloc(sizeof(PetscInt) * (total + counts[b]), &rows));
+      PetscCall(PetscRealloc(sizeof(PetscInt) * (total + counts[b]), &cols));
+    }
     for (CeedSize i = 0; i < counts[b]; ++i) {
       rows[total + i] = r[i];
       cols[total + i] = c[i];

@@ -11,7 +11,8 @@
 
 static char lock_path[PETSC_MAX_PATH_LEN];
 static char created_dir[PETSC_MAX_PATH_LEN]; /* made for this run: removed again if left empty */
-static int  held = 0;
+static int  held  = 0;                       /* rank 0: this process made the lock */
+static int  known = 0;                       /* every rank: lock_path names the job's lock */
 
 /* rank 0: take the lock or say why not (message; 0 taken) */
 static int TryLock(const char dir[], char message[], size_t len)
@@ -95,13 +96,24 @@ PetscErrorCode OutputLockTake(MPI_Comm comm, const char dir[])
   PetscCallMPI(MPI_Bcast(&refused, 1, MPI_INT, 0, comm));
   PetscCallMPI(MPI_Bcast(message, sizeof(message), MPI_CHAR, 0, comm));
   PetscCheck(!refused, comm, PETSC_ERR_FILE_OPEN, "%s", message);
+  PetscCallMPI(MPI_Bcast(lock_path, sizeof(lock_path), MPI_CHAR, 0, comm));
+  PetscCallMPI(MPI_Bcast(created_dir, sizeof(created_dir), MPI_CHAR, 0, comm));
+  known = 1;
   PetscFunctionReturn(0);
+}
+
+void OutputLockReleaseForJob(void)
+{
+  if (known) (void)unlink(lock_path);
+  known = held = 0;
+  if (created_dir[0]) (void)rmdir(created_dir);
+  created_dir[0] = 0;
 }
 
 void OutputLockRelease(void)
 {
   if (held) (void)unlink(lock_path);
-  held = 0;
+  held = known = 0;
   if (created_dir[0]) (void)rmdir(created_dir); /* only when the run left nothing in it */
   created_dir[0] = 0;
 }
