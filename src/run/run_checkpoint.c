@@ -211,7 +211,10 @@ PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, 
     ierr = ModulesCheckpoint(cp, PETSC_FALSE, fluid, structure, coupling, probes, fields);
     if (ierr) (void)CheckpointDestroy(&cp);
     PetscCall(PetscPopErrorHandler());
-    if (ierr) return ierr;
+    if (ierr) {
+      PetscCall(PetscFree2(fingerprint, written));
+      return ierr;
+    }
   }
   PetscCall(CheckpointClose(PETSC_COMM_WORLD, path, load, &cp));
   PetscCall(PetscFree2(fingerprint, written));
