@@ -80,10 +80,10 @@ int main(int argc, char **argv)
   /* PT-Scotch's threads split a mesh differently from run to run; a checkpoint's vectors,
      stored in the partition's ordering, need the same split at the restart (mesh.c) */
   setenv("SCOTCH_PTHREAD_NUMBER", "1", 1);
-  /* MPI-IO (the checkpoints' HDF5) through ROMIO unless the user chose: Open MPI's OMPIO
+  /* MPI-IO (the checkpoints' HDF5) through ROMIO (any Open MPI version's) unless the user chose: Open MPI's OMPIO
      prints its own line on a failed write, and its shared-file-pointer component leaves
      semaphores behind when a writing run is killed */
-  setenv("OMPI_MCA_io", "romio321", 0);
+  setenv("OMPI_MCA_io", "^ompio", 0);
   ierr = PetscInitialize(&argc, &argv, NULL, help);
   if (ierr) return 1;
   /* a reader that stops reading (fsiopt -help | head) ends the run quietly, as it ends any
