@@ -92,27 +92,35 @@ def reason(r):
     return " ".join(words[:3]) if words else r.status
 
 
+def cell_probes(r):
+    """(t, {column: values}) of a finished run's probes.csv, read once per run; None if it is
+    not finished or unreadable."""
+    if not hasattr(r, "_probes"):
+        r._probes = None
+        if r.ok:
+            try:
+                r._probes = B.read_probes(r.run_dir)
+            except (OSError, ValueError):
+                pass
+    return r._probes
+
+
 def max_dy(r):
     """max |dy| over the probes of a finished run (0: the wall never moved); nan if unreadable."""
-    if not r.ok:
+    probes = cell_probes(r)
+    if probes is None:
         return float("nan")
-    try:
-        _, dy = B.read_probes(r.run_dir)
-    except (OSError, ValueError):
-        return float("nan")
-    return max(float(np.max(np.abs(c))) for c in dy.values())
+    return max(float(np.max(np.abs(c))) for c in probes[1].values())
 
 
 def motion(r):
     """How far the wall moved during the cell's own steps (after its start time t0): the
     largest change of a probe over them relative to that probe's largest value over the
     series; nan if unreadable."""
-    if not r.ok:
+    probes = cell_probes(r)
+    if probes is None:
         return float("nan")
-    try:
-        t, dy = B.read_probes(r.run_dir)
-    except (OSError, ValueError):
-        return float("nan")
+    t, dy = probes
     start = int(np.searchsorted(t, r.params.get("t0", 0.0) - 1e-12 * max(1.0, abs(t[-1]))))
     moved = 0.0
     for c in dy.values():
@@ -141,13 +149,10 @@ def notes(r, args):
 
 def end_probes(r):
     """{column: (value at the end, largest |value| over the series)} of a finished run, {} if unreadable."""
-    if not r.ok:
+    probes = cell_probes(r)
+    if probes is None:
         return {}
-    try:
-        _, dy = B.read_probes(r.run_dir)
-    except (OSError, ValueError):
-        return {}
-    return {k: (float(c[-1]), float(np.max(np.abs(c)))) for k, c in dy.items()}
+    return {k: (float(c[-1]), float(np.max(np.abs(c)))) for k, c in probes[1].items()}
 
 
 def difference(r, ref):
