@@ -1,6 +1,7 @@
 #ifndef FSIOPT_FLUID_H
 #define FSIOPT_FLUID_H
 #include "fsiopt.h"
+#include "memory_estimate.h"
 
 /* Constants handed to the fluid's pointwise kernels; scene kernels read them too.
    MASS is the coefficient of (u, v) (rho/dt in a step), OPERATOR and LOAD switch the
@@ -53,6 +54,9 @@ PetscErrorCode FluidGetTime(Fluid, PetscReal *);
 /* Moving meshes (fluid_ale.c). Displacements are local vectors in the coordinate layout
    (vertex values), relative to the reference mesh. */
 PetscErrorCode FluidEnableMeshMotion(Fluid); /* before FluidSetUp */
+/* The fields FluidSetUp will put on its mesh (after FluidSetFromOptions), for the memory
+   estimate: velocity, pressure and, on a moving mesh, its displacement */
+PetscErrorCode FluidGetMeshFields(Fluid, MeshFields *);
 PetscErrorCode FluidSetMeshDisplacement(Fluid, Vec displacement);
 PetscErrorCode FluidGetMeshDisplacement(Fluid, Vec *displacement);
 /* the mesh velocity of the last step, a local vector of its own DM (NULL, NULL: fixed mesh) */

@@ -1,14 +1,16 @@
 #ifndef FSIOPT_MESH_H
 #define FSIOPT_MESH_H
 #include "fsiopt.h"
+#include "memory_estimate.h"
 
 /* Builds one subdomain's mesh from the options under `prefix` (-fluid_dm_plex_*,
    -structure_dm_plex_*: a box, or a gmsh file with -<prefix>dm_plex_filename),
    refines it `refine` times, distributes it, and checks it: the dimension the scene
    needs (`dim`, 0: any), every face set in `required`, and no inverted or degenerate
-   cell. */
+   cell. Before refining, the memory the `fields` will need on the refined mesh is estimated
+   and the run refused if a node cannot hold it (memory_estimate.h). */
 PetscErrorCode MeshCreate(MPI_Comm, const char prefix[], PetscInt refine, PetscInt dim, PetscInt nrequired,
-                          const PetscInt required[], DM *);
+                          const PetscInt required[], const MeshFields *fields, DM *);
 /* A number that changes when the mesh is split or numbered differently: the owned cells'
    centroids weighted by their global numbers, summed over the ranks. A checkpoint's
    vectors are in that numbering; collective. */

@@ -1,6 +1,7 @@
 #ifndef FSIOPT_STRUCTURE_H
 #define FSIOPT_STRUCTURE_H
 #include "fsiopt.h"
+#include "memory_estimate.h"
 
 /* Constants handed to the structure's pointwise kernels; scene kernels read them too.
    MASS is the coefficient of (eta, xi) (c rho_s with c = 1/dt^2 or 4/dt^2); MODEL is a
@@ -62,6 +63,8 @@ PetscErrorCode StructureRestoreVelocityLocal(Structure, Vec *);
 PetscErrorCode StructureErrors(Structure, ErrorTable *);
 PetscErrorCode StructureGetCounts(Structure, SolverCounts *);
 PetscErrorCode StructureGetInfo(Structure, PetscInt *dim, PetscInt *ndofs);
+/* The displacement field StructureSetUp will put on its mesh, for the memory estimate */
+PetscErrorCode StructureGetMeshFields(Structure, MeshFields *);
 PetscErrorCode StructureCheckpoint(Structure, Checkpoint, PetscBool load); /* checkpoint.h */
 PetscErrorCode StructureDestroy(Structure *);
 

@@ -26,6 +26,7 @@ typedef struct {
   const char      *failure;     /* the step that failed with the smallest dt allowed, NULL: none */
   PetscInt         retried_steps, failed_attempts;
   PetscReal        smallest_dt;
+  PetscReal        memory_estimate, peak_memory; /* bytes, summed over the ranks (memory_estimate.h) */
   ErrorTable       errors;
   QuantityTable    quantities;
   PetscMPIInt      fluid_ranks, structure_ranks, total_ranks;

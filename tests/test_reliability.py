@@ -166,6 +166,32 @@ def test_full_disk():
     return "; ".join(details) + "; unwritable -checkpoint_file refused before step 1"
 
 
+@test("memory: a -refine a node cannot hold is refused before refining, with the estimate; -force runs it; the "
+      "estimate bounds the peak resident memory within [1, 2.5] (1 rank, 2 ranks shared and split)")
+def test_memory_estimate():
+    short = CHANNEL + ["-t_final", "0.0002"]
+    cases = [("channel2d -refine 7", CHANNEL + ["-refine", "7"], "fluid mesh (box) with -refine 7: estimated memory"),
+             ("a node of 0.05 GiB", short + ["-memory_per_node_gib", "0.05"],
+              "more than the 0.05 GiB it has (-memory_per_node_gib); use fewer refinements or more nodes, or add "
+              "-force")]
+    refused(cases)
+    rc, stdout, err, s = run(short + ["-memory_per_node_gib", "0.05", "-force"], tag="memory-force")
+    assert rc == 0 and "fsiopt: notice: -force: fluid mesh (box) with -refine 0: estimated memory" in stdout + err \
+        and s["memory_gib"]["estimate"] > 0.05, "-force: exit %s, %s" % (rc, (stdout + err)[-300:])
+    ratios = []
+    for label, args, nproc in (("channel2d -refine 1", short + ["-refine", "1"], 1),
+                               ("channel2d on 2 ranks", short, 2),
+                               ("channel2d split", short + ["-structure_ranks", "1"], 2),
+                               ("tube3d", ["-options_file", "options/tube3d.yaml", "-t_final", "0.0001"], 1)):
+        rc, stdout, err, s = run(args, nproc=nproc, tag="memory")
+        assert rc == 0 and s, "%s: exit %s, %s" % (label, rc, err[-300:])
+        ratio = s["memory_gib"]["estimate"] / s["memory_gib"]["peak"]
+        assert 1 <= ratio <= 2.5, "%s: estimate %.3g GiB, peak %.3g GiB" % (label, s["memory_gib"]["estimate"],
+                                                                          s["memory_gib"]["peak"])
+        ratios.append("%s %.2f" % (label, ratio))
+    return "2 refused; -force ran; estimate/peak: " + ", ".join(ratios)
+
+
 @test("10 SIGKILLs while checkpoints are written, then a run with the same checkpoint name and directory: it "
       "completes (no lock, semaphore or shared-memory file left behind), and its checkpoint restarts")
 def test_killed_checkpoint_writes():

@@ -262,6 +262,19 @@ PetscErrorCode FluidEnableMeshMotion(Fluid f)
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode FluidGetMeshFields(Fluid f, MeshFields *fields)
+{
+  PetscFunctionBeginUser;
+  fields->n             = f->moving ? 3 : 2;
+  fields->degree[0]     = f->velocity_degree;
+  fields->components[0] = -1;
+  fields->degree[1]     = f->pressure_degree;
+  fields->components[1] = 1;
+  fields->degree[2]     = 1; /* the mesh displacement (motion.c) */
+  fields->components[2] = -1;
+  PetscFunctionReturn(0);
+}
+
 /* A nonlinear solve from f->x. Chord iterations (factors from another state) that fail
    are retried once from the same start by Newton with fresh Jacobians and backtracking. */
 PetscErrorCode FluidNonlinearSolve(Fluid f, SNES snes, Vec rhs, PetscBool chord, PetscInt step, const char what[])

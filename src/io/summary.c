@@ -1,6 +1,7 @@
 #include <errno.h>
 #include <unistd.h>
 #include "summary.h"
+#include "memory_estimate.h"
 #include "option_pairs.h"
 #include "output.h"
 #include "logging.h"
@@ -199,6 +200,8 @@ PetscErrorCode SummaryWrite(MPI_Comm comm, const char dir[], const RunSummary *s
     fprintf(fp, "%s\"%s\": %.10e", i ? ", " : "", s->errors.name[i], (double)s->errors.value[i]);
   fprintf(fp, "},\n");
   WriteQuantities(fp, &s->quantities);
+  fprintf(fp, "  \"memory_gib\": {\"estimate\": %.4g, \"peak\": %.4g},\n", (double)(s->memory_estimate / 1073741824.0),
+          (double)(s->peak_memory / 1073741824.0));
   fprintf(fp, "  \"ranks\": {\"fluid\": %d, \"structure\": %d, \"total\": %d},\n", (int)s->fluid_ranks,
           (int)s->structure_ranks, (int)s->total_ranks);
   WriteStringOrNull(fp, "version", fsiopt_version);
@@ -278,6 +281,7 @@ PetscErrorCode SummaryGather(RunSummary *s, PetscBool has_fluid, PetscBool has_s
   s->failed_attempts = retry_stats.failed_attempts;
   s->smallest_dt     = retry_stats.smallest_dt;
   PetscCall(GatherSolvers(s, has_structure, fluid, structure));
+  PetscCall(MemoryEstimateGetTotals(&s->memory_estimate, &s->peak_memory));
   s->work_factor        = -1;
   s->max_interface_jump = -1;
   if (coupling) {

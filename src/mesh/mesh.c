@@ -66,7 +66,7 @@ static PetscErrorCode MeshCheckCells(DM dm, const char prefix[], const char sour
 }
 
 PetscErrorCode MeshCreate(MPI_Comm comm, const char prefix[], PetscInt refine, PetscInt dim, PetscInt nrequired,
-                          const PetscInt required[], DM *mesh)
+                          const PetscInt required[], const MeshFields *fields, DM *mesh)
 {
   DM          dm;
   char        option[256], filename[PETSC_MAX_PATH_LEN] = "";
@@ -127,6 +127,16 @@ PetscErrorCode MeshCreate(MPI_Comm comm, const char prefix[], PetscInt refine, P
       PetscCall(DMDestroy(&dm));
       dm = parallel;
     }
+  }
+  {
+    PetscReal dofs;
+    PetscInt  mesh_dim;
+    char      source[PETSC_MAX_PATH_LEN + 64];
+    PetscCall(DMGetDimension(dm, &mesh_dim));
+    PetscCall(MemoryEstimateDofs(dm, refine, fields, &dofs));
+    PetscCall(PetscSNPrintf(source, sizeof(source), "%.*s mesh %s with -refine %" PetscInt_FMT, (int)(strlen(prefix) - 1), prefix,
+                            from_file ? filename : "(box)", refine));
+    PetscCall(MemoryEstimateAdd(comm, prefix, mesh_dim, dofs, source));
   }
   for (PetscInt r = 0; r < refine; ++r) {
     DM fine;

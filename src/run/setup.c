@@ -85,7 +85,8 @@ static PetscErrorCode SplitRanks(Run run)
 
 static PetscErrorCode FluidFromScene(Run run, DM *mesh)
 {
-  PetscInt nfaces, faces[2 * FSIOPT_MAX_BOUNDARIES];
+  PetscInt   nfaces, faces[2 * FSIOPT_MAX_BOUNDARIES];
+  MeshFields fields;
 
   PetscFunctionBeginUser;
   PetscCall(FluidCreate(run->fluid_comm, &run->fluid));
@@ -98,7 +99,8 @@ static PetscErrorCode FluidFromScene(Run run, DM *mesh)
     if (run->scene.fluid.n_fixed_mesh_faces) PetscCall(FluidEnableMeshMotion(run->fluid));
   }
   PetscCall(SceneRequiredFaces(&run->scene.fluid, &nfaces, faces));
-  PetscCall(MeshCreate(run->fluid_comm, "fluid_", run->params.refine, run->scene.dim, nfaces, faces, mesh));
+  PetscCall(FluidGetMeshFields(run->fluid, &fields));
+  PetscCall(MeshCreate(run->fluid_comm, "fluid_", run->params.refine, run->scene.dim, nfaces, faces, &fields, mesh));
   PetscCall(FluidSetUp(run->fluid, *mesh, &run->scene.fluid, run->params.t_start, run->params.dt));
   PetscCall(FluidGetInfo(run->fluid, &run->summary.dim, &run->summary.fluid_dofs));
   PetscFunctionReturn(0);
@@ -106,13 +108,16 @@ static PetscErrorCode FluidFromScene(Run run, DM *mesh)
 
 static PetscErrorCode StructureFromScene(Run run, DM *mesh)
 {
-  PetscInt nfaces, faces[2 * FSIOPT_MAX_BOUNDARIES];
+  PetscInt   nfaces, faces[2 * FSIOPT_MAX_BOUNDARIES];
+  MeshFields fields;
 
   PetscFunctionBeginUser;
   PetscCall(StructureCreate(run->structure_comm, &run->structure));
   PetscCall(StructureSetFromOptions(run->structure));
   PetscCall(SceneRequiredFaces(&run->scene.structure, &nfaces, faces));
-  PetscCall(MeshCreate(run->structure_comm, "structure_", run->params.refine, run->scene.dim, nfaces, faces, mesh));
+  PetscCall(StructureGetMeshFields(run->structure, &fields));
+  PetscCall(MeshCreate(run->structure_comm, "structure_", run->params.refine, run->scene.dim, nfaces, faces, &fields,
+                       mesh));
   PetscCall(StructureSetUp(run->structure, *mesh, &run->scene.structure, run->params.t_start, run->params.dt));
   PetscCall(StructureGetInfo(run->structure, &run->summary.dim, &run->summary.structure_dofs));
   PetscFunctionReturn(0);

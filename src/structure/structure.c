@@ -507,6 +507,15 @@ PetscErrorCode StructureGetCounts(Structure s, SolverCounts *counts)
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode StructureGetMeshFields(Structure s, MeshFields *fields)
+{
+  PetscFunctionBeginUser;
+  fields->n             = 1;
+  fields->degree[0]     = s->degree;
+  fields->components[0] = -1;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode StructureGetInfo(Structure s, PetscInt *dim, PetscInt *ndofs)
 {
   PetscFunctionBeginUser;
