@@ -17,11 +17,9 @@
 PetscErrorCode CheckpointOpen(MPI_Comm, const char path[], PetscBool load, Checkpoint *);
 /* Closes; a written file is renamed from its temporary name into place. */
 PetscErrorCode CheckpointClose(MPI_Comm, const char path[], PetscBool load, Checkpoint *);
-/* After a write that failed: path's temporary goes, path itself (the last complete one) stays. */
+/* After a write that failed: path's temporary goes, path itself (the last complete one) stays
+   (and OutputHDF5WriteFailed is called). */
 void CheckpointRemoveTemporary(const char path[]);
-/* A write failed: HDF5 still holds the file it could not write, and would write it again
-   (and MPI-IO crash) when MPI finalizes; main then exits without finalizing. */
-PetscBool CheckpointWriteFailed(void);
 /* Whether path's file system has room for a checkpoint of at least `at_least` bytes (or of
    the size of the one at path, if larger), with a margin; collective. */
 PetscErrorCode CheckpointEnsureSpace(MPI_Comm, const char path[], double at_least, PetscBool *enough,

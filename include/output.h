@@ -31,6 +31,11 @@ PetscErrorCode PartialFileCheck(PartialFile *);
 /* Why writing `path` failed: the errno text, or what the file system says (no space left,
    read-only) when the error came through a library without one. */
 PetscErrorCode OutputWriteErrorText(const char path[], int errnum, char why[], size_t len);
+/* An HDF5 write (checkpoint, fields) failed: HDF5 still holds the file it could not write and
+   would write it again (and MPI-IO crash) when MPI finalizes; main then exits without
+   finalizing. */
+void      OutputHDF5WriteFailed(void);
+PetscBool OutputHDF5Failed(void);
 
 /* The files the set-up opens (the .partial outputs) are removed when the run stops with an
    error before its first step is recorded and its options checked: a refused set-up leaves

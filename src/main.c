@@ -112,7 +112,7 @@ int main(int argc, char **argv)
     }
     if (!rank) fprintf(stderr, "fsiopt: error: %s\n", ErrorReportingFirstMessage());
     fflush(stderr);
-    if (CheckpointWriteFailed()) {
+    if (OutputHDF5Failed()) {
       fflush(stdout);
       _exit(1);
     }

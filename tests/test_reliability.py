@@ -137,27 +137,51 @@ def small_disk(kib):
       "checkpoint intact; an unwritable -checkpoint_file refused before step 1 (tmpfs: root only)")
 def test_full_disk():
     details = []
-    for kib, args, token in ((12, [], "cannot write %s/probes.csv (No space left on device)"),
-                             (120, ["-checkpoint_every", "50"], "cannot write the checkpoint of step 50"),
-                             (200, ["-checkpoint_every", "50"], "the one of step 50 stays")):
+    fields = ["-write_fields", "-write_fields_interval", "10"]
+    for kib, args, token, nproc in ((12, [], "cannot write %s/probes.csv (No space left on device)", 1),
+                                    (12, [], "cannot write %s/probes.csv (No space left on device)", 2),
+                                    (120, ["-checkpoint_every", "50"], "cannot write the checkpoint of step 50", 1),
+                                    (200, ["-checkpoint_every", "50"], "the one of step 50 stays", 1),
+                                    (200, fields, "cannot write %s/fields.h5 (No space left on device) at step", 1),
+                                    (200, fields, "cannot write %s/fields.h5 (No space left on device) at step", 2)):
         disk = small_disk(kib)
         if disk is None:
             return "skipped: mounting a tmpfs needs root"
         try:
             out = os.path.join(disk, "out")
-            rc, stdout, err, summary = run(CHANNEL + ["-t_final", "0.05", "-quiet"] + args, out=out)
-            lines = [l for l in (stdout + err).splitlines() if l.strip() and not l.startswith("fsiopt: channel2d:")]
+            rc, stdout, err, summary = run(CHANNEL + ["-t_final", "0.05", "-quiet"] + args, nproc=nproc, out=out)
+            # 2 ranks: Open MPI's launcher adds its lines about the exit status
+            lines = [l for l in (stdout + err).splitlines() if l.strip() and not l.startswith("fsiopt: channel2d:")
+                     and (nproc == 1 or l.startswith("fsiopt"))]
+            assert "HDF5-DIAG" not in stdout + err and "PETSC ERROR" not in stdout + err and "rank 0:" not in \
+                stdout + err, "%d KiB, %d rank(s): library messages: %s" % (kib, nproc, (stdout + err)[-400:])
             left = sorted(os.listdir(out))
             assert rc != 0 and len(lines) == 1 and lines[0].startswith("fsiopt: error:") and \
-                (token % out if "%s" in token else token) in lines[0], "%d KiB: exit %s, %s" % (kib, rc, lines)
+                (token % out if "%s" in token else token) in lines[0], "%d KiB, %d rank(s): exit %s, %s" % (
+                    kib, nproc, rc, lines)
             assert not [f for f in left if f in ("probes.csv", "history.csv", "summary.json") or f.endswith(".tmp")], \
                 "%d KiB: left %s" % (kib, left)
             assert "probes.csv.partial" in left and "history.csv.partial" in left, "%d KiB: left %s" % (kib, left)
             if "stays" in token:
                 assert fr.checkpoint_step(os.path.join(out, "checkpoint.h5")) == 50, "the checkpoint of step 50 is gone"
-            details.append("%d KiB: %s" % (kib, lines[0].split(": ", 2)[-1][:70]))
+            if "fields.h5" in token:
+                assert "fields.h5.partial" in left and "fields.h5" not in left, "%d KiB: left %s" % (kib, left)
+            details.append("%d KiB, %d rank(s): %s" % (kib, nproc, lines[0].split(": ", 2)[-1][:60]))
         finally:
             subprocess.run(["umount", disk], capture_output=True)
+    for kib in (12, 16):   # the CSVs fit, the summary does not: every rank stops with rank 0's line
+        disk = small_disk(kib)
+        try:
+            out = os.path.join(disk, "out")
+            rc, stdout, err, summary = run(CHANNEL + ["-t_final", "0.0003", "-quiet"], nproc=2, out=out)
+            ours = [l for l in (stdout + err).splitlines() if l.startswith("fsiopt")]
+            left = sorted(os.listdir(out))
+            assert rc != 0 and ours == ["fsiopt: error: cannot write %s/summary.json (No space left on device)" % out] \
+                and "summary.json" not in left and not [f for f in left if f.endswith(".tmp")], \
+                "summary on %d KiB, 2 ranks: exit %s, %s, left %s" % (kib, rc, ours, left)
+        finally:
+            subprocess.run(["umount", disk], capture_output=True)
+    details.append("summary.json on 12 and 16 KiB, 2 ranks: one line")
     rc, stdout, err, _ = run(CHANNEL + ["-t_final", "0.001", "-checkpoint_every", "5", "-checkpoint_file",
                                         "/etc/passwd/ck.h5"], out=os.path.join(WORK, "ck-unwritable"))
     lines = [l for l in (stdout + err).splitlines() if l.strip()]

@@ -3,6 +3,7 @@
    ProbesCheckpoint). */
 #include <stdio.h>
 #include "checkpoint.h"
+#include "output.h"
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -329,13 +330,6 @@ PetscErrorCode CheckpointOpen(MPI_Comm comm, const char path[], PetscBool load, 
   PetscFunctionReturn(0);
 }
 
-static PetscBool write_failed = PETSC_FALSE;
-
-PetscBool CheckpointWriteFailed(void)
-{
-  return write_failed;
-}
-
 PetscErrorCode CheckpointEnsureSpace(MPI_Comm comm, const char path[], double at_least, PetscBool *enough,
                                      double *free_bytes, double *needed)
 {
@@ -367,9 +361,9 @@ PetscErrorCode CheckpointEnsureSpace(MPI_Comm comm, const char path[], double at
 
 void CheckpointRemoveTemporary(const char path[])
 {
-  write_failed = PETSC_TRUE;
   char tmp[PETSC_MAX_PATH_LEN];
 
+  OutputHDF5WriteFailed();
   (void)snprintf(tmp, sizeof(tmp), "%s.tmp", path);
   (void)unlink(tmp); /* every rank: the ones that did not create it get ENOENT */
 }

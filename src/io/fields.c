@@ -1,4 +1,6 @@
+#include <errno.h>
 #include <time.h>
+#include <hdf5.h>
 #include <unistd.h>
 #include "fields_impl.h"
 #include "fem.h"
@@ -205,6 +207,17 @@ PetscErrorCode FieldsWriteHeader(FieldWriter w, PetscViewer viewer)
   PetscFunctionReturn(0);
 }
 
+static PetscErrorCode WriteGroup(PetscViewer viewer, const char group[], PetscInt nq, const char *name[],
+                                 const PetscInt bs[], PetscInt n, PetscScalar *q[], PetscReal t)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerHDF5PushGroup(viewer, group));
+  for (PetscInt k = 0; k < nq; ++k) PetscCall(WriteArray(viewer, name[k], bs[k], n, q[k]));
+  PetscCall(PetscViewerHDF5PopGroup(viewer));
+  PetscCall(PetscViewerHDF5WriteAttribute(viewer, group, "time", PETSC_REAL, &t));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode PartWrite(FieldWriter w, const Part *P, const Sources *src, const char group[], PetscReal t)
 {
   const PetscInt nq = 1 + P->nfields;
@@ -243,7 +256,7 @@ static PetscErrorCode PartWrite(FieldWriter w, const Part *P, const Sources *src
     PetscCall(VecRestoreArrayRead(X, &x));
   }
   PetscCall(GatherOnRoot(w->comm, P->nown * ncomp, MPIU_SCALAR, buf, (void **)&all, &total));
-  if (!w->rank) {
+  if (!w->rank && !w->write_error) {
     const PetscInt N                 = P->nvertices;
     PetscScalar   *q[1 + FIELDS_MAX] = {NULL};
 
@@ -257,10 +270,9 @@ static PetscErrorCode PartWrite(FieldWriter w, const Part *P, const Sources *src
       if (P->deform)
         for (PetscInt d = 0; d < P->dim; ++d) q[0][g * P->dim + d] += q[1][g * obs[1] + d];
     }
-    PetscCall(PetscViewerHDF5PushGroup(w->viewer, group));
-    for (PetscInt k = 0; k < nq; ++k) PetscCall(WriteArray(w->viewer, name[k], obs[k], N, q[k]));
-    PetscCall(PetscViewerHDF5PopGroup(w->viewer));
-    PetscCall(PetscViewerHDF5WriteAttribute(w->viewer, group, "time", PETSC_REAL, &t));
+    /* a failed write (a full disk) is kept, not raised: the other ranks do not write, and all
+       of them stop together in FieldWriterWrite */
+    w->write_error = WriteGroup(w->viewer, group, nq, name, obs, N, q, t);
     for (PetscInt k = 0; k < nq; ++k) PetscCall(PetscFree(q[k]));
   }
   PetscCall(PetscFree(all));
@@ -373,6 +385,11 @@ PetscErrorCode FieldWriterWrite(FieldWriter w, PetscInt step)
   if (step > w->steps || (w->nwritten && w->written[w->nwritten - 1] >= step)) PetscFunctionReturn(0);
   PetscCheck(w->opened, w->comm, PETSC_ERR_ORDER, "FieldWriterOpen before FieldWriterWrite");
   PetscCall(PetscLogEventBegin(w->event, 0, 0, 0, 0));
+  if (!w->rank) {
+    /* a failing write is reported in one line (below), not by HDF5's diagnostic stack */
+    H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+    errno = 0;
+  }
   for (PetscInt p = 0; p < 2; ++p) {
     Sources src;
     char    group[64];
@@ -383,7 +400,22 @@ PetscErrorCode FieldWriterWrite(FieldWriter w, PetscInt step)
     PetscCall(PartWrite(w, &w->part[p], &src, group, w->t0 + step * w->dt));
     PetscCall(SourcesRestore(&src));
   }
-  if (!w->rank) PetscCall(PetscViewerFlush(w->viewer));
+  if (!w->rank && !w->write_error) w->write_error = PetscViewerFlush(w->viewer);
+  {
+    PetscErrorCode failed = w->write_error;
+    int            cause  = errno;
+
+    PetscCallMPI(MPI_Bcast(&failed, 1, MPI_INT, 0, w->comm));
+    PetscCallMPI(MPI_Bcast(&cause, 1, MPI_INT, 0, w->comm));
+    if (failed) {
+      char why[256];
+      OutputHDF5WriteFailed();
+      PetscCall(ErrorReportingForget()); /* HDF5's and PETSc's messages name their internals */
+      PetscCall(OutputWriteErrorText(w->partial, cause, why, sizeof(why)));
+      SETERRQ(w->comm, PETSC_ERR_FILE_WRITE, "cannot write %s (%s) at step %" PetscInt_FMT "; what was written is in %s",
+              w->path, why, step, w->partial);
+    }
+  }
   w->written[w->nwritten++] = step;
   PetscCall(PetscLogEventEnd(w->event, 0, 0, 0, 0));
   PetscFunctionReturn(0);

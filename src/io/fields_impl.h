@@ -34,6 +34,7 @@ struct _p_FieldWriter {
   char          source[PETSC_MAX_PATH_LEN], source_origin[128];
   PetscViewer   viewer; /* root only; NULL until FieldWriterOpen */
   PetscBool     opened;
+  PetscErrorCode write_error; /* root: the first failed write of the fields in progress */
   PetscLogEvent event;
 };
 

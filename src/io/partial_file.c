@@ -56,6 +56,18 @@ PetscErrorCode PartialFileOpen(MPI_Comm comm, const char dir[], const char name[
   PetscFunctionReturn(0);
 }
 
+static PetscBool hdf5_failed = PETSC_FALSE;
+
+void OutputHDF5WriteFailed(void)
+{
+  hdf5_failed = PETSC_TRUE;
+}
+
+PetscBool OutputHDF5Failed(void)
+{
+  return hdf5_failed;
+}
+
 PetscErrorCode OutputWriteErrorText(const char path[], int errnum, char why[], size_t len)
 {
   char           dir[PETSC_MAX_PATH_LEN];
@@ -68,7 +80,9 @@ PetscErrorCode OutputWriteErrorText(const char path[], int errnum, char why[], s
     PetscFunctionReturn(0);
   }
   PetscCall(PetscStrncpy(dir, path, sizeof(dir)));
-  if (statvfs(dirname(dir), &fs) == 0 && fs.f_bavail == 0) PetscCall(PetscSNPrintf(why, len, "%s", strerror(ENOSPC)));
+  /* a write of a few KiB failing with less than 1 MiB left ran out of space */
+  if (statvfs(dirname(dir), &fs) == 0 && (double)fs.f_bavail * (double)fs.f_frsize < 1048576.0)
+    PetscCall(PetscSNPrintf(why, len, "%s", strerror(ENOSPC)));
   else if (statvfs(dir, &fs) == 0 && (fs.f_flag & ST_RDONLY)) PetscCall(PetscSNPrintf(why, len, "%s", strerror(EROFS)));
   else PetscCall(PetscSNPrintf(why, len, "%s", errnum > 0 ? strerror(errnum) : "write failed"));
   PetscFunctionReturn(0);

@@ -1,6 +1,7 @@
 #include <errno.h>
 #include <unistd.h>
 #include "summary.h"
+#include "options.h"
 #include "memory_estimate.h"
 #include "option_pairs.h"
 #include "output.h"
@@ -141,17 +142,14 @@ PetscErrorCode OutputMakeDirectories(const char dir[])
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SummaryWrite(MPI_Comm comm, const char dir[], const RunSummary *s)
+static PetscErrorCode WriteOnRoot(const char dir[], const RunSummary *s)
 {
-  PetscMPIInt      rank;
   char             path[PETSC_MAX_PATH_LEN], tmp[PETSC_MAX_PATH_LEN];
   FILE            *fp;
   const RunParams *p = s->params;
   PetscReal        avg;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  if (rank) PetscFunctionReturn(0);
   PetscCall(OutputMakeDirectories(dir));
   PetscCall(PetscSNPrintf(path, sizeof(path), "%s/summary.json", dir));
   PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s/.summary.json.tmp", dir));
@@ -224,6 +222,23 @@ PetscErrorCode SummaryWrite(MPI_Comm comm, const char dir[], const RunSummary *s
   }
   PetscCheck(rename(tmp, path) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE,
              "option -output_dir %s: cannot rename %s to %s", dir, tmp, path);
+  PetscFunctionReturn(0);
+}
+
+/* Rank 0 writes; a failure stops every rank with rank 0's message, not rank 0 alone. */
+PetscErrorCode SummaryWrite(MPI_Comm comm, const char dir[], const RunSummary *s)
+{
+  PetscMPIInt rank;
+  char        message[1024] = "";
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (!rank && WriteOnRoot(dir, s)) {
+    PetscCall(PetscStrncpy(message, ErrorReportingFirstMessage(), sizeof(message)));
+    PetscCall(ErrorReportingForget());
+  }
+  PetscCallMPI(MPI_Bcast(message, sizeof(message), MPI_CHAR, 0, comm));
+  PetscCheck(!message[0], comm, PETSC_ERR_FILE_WRITE, "%s", message);
   PetscFunctionReturn(0);
 }
 
