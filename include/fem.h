@@ -50,6 +50,8 @@ typedef enum {
   FEM_JACOBIAN_CONSTANT,  /* assembled and factored once per run: one linear solve per step */
   FEM_JACOBIAN_ON_REQUEST /* assembled and factored by FEMUpdateJacobian only; solves reuse the factors */
 } FEMJacobianPolicy;
+/* The defaults of a MUMPS LU under `prefix` (a user's option overrides them) */
+PetscErrorCode FEMDirectSolverDefaults(const char prefix[]);
 PetscErrorCode FEMCreateSNES(DM dm, const char prefix[], FEMJacobianPolicy, PetscInt *jacobian_assemblies, SNES *snes);
 /* Solves R(x) = 0 once with a SNES of its own (options under `prefix`), e.g. an initial
    projection; its factorizations are not added to the run's counter. */

@@ -216,6 +216,46 @@ def test_memory_estimate():
     return "2 refused; -force ran; estimate/peak: " + ", ".join(ratios)
 
 
+@test("3 ranks: every scene's set-up and steps create the same PETSc objects on every rank (-check_rank_sync), "
+      "shared and split, and agree with 1 rank (errors, probes)")
+def test_three_ranks():
+    cases = (("mms-fluid", ["-options_file", "options/mms-fluid.yaml"], 0),
+             ("mms-stokes", ["-options_file", "options/mms-stokes.yaml", "-t_final", "0.6"], 0),
+             ("mms-stokes split", ["-options_file", "options/mms-stokes.yaml", "-t_final", "0.6", "-structure_ranks", "1"], 0),
+             ("channel2d", CHANNEL + ["-t_final", "0.0005"], 0),
+             ("channel2d split", CHANNEL + ["-t_final", "0.0005", "-structure_ranks", "1"], 0),
+             ("tube3d", ["-options_file", "options/tube3d.yaml", "-t_final", "0.0002"], 0),
+             ("turek-hron fsi3", TUREK + ["-turek_case", "fsi3", "-dt", "0.001", "-t_final", "0.003"], 0))
+    details, serial = [], {}
+    for name, args, _ in cases:
+        base = name.split()[0]
+        if base not in serial:
+            one = out_dir("one-rank")
+            rc, stdout, err, s1 = run(args, out=one)
+            assert rc == 0, "%s on 1 rank: %s" % (name, fail_text(rc, stdout, err))
+            serial[base] = (s1, probes_or_none(one))
+        out = out_dir("three-ranks")
+        rc, stdout, err, s3 = run(args + ["-check_rank_sync"], nproc=3, out=out)
+        assert rc == 0, "%s on 3 ranks: %s" % (name, fail_text(rc, stdout, err))
+        s1, (names, rows1) = serial[base][0], (serial[base][1] or ([], []))
+        worst = 0.0
+        for key, value in s1["errors"].items():
+            worst = max(worst, abs(s3["errors"][key] - value) / abs(value))
+        rows3 = (probes_or_none(out) or (None, []))[1]
+        assert len(rows3) == len(rows1), "%s: %d probe rows on 3 ranks, %d on 1" % (name, len(rows3), len(rows1))
+        for c in range(1, len(names)):
+            scale = max(abs(r[c]) for r in rows1) or 1.0
+            worst = max(worst, max(abs(a[c] - b[c]) for a, b in zip(rows1, rows3)) / scale)
+        assert worst < 1e-7, "%s: 3 ranks differ from 1 by %.2e (relative)" % (name, worst)
+        details.append("%s %.0e" % (name, worst))
+    return "largest relative difference to 1 rank: " + ", ".join(details)
+
+
+def probes_or_none(out):
+    path = os.path.join(out, "probes.csv")
+    return read_probes(path) if os.path.exists(path) else None
+
+
 @test("10 SIGKILLs while checkpoints are written, then a run with the same checkpoint name and directory: it "
       "completes (no lock, semaphore or shared-memory file left behind), and its checkpoint restarts")
 def test_killed_checkpoint_writes():

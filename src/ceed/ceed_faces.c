@@ -79,6 +79,27 @@ static PetscErrorCode FaceBasis(Ceed ceed, DM dm, PetscFE fe, PetscInt face, Cee
 /* PETSc's face geometry of the faces: as DMPlexComputeBdResidualSingle computes it, with the
    coordinate field's default quadrature when it is of degree 1 (one normal and |J| per face,
    at its centre) and the face quadrature otherwise */
+/* What FaceGeometry creates and caches the first time it runs, made on every rank of the DM
+   (FaceGeometry runs on the ranks with faces only): the coordinate field and the face
+   (height 1) spaces of the coordinates' and the field's elements. A PETSc object created on
+   some ranks of a communicator only takes a tag the others do not, and their next
+   collective hangs. */
+static PetscErrorCode FacesMakeSharedObjects(DM dm, PetscFE fe)
+{
+  DMField     coordinates;
+  DM          cdm;
+  PetscObject disc = NULL;
+  PetscFE     face;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetCoordinateField(dm, &coordinates));
+  PetscCall(DMGetCoordinateDM(dm, &cdm));
+  PetscCall(DMGetField(cdm, 0, NULL, &disc));
+  if (disc && disc->classid == PETSCFE_CLASSID) PetscCall(PetscFEGetHeightSubspace((PetscFE)disc, 1, &face));
+  PetscCall(PetscFEGetHeightSubspace(fe, 1, &face));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode FaceGeometry(DM dm, PetscFE fe, IS points, PetscFEGeom **geometry)
 {
   DMField         coordinates;
@@ -107,6 +128,19 @@ PetscErrorCode FEMCeedFacesCreate(DM dm, PetscFE fe, PetscInt field, DM dm_aux, 
   PetscFE      fe_aux = NULL;
 
   PetscFunctionBeginUser;
+  {
+    /* Only the ranks with faces reach DMPlexGetLocalOffsets and FaceGeometry below; the
+       sections (their boundary labels completed collectively) and the coordinate field (a
+       PETSc object: its creation takes a tag of the communicator) made there for the first
+       time would be made on those ranks alone and hang the others: every rank makes them
+       here */
+    PetscSection section;
+    PetscCall(FacesMakeSharedObjects(dm, fe));
+    PetscCall(DMGetLocalSection(dm, &section));
+    PetscCall(DMGetGlobalSection(dm, &section));
+    if (dm_aux) PetscCall(DMGetLocalSection(dm_aux, &section));
+    if (dm_aux) PetscCall(DMGetGlobalSection(dm_aux, &section));
+  }
   PetscCall(PetscNew(&o));
   PetscCall(FEMCeedGet(&o->ceed));
   o->dm = dm;
@@ -224,6 +258,12 @@ PetscErrorCode FEMCeedFacesGeometry(FEMCeedFaces o)
   const CeedInt    size = 1 + o->dim;
 
   PetscFunctionBeginUser;
+  {
+    /* moved coordinates drop the DM's coordinate field; FaceGeometry, on the ranks with
+       faces only, would create it there alone, and a PETSc object created on some ranks of
+       a communicator puts its tags out of step with the others' (the next collective hangs) */
+    PetscCall(FacesMakeSharedObjects(o->dm, o->fe));
+  }
   PetscCall(DMGetCoordinatesLocal(o->dm, &coordinates_local));
   PetscCall(PetscObjectGetId((PetscObject)coordinates_local, &id));
   PetscCall(PetscObjectStateGet((PetscObject)coordinates_local, &state));

@@ -82,6 +82,7 @@ static PetscErrorCode DirichletSetUp(Fluid f, IS rows)
   PetscCall(SNESGetKSP(f->snes_dirichlet, &ksp));
   PetscCall(KSPSetType(ksp, KSPPREONLY));
   PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(FEMDirectSolverDefaults("fluid_dirichlet_"));
   PetscCall(PCSetType(pc, PCLU));
   PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
   {

@@ -179,6 +179,13 @@ static PetscErrorCode BandSum(Fluid f, Vec xlocal, PetscReal sum[3])
   PetscCall(VecRestoreArray(f->force_x, &xb));
   PetscCall(VecRestoreArrayRead(xlocal, &x));
   PetscCall(VecZeroEntries(f->force_residual));
+  {
+    /* PETSc integrates the band on the ranks that have band cells only, and creates the
+       coordinate field there the first time: every rank creates it, or the ranks' tags of
+       the communicator fall out of step and a later collective hangs */
+    DMField coordinates;
+    PetscCall(DMGetCoordinateField(f->dm_force, &coordinates));
+  }
   PetscCall(DMPlexSNESComputeResidualFEM(f->dm_force, f->force_x, f->force_residual, NULL));
   PetscCall(VecGetArrayRead(f->force_residual, &r));
   for (PetscInt i = 0; i < f->n_force_rows; ++i)

@@ -289,6 +289,7 @@ PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfix
   {
     PC pc;
     PetscCall(KSPGetPC(mm->ksp, &pc));
+    PetscCall(FEMDirectSolverDefaults("mesh_"));
     PetscCall(PCSetType(pc, PCLU));
     PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
   }

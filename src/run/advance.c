@@ -7,6 +7,7 @@
 #include "interrupt.h"
 #include "output.h"
 #include "options.h"
+#include "rank_sync.h"
 
 static PetscErrorCode WriteCheckpoint(Run run, PetscInt step)
 {
@@ -84,6 +85,11 @@ PetscErrorCode RunAdvance(Run run)
       break;
     }
     PetscCall(OutputsRecord(run->outputs, step));
+    {
+      char when[64];
+      PetscCall(PetscSNPrintf(when, sizeof(when), "step %" PetscInt_FMT, step));
+      PetscCall(RunCheckRankSync(run, when));
+    }
     if (step == run->first_step) {
       /* options PETSc reads in its solves have been read now; a refusal still leaves no outputs */
       PetscCall(OptionsCheckUnused(PETSC_COMM_WORLD, PETSC_TRUE));

@@ -38,4 +38,7 @@ struct _p_Run {
   char           stop_reason[2 * PETSC_MAX_PATH_LEN + 1024];
   PetscErrorCode stop_code;
 };
+
+/* -check_rank_sync on the fluid's and the structure's communicators (rank_sync.h) */
+PetscErrorCode RunCheckRankSync(Run, const char when[]);
 #endif

@@ -9,6 +9,7 @@
 #include "logging.h"
 #include "mesh.h"
 #include "interrupt.h"
+#include "rank_sync.h"
 
 static PetscErrorCode RunParamsSetFromOptions(RunParams *p)
 {
@@ -187,6 +188,18 @@ static PetscErrorCode RecordStart(RunSummary *s)
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode RunCheckRankSync(Run run, const char when[])
+{
+  DM dm;
+
+  PetscFunctionBeginUser;
+  if (run->fluid) PetscCall(FluidGetDM(run->fluid, &dm));
+  if (run->fluid) PetscCall(RankSyncCheck((PetscObject)dm, "fluid", when));
+  if (run->structure) PetscCall(StructureGetDM(run->structure, &dm));
+  if (run->structure) PetscCall(RankSyncCheck((PetscObject)dm, "structure", when));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode RunCreate(Run *created)
 {
   Run       run;
@@ -250,6 +263,7 @@ PetscErrorCode RunCreate(Run *created)
   PetscCall(CheckCeedSpaces(run));
   PetscCall(ProgressCreate(PETSC_COMM_WORLD, &run->progress));
   PetscCall(CheckpointOrStart(run));
+  PetscCall(RunCheckRankSync(run, "the set-up"));
   PetscCall(DMDestroy(&fluid_mesh));
   PetscCall(DMDestroy(&structure_mesh));
   PetscCall(PetscLogStagePop());
