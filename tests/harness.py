@@ -122,3 +122,29 @@ def main(argv):
     print("total time %.0fs%s" % (time.time() - t0, " (quick tier)" if quick else ""))
     print("%d passed, %d failed" % (passed, failed))
     return 1 if failed else 0
+
+
+# ---- bad input: one line 'fsiopt: error: ...' naming the culprit, non-zero exit, no summary ----
+F, S = ["-scene", "mms-fluid"], ["-scene", "mms-structure"]
+
+
+def refused(cases):
+    problems = []
+    for name, args, token in cases:
+        rc, stdout, err, summary = run(args, tag="bad")
+        lines = [l for l in (stdout + err).splitlines() if l.strip()]
+        why = []
+        if rc == 0: why.append("exit 0")
+        if summary is not None: why.append("summary.json written")
+        if "PETSC ERROR" in stdout + err: why.append("PETSc traceback")
+        if len(lines) != 1: why.append("%d lines" % len(lines))
+        elif token not in lines[0] or not lines[0].startswith("fsiopt: error:"): why.append("message '%s' lacks '%s'" % (lines[0], token))
+        if why: problems.append("%s: %s" % (name, ", ".join(why)))
+    assert not problems, "; ".join(problems)
+    return "%d cases" % len(cases)
+
+
+def inputs_dir():
+    d = os.path.join(WORK, "inputs")
+    os.makedirs(d, exist_ok=True)
+    return d

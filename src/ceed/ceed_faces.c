@@ -76,22 +76,23 @@ static PetscErrorCode FaceBasis(Ceed ceed, DM dm, PetscFE fe, PetscInt face, Cee
   PetscFunctionReturn(0);
 }
 
-/* PETSc's face geometry of the faces: as DMPlexComputeBdResidualSingle computes it, with the
-   coordinate field's default quadrature when it is of degree 1 (one normal and |J| per face,
-   at its centre) and the face quadrature otherwise */
-/* What FaceGeometry creates and caches the first time it runs, made on every rank of the DM
-   (FaceGeometry runs on the ranks with faces only): the coordinate field and the face
-   (height 1) spaces of the coordinates' and the field's elements. A PETSc object created on
+/* What PETSc creates and caches the first time FaceGeometry and DMPlexGetLocalOffsets run,
+   made on every rank of the DM (those run on the ranks with faces only): the coordinate field,
+   the face (height 1) spaces of the coordinates' and the field's elements, and the sections
+   (building them completes the boundary labels, a collective). A PETSc object created on
    some ranks of a communicator only takes a tag the others do not, and their next
-   collective hangs. */
+   collective hangs (-check_rank_sync). */
 static PetscErrorCode FacesMakeSharedObjects(DM dm, PetscFE fe)
 {
-  DMField     coordinates;
-  DM          cdm;
-  PetscObject disc = NULL;
-  PetscFE     face;
+  DMField      coordinates;
+  DM           cdm;
+  PetscObject  disc = NULL;
+  PetscFE      face;
+  PetscSection section;
 
   PetscFunctionBeginUser;
+  PetscCall(DMGetLocalSection(dm, &section));
+  PetscCall(DMGetGlobalSection(dm, &section));
   PetscCall(DMGetCoordinateField(dm, &coordinates));
   PetscCall(DMGetCoordinateDM(dm, &cdm));
   PetscCall(DMGetField(cdm, 0, NULL, &disc));
@@ -100,6 +101,9 @@ static PetscErrorCode FacesMakeSharedObjects(DM dm, PetscFE fe)
   PetscFunctionReturn(0);
 }
 
+/* PETSc's face geometry of the faces: as DMPlexComputeBdResidualSingle computes it, with the
+   coordinate field's default quadrature when it is of degree 1 (one normal and |J| per face,
+   at its centre) and the face quadrature otherwise */
 static PetscErrorCode FaceGeometry(DM dm, PetscFE fe, IS points, PetscFEGeom **geometry)
 {
   DMField         coordinates;
@@ -128,18 +132,11 @@ PetscErrorCode FEMCeedFacesCreate(DM dm, PetscFE fe, PetscInt field, DM dm_aux, 
   PetscFE      fe_aux = NULL;
 
   PetscFunctionBeginUser;
-  {
-    /* Only the ranks with faces reach DMPlexGetLocalOffsets and FaceGeometry below; the
-       sections (their boundary labels completed collectively) and the coordinate field (a
-       PETSc object: its creation takes a tag of the communicator) made there for the first
-       time would be made on those ranks alone and hang the others: every rank makes them
-       here */
+  PetscCall(FacesMakeSharedObjects(dm, fe));
+  if (dm_aux) {
     PetscSection section;
-    PetscCall(FacesMakeSharedObjects(dm, fe));
-    PetscCall(DMGetLocalSection(dm, &section));
-    PetscCall(DMGetGlobalSection(dm, &section));
-    if (dm_aux) PetscCall(DMGetLocalSection(dm_aux, &section));
-    if (dm_aux) PetscCall(DMGetGlobalSection(dm_aux, &section));
+    PetscCall(DMGetLocalSection(dm_aux, &section));
+    PetscCall(DMGetGlobalSection(dm_aux, &section));
   }
   PetscCall(PetscNew(&o));
   PetscCall(FEMCeedGet(&o->ceed));
@@ -258,12 +255,7 @@ PetscErrorCode FEMCeedFacesGeometry(FEMCeedFaces o)
   const CeedInt    size = 1 + o->dim;
 
   PetscFunctionBeginUser;
-  {
-    /* moved coordinates drop the DM's coordinate field; FaceGeometry, on the ranks with
-       faces only, would create it there alone, and a PETSc object created on some ranks of
-       a communicator puts its tags out of step with the others' (the next collective hangs) */
-    PetscCall(FacesMakeSharedObjects(o->dm, o->fe));
-  }
+  PetscCall(FacesMakeSharedObjects(o->dm, o->fe)); /* moved coordinates drop the coordinate field */
   PetscCall(DMGetCoordinatesLocal(o->dm, &coordinates_local));
   PetscCall(PetscObjectGetId((PetscObject)coordinates_local, &id));
   PetscCall(PetscObjectStateGet((PetscObject)coordinates_local, &state));

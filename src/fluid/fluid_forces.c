@@ -180,9 +180,8 @@ static PetscErrorCode BandSum(Fluid f, Vec xlocal, PetscReal sum[3])
   PetscCall(VecRestoreArrayRead(xlocal, &x));
   PetscCall(VecZeroEntries(f->force_residual));
   {
-    /* PETSc integrates the band on the ranks that have band cells only, and creates the
-       coordinate field there the first time: every rank creates it, or the ranks' tags of
-       the communicator fall out of step and a later collective hangs */
+    /* PETSc integrates the band on the ranks with band cells only and would create the
+       coordinate field there alone (-check_rank_sync; ceed_faces.c's FacesMakeSharedObjects) */
     DMField coordinates;
     PetscCall(DMGetCoordinateField(f->dm_force, &coordinates));
   }

@@ -1,0 +1,243 @@
+"""Bad input (one line 'fsiopt: error: ...' naming the culprit, non-zero exit, no summary)
+and the -help listing."""
+import os, shutil, subprocess
+
+from harness import (CHANNEL, FLUID_SPACE, ROOT, TUREK, WORK, F, S, fail_text, fr, inputs_dir, last_rows,  # noqa: F401
+                     out_dir, read_probes, refused, run, same_file, solve, test)
+
+
+@test("bad input: scenes, options files, methods and models", quick=True)
+def test_bad_input_choices():
+    empty = os.path.join(inputs_dir(), "empty.yaml")
+    open(empty, "w").close()
+    return refused([
+        ("unknown scene", ["-scene", "nosuchscene"], "-scene"),
+        ("no scene", ["-dt", "0.1"], "-scene"),
+        ("unknown coupling", F + ["-coupling", "magic"], "-coupling"),
+        ("missing options file", ["-options_file", "options/nosuch.yaml"], "nosuch.yaml"),
+        ("options file is a directory", ["-options_file", "options"], "-options_file"),
+        ("empty options file", ["-options_file", empty], "empty.yaml"),
+        ("unstable element pair", F + ["-fluid_pressure_degree", "2"], "-fluid_pressure_degree"),
+        ("Dirichlet-Neumann with the convective control", CHANNEL + ["-coupling", "aitken", "-coupling_control", "convective"], "-coupling_control"),
+        ("Dirichlet-Neumann on an enclosed fluid", ["-scene", "mms-stokes", "-coupling", "iqnils"], "incompressibility"),
+        ("elastic projection of a St. Venant-Kirchhoff wall", ["-scene", "mms-structure", "-structure_model", "svk", "-structure_initial_projection"], "-structure_initial_projection"),
+        ("unknown structure model", ["-scene", "mms-structure", "-structure_model", "neo-hookean"], "-structure_model"),
+        ("too many structure ranks", ["-scene", "mms-stokes", "-structure_ranks", "3"], "-structure_ranks"),
+        ("relaxed descent without Tikhonov", ["-scene", "mms-stokes", "-tao_type", "sdrelaxed"], "-coupling_tikhonov"),
+        ("BDF2 with a backward-Euler forcing", F + ["-mms_discrete_time", "-fluid_time_order", "2"], "-mms_discrete_time"),
+        ("third-order fluid time scheme", F + ["-fluid_time_order", "3"], "-fluid_time_order"),
+        ("unknown Turek-Hron case", TUREK + ["-turek_case", "fsi4"], "-turek_case"),
+        ("steady fluid on a moving mesh", TUREK + ["-turek_case", "fsi1", "-fluid_steady"], "-fluid_steady"),
+        ("unknown mesh motion", CHANNEL + ["-mesh_motion", "biharmonc"], "-mesh_motion. Available options: harmonic elastic biharmonic"),
+        ("matrix-free fluid on PETSc's backend", F + ["-fluid_matfree", "-fem_backend", "petsc"], "-fluid_matfree"),
+    ])
+
+
+@test("bad input: physical parameters, time steps, tolerances")
+def test_bad_input_numbers():
+    return refused([
+        ("zero fluid density", F + ["-fluid_density", "0"], "-fluid_density"),
+        ("negative fluid viscosity", F + ["-fluid_viscosity", "-1"], "-fluid_viscosity"),
+        ("zero viscosity", F + ["-fluid_viscosity", "0"], "-fluid_viscosity"),
+        ("zero structure density", S + ["-structure_density", "0"], "-structure_density"),
+        ("negative Young's modulus", S + ["-structure_youngs_modulus", "-5"], "-structure_youngs_modulus"),
+        ("Poisson ratio 0.5", S + ["-structure_poisson_ratio", "0.5"], "-structure_poisson_ratio"),
+        ("Poisson ratio above 0.5", S + ["-structure_poisson_ratio", "0.7"], "-structure_poisson_ratio"),
+        ("zero dt", F + ["-dt", "0"], "-dt"),
+        ("negative dt", F + ["-dt", "-0.01"], "-dt"),
+        ("dt not dividing the interval", F + ["-dt", "0.03", "-t_start", "0", "-t_final", "0.1"], "-dt"),
+        ("t_final before t_start", F + ["-t_start", "1", "-t_final", "0.5"], "-t_final"),
+        ("negative refine", F + ["-refine", "-1"], "-refine"),
+        ("too few extrapolation points", CHANNEL + ["-coupling_extrapolation", "2", "-coupling_extrapolation_points", "2"], "-coupling_extrapolation_points"),
+        ("zero relaxation", ["-scene", "mms-stokes", "-coupling", "dn", "-coupling_omega", "0"], "-coupling_omega"),
+        ("negative Tikhonov weight", ["-scene", "mms-stokes", "-coupling_tikhonov", "-1"], "-coupling_tikhonov"),
+        ("zero coupling tolerance", ["-scene", "mms-stokes", "-coupling_tol", "0"], "-coupling_tol"),
+        ("negative relative coupling tolerance", ["-scene", "mms-stokes", "-coupling_tol_relative", "-1"], "-coupling_tol_relative"),
+        ("Newton-Krylov with a Tikhonov term", ["-scene", "mms-stokes", "-coupling_inner", "gmres", "-coupling_tikhonov", "1e-3"], "-coupling_inner"),
+        ("chord step without an explicit Jacobian", ["-scene", "mms-stokes", "-coupling_inner", "chord"], "-coupling_inner"),
+        ("unknown inner solver", ["-scene", "mms-stokes", "-coupling_inner", "cg"], "-coupling_inner"),
+        ("recurrence fitted to too few controls", CHANNEL + ["-coupling_extrapolation_recurrence", "4"], "-coupling_extrapolation_recurrence"),
+        ("start correction without an explicit Jacobian", ["-scene", "mms-stokes", "-coupling_start_correction"], "-coupling_start_correction"),
+        ("sliding IMVJ window of zero steps", CHANNEL + ["-coupling", "iqnimvj", "-coupling_imvj_restart_mode", "slide"], "-coupling_imvj_restart"),
+        ("negative SVD truncation", CHANNEL + ["-coupling", "iqnimvj", "-coupling_imvj_restart_mode", "svd", "-coupling_imvj_svd_truncation", "-1"], "-coupling_imvj_svd_truncation"),
+        ("zero-step LS reuse", CHANNEL + ["-coupling", "iqnimvj", "-coupling_imvj_restart_mode", "ls", "-coupling_imvj_ls_reuse", "0"], "-coupling_imvj_ls_reuse"),
+        ("zero -dt_min", F + ["-dt_min", "0"], "-dt_min"),
+        ("negative -dt_min", F + ["-dt_min", "-1e-3"], "-dt_min"),
+        ("-dt_min above -dt", F + ["-dt", "0.1", "-dt_min", "0.2"], "-dt_min"),
+        ("negative inflow velocity", TUREK + ["-turek_case", "cfd1", "-turek_mean_velocity", "-1"], "-turek_mean_velocity"),
+        ("negative mesh stiffening", TUREK + ["-turek_case", "fsi1", "-mesh_motion_stiffening", "-1"], "-mesh_motion_stiffening"),
+        ("negative quantities window", TUREK + ["-turek_case", "csm1", "-quantities_window", "-1"], "-quantities_window"),
+    ])
+
+
+@test("bad input: meshes and interfaces")
+def test_bad_input_meshes():
+    d = inputs_dir()
+    junk = os.path.join(d, "junk.msh")
+    open(junk, "w").write("this is not a mesh\n")
+    nolabel_geo, nolabel = os.path.join(d, "nolabels.geo"), os.path.join(d, "nolabels.msh")
+    open(nolabel_geo, "w").write("Point(1)={0,0,0,0.5};Point(2)={1,0,0,0.5};Point(3)={1,1,0,0.5};Point(4)={0,1,0,0.5};"
+                                 "Line(1)={1,2};Line(2)={2,3};Line(3)={3,4};Line(4)={4,1};Curve Loop(1)={1,2,3,4};"
+                                 "Plane Surface(1)={1};Physical Curve(1)={1};Physical Surface(1)={1};\n")
+    subprocess.run(["gmsh", "-2", "-format", "msh22", "-v", "0", "-o", nolabel, nolabel_geo], check=True, capture_output=True)
+    # two quadrilaterals on the unit square with the face sets 1-4; the second listed clockwise
+    inverted = os.path.join(d, "inverted.msh")
+    open(inverted, "w").write("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n6\n1 0 0 0\n2 0.5 0 0\n3 1 0 0\n"
+                              "4 1 1 0\n5 0.5 1 0\n6 0 1 0\n$EndNodes\n$Elements\n8\n1 1 2 1 1 1 2\n2 1 2 1 1 2 3\n"
+                              "3 1 2 2 2 3 4\n4 1 2 3 3 4 5\n5 1 2 3 3 5 6\n6 1 2 4 4 6 1\n7 3 2 1 1 1 2 5 6\n"
+                              "8 3 2 1 1 2 5 4 3\n$EndElements\n")
+    # hostile gmsh files: PETSc's reader trusts them (a missing node gave a mesh that ran to a wrong answer)
+    square = ("$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$Nodes\n6\n1 0 0 0\n2 0.5 0 0\n3 1 0 0\n4 1 1 0\n5 0.5 1 0\n"
+              "6 0 1 0\n$EndNodes\n$Elements\n8\n1 1 2 1 1 1 2\n2 1 2 1 1 2 3\n3 1 2 2 2 3 4\n4 1 2 3 3 4 5\n"
+              "5 1 2 3 3 5 6\n6 1 2 4 4 6 1\n7 3 2 1 1 1 2 5 6\n8 3 2 1 1 2 3 4 5\n$EndElements\n")
+    hostile = {
+        "missing-node": square.replace("8 3 2 1 1 2 3 4 5", "8 3 2 1 1 2 3 4 9"),
+        "duplicated-node": square.replace("\n6\n1 0 0 0", "\n7\n1 0 0 0").replace("6 0 1 0\n", "6 0 1 0\n6 0 1 0\n"),
+        "zero-node": square.replace("8 3 2 1 1 2 3 4 5", "8 3 2 1 1 2 3 4 0"),
+        "wrong-count": square.replace("$Elements\n8\n", "$Elements\n9\n"),
+        "crack": square.replace("\n6\n1 0 0 0", "\n7\n1 0 0 0").replace("$EndNodes", "7 0.5 0 0\n$EndNodes")
+                       .replace("8 3 2 1 1 2 3 4 5", "8 3 2 1 1 7 3 4 5"),
+        "volume-element": square.replace("$Elements\n8\n", "$Elements\n9\n").replace(
+            "$EndElements", "9 4 2 1 1 1 2 3 4\n$EndElements"),
+        "unknown-type": square.replace("8 3 2 1 1 2 3 4 5", "8 6 2 1 1 1 2 3 4 5 6"),
+    }
+    paths = {}
+    for name, text in hostile.items():
+        paths[name] = os.path.join(d, name + ".msh")
+        open(paths[name], "w").write(text)
+    square4 = os.path.join(d, "square41.msh")
+    subprocess.run(["gmsh", "-2", "-format", "msh41", "-v", "0", "-o", square4, os.path.join(ROOT, "meshes", "square.geo")],
+                   check=True, capture_output=True)
+    lines = open(square4).read().split("\n")
+    end = lines.index("$EndElements")
+    lines[end - 1] = " ".join(lines[end - 1].split()[:-1] + ["999"])
+    missing41 = os.path.join(d, "missing41.msh")
+    open(missing41, "w").write("\n".join(lines))
+    truncated = os.path.join(d, "truncated.msh")
+    open(truncated, "w").write(open(os.path.join(ROOT, "meshes", "wall.msh")).read()[:600])
+    return refused([
+        ("missing mesh file", F + ["-fluid_dm_plex_filename", "meshes/nosuch.msh"], "nosuch.msh"),
+        ("unreadable mesh file", F + ["-fluid_dm_plex_filename", junk], "junk.msh"),
+        ("mesh lacking labels", F + ["-fluid_dm_plex_filename", nolabel], "Face Sets"),
+        ("mesh with an inverted cell", F + ["-fluid_dm_plex_filename", inverted], "inverted or degenerate"),
+        ("truncated mesh file", S + ["-structure_dm_plex_filename", truncated], "truncated.msh"),
+        ("3D mesh for a 2D scene", F + ["-fluid_dm_plex_filename", "meshes/tube3d-fluid.msh"], "is 3D"),
+        ("gmsh: a cell's node missing", F + ["-fluid_dm_plex_filename", paths["missing-node"]], "refers to node 9, which $Nodes does not have"),
+        ("gmsh 4.1: a cell's node missing", F + ["-fluid_dm_plex_filename", missing41], "refers to node 999"),
+        ("gmsh: a node listed twice", F + ["-fluid_dm_plex_filename", paths["duplicated-node"]], "listed twice"),
+        ("gmsh: node 0", F + ["-fluid_dm_plex_filename", paths["zero-node"]], "refers to node 0"),
+        ("gmsh: a wrong element count", F + ["-fluid_dm_plex_filename", paths["wrong-count"]], "declares 9 elements"),
+        ("gmsh: a crack", F + ["-fluid_dm_plex_filename", paths["crack"]], "a crack or a duplicated node"),
+        ("gmsh: a tetrahedron in a 2D mesh", F + ["-fluid_dm_plex_filename", paths["volume-element"]], "is 3D"),
+        ("gmsh: a prism", F + ["-fluid_dm_plex_filename", paths["unknown-type"]], "gmsh type 6"),
+        ("non-conforming interface (counts)", ["-scene", "mms-stokes", "-structure_dm_plex_box_faces", "5,2"], "do not conform"),
+        ("non-conforming interface (shifted)", ["-scene", "mms-stokes", "-structure_dm_plex_box_lower", "0.01,1", "-structure_dm_plex_box_upper", "1.01,1.5"], "fluid node (0"),
+    ])
+
+
+@test("bad input: restarts")
+def test_bad_input_restarts():
+    d = inputs_dir()
+    not_hdf5 = os.path.join(d, "junk.h5")
+    open(not_hdf5, "w").write("not hdf5\n")
+    solve(CHANNEL + ["-t_final", "0.0002", "-checkpoint_every", "1"], out=os.path.join(d, "ck"))
+    checkpoint = os.path.join(d, "ck", "checkpoint.h5")
+    import h5py, numpy as np
+    damaged = {}
+    data = open(checkpoint, "rb").read()
+    damaged["truncated"] = os.path.join(d, "ck-truncated.h5")
+    open(damaged["truncated"], "wb").write(data[:len(data) // 2])
+    for name in ("missing", "short", "nan", "noattr"):
+        damaged[name] = os.path.join(d, "ck-%s.h5" % name)
+        shutil.copy(checkpoint, damaged[name])
+        with h5py.File(damaged[name], "a") as f:
+            if name == "noattr":
+                del f["run"].attrs["step"]
+                continue
+            a = np.array(f["fluid/state"])
+            del f["fluid/state"]
+            if name == "short":
+                f["fluid/state"] = a[:len(a) // 2]
+            elif name == "nan":
+                a[3] = np.nan
+                f["fluid/state"] = a
+    return refused([
+        ("checkpoint truncated", CHANNEL + ["-restart", damaged["truncated"]], "truncated, or not a checkpoint"),
+        ("checkpoint without a dataset", CHANNEL + ["-restart", damaged["missing"]], "has no dataset /fluid/state"),
+        ("checkpoint with a mis-sized dataset", CHANNEL + ["-restart", damaged["short"]], "dataset /fluid/state has"),
+        ("checkpoint with a NaN", CHANNEL + ["-restart", damaged["nan"]], "holds NaN or Inf"),
+        ("checkpoint without its step", CHANNEL + ["-restart", damaged["noattr"]], "no attribute 'step'"),
+        ("restart from a file that is not HDF5", CHANNEL + ["-restart", not_hdf5], "not an HDF5 file"),
+        ("restart from a missing file", CHANNEL + ["-restart", os.path.join(d, "nosuch.h5")], "-restart"),
+        ("restart with another dt", CHANNEL + ["-t_final", "0.001", "-dt", "5e-5", "-restart", checkpoint], "dt"),
+        ("restart of another mesh", CHANNEL + ["-t_final", "0.002", "-refine", "1", "-restart", checkpoint], "-restart"),
+        ("restart past the end", CHANNEL + ["-t_final", "0.0001", "-restart", checkpoint], "-restart"),
+        ("-restart_change_dt without -restart", CHANNEL + ["-restart_change_dt"], "-restart_change_dt"),
+        ("new dt off the checkpoint's time", CHANNEL + ["-t_final", "0.0012", "-dt", "3e-4", "-restart", checkpoint, "-restart_change_dt"], "whole number of steps"),
+        ("new dt with -write_fields", CHANNEL + ["-t_final", "0.001", "-dt", "5e-5", "-restart", checkpoint, "-restart_change_dt", "-write_fields"], "-write_fields"),
+        ("restart with a renumbered fluid mesh", CHANNEL + ["-t_final", "0.001", "-restart", checkpoint, "-fluid_dm_plex_reorder", "rcm"], "another split or numbering of the fluid mesh"),
+        ("restart with another density", CHANNEL + ["-t_final", "0.001", "-restart", checkpoint, "-structure_density", "2"], "written with -structure_density 1.1, this run has -structure_density 2"),
+        ("restart with another coupling method", CHANNEL + ["-t_final", "0.001", "-restart", checkpoint, "-coupling", "iqnils"], "-restart_change coupling"),
+        ("restart with another time scheme", CHANNEL + ["-t_final", "0.001", "-restart", checkpoint, "-fluid_time_order", "2"], "-fluid_time_order"),
+        ("restart with another mesh motion", CHANNEL + ["-t_final", "0.001", "-restart", checkpoint, "-mesh_motion", "elastic"], "-mesh_motion"),
+        ("restart with another Young's modulus", CHANNEL + ["-t_final", "0.001", "-restart", checkpoint, "-structure_youngs_modulus", "1e7"], "-structure_youngs_modulus"),
+        ("-restart_change without -restart", CHANNEL + ["-restart_change", "structure_density"], "-restart_change"),
+        ("restart with another t_start", CHANNEL + ["-t_start", "1e-4", "-t_final", "0.001", "-restart", checkpoint], "t_start"),
+    ])
+
+
+def help_text(args):
+    # errors="replace" (run_fsiopt): PETSc 3.18 prints an uninitialized buffer as the
+    # default of -<prefix>dm_plex_boundary_label in DMPlex's own -help lines.
+    out = out_dir("help")
+    r = fr.run_fsiopt(["-help"] + args, out_dir=out, timeout=120)
+    assert r.returncode == 0, "-help %s: exit %s" % (" ".join(args), r.returncode)
+    assert not os.path.exists(out), "-help %s left %s: %s" % (" ".join(args), out, os.listdir(out))
+    return r.stdout
+
+
+def own_section(text):
+    """fsiopt's options as -help groups them at its end: {group line: [option lines]}."""
+    groups, current = {}, None
+    for line in text.split("fsiopt's options, by prefix")[-1].splitlines()[1:]:
+        if line.startswith("  -"):
+            groups.setdefault(current, []).append(line)
+        elif line.startswith(" ") and not line.startswith("  "):
+            current = line.strip()
+    return groups
+
+
+@test("-help lists scenes and options", quick=True)
+def test_help_lists_options():
+    text = help_text(["-scene", "mms-fluid"])
+    for opt in ["-scene", "-coupling", "-refine", "-dt", "-t_start", "-t_final", "-output_dir", "-fluid_density",
+                "-fluid_viscosity", "-fluid_model", "-mms_discrete_time", "-write_fields", "-write_fields_interval",
+                "-fluid_rhs_rtol", "-fluid_extrapolate"]:
+        assert opt in text, "%s not in -help" % opt
+    # a coupled moving-mesh scene with a partitioned method lists the coupling's options too
+    text = help_text(["-options_file", "options/channel2d.yaml", "-coupling", "iqnils"])
+    for opt in ["-coupling_domain", "-coupling_predictor", "-coupling_mesh_extrapolate", "-coupling_extrapolation",
+                "-coupling_extrapolation_points",
+                "-coupling_omega", "-coupling_rtol", "-coupling_atol", "-coupling_iqn_reuse", "-mesh_motion",
+                "-channel_inlet_amplitude", "-fluid_backflow_stabilization", "-structure_model"]:
+        assert opt in text, "%s not in -help of channel2d with -coupling iqnils" % opt
+    text = help_text(["-options_file", "options/channel2d.yaml", "-coupling", "iqnimvj"])
+    for opt in ["-coupling_imvj_restart", "-coupling_iqn_columns", "-coupling_iqn_filter"]:
+        assert opt in text, "%s not in -help of channel2d with -coupling iqnimvj" % opt
+    text = help_text(TUREK)
+    for opt in ["-turek_case", "-turek_mean_velocity", "-turek_ramp_time", "-turek_gravity", "-turek_gravity_ramp",
+                "-quantities_window", "-checkpoint_every", "-checkpoint_file", "-restart", "-fluid_steady",
+                "-mesh_motion_stiffening", "-mesh_motion_incremental", "-dt_min", "-fluid_time_order",
+                "-coupling_explicit_jacobian_rebuild_its", "-interrupt_test_step", "-interrupt_test_signal",
+                "-coupling_inner", "-coupling_inner_jump_fraction", "-coupling_chord_contraction",
+                "-coupling_start_correction", "-coupling_extrapolation_recurrence", "-coupling_secant_updates", "-coupling_tol_relative"]:
+        assert opt in text, "%s not in -help of turek-hron" % opt
+    # fsiopt's own options at the end, by prefix, with units in the scene's system
+    groups = own_section(text)
+    fluid = " ".join(groups.get("fluid_", []))
+    assert "-fluid_density" in fluid and "[kg/m^3]" in fluid and "[Pa s]" in fluid, "turek-hron's fluid_ group: %s" % fluid[:300]
+    assert not [l for g, lines in groups.items() if g != "the run (no prefix)" for l in lines if not l.startswith("  -" + g)], \
+        "an option outside its group: %s" % groups
+    channel = own_section(help_text(["-options_file", "options/channel2d.yaml"]))
+    assert "[g/cm^3]" in " ".join(channel.get("structure_", [])), "channel2d's structure_ group: %s" % channel.get("structure_")
+    return "3 scenes' -help, no files left; fsiopt's options in %d groups with SI and cgs units" % len(groups)
