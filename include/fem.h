@@ -29,6 +29,11 @@ PetscErrorCode FEMBoundaryTerms(DM dm, PetscReal t, Vec xlocal, Vec flocal, Mat 
 /* the tractions' part alone (where the other terms have libCEED face operators) */
 PetscErrorCode FEMBoundaryTractions(DM dm, PetscReal t, Vec xlocal, Vec flocal, FEMTractionCache *cache);
 PetscErrorCode FEMTractionCacheDestroy(FEMTractionCache *);
+/* PETSc's face geometry of the faces `points` for fe's face quadrature, as its boundary
+   integration computes it (an affine face: one normal and |J| at its centre); the objects
+   PETSc creates lazily for face integrals, made on every rank of dm first (ceed_faces.c). */
+PetscErrorCode FEMFaceGeometry(DM dm, PetscFE fe, IS points, PetscFEGeom **geometry);
+PetscErrorCode FEMFacesMakeSharedObjects(DM dm, PetscFE fe);
 /* The scene's volume loads (f0, f1 on field 0) alone, on a copy of dm with its fields (and
    the auxiliary field aux when given), for the operators of the libCEED backend; NULL
    when there are none. FEMLoadsAdd adds them at xlocal into flocal, with dm's present

@@ -70,6 +70,9 @@ PetscErrorCode FluidGetInfo(Fluid, PetscInt *dim, PetscInt *ndofs);
 /* The force of the fluid on the scene's body faces (PhysicsData.force_faces) at the current
    state, on every fluid rank (fluid_forces.c). */
 PetscErrorCode FluidBodyForce(Fluid, PetscReal force[3]);
+/* The same force as the boundary integral of sigma n of the discrete solution (a check on
+   the volume-weighted form; fluid_surface_force.c). */
+PetscErrorCode FluidBodyForceSurface(Fluid, PetscReal force[3]);
 /* Saves or loads the state the next step needs (checkpoint.h); either way the next
    coupled step refactors the Jacobian. */
 PetscErrorCode FluidCheckpoint(Fluid, Checkpoint, PetscBool load);

@@ -20,13 +20,14 @@ typedef struct {
     frequency[FSIOPT_MAX_QUANTITIES];
 } QuantityTable;
 
-/* `nodes` local nodes with coordinates coords[nodes*dim], whose displacements are the blocks
+/* The file `name` in dir; `nodes` local nodes with coordinates coords[nodes*dim], whose displacements are the blocks
    of size dim of the vectors ProbesRecord gets (NULL when there are no points). */
 PetscErrorCode ProbesCreate(MPI_Comm, PetscInt dim, PetscInt nodes, const PetscReal coords[], PetscInt npoints,
                             const PetscReal points[][3], PetscInt nextra, const char *const extra_names[],
-                            const char units[], const char dir[], Probes *);
+                            const char units[], const char dir[], const char name[], Probes *);
 PetscErrorCode ProbesRecord(Probes, PetscReal t, Vec displacement, const PetscReal extra[]);
-/* The quantities of every column, on rank 0 (window from -quantities_window). */
+/* The quantities of every column, on rank 0 (window from -quantities_window), appended to
+   the table's first table->n. */
 PetscErrorCode ProbesQuantities(Probes, QuantityTable *);
 PetscErrorCode ProbesClose(Probes *, PetscBool complete);
 PetscErrorCode ProbesCheckpoint(Probes, Checkpoint, PetscBool load); /* checkpoint.h */

@@ -30,6 +30,7 @@ def test_bad_input_choices():
         ("steady fluid on a moving mesh", TUREK + ["-turek_case", "fsi1", "-fluid_steady"], "-fluid_steady"),
         ("unknown mesh motion", CHANNEL + ["-mesh_motion", "biharmonc"], "-mesh_motion. Available options: harmonic elastic biharmonic"),
         ("matrix-free fluid on PETSc's backend", F + ["-fluid_matfree", "-fem_backend", "petsc"], "-fluid_matfree"),
+        ("surface force without a body", ["-scene", "mms-structure", "-probes_surface_force"], "-probes_surface_force"),
     ])
 
 

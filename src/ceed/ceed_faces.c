@@ -82,7 +82,7 @@ static PetscErrorCode FaceBasis(Ceed ceed, DM dm, PetscFE fe, PetscInt face, Cee
    (building them completes the boundary labels, a collective). A PETSc object created on
    some ranks of a communicator only takes a tag the others do not, and their next
    collective hangs (-check_rank_sync). */
-static PetscErrorCode FacesMakeSharedObjects(DM dm, PetscFE fe)
+PetscErrorCode FEMFacesMakeSharedObjects(DM dm, PetscFE fe)
 {
   DMField      coordinates;
   DM           cdm;
@@ -104,7 +104,7 @@ static PetscErrorCode FacesMakeSharedObjects(DM dm, PetscFE fe)
 /* PETSc's face geometry of the faces: as DMPlexComputeBdResidualSingle computes it, with the
    coordinate field's default quadrature when it is of degree 1 (one normal and |J| per face,
    at its centre) and the face quadrature otherwise */
-static PetscErrorCode FaceGeometry(DM dm, PetscFE fe, IS points, PetscFEGeom **geometry)
+PetscErrorCode FEMFaceGeometry(DM dm, PetscFE fe, IS points, PetscFEGeom **geometry)
 {
   DMField         coordinates;
   PetscQuadrature quadrature = NULL;
@@ -132,7 +132,7 @@ PetscErrorCode FEMCeedFacesCreate(DM dm, PetscFE fe, PetscInt field, DM dm_aux, 
   PetscFE      fe_aux = NULL;
 
   PetscFunctionBeginUser;
-  PetscCall(FacesMakeSharedObjects(dm, fe));
+  PetscCall(FEMFacesMakeSharedObjects(dm, fe));
   if (dm_aux) {
     PetscSection section;
     PetscCall(DMGetLocalSection(dm_aux, &section));
@@ -195,7 +195,7 @@ PetscErrorCode FEMCeedFacesCreate(DM dm, PetscFE fe, PetscInt field, DM dm_aux, 
   PetscCall(PetscMalloc1(n, &o->group_of));
   if (n) {
     PetscFEGeom *geometry;
-    PetscCall(FaceGeometry(dm, fe, o->points, &geometry));
+    PetscCall(FEMFaceGeometry(dm, fe, o->points, &geometry));
     for (PetscInt e = 0; e < n; ++e) {
       const PetscInt k = geometry->face[e][0];
       PetscCheck(k >= 0 && k < FEM_CEED_MAX_CELL_FACES, PETSC_COMM_SELF, PETSC_ERR_PLIB,
@@ -255,7 +255,7 @@ PetscErrorCode FEMCeedFacesGeometry(FEMCeedFaces o)
   const CeedInt    size = 1 + o->dim;
 
   PetscFunctionBeginUser;
-  PetscCall(FacesMakeSharedObjects(o->dm, o->fe)); /* moved coordinates drop the coordinate field */
+  PetscCall(FEMFacesMakeSharedObjects(o->dm, o->fe)); /* moved coordinates drop the coordinate field */
   PetscCall(DMGetCoordinatesLocal(o->dm, &coordinates_local));
   PetscCall(PetscObjectGetId((PetscObject)coordinates_local, &id));
   PetscCall(PetscObjectStateGet((PetscObject)coordinates_local, &state));
@@ -265,7 +265,7 @@ PetscErrorCode FEMCeedFacesGeometry(FEMCeedFaces o)
   if (!o->n) PetscFunctionReturn(0);
   PetscCall(PetscFEGetFaceQuadrature(o->fe, &quadrature));
   PetscCall(PetscQuadratureGetData(quadrature, NULL, NULL, NULL, NULL, &weights));
-  PetscCall(FaceGeometry(o->dm, o->fe, o->points, &geometry));
+  PetscCall(FEMFaceGeometry(o->dm, o->fe, o->points, &geometry));
   {
     /* an affine face geometry holds its values at the face's first point (PetscFEGeomGetPoint) */
     const PetscInt np = geometry->numPoints, every = !geometry->isAffine && np == o->nq;

@@ -181,7 +181,7 @@ static PetscErrorCode BandSum(Fluid f, Vec xlocal, PetscReal sum[3])
   PetscCall(VecZeroEntries(f->force_residual));
   {
     /* PETSc integrates the band on the ranks with band cells only and would create the
-       coordinate field there alone (-check_rank_sync; ceed_faces.c's FacesMakeSharedObjects) */
+       coordinate field there alone (-check_rank_sync; FEMFacesMakeSharedObjects) */
     DMField coordinates;
     PetscCall(DMGetCoordinateField(f->dm_force, &coordinates));
   }

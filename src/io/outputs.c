@@ -10,6 +10,7 @@ struct _p_Outputs {
   Structure        structure;
   CouplingProblem  problem;
   Probes           probes;
+  Probes           surface; /* force_surface.csv (-probes_surface_force) */
   Vec              displacement; /* of the probed nodes */
   FieldWriter      fields;
 };
@@ -35,8 +36,34 @@ static PetscErrorCode ProbesSetUp(Outputs out, PetscInt dim, Interface itf)
   } else if (scene->n_probes && out->structure && !scene->has_fluid)
     PetscCall(StructureCreateNodeVector(out->structure, &out->displacement, &nodes, &coords));
   PetscCall(ProbesCreate(PETSC_COMM_WORLD, dim, nodes, coords, out->displacement ? scene->n_probes : 0, scene->probes,
-                         nforce, force_names, scene->units, out->params->output_dir, &out->probes));
+                         nforce, force_names, scene->units, out->params->output_dir, "probes.csv", &out->probes));
   PetscCall(PetscFree(coords));
+  PetscFunctionReturn(0);
+}
+
+/* force_surface.csv: the body force as the boundary integral of sigma n, beside probes.csv's
+   volume-weighted one. A check, not restored on restart: its series starts at the run's
+   first step. */
+static PetscErrorCode SurfaceForceSetUp(Outputs out, PetscInt dim)
+{
+  const char  *names[] = {"drag_surface", "lift_surface", "force_z_surface"};
+  const Scene *scene   = out->scene;
+  PetscBool    surface = PETSC_FALSE, set;
+
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Probes and the quantities of summary.json", "probes");
+  PetscCall(PetscOptionsBool("-probes_surface_force",
+                             "also write force_surface.csv: the body's force as the boundary integral of sigma n of the "
+                             "discrete solution (a check on probes.csv's volume-weighted drag and lift; from the run's "
+                             "first step, not restored on restart)",
+                             NULL, surface, &surface, &set));
+  PetscOptionsEnd();
+  if (!surface) PetscFunctionReturn(0);
+  PetscCheck(scene->has_fluid && scene->fluid.n_force_faces, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
+             "option -probes_surface_force: scene %s has no body whose force the fluid reports", scene->name);
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &dim, 1, MPIU_INT, MPI_MAX, PETSC_COMM_WORLD));
+  PetscCall(ProbesCreate(PETSC_COMM_WORLD, dim, 0, NULL, 0, NULL, dim, names, scene->units, out->params->output_dir,
+                         "force_surface.csv", &out->surface));
   PetscFunctionReturn(0);
 }
 
@@ -53,6 +80,7 @@ PetscErrorCode OutputsCreate(const RunParams *params, const Scene *scene, PetscI
   out->structure = structure;
   out->problem   = problem;
   PetscCall(ProbesSetUp(out, dim, itf));
+  PetscCall(SurfaceForceSetUp(out, dim));
   PetscCall(FieldWriterCreate(PETSC_COMM_WORLD, params, fluid, structure, &out->fields));
   *outputs = out;
   PetscFunctionReturn(0);
@@ -70,6 +98,10 @@ static PetscErrorCode RecordProbes(Outputs out, PetscReal t)
     PetscCall(CouplingProblemInterfaceDisplacement(out->problem, out->displacement));
   else if (out->displacement) PetscCall(StructureGetNodeDisplacement(out->structure, out->displacement));
   PetscCall(ProbesRecord(out->probes, t, out->displacement, force));
+  if (out->surface) {
+    PetscCall(FluidBodyForceSurface(out->fluid, force));
+    PetscCall(ProbesRecord(out->surface, t, NULL, force));
+  }
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_PROBES, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
@@ -106,9 +138,14 @@ PetscErrorCode OutputsOpen(Outputs out)
 PetscErrorCode OutputsFinish(Outputs out, QuantityTable *quantities)
 {
   PetscFunctionBeginUser;
+  quantities->n = 0;
   if (out->probes) {
     PetscCall(ProbesQuantities(out->probes, quantities));
     PetscCall(ProbesClose(&out->probes, PETSC_TRUE));
+  }
+  if (out->surface) {
+    PetscCall(ProbesQuantities(out->surface, quantities));
+    PetscCall(ProbesClose(&out->surface, PETSC_TRUE));
   }
   PetscCall(FieldWriterFinish(out->fields));
   PetscFunctionReturn(0);
@@ -121,6 +158,7 @@ PetscErrorCode OutputsDestroy(Outputs *outputs)
   PetscFunctionBeginUser;
   if (!out) PetscFunctionReturn(0);
   PetscCall(ProbesClose(&out->probes, PETSC_FALSE));
+  PetscCall(ProbesClose(&out->surface, PETSC_FALSE));
   PetscCall(FieldWriterDestroy(&out->fields));
   PetscCall(VecDestroy(&out->displacement));
   PetscCall(PetscFree(*outputs));

@@ -43,7 +43,7 @@ static PetscErrorCode FindPoints(Probes P, Vec layout, PetscInt nodes, const Pet
 
 PetscErrorCode ProbesCreate(MPI_Comm comm, PetscInt dim, PetscInt nodes, const PetscReal coords[], PetscInt npoints,
                             const PetscReal points[][3], PetscInt nextra, const char *const extra_names[],
-                            const char units[], const char dir[], Probes *probes)
+                            const char units[], const char dir[], const char name[], Probes *probes)
 {
   Probes      P;
   PetscMPIInt rank;
@@ -92,7 +92,7 @@ PetscErrorCode ProbesCreate(MPI_Comm comm, PetscInt dim, PetscInt nodes, const P
     PetscCall(PetscFree(index));
     PetscCall(VecDestroy(&layout));
   }
-  PetscCall(PartialFileOpen(comm, dir, "probes.csv", &P->file));
+  PetscCall(PartialFileOpen(comm, dir, name, &P->file));
   {
     /* each header says its unit in the scene's system: "dy(1.5;1) [cm]"; the forces on a 2D
        body are per unit depth */
@@ -198,17 +198,21 @@ PetscErrorCode ProbesCheckpoint(Probes P, Checkpoint cp, PetscBool load)
 
 PetscErrorCode ProbesQuantities(Probes P, QuantityTable *table)
 {
-  PetscReal *column;
+  PetscReal     *column;
+  const PetscInt first = table->n;
 
   PetscFunctionBeginUser;
-  table->n      = P->ncolumns;
+  PetscCheck(first + P->ncolumns <= FSIOPT_MAX_QUANTITIES, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE,
+             "at most %d quantities, asked for %" PetscInt_FMT, FSIOPT_MAX_QUANTITIES, first + P->ncolumns);
+  table->n      = first + P->ncolumns;
   table->window = P->window;
   PetscCall(PetscMalloc1(P->nrecords + 1, &column));
   for (PetscInt c = 0; c < P->ncolumns; ++c) {
+    const PetscInt q = first + c;
     for (PetscInt r = 0; r < P->nrecords; ++r) column[r] = P->series[r * P->ncolumns + c];
-    PetscCall(PetscStrncpy(table->name[c], P->names[c], sizeof(table->name[c])));
-    PetscCall(QuantityAnalyze(P->nrecords, P->t, column, P->window, &table->final[c], &table->mean[c],
-                              &table->amplitude[c], &table->frequency[c]));
+    PetscCall(PetscStrncpy(table->name[q], P->names[c], sizeof(table->name[q])));
+    PetscCall(QuantityAnalyze(P->nrecords, P->t, column, P->window, &table->final[q], &table->mean[q],
+                              &table->amplitude[q], &table->frequency[q]));
   }
   PetscCall(PetscFree(column));
   PetscFunctionReturn(0);

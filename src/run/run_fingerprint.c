@@ -26,6 +26,7 @@ static const char *const may_change[] = {"-t_final",
                                          "-log_view",
                                          "-info",
                                          "-quantities_window",
+                                         "-probes_surface_force",
                                          "-options_left",
                                          "-history",
                                          NULL};
