@@ -1,7 +1,6 @@
 /* Reading and writing the pieces of a checkpoint, to an HDF5 file or to memory; what goes
    in it is each module's (FluidCheckpoint, StructureCheckpoint, CouplingCheckpoint,
    ProbesCheckpoint). */
-#include <stdio.h>
 #include "checkpoint.h"
 #include "output.h"
 #include <stdio.h>
@@ -147,6 +146,67 @@ static PetscErrorCode DatasetSize(PetscViewer viewer, const char group[], const 
   PetscFunctionReturn(0);
 }
 
+/* What a damaged or foreign file holds where a value is expected: HDF5 converts an integer
+   to a float silently and fails with its diagnostic stack on a string; a dataset of another
+   shape would be read as if it were ours. `expected`: H5T_INTEGER, H5T_FLOAT (8 bytes) or
+   H5T_STRING; an attribute holds one value, a dataset one dimension. */
+static PetscErrorCode CheckStoredType(Checkpoint cp, const char name[], PetscBool attribute, H5T_class_t expected)
+{
+  static const char *const what[] = {"an integer", "a float", "a time", "a string", "a bit field", "an opaque value",
+                                     "a compound",  "a reference", "an enumeration", "a variable-length value",
+                                     "an array"};
+  hid_t       file, object, type, space;
+  H5T_class_t stored = H5T_NO_CLASS;
+  size_t      size   = 0;
+  int         ndims  = -1;
+  hssize_t    points = -1;
+  char       *group;
+  H5E_auto2_t handler;
+  void       *handler_data;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerHDF5GetFileId(cp->viewer, &file));
+  PetscCall(PetscViewerHDF5GetGroup(cp->viewer, NULL, &group));
+  H5Eget_auto2(H5E_DEFAULT, &handler, &handler_data);
+  H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
+  object = attribute ? H5Aopen_by_name(file, group ? group : "/", name, H5P_DEFAULT, H5P_DEFAULT)
+                     : H5Dopen2(file, name, H5P_DEFAULT);
+  if (!attribute && object < 0) {
+    char full[PETSC_MAX_PATH_LEN];
+    PetscCall(PetscSNPrintf(full, sizeof(full), "%s/%s", group ? group : "", name));
+    object = H5Dopen2(file, full, H5P_DEFAULT);
+  }
+  if (object >= 0) {
+    type  = attribute ? H5Aget_type(object) : H5Dget_type(object);
+    space = attribute ? H5Aget_space(object) : H5Dget_space(object);
+    if (type >= 0) {
+      stored = H5Tget_class(type);
+      size   = H5Tget_size(type);
+      H5Tclose(type);
+    }
+    if (space >= 0) {
+      ndims  = H5Sget_simple_extent_ndims(space);
+      points = H5Sget_simple_extent_npoints(space);
+      H5Sclose(space);
+    }
+    if (attribute) H5Aclose(object);
+    else H5Dclose(object);
+  }
+  H5Eset_auto2(H5E_DEFAULT, handler, handler_data);
+  PetscCheck(stored == expected && (expected != H5T_FLOAT || size == 8), PETSC_COMM_WORLD, PETSC_ERR_FILE_UNEXPECTED,
+             "option -restart %s: %s '%s' in %s holds %s%s, expected %s (damaged, or not an fsiopt checkpoint)",
+             cp->path, attribute ? "attribute" : "dataset", name, group ? group : "/",
+             stored >= 0 && stored < (H5T_class_t)(sizeof(what) / sizeof(*what)) ? what[stored] : "nothing readable",
+             stored == H5T_FLOAT && size != 8 ? " of another precision" : "",
+             expected == H5T_INTEGER ? "an integer" : expected == H5T_FLOAT ? "a float" : "a string");
+  PetscCheck(attribute ? points == 1 : ndims == 1, PETSC_COMM_WORLD, PETSC_ERR_FILE_UNEXPECTED,
+             "option -restart %s: %s '%s' in %s has %s, expected %s (damaged, or not an fsiopt checkpoint)", cp->path,
+             attribute ? "attribute" : "dataset", name, group ? group : "/",
+             attribute ? "more than one value" : "another shape", attribute ? "one" : "one dimension");
+  PetscCall(PetscFree(group));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode CheckpointVec(Checkpoint cp, const char name[], Vec v, PetscBool load)
 {
   PetscViewer viewer = cp->viewer;
@@ -173,6 +233,7 @@ PetscErrorCode CheckpointVec(Checkpoint cp, const char name[], Vec v, PetscBool 
                "option -restart %s: the checkpoint has no dataset %s/%s (written by another scene or set-up, or "
                "damaged)",
                cp->path, group, name);
+    PetscCall(CheckStoredType(cp, name, PETSC_FALSE, H5T_FLOAT));
     PetscCall(DatasetSize(viewer, group, name, &stored));
     PetscCheck(stored == N, PetscObjectComm((PetscObject)v), PETSC_ERR_FILE_UNEXPECTED,
                "option -restart %s: dataset %s/%s has %" PetscInt_FMT " values, this run's has %" PetscInt_FMT
@@ -216,6 +277,7 @@ static PetscErrorCode CheckpointAttribute(Checkpoint cp, const char name[], Pets
     PetscCheck(has, PetscObjectComm((PetscObject)viewer), PETSC_ERR_FILE_UNEXPECTED,
                "option -restart %s: the checkpoint has no attribute '%s': not an fsiopt checkpoint of this set-up",
                cp->path, name);
+    PetscCall(CheckStoredType(cp, name, PETSC_TRUE, type == PETSC_INT ? H5T_INTEGER : H5T_FLOAT));
     PetscCall(PetscViewerHDF5ReadAttribute(viewer, NULL, name, type, NULL, value));
   } else PetscCall(PetscViewerHDF5WriteAttribute(viewer, NULL, name, type, value));
   PetscFunctionReturn(0);
@@ -264,6 +326,7 @@ PetscErrorCode CheckpointString(Checkpoint cp, const char name[], char value[], 
   PetscCall(PetscViewerHDF5HasAttribute(viewer, NULL, name, &has));
   PetscCheck(has, PetscObjectComm((PetscObject)viewer), PETSC_ERR_FILE_UNEXPECTED,
              "option -restart: the checkpoint has no attribute '%s': not an fsiopt checkpoint of this set-up", name);
+  PetscCall(CheckStoredType(cp, name, PETSC_TRUE, H5T_STRING));
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, NULL, name, PETSC_STRING, NULL, &read));
   PetscCall(PetscStrncpy(value, read, len));
   PetscCall(PetscFree(read));

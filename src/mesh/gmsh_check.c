@@ -3,7 +3,8 @@
    wrong answer. Checked: the declared counts, node tags that exist and are unique, element
    types fsiopt meshes with, cells of the scene's dimension, and no two nodes of the cells at
    one point (a crack the mesh generator left: the two sides would not be connected).
-   ASCII files of format 2.2 and 4.1; other files are left to PETSc's reader. */
+   ASCII files of format 2.2 and 4.1; other gmsh files (binary, other versions) are left to
+   PETSc's reader, and a file without a $MeshFormat header is refused. */
 #include "mesh.h"
 #include <stdio.h>
 #include <stdlib.h>
@@ -67,8 +68,12 @@ static int Check(const char path[], int dim, char why[], size_t len)
 
   why[0] = 0;
   if (!fp) return 0; /* CheckReadableFile reports it */
-  if (!Seek(fp, "$MeshFormat") || fscanf(fp, "%lf %d %d", &version, &binary, &datasize) != 3 || binary ||
-      (version != 2.2 && version != 4.1)) {
+  /* PETSc's reader crashes on a file that is not gmsh's at all */
+  if (!Seek(fp, "$MeshFormat") || fscanf(fp, "%lf %d %d", &version, &binary, &datasize) != 3) {
+    snprintf(why, len, "not a gmsh mesh (no readable $MeshFormat section)");
+    goto done;
+  }
+  if (binary || (version != 2.2 && version != 4.1)) {
     fclose(fp);
     return 0;
   }

@@ -108,7 +108,7 @@ PetscErrorCode RunCheckpointSetLayouts(RunCheckpointParams *cp, Fluid fluid, Str
 }
 
 /* The meshes' splits and numberings, which the vectors of the file are stored in: a restart
-   must have the same (the same mesh, ranks and partitioner). Not in checkpoints before it. */
+   must have the same (the same mesh, ranks and partitioner). */
 static PetscErrorCode CheckpointLayouts(Checkpoint cp, const char path[], PetscBool load,
                                         const RunCheckpointParams *cpp)
 {
@@ -117,9 +117,6 @@ static PetscErrorCode CheckpointLayouts(Checkpoint cp, const char path[], PetscB
   PetscFunctionBeginUser;
   for (PetscInt k = 0; k < 2; ++k) {
     PetscReal written = cpp->layouts[k];
-    PetscBool has     = PETSC_TRUE;
-    if (load) PetscCall(CheckpointHasAttribute(cp, names[k], &has));
-    if (!has) continue;
     PetscCall(CheckpointReal(cp, names[k], &written, load));
     PetscCheck(PetscAbsReal(written - cpp->layouts[k]) <= 1e-10 * PetscMax(1.0, PetscAbsReal(cpp->layouts[k])),
                PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
@@ -151,7 +148,7 @@ PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, 
   Checkpoint cp;
   PetscReal  dt = params->dt, t_start = params->t_start;
   PetscInt   fluid_dofs = summary->fluid_dofs, structure_dofs = summary->structure_dofs, ranks = summary->total_ranks;
-  PetscBool  has_t_start = PETSC_TRUE, has_fingerprint = PETSC_TRUE, other_dt;
+  PetscBool  has_fingerprint = PETSC_TRUE, other_dt;
   char      *fingerprint, *written;
 
   PetscFunctionBeginUser;
@@ -159,8 +156,11 @@ PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, 
   PetscCall(CheckpointPushGroup(cp, "/run"));
   PetscCall(CheckpointInt(cp, "step", step, load));
   PetscCall(CheckpointReal(cp, "dt", &dt, load));
-  if (load) PetscCall(CheckpointHasAttribute(cp, "t_start", &has_t_start)); /* not in checkpoints before it */
-  if (has_t_start) PetscCall(CheckpointReal(cp, "t_start", &t_start, load));
+  PetscCheck(!load || (PetscIsNormalReal(dt) && dt > 0), PETSC_COMM_WORLD, PETSC_ERR_FILE_UNEXPECTED,
+             "option -restart %s: its time step dt = %g is not a positive number (damaged)", path, (double)dt);
+  PetscCall(CheckpointReal(cp, "t_start", &t_start, load));
+  PetscCheck(!load || !PetscIsInfOrNanReal(t_start), PETSC_COMM_WORLD, PETSC_ERR_FILE_UNEXPECTED,
+             "option -restart %s: its t_start is not a number (damaged)", path);
   PetscCall(CheckpointInt(cp, "fluid_dofs", &fluid_dofs, load));
   PetscCall(CheckpointInt(cp, "structure_dofs", &structure_dofs, load));
   PetscCall(CheckpointInt(cp, "ranks", &ranks, load));
@@ -168,8 +168,13 @@ PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, 
   PetscCall(PetscMalloc2(FINGERPRINT_LEN, &fingerprint, FINGERPRINT_LEN, &written));
   PetscCall(RunFingerprint(fingerprint, FINGERPRINT_LEN));
   PetscCall(PetscStrncpy(written, fingerprint, FINGERPRINT_LEN));
-  if (load) PetscCall(CheckpointHasAttribute(cp, "problem_options", &has_fingerprint)); /* not before it */
-  if (has_fingerprint) PetscCall(CheckpointString(cp, "problem_options", written, FINGERPRINT_LEN, load));
+  if (load) PetscCall(CheckpointHasAttribute(cp, "problem_options", &has_fingerprint));
+  PetscCheck(has_fingerprint, PETSC_COMM_WORLD, PETSC_ERR_FILE_UNEXPECTED,
+             "option -restart %s: the checkpoint does not record the options of the problem it belongs to "
+             "(attribute problem_options of /run; damaged, or written by an older fsiopt): nothing to check a "
+             "restart against",
+             path);
+  PetscCall(CheckpointString(cp, "problem_options", written, FINGERPRINT_LEN, load));
   PetscCall(CheckpointPopGroup(cp));
   other_dt = load && PetscAbsReal(dt - params->dt) > 1e-12 * params->dt ? PETSC_TRUE : PETSC_FALSE;
   if (load) {
@@ -194,7 +199,7 @@ PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, 
                "option -restart %s: written on %" PetscInt_FMT
                " ranks, this run has %d (the meshes' distribution must be the same)",
                path, ranks, (int)summary->total_ranks);
-    if (has_fingerprint) PetscCall(RunFingerprintCompare(path, written, fingerprint, cpp->change));
+    PetscCall(RunFingerprintCompare(path, written, fingerprint, cpp->change));
     if (other_dt) PetscCall(StepAtNewTimeStep(path, *step, dt, params, step));
     PetscCheck(*step >= 0 && *step < params->steps, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
                "option -restart %s: it ends step %" PetscInt_FMT

@@ -5,7 +5,9 @@
    observed or ended may change; everything else in the options database is the problem. */
 #include "run_checkpoint.h"
 #include "option_pairs.h"
+#include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 static const char *const may_change[] = {"-t_final",
                                          "-output_dir",
@@ -15,6 +17,7 @@ static const char *const may_change[] = {"-t_final",
                                          "-restart_change_dt",
                                          "-restart_change",
                                          "-dt",
+                                         "-t_start", /* compared as a number on its own (run_checkpoint.c) */
                                          "-dt_min",
                                          "-quiet",
                                          "-write_fields",
@@ -27,6 +30,11 @@ static const char *const may_change[] = {"-t_final",
                                          "-info",
                                          "-quantities_window",
                                          "-probes_surface_force",
+                                         "-progress_interval",
+                                         "-progress_seconds",
+                                         "-memory_per_node_gib",
+                                         "-force",
+                                         "-check_rank_sync",
                                          "-options_left",
                                          "-history",
                                          NULL};
@@ -127,6 +135,42 @@ static const char *Lookup(const char text[], const char *name, size_t name_len, 
   return NULL;
 }
 
+/* true, false or neither (-1), as PETSc reads a flag's value */
+static int Truth(const char *v, size_t n)
+{
+  static const char *const yes[] = {"", "1", "true", "yes", "on"}, *const no[] = {"0", "false", "no", "off"};
+  for (size_t i = 0; i < sizeof(yes) / sizeof(*yes); ++i)
+    if (strlen(yes[i]) == n && !strncasecmp(v, yes[i], n)) return 1;
+  for (size_t i = 0; i < sizeof(no) / sizeof(*no); ++i)
+    if (strlen(no[i]) == n && !strncasecmp(v, no[i], n)) return 0;
+  return -1;
+}
+
+/* the same value, also when written differently: "1.1" and "1.10", "2e3" and "2000", lists
+   item by item, "true" and "1" */
+static PetscBool SameValue(const char *a, size_t la, const char *b, size_t lb)
+{
+  if (la == lb && !strncmp(a, b, la)) return PETSC_TRUE;
+  if (Truth(a, la) >= 0 && Truth(a, la) == Truth(b, lb)) return PETSC_TRUE;
+  for (;;) {
+    char        x[128], y[128], *ex, *ey;
+    const char *ca = memchr(a, ',', la), *cb = memchr(b, ',', lb);
+    size_t      na = ca ? (size_t)(ca - a) : la, nb = cb ? (size_t)(cb - b) : lb;
+    double      u, v;
+    if (!na || !nb || na >= sizeof(x) || nb >= sizeof(y) || !ca != !cb) return PETSC_FALSE;
+    memcpy(x, a, na);
+    x[na] = 0;
+    memcpy(y, b, nb);
+    y[nb] = 0;
+    u = strtod(x, &ex);
+    v = strtod(y, &ey);
+    if (*ex || *ey || !(u == v || PetscAbsReal(u - v) <= 1e-14 * PetscMax(PetscAbsReal(u), PetscAbsReal(v))))
+      return PETSC_FALSE;
+    if (!ca) return PETSC_TRUE;
+    a = ca + 1, la -= na + 1, b = cb + 1, lb -= nb + 1;
+  }
+}
+
 static PetscErrorCode FirstDifference(const char a[], const char b[], const char change[], PetscBool *found,
                                       char name[], size_t nlen, char va[], char vb[], size_t vlen)
 {
@@ -140,7 +184,7 @@ static PetscErrorCode FirstDifference(const char a[], const char b[], const char
     name_len = (size_t)(space - line);
     x        = Lookup(a, line, name_len, &la);
     y        = Lookup(b, line, name_len, &lb);
-    if (!MayChange(line, name_len, change) && (!y || la != lb || strncmp(x, y, la))) {
+    if (!MayChange(line, name_len, change) && (!y || !SameValue(x, la, y, lb))) {
       *found = PETSC_TRUE;
       snprintf(name, nlen, "%.*s", (int)name_len, line);
       snprintf(va, vlen, "%.*s", (int)la, x);
