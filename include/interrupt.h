@@ -16,4 +16,8 @@ PetscErrorCode InterruptTestAfterStep(PetscInt step);
    rank received a SIGUSR1 since the last check; collective. */
 PetscErrorCode InterruptCheck(MPI_Comm, int *signum, PetscBool *checkpoint);
 const char    *InterruptName(int signum);
+/* Installed at the start (main), the handlers hold a stop that comes during the set-up until
+   the next of these checks, which end the run with one line (collective on every rank;
+   `where`: the part of the set-up done). */
+PetscErrorCode InterruptCheckSetUp(const char where[]);
 #endif

@@ -11,6 +11,7 @@
 #include "options.h"
 #include "output.h"
 #include "help.h"
+#include "interrupt.h"
 
 static const char
   help[] = "fsiopt: fluid-structure interaction by optimization-based decoupling.\n"
@@ -89,6 +90,9 @@ int main(int argc, char **argv)
   /* a reader that stops reading (fsiopt -help | head) ends the run quietly, as it ends any
      Unix tool, instead of PETSc's signal banner */
   signal(SIGPIPE, SIG_DFL);
+  /* a stop during the set-up ends it with one line (PETSc's own handler would catch SIGHUP
+     with its banner, and SIGTERM and SIGINT would kill the run without a word) */
+  if (InterruptInstall()) return 1;
   MPI_Comm_dup(PETSC_COMM_WORLD, &error_comm);
   ierr = ErrorReportingPush();
   if (!ierr) ierr = RunMain();
@@ -103,8 +107,14 @@ int main(int argc, char **argv)
     if (every_rank) OutputLockRelease();
     if (!every_rank) {
       /* the others wait in a call this rank will not make: it says why and ends the job
-         (the launcher stops the other ranks) */
-      fprintf(stderr, "fsiopt: error: rank %d: %s\n", (int)rank, ErrorReportingFirstMessage());
+         (the launcher stops the other ranks). An error every rank of a subcommunicator
+         raised (the structure's ranks of a split run) is said by its first rank only. */
+      MPI_Comm    comm = ErrorReportingFirstComm();
+      PetscMPIInt comm_rank = 0, comm_size = 1;
+      if (comm != MPI_COMM_NULL && MPI_Comm_size(comm, &comm_size) == MPI_SUCCESS && comm_size > 1 &&
+          EveryRankStopped(comm))
+        MPI_Comm_rank(comm, &comm_rank);
+      if (!comm_rank) fprintf(stderr, "fsiopt: error: rank %d: %s\n", (int)rank, ErrorReportingFirstMessage());
       OutputLockReleaseForJob();
       fflush(stderr);
       fflush(stdout);

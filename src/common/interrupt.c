@@ -80,6 +80,18 @@ PetscErrorCode InterruptCheck(MPI_Comm comm, int *signum, PetscBool *checkpoint)
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode InterruptCheckSetUp(const char where[])
+{
+  int signum = 0, any = 0;
+
+  PetscFunctionBeginUser;
+  signum = (int)caught;
+  PetscCallMPI(MPI_Allreduce(&signum, &any, 1, MPI_INT, MPI_MAX, PETSC_COMM_WORLD));
+  PetscCheck(!any, PETSC_COMM_WORLD, PETSC_ERR_USER, "stopped by %s during the set-up (%s); no step was run",
+             InterruptName(any), where);
+  PetscFunctionReturn(0);
+}
+
 const char *InterruptName(int signum)
 {
   return signum == SIGINT ? "SIGINT" : signum == SIGTERM ? "SIGTERM" : signum == SIGHUP ? "SIGHUP" : "a signal";

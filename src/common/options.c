@@ -1,6 +1,8 @@
 #include <ctype.h>
 #include "options.h"
+#include "option_pairs.h"
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 
@@ -9,7 +11,7 @@ PetscErrorCode OptionsPositiveReal(PetscOptionItems *PetscOptionsObject, const c
 {
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsReal(opt, text, NULL, *value, value, NULL));
-  PetscCheck(*value > 0 && !PetscIsInfOrNanReal(*value), PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+  PetscCheck(*value > 0 && !PetscIsInfOrNanReal(*value), PetscOptionsObject->comm, PETSC_ERR_ARG_OUTOFRANGE,
              "option %s: expected a positive number (%s), got %g", opt, text, (double)*value);
   PetscFunctionReturn(0);
 }
@@ -19,7 +21,7 @@ PetscErrorCode OptionsNonNegativeReal(PetscOptionItems *PetscOptionsObject, cons
 {
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsReal(opt, text, NULL, *value, value, NULL));
-  PetscCheck(*value >= 0 && !PetscIsInfOrNanReal(*value), PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+  PetscCheck(*value >= 0 && !PetscIsInfOrNanReal(*value), PetscOptionsObject->comm, PETSC_ERR_ARG_OUTOFRANGE,
              "option %s: expected a number >= 0 (%s), got %g", opt, text, (double)*value);
   PetscFunctionReturn(0);
 }
@@ -29,7 +31,7 @@ PetscErrorCode OptionsRealInRange(PetscOptionItems *PetscOptionsObject, const ch
 {
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsReal(opt, text, NULL, *value, value, NULL));
-  PetscCheck(*value > lo && *value < hi, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+  PetscCheck(*value > lo && *value < hi, PetscOptionsObject->comm, PETSC_ERR_ARG_OUTOFRANGE,
              "option %s: expected a number in (%g, %g) (%s), got %g", opt, (double)lo, (double)hi, text,
              (double)*value);
   PetscFunctionReturn(0);
@@ -40,7 +42,7 @@ PetscErrorCode OptionsIntInRange(PetscOptionItems *PetscOptionsObject, const cha
 {
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsInt(opt, text, NULL, *value, value, NULL));
-  PetscCheck(*value >= lo && *value <= hi, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+  PetscCheck(*value >= lo && *value <= hi, PetscOptionsObject->comm, PETSC_ERR_ARG_OUTOFRANGE,
              "option %s: expected an integer in [%" PetscInt_FMT ", %" PetscInt_FMT "] (%s), got %" PetscInt_FMT, opt,
              lo, hi, text, *value);
   PetscFunctionReturn(0);
@@ -125,28 +127,84 @@ PetscErrorCode CheckReadableFile(MPI_Comm comm, const char opt[], const char pat
 }
 
 /* The first message of an error is the one that names the cause; PetscCall repeats it up the stack. */
-static char first_message[1024];
+static char     first_message[1024];
+static MPI_Comm first_comm = MPI_COMM_NULL;
+
+/* PETSc's reading of a value names the value, not the option: "Input string water has no
+   numeric value". The options whose value it is, from the database. */
+static PetscBool NameTheOption(const char *mess, char out[], size_t len)
+{
+  static const struct {
+    const char *before, *after, *expected;
+  } forms[] = {
+    {"Input string ",         " has no numeric value", "a number"                 },
+    {"Input string ",         " has no integer value", "an integer (no . in it)"  },
+    {"Unknown logical value: ", "",                    "true or false"            },
+  };
+  for (size_t f = 0; f < sizeof(forms) / sizeof(*forms); ++f) {
+    const size_t nb = strlen(forms[f].before);
+    const char  *value, *end;
+    char        *all = NULL, names[512] = "";
+    OptionPairs *pairs;
+    size_t       nv;
+
+    if (strncmp(mess, forms[f].before, nb)) continue;
+    value = mess + nb;
+    end   = forms[f].after[0] ? strstr(value, forms[f].after) : value + strlen(value);
+    if (!end) continue;
+    nv = (size_t)(end - value);
+    if (PetscOptionsGetAll(NULL, &all) || !(pairs = (OptionPairs *)calloc(1, sizeof(*pairs)))) {
+      PetscFree(all);
+      return PETSC_FALSE;
+    }
+    OptionPairsParse(all, pairs);
+    for (PetscInt i = 0; i < pairs->n; ++i) {
+      /* a list is read item by item: "0.1,0.2" holds "0.1" */
+      const char *v = pairs->value[i];
+      PetscBool   holds = pairs->value_len[i] == nv && !strncmp(v, value, nv) ? PETSC_TRUE : PETSC_FALSE;
+      for (const char *c = v; !holds && c < v + pairs->value_len[i]; ++c)
+        if ((c == v || c[-1] == ',') && !strncmp(c, value, nv) && (c + nv == v + pairs->value_len[i] || c[nv] == ','))
+          holds = PETSC_TRUE;
+      if (holds && strlen(names) + pairs->name_len[i] + 6 < sizeof(names)) {
+        if (names[0]) strcat(names, " or ");
+        strncat(names, pairs->name[i], pairs->name_len[i]);
+      }
+    }
+    free(pairs);
+    PetscFree(all);
+    if (!names[0]) return PETSC_FALSE;
+    snprintf(out, len, "option %s: expected %s, got '%.*s'", names, forms[f].expected, (int)nv, value);
+    return PETSC_TRUE;
+  }
+  return PETSC_FALSE;
+}
 
 static PetscErrorCode RecordFirstMessage(MPI_Comm comm, int line, const char *func, const char *file, PetscErrorCode n,
                                          PetscErrorType p, const char *mess, void *ctx)
 {
-  (void)comm;
   (void)ctx;
   if (p == PETSC_ERROR_INITIAL && !first_message[0]) {
     /* our own checks name the option or file; an error raised inside PETSc says where.
        Ours are compiled as src/... (the Makefile's paths); Debian's PETSc as ./src/... */
     const PetscBool ours = file && strncmp(file, "src/", 4) == 0 ? PETSC_TRUE : PETSC_FALSE;
+    first_comm           = comm;
     if (mess && mess[0] && ours) PetscSNPrintf(first_message, sizeof(first_message), "%s", mess);
-    else
+    else if (!(mess && NameTheOption(mess, first_message, sizeof(first_message))))
       PetscSNPrintf(first_message, sizeof(first_message), "%s (PETSc error %d in %s() at %s:%d)",
                     mess && mess[0] ? mess : "PETSc error", (int)n, func, file, line);
   }
   return n;
 }
 
+MPI_Comm ErrorReportingFirstComm(void)
+{
+  return first_comm;
+}
+
 PetscErrorCode ErrorReportingForget(void)
 {
   first_message[0] = 0;
+  first_comm       = MPI_COMM_NULL;
   return 0;
 }
 

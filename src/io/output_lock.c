@@ -89,9 +89,9 @@ PetscErrorCode OutputLockTake(MPI_Comm comm, const char dir[])
     PetscCall(PetscTestDirectory(dir, 'w', &exists));
     if (!exists) {
       PetscCall(PetscStrncpy(created_dir, dir, sizeof(created_dir)));
-      PetscCall(OutputMakeDirectories(dir));
+      refused = OutputMakeDirectoriesWhy(dir, message, sizeof(message));
     }
-    refused = TryLock(dir, message, sizeof(message));
+    if (!refused) refused = TryLock(dir, message, sizeof(message));
   }
   PetscCallMPI(MPI_Bcast(&refused, 1, MPI_INT, 0, comm));
   PetscCallMPI(MPI_Bcast(message, sizeof(message), MPI_CHAR, 0, comm));

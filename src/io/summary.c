@@ -1,4 +1,6 @@
 #include <errno.h>
+#include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include "summary.h"
 #include "options.h"
@@ -123,22 +125,42 @@ static PetscErrorCode WriteOptions(FILE *fp)
   PetscFunctionReturn(0);
 }
 
+int OutputMakeDirectoriesWhy(const char dir[], char why[], size_t len)
+{
+  char        path[PETSC_MAX_PATH_LEN];
+  struct stat st;
+
+  why[0] = 0;
+  (void)snprintf(path, sizeof(path), "%s", dir);
+  for (char *c = path + 1;; ++c) {
+    const char at = *c;
+    if (at && at != '/') continue;
+    *c = 0;
+    /* an existing directory may be read-only above the one we write in */
+    if (mkdir(path, 0777) && errno != EEXIST) {
+      (void)snprintf(why, len, "option -output_dir %s: cannot create %s (%s)", dir, path, strerror(errno));
+      return 1;
+    }
+    if (stat(path, &st) || !S_ISDIR(st.st_mode)) {
+      (void)snprintf(why, len, "option -output_dir %s: %s is not a directory", dir, path);
+      return 1;
+    }
+    *c = at;
+    if (!at) break;
+  }
+  if (access(path, W_OK | X_OK)) {
+    (void)snprintf(why, len, "option -output_dir %s: cannot write there (%s)", dir, strerror(errno));
+    return 1;
+  }
+  return 0;
+}
+
 PetscErrorCode OutputMakeDirectories(const char dir[])
 {
-  char      path[PETSC_MAX_PATH_LEN];
-  PetscBool exists;
+  char why[2 * PETSC_MAX_PATH_LEN + 128];
 
   PetscFunctionBeginUser;
-  PetscCall(PetscStrncpy(path, dir, sizeof(path)));
-  for (char *c = path + 1; *c; ++c) {
-    if (*c != '/') continue;
-    *c = 0;
-    PetscCall(PetscTestDirectory(path, 'w', &exists));
-    if (!exists) PetscCall(PetscMkdir(path));
-    *c = '/';
-  }
-  PetscCall(PetscTestDirectory(path, 'w', &exists));
-  if (!exists) PetscCall(PetscMkdir(path));
+  PetscCheck(!OutputMakeDirectoriesWhy(dir, why, sizeof(why)), PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "%s", why);
   PetscFunctionReturn(0);
 }
 

@@ -1,34 +1,68 @@
 /* The run's checkpoint: which options, and which modules' states, in one HDF5 file. */
 #include <errno.h>
 #include <fcntl.h>
+#include <limits.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #include "run_checkpoint.h"
 #include "checkpoint.h"
 #include "options.h"
 #include "mesh.h"
 
+/* The files a run writes in its -output_dir (outputs.c, history.c, summary.c, fields.c,
+   output_lock.c), each also as NAME.partial or NAME.tmp while it is written. */
+static const char *const output_files[] = {"probes.csv", "history.csv", "summary.json", "fields.h5",
+                                           "fields.xdmf", "force_surface.csv", ".fsiopt.lock", NULL};
+
+/* 0, or the output file the checkpoint would overwrite (it would replace the run's lock or
+   probes and be replaced by them) */
+static const char *OutputFileAt(const char path[], const char output_dir[])
+{
+  char        dir[PATH_MAX], out[PATH_MAX], parent[PETSC_MAX_PATH_LEN];
+  const char *slash = strrchr(path, '/'), *base = slash ? slash + 1 : path;
+
+  (void)snprintf(parent, sizeof(parent), "%.*s", slash ? (int)(slash - path) : 1, slash ? path : ".");
+  if (!parent[0]) (void)snprintf(parent, sizeof(parent), "/");
+  if (!realpath(parent, dir) || !realpath(output_dir, out) || strcmp(dir, out)) return NULL;
+  for (int i = 0; output_files[i]; ++i)
+    if (!strncmp(base, output_files[i], strlen(output_files[i]))) return output_files[i];
+  return NULL;
+}
+
 /* Before the first step: a checkpoint that cannot be written would stop the run at its
-   first checkpoint, hours in. */
-static PetscErrorCode CheckWritable(const char path[])
+   first checkpoint (or at a SIGTERM's), hours in. */
+static PetscErrorCode CheckWritable(const char path[], const char output_dir[])
 {
   PetscMPIInt rank;
-  int         cause = 0;
+  int         cause = 0, directory = 0;
+  const char *clash = NULL;
   char        tmp[PETSC_MAX_PATH_LEN];
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
   if (!rank) {
-    int fd;
+    struct stat st;
+    int         fd;
+    directory = !stat(path, &st) && S_ISDIR(st.st_mode);
+    clash     = OutputFileAt(path, output_dir);
     PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
-    fd = open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    fd = directory || clash ? -1 : open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0644);
     if (fd < 0) cause = errno;
     else {
       (void)close(fd);
       (void)unlink(tmp);
     }
   }
+  PetscCallMPI(MPI_Bcast(&directory, 1, MPI_INT, 0, PETSC_COMM_WORLD));
+  PetscCheck(!directory, PETSC_COMM_WORLD, PETSC_ERR_FILE_OPEN,
+             "option -checkpoint_file %s: a directory; expected the name of a file", path);
+  cause = clash ? -1 : cause;
   PetscCallMPI(MPI_Bcast(&cause, 1, MPI_INT, 0, PETSC_COMM_WORLD));
+  PetscCheck(cause != -1, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
+             "option -checkpoint_file %s: the name of a file the run writes in -output_dir %s; choose another name",
+             path, output_dir);
   PetscCheck(!cause, PETSC_COMM_WORLD, PETSC_ERR_FILE_OPEN, "option -checkpoint_file %s: cannot write there (%s)", path,
              strerror(cause));
   PetscFunctionReturn(0);
@@ -71,7 +105,8 @@ PetscErrorCode RunCheckpointSetFromOptions(const RunParams *params, PetscBool se
              "option %s: checkpoints need fluid and structure on the same ranks (-structure_ranks 0)",
              cp->restarting ? "-restart" : "-checkpoint_every");
   cp->possible = !separate_ranks && restartable ? PETSC_TRUE : PETSC_FALSE;
-  if (cp->every && !OptionsHelpRequested()) PetscCall(CheckWritable(cp->file));
+  /* with -checkpoint_every, and for the checkpoint a SIGTERM or SIGUSR1 writes */
+  if ((cp->every || cp->possible) && !OptionsHelpRequested()) PetscCall(CheckWritable(cp->file, params->output_dir));
   PetscFunctionReturn(0);
 }
 

@@ -243,10 +243,12 @@ PetscErrorCode RunCreate(Run *created)
   if (!run->help) PetscCall(OutputLockTake(PETSC_COMM_WORLD, run->params.output_dir));
   PetscCall(InterruptSetFromOptions());
   run->coupled = run->scene.has_fluid && run->scene.has_structure;
+  PetscCall(InterruptCheckSetUp("options read"));
   PetscCall(SplitRanks(run));
   if (run->scene.has_fluid && run->fluid_comm != MPI_COMM_NULL) PetscCall(FluidFromScene(run, &fluid_mesh));
   if (run->scene.has_structure && run->structure_comm != MPI_COMM_NULL)
     PetscCall(StructureFromScene(run, &structure_mesh));
+  PetscCall(InterruptCheckSetUp("meshes and solvers made"));
   if (run->coupled) {
     PetscCall(PetscLogEventBegin(FSIOPT_EVENT_INTERFACE, 0, 0, 0, 0));
     PetscCall(InterfaceCreate(PETSC_COMM_WORLD, fluid_mesh, run->scene.fluid.interface_face, structure_mesh,
@@ -262,7 +264,9 @@ PetscErrorCode RunCreate(Run *created)
   PetscCall(StepRetryCreate(&run->params, run->fluid, run->structure, run->coupling, &run->retry));
   PetscCall(CheckCeedSpaces(run));
   PetscCall(ProgressCreate(PETSC_COMM_WORLD, &run->progress));
+  PetscCall(InterruptCheckSetUp("coupling and outputs made"));
   PetscCall(CheckpointOrStart(run));
+  PetscCall(InterruptCheckSetUp("initial state made"));
   PetscCall(RunCheckRankSync(run, "the set-up"));
   PetscCall(DMDestroy(&fluid_mesh));
   PetscCall(DMDestroy(&structure_mesh));
