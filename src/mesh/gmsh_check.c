@@ -190,12 +190,19 @@ static int Check(const char path[], int dim, char why[], size_t len)
           goto done;
         }
         if (edim > top) top = edim;
+        long element_nodes[27];
         for (int k = 0; k < count; ++k) {
           Node *n;
           if (fscanf(fp, "%ld", &node) != 1) {
             snprintf(why, len, "element %ld has fewer nodes than its type %d needs", tag, type);
             goto done;
           }
+          element_nodes[k] = node;
+          for (int j = 0; j < k; ++j)
+            if (element_nodes[j] == node) {
+              snprintf(why, len, "element %ld names node %ld twice (a collapsed cell)", tag, node);
+              goto done;
+            }
           n = FindNode(nodes, nnodes, node);
           if (!n) {
             snprintf(why, len, "element %ld refers to node %ld, which $Nodes does not have", tag, node);

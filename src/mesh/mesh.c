@@ -65,6 +65,36 @@ static PetscErrorCode MeshCheckCells(DM dm, const char prefix[], const char sour
   PetscFunctionReturn(0);
 }
 
+/* PETSc's box mesh takes zero cells per direction without a word (and then has no faces
+   to label), and a box whose lower corner is above its upper one as an inverted mesh that
+   runs. */
+static PetscErrorCode MeshCheckBox(MPI_Comm comm, const char prefix[])
+{
+  char      option[256], lower_option[256], upper_option[256];
+  PetscInt  faces[3], nfaces = 3, nlower = 3, nupper = 3;
+  PetscReal lower[3] = {0, 0, 0}, upper[3] = {1, 1, 1};
+  PetscBool set;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(option, sizeof(option), "-%sdm_plex_box_faces", prefix));
+  PetscCall(PetscOptionsGetIntArray(NULL, NULL, option, faces, &nfaces, &set));
+  for (PetscInt d = 0; set && d < nfaces; ++d)
+    PetscCheck(faces[d] >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE,
+               "option %s: expected at least 1 cell in every direction, got %" PetscInt_FMT " in direction %" PetscInt_FMT,
+               option, faces[d], d + 1);
+  PetscCall(PetscSNPrintf(lower_option, sizeof(lower_option), "-%sdm_plex_box_lower", prefix));
+  PetscCall(PetscSNPrintf(upper_option, sizeof(upper_option), "-%sdm_plex_box_upper", prefix));
+  PetscCall(PetscOptionsGetRealArray(NULL, NULL, lower_option, lower, &nlower, NULL));
+  PetscCall(PetscOptionsGetRealArray(NULL, NULL, upper_option, upper, &nupper, NULL));
+  for (PetscInt d = 0; d < 3; ++d)
+    PetscCheck(lower[d] < upper[d] && !PetscIsInfOrNanReal(lower[d]) && !PetscIsInfOrNanReal(upper[d]), comm,
+               PETSC_ERR_ARG_OUTOFRANGE,
+               "options %s and %s: expected a lower corner below the upper one in every direction, got %g and %g in "
+               "direction %" PetscInt_FMT,
+               lower_option, upper_option, (double)lower[d], (double)upper[d], d + 1);
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode MeshCreate(MPI_Comm comm, const char prefix[], PetscInt refine, PetscInt dim, PetscInt nrequired,
                           const PetscInt required[], const MeshFields *fields, DM *mesh)
 {
@@ -84,9 +114,20 @@ PetscErrorCode MeshCreate(MPI_Comm comm, const char prefix[], PetscInt refine, P
     if (len > 4 && !strcmp(filename + len - 4, ".msh")) PetscCall(MeshCheckGmshFile(comm, option, filename, dim));
   }
 
+  if (!from_file) PetscCall(MeshCheckBox(comm, prefix));
   PetscCall(DMCreate(comm, &dm));
   PetscCall(DMSetType(dm, DMPLEX));
   PetscCall(PetscObjectSetOptionsPrefix((PetscObject)dm, prefix));
+  {
+    /* PT-Scotch unless -<prefix>petscpartitioner_type says otherwise (Debian's PETSc has no
+       ParMETIS), for the split DMSetFromOptions makes of a box and for ours of a file below;
+       read on one rank too, so that one options file serves every rank count */
+    PetscPartitioner partitioner;
+    PetscCall(DMPlexGetPartitioner(dm, &partitioner));
+    PetscCall(PetscObjectSetOptionsPrefix((PetscObject)partitioner, prefix));
+    PetscCall(PetscPartitionerSetType(partitioner, PETSCPARTITIONERPTSCOTCH));
+    PetscCall(PetscPartitionerSetFromOptions(partitioner));
+  }
   {
     PetscErrorCode ierr = DMSetFromOptions(dm);
     if (ierr) {
@@ -109,14 +150,8 @@ PetscErrorCode MeshCreate(MPI_Comm comm, const char prefix[], PetscInt refine, P
   PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCall(DMPlexIsDistributed(dm, &distributed));
   if (size > 1 && !distributed) {
-    DM               parallel = NULL;
-    PetscPartitioner partitioner;
+    DM parallel = NULL;
 
-    /* PT-Scotch unless -<prefix>petscpartitioner_type says otherwise (Debian's PETSc has
-       no ParMETIS) */
-    PetscCall(DMPlexGetPartitioner(dm, &partitioner));
-    PetscCall(PetscPartitionerSetType(partitioner, PETSCPARTITIONERPTSCOTCH));
-    PetscCall(PetscPartitionerSetFromOptions(partitioner));
     /* PT-Scotch draws random numbers: from the same seed, the same mesh on the same ranks is
        split the same way in every run, which a checkpoint's vectors (stored in the
        partition's ordering) rely on */
