@@ -12,8 +12,4 @@ typedef struct {
 } OptionPairs;
 
 void OptionPairsParse(const char *all, OptionPairs *);
-/* Before PetscInitialize: an option given twice on the command line with different values
-   (PETSc keeps the last without a word; an options file's value may be overridden once on
-   the command line). Returns 0, or 1 with one line in message. -options_file may repeat. */
-int  OptionsCommandLineCheck(int argc, char **argv, char message[], size_t len);
 #endif

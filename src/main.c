@@ -12,7 +12,6 @@
 #include "output.h"
 #include "help.h"
 #include "interrupt.h"
-#include "option_pairs.h"
 
 static const char
   help[] = "fsiopt: fluid-structure interaction by optimization-based decoupling.\n"
@@ -69,8 +68,7 @@ static int CheckOptionsFiles(int argc, char **argv)
   char        message[8192];
   const char *rank = getenv("OMPI_COMM_WORLD_RANK") ? getenv("OMPI_COMM_WORLD_RANK") : getenv("PMI_RANK");
 
-  if (!OptionsCommandLineCheck(argc, argv, message, sizeof(message)) && !OptionsFilesCheck(argc, argv, message, sizeof(message)))
-    return 0;
+  if (!OptionsFilesCheck(argc, argv, message, sizeof(message))) return 0;
   if (!rank || !strcmp(rank, "0")) fprintf(stderr, "fsiopt: error: %s\n", message);
   return 1;
 }

@@ -37,6 +37,9 @@ def test_bad_input_choices():
 @test("bad input: physical parameters, time steps, tolerances")
 def test_bad_input_numbers():
     return refused([
+        ("a word for a number", F + ["-fluid_density", "water"], "option -fluid_density: expected a number, got 'water'"),
+        ("a fraction for an integer", F + ["-refine", "1.5"], "option -refine: expected an integer"),
+        ("a word for a flag", F + ["-quiet", "maybe"], "option -quiet: expected true or false"),
         ("zero fluid density", F + ["-fluid_density", "0"], "-fluid_density"),
         ("negative fluid viscosity", F + ["-fluid_viscosity", "-1"], "-fluid_viscosity"),
         ("zero viscosity", F + ["-fluid_viscosity", "0"], "-fluid_viscosity"),
@@ -114,6 +117,10 @@ def test_bad_input_meshes():
     lines[end - 1] = " ".join(lines[end - 1].split()[:-1] + ["999"])
     missing41 = os.path.join(d, "missing41.msh")
     open(missing41, "w").write("\n".join(lines))
+    garbage = os.path.join(d, "garbage.msh")
+    open(garbage, "wb").write(bytes((i * 37 + 11) % 256 for i in range(5000)))
+    collapsed = os.path.join(d, "collapsed.msh")
+    open(collapsed, "w").write(square.replace("8 3 2 1 1 2 3 4 5", "8 3 2 1 1 2 3 4 4"))
     truncated = os.path.join(d, "truncated.msh")
     open(truncated, "w").write(open(os.path.join(ROOT, "meshes", "wall.msh")).read()[:600])
     return refused([
@@ -131,6 +138,10 @@ def test_bad_input_meshes():
         ("gmsh: a crack", F + ["-fluid_dm_plex_filename", paths["crack"]], "a crack or a duplicated node"),
         ("gmsh: a tetrahedron in a 2D mesh", F + ["-fluid_dm_plex_filename", paths["volume-element"]], "is 3D"),
         ("gmsh: a prism", F + ["-fluid_dm_plex_filename", paths["unknown-type"]], "gmsh type 6"),
+        ("gmsh: random bytes (PETSc's reader crashed)", F + ["-fluid_dm_plex_filename", garbage], "garbage.msh: not a gmsh mesh"),
+        ("gmsh: a cell naming a node twice", F + ["-fluid_dm_plex_filename", collapsed], "names node 4 twice"),
+        ("box without cells in a direction", F + ["-fluid_dm_plex_box_faces", "0,4"], "-fluid_dm_plex_box_faces: expected at least 1 cell"),
+        ("box with its corners swapped", F + ["-fluid_dm_plex_box_lower", "1,1", "-fluid_dm_plex_box_upper", "0,0"], "-fluid_dm_plex_box_lower and -fluid_dm_plex_box_upper"),
         ("non-conforming interface (counts)", ["-scene", "mms-stokes", "-structure_dm_plex_box_faces", "5,2"], "do not conform"),
         ("non-conforming interface (shifted)", ["-scene", "mms-stokes", "-structure_dm_plex_box_lower", "0.01,1", "-structure_dm_plex_box_upper", "1.01,1.5"], "fluid node (0"),
     ])
@@ -148,26 +159,51 @@ def test_bad_input_restarts():
     data = open(checkpoint, "rb").read()
     damaged["truncated"] = os.path.join(d, "ck-truncated.h5")
     open(damaged["truncated"], "wb").write(data[:len(data) // 2])
-    for name in ("missing", "short", "nan", "noattr"):
+    for name in ("missing", "short", "nan", "noattr", "nofingerprint", "dtnan", "stepstring", "stateint", "state2d"):
         damaged[name] = os.path.join(d, "ck-%s.h5" % name)
         shutil.copy(checkpoint, damaged[name])
         with h5py.File(damaged[name], "a") as f:
             if name == "noattr":
                 del f["run"].attrs["step"]
                 continue
+            if name == "nofingerprint":
+                del f["run"].attrs["problem_options"]
+                continue
+            if name == "dtnan":
+                f["run"].attrs["dt"] = np.nan
+                continue
+            if name == "stepstring":
+                f["run"].attrs["step"] = np.bytes_("two")
+                continue
             a = np.array(f["fluid/state"])
             del f["fluid/state"]
             if name == "short":
                 f["fluid/state"] = a[:len(a) // 2]
+            elif name == "stateint":
+                f["fluid/state"] = a.astype(np.int64)
+            elif name == "state2d":
+                f["fluid/state"] = a.reshape(-1, 1)
             elif name == "nan":
                 a[3] = np.nan
                 f["fluid/state"] = a
-    return refused([
+    clash = os.path.join(d, "clash")
+    rc, stdout, err, _ = run(CHANNEL + ["-t_final", "0.0002", "-checkpoint_every", "1", "-checkpoint_file",
+                                        os.path.join(clash, "probes.csv")], out=clash)
+    lines = [l for l in (stdout + err).splitlines() if l.strip()]
+    assert rc != 0 and len(lines) == 1 and "the name of a file the run writes" in lines[0], \
+        "checkpoint file named as the run's probes.csv: exit %s, %s" % (rc, lines)
+    return "checkpoint named as the run's probes.csv refused; " + refused([
         ("checkpoint truncated", CHANNEL + ["-restart", damaged["truncated"]], "truncated, or not a checkpoint"),
         ("checkpoint without a dataset", CHANNEL + ["-restart", damaged["missing"]], "has no dataset /fluid/state"),
         ("checkpoint with a mis-sized dataset", CHANNEL + ["-restart", damaged["short"]], "dataset /fluid/state has"),
         ("checkpoint with a NaN", CHANNEL + ["-restart", damaged["nan"]], "holds NaN or Inf"),
         ("checkpoint without its step", CHANNEL + ["-restart", damaged["noattr"]], "no attribute 'step'"),
+        ("checkpoint without its fingerprint", CHANNEL + ["-restart", damaged["nofingerprint"], "-structure_density", "5"], "does not record the options"),
+        ("checkpoint with dt NaN", CHANNEL + ["-restart", damaged["dtnan"]], "is not a positive number"),
+        ("checkpoint with a string for its step", CHANNEL + ["-restart", damaged["stepstring"]], "attribute 'step' in /run holds a string"),
+        ("checkpoint with integers for a state", CHANNEL + ["-restart", damaged["stateint"]], "dataset 'state' in /fluid holds an integer"),
+        ("checkpoint with a state of two dimensions", CHANNEL + ["-restart", damaged["state2d"]], "dataset 'state' in /fluid has another shape"),
+        ("checkpoint file is a directory", CHANNEL + ["-t_final", "0.0002", "-checkpoint_every", "1", "-checkpoint_file", d], "a directory"),
         ("restart from a file that is not HDF5", CHANNEL + ["-restart", not_hdf5], "not an HDF5 file"),
         ("restart from a missing file", CHANNEL + ["-restart", os.path.join(d, "nosuch.h5")], "-restart"),
         ("restart with another dt", CHANNEL + ["-t_final", "0.001", "-dt", "5e-5", "-restart", checkpoint], "dt"),

@@ -42,6 +42,37 @@ def test_sigint_sigterm_stop_after_the_step():
     return ", ".join(details)
 
 
+@test("SIGTERM, SIGINT, SIGHUP during the set-up: one line, exit != 0, no lock, no output left")
+def test_signal_during_setup():
+    details = []
+    for name, nproc in (("SIGTERM", 1), ("SIGINT", 2), ("SIGHUP", 1)):
+        out = os.path.join(WORK, "setup-signal-%s-%d" % (name, nproc))
+        rc, stdout, err, summary = run(CHANNEL + ["-interrupt_test_setup", "-interrupt_test_signal", name], nproc=nproc, out=out)
+        ours = [l for l in (stdout + err).splitlines() if l.startswith("fsiopt")]
+        assert rc not in (0, None) and rc > 0, "%s: exit status %s" % (name, rc)
+        assert len(ours) == 1 and ours[0].startswith("fsiopt: error: stopped by %s during the set-up" % name), \
+            "%s: lines %s" % (name, ours)
+        assert "PETSC ERROR" not in stdout + err and "MPI_ABORT" not in stdout + err, "%s: %s" % (name, err[-300:])
+        assert not os.path.exists(out), "%s: left %s" % (name, os.listdir(out))
+        details.append("%s on %d rank%s" % (name, nproc, "s" if nproc > 1 else ""))
+    return ", ".join(details) + ": one line each, exit 1, nothing left"
+
+
+@test("a restart accepts the same problem written differently (1.10 for 1.1, -t_start 0) and what does not change it "
+      "(progress, memory, -force, -check_rank_sync): the probes continue exactly")
+def test_restart_accepts_same_problem():
+    d = inputs_dir()
+    solve(CHANNEL + ["-t_final", "0.0002", "-checkpoint_every", "2"], out=os.path.join(d, "ck-same"))
+    checkpoint = os.path.join(d, "ck-same", "checkpoint.h5")
+    plain = os.path.join(WORK, "restart-plain")
+    solve(CHANNEL + ["-t_final", "0.0004", "-restart", checkpoint], out=plain)
+    other = os.path.join(WORK, "restart-respelled")
+    solve(CHANNEL + ["-t_final", "0.0004", "-restart", checkpoint, "-structure_density", "1.10", "-t_start", "0",
+                     "-progress_interval", "1", "-memory_per_node_gib", "64", "-force", "-check_rank_sync"], out=other)
+    assert same_file(os.path.join(plain, "probes.csv"), os.path.join(other, "probes.csv")), "the probes differ"
+    return "accepted; probes.csv byte for byte the plain restart's"
+
+
 @test("SIGUSR1: a checkpoint of the step and the run goes on to its end (exit 0); the checkpoint continues it exactly")
 def test_sigusr1_checkpoint():
     details = []
@@ -303,6 +334,8 @@ def test_errors_on_any_rank():
         ("3 ranks split, the structure's rank", 3, short + ["-structure_ranks", "1", "-structure_dm_plex_filename", bad_wall],
          "rank 2: option -structure_dm_plex_filename", True),
         ("3 ranks, every rank", 3, S + ["-structure_dm_plex_filename", bad_wall], "refers to node 999", False),
+        ("3 ranks split, the structure's two ranks", 3, short + ["-structure_ranks", "2", "-structure_poisson_ratio", "0.6"],
+         "rank 1: option -structure_poisson_ratio", True),
         ("-structure_ranks 2 on 2 ranks", 2, ["-scene", "mms-stokes", "-structure_ranks", "2"], "option -structure_ranks", False),
         ("-structure_ranks 3 on 3 ranks", 3, ["-scene", "mms-stokes", "-structure_ranks", "3"], "option -structure_ranks", False),
     )

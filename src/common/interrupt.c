@@ -45,6 +45,7 @@ PetscErrorCode InterruptSetFromOptions(void)
   const char *const names[]   = {"SIGTERM", "SIGINT", "SIGKILL", "SIGHUP", "SIGUSR1"};
   const int         numbers[] = {SIGTERM, SIGINT, SIGKILL, SIGHUP, SIGUSR1};
   PetscInt          which     = 0;
+  PetscBool         in_setup  = PETSC_FALSE;
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Signals", "fsiopt");
@@ -53,8 +54,14 @@ PetscErrorCode InterruptSetFromOptions(void)
                             test_step, &test_step, NULL));
   PetscCall(PetscOptionsEList("-interrupt_test_signal", "testing: the signal of -interrupt_test_step", NULL, names, 5,
                               names[which], &which, NULL));
+  PetscCall(PetscOptionsBool("-interrupt_test_setup",
+                             "testing: the process sends itself -interrupt_test_signal during its set-up", NULL,
+                             in_setup, &in_setup, NULL));
   PetscOptionsEnd();
   test_signal = numbers[which];
+  if (in_setup)
+    PetscCheck(raise(test_signal) == 0, PETSC_COMM_SELF, PETSC_ERR_SYS,
+               "option -interrupt_test_setup: cannot raise the signal");
   PetscFunctionReturn(0);
 }
 

@@ -1,8 +1,6 @@
 /* The options database's string as pairs (option_pairs.h): summary.json's options and the
    restart fingerprint. */
 #include "option_pairs.h"
-#include <stdio.h>
-#include <string.h>
 
 /* A dash and a letter after a blank start an option's name (a negative number is a value). */
 static PetscBool StartsOption(const char *c, const char *start)
@@ -29,22 +27,4 @@ void OptionPairsParse(const char *all, OptionPairs *pairs)
     while (pairs->value_len[i] && pairs->value[i][pairs->value_len[i] - 1] == ' ') --pairs->value_len[i];
     pairs->n++;
   }
-}
-
-int OptionsCommandLineCheck(int argc, char **argv, char message[], size_t len)
-{
-  for (int i = 1; i < argc; ++i) {
-    const char *value_i = i + 1 < argc && !StartsOption(argv[i + 1], argv[i + 1]) ? argv[i + 1] : "";
-    if (!StartsOption(argv[i], argv[i]) || !strcmp(argv[i], "-options_file")) continue;
-    for (int j = i + 1; j < argc; ++j) {
-      const char *value_j = j + 1 < argc && !StartsOption(argv[j + 1], argv[j + 1]) ? argv[j + 1] : "";
-      if (strcmp(argv[i], argv[j]) || !StartsOption(argv[j], argv[j])) continue;
-      if (strcmp(value_i, value_j)) {
-        snprintf(message, len, "option %s: given twice on the command line (%s, then %s); give it once", argv[i],
-                 value_i[0] ? value_i : "without a value", value_j[0] ? value_j : "without a value");
-        return 1;
-      }
-    }
-  }
-  return 0;
 }
