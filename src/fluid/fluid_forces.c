@@ -13,37 +13,64 @@
 #include "fluid_impl.h"
 #include "fem.h"
 
-/* The points in the closure of the body's faces, sorted, each once. */
-static PetscErrorCode BodyPoints(Fluid f, PetscInt *n, PetscInt **points)
+PetscErrorCode FluidBodyFaces(Fluid f, IS *faces)
 {
-  DMLabel  faces_label;
-  PetscInt count = 0, *list = NULL;
+  DMLabel  label;
+  PetscInt fstart, fend, count = 0, *list = NULL;
 
   PetscFunctionBeginUser;
-  PetscCall(DMGetLabel(f->dm, "Face Sets", &faces_label));
+  PetscCall(DMGetLabel(f->dm, "Face Sets", &label));
+  PetscCall(DMPlexGetHeightStratum(f->dm, 1, &fstart, &fend));
   for (PetscInt pass = 0; pass < 2; ++pass) {
     count = 0;
     for (PetscInt b = 0; b < f->data.n_force_faces; ++b) {
-      IS              faces;
-      const PetscInt *face;
-      PetscInt        nfaces = 0;
+      IS              stratum;
+      const PetscInt *point;
+      PetscInt        npoints = 0;
 
-      PetscCall(DMLabelGetStratumIS(faces_label, f->data.force_faces[b], &faces));
-      if (!faces) continue;
-      PetscCall(ISGetLocalSize(faces, &nfaces));
-      PetscCall(ISGetIndices(faces, &face));
-      for (PetscInt i = 0; i < nfaces; ++i) {
-        PetscInt *closure = NULL, nclosure;
-        PetscCall(DMPlexGetTransitiveClosure(f->dm, face[i], PETSC_TRUE, &nclosure, &closure));
-        for (PetscInt k = 0; k < nclosure; ++k, ++count)
-          if (pass) list[count] = closure[2 * k];
-        PetscCall(DMPlexRestoreTransitiveClosure(f->dm, face[i], PETSC_TRUE, &nclosure, &closure));
-      }
-      PetscCall(ISRestoreIndices(faces, &face));
-      PetscCall(ISDestroy(&faces));
+      PetscCall(DMLabelGetStratumIS(label, f->data.force_faces[b], &stratum));
+      if (!stratum) continue;
+      PetscCall(ISGetLocalSize(stratum, &npoints));
+      PetscCall(ISGetIndices(stratum, &point));
+      for (PetscInt i = 0; i < npoints; ++i)
+        if (point[i] >= fstart && point[i] < fend) {
+          if (pass) list[count] = point[i];
+          ++count;
+        }
+      PetscCall(ISRestoreIndices(stratum, &point));
+      PetscCall(ISDestroy(&stratum));
     }
     if (!pass) PetscCall(PetscMalloc1(count, &list));
   }
+  PetscCall(PetscSortRemoveDupsInt(&count, list));
+  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, count, list, PETSC_OWN_POINTER, faces));
+  PetscFunctionReturn(0);
+}
+
+/* The points in the closure of the body's faces, sorted, each once. */
+static PetscErrorCode BodyPoints(Fluid f, PetscInt *n, PetscInt **points)
+{
+  IS              faces;
+  const PetscInt *face;
+  PetscInt        nfaces, count = 0, *list = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCall(FluidBodyFaces(f, &faces));
+  PetscCall(ISGetLocalSize(faces, &nfaces));
+  PetscCall(ISGetIndices(faces, &face));
+  for (PetscInt pass = 0; pass < 2; ++pass) {
+    count = 0;
+    for (PetscInt i = 0; i < nfaces; ++i) {
+      PetscInt *closure = NULL, nclosure;
+      PetscCall(DMPlexGetTransitiveClosure(f->dm, face[i], PETSC_TRUE, &nclosure, &closure));
+      for (PetscInt k = 0; k < nclosure; ++k, ++count)
+        if (pass) list[count] = closure[2 * k];
+      PetscCall(DMPlexRestoreTransitiveClosure(f->dm, face[i], PETSC_TRUE, &nclosure, &closure));
+    }
+    if (!pass) PetscCall(PetscMalloc1(count, &list));
+  }
+  PetscCall(ISRestoreIndices(faces, &face));
+  PetscCall(ISDestroy(&faces));
   PetscCall(PetscSortRemoveDupsInt(&count, list));
   *n      = count;
   *points = list;

@@ -99,6 +99,8 @@ PetscErrorCode FluidSetConstants(Fluid, PetscReal mass, PetscReal op, PetscReal 
 PetscErrorCode FluidSetVolumeWeakForm(Fluid, DM, DMLabel region);
 
 /* fluid_forces.c */
+/* the faces of the scene's body (its force_faces) on this rank, sorted, each once */
+PetscErrorCode FluidBodyFaces(Fluid, IS *faces);
 PetscErrorCode FluidForcesSetUp(Fluid);
 PetscErrorCode FluidForcesDestroy(Fluid);
 

@@ -10,41 +10,6 @@
 #include "fluid_impl.h"
 #include "fem.h"
 
-/* The body's faces on this rank, sorted, each once. */
-static PetscErrorCode BodyFaces(Fluid f, IS *faces)
-{
-  DMLabel  label;
-  PetscInt fstart, fend, count = 0, *list = NULL;
-
-  PetscFunctionBeginUser;
-  PetscCall(DMGetLabel(f->dm, "Face Sets", &label));
-  PetscCall(DMPlexGetHeightStratum(f->dm, 1, &fstart, &fend));
-  for (PetscInt pass = 0; pass < 2; ++pass) {
-    count = 0;
-    for (PetscInt b = 0; b < f->data.n_force_faces; ++b) {
-      IS              stratum;
-      const PetscInt *point;
-      PetscInt        npoints = 0;
-
-      PetscCall(DMLabelGetStratumIS(label, f->data.force_faces[b], &stratum));
-      if (!stratum) continue;
-      PetscCall(ISGetLocalSize(stratum, &npoints));
-      PetscCall(ISGetIndices(stratum, &point));
-      for (PetscInt i = 0; i < npoints; ++i)
-        if (point[i] >= fstart && point[i] < fend) {
-          if (pass) list[count] = point[i];
-          ++count;
-        }
-      PetscCall(ISRestoreIndices(stratum, &point));
-      PetscCall(ISDestroy(&stratum));
-    }
-    if (!pass) PetscCall(PetscMalloc1(count, &list));
-  }
-  PetscCall(PetscSortRemoveDupsInt(&count, list));
-  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, count, list, PETSC_OWN_POINTER, faces));
-  PetscFunctionReturn(0);
-}
-
 /* The points of fe's face quadrature on the reference cell's face `face`, as
    PetscFEGetFaceTabulation places them (points[nq * dim]). */
 static PetscErrorCode ReferenceFacePoints(PetscFE fe, PetscInt face, PetscInt dim, PetscReal points[])
@@ -132,7 +97,7 @@ PetscErrorCode FluidBodyForceSurface(Fluid f, PetscReal force[3])
              "fluid surface force: velocity and pressure need the same face quadrature");
   PetscCall(DMGetLocalSection(f->dm, &section));
   PetscCall(FEMGlobalToLocal(f->dm, f->x, f->xlocal_work));
-  PetscCall(BodyFaces(f, &faces));
+  PetscCall(FluidBodyFaces(f, &faces));
   PetscCall(ISGetLocalSize(faces, &n));
   for (PetscInt c = 0; c < 3; ++c) force[c] = 0;
   if (n) {
