@@ -21,7 +21,14 @@ the radial displacement of the inner surface under a pressure p:
   thick wall, plane stress (Lame) u_a = p a / E ((a^2 + b^2)/(b^2 - a^2) + nu)
   thick wall, plane strain (Lame) u_a = p a (1 + nu) / E ((1 - 2 nu) a^2 + b^2)/(b^2 - a^2)
 (plane stress: a free axial stress; plane strain: no axial strain, as clamped ends hold a
-long tube). Markdown to stdout."""
+long tube). These hold for waves much longer than the radius. The inlet pulse lasts T
+(-tube_inlet_duration): at the angular frequency w = 2 pi / (2 T) of a pulse of that length
+the wave is about 2.5 radii long, and the fluid's radial inertia and the wall's slow it.
+The script also gives that speed, from the dispersion relation of an inviscid fluid in a
+tube whose wall has the thick wall's radial stiffness K = p / u_a and the mass rho_s h per
+unit area:
+  c^2 = (K - rho_s h w^2) I1(k a) / (rho k I0(k a)),   c = w / k
+(I0, I1: modified Bessel functions; c^2 -> K a / (2 rho) as k a -> 0). Markdown to stdout."""
 import argparse, csv, math, os, sys
 
 sys.dont_write_bytecode = True
@@ -40,6 +47,30 @@ def estimates(E, nu, rho, a=INNER, b=OUTER):
         "thick wall, plane strain": (1 + nu) * ((1 - 2 * nu) * a * a + b * b) / ((b * b - a * a) * E),
     }
     return {k: 1.0 / math.sqrt(rho * 2 * v) for k, v in u_over_pa.items()}
+
+
+def bessel_i(n, x):
+    """I0 or I1 by their series"""
+    term, total = (1.0 if n == 0 else x / 2), 0.0
+    for m in range(60):
+        total += term
+        term *= (x / 2) ** 2 / ((m + 1) * (m + 1 + n))
+    return total
+
+
+def dispersive(E, nu, rho, rho_s, period, a=INNER, b=OUTER):
+    """{name: c} at the angular frequency 2 pi / period, thick-wall stiffness, by fixed point"""
+    h, w = b - a, 2 * math.pi / period
+    stiffness = {"thick wall, plane stress": E / (a * ((a * a + b * b) / (b * b - a * a) + nu)),
+                 "thick wall, plane strain": E * (b * b - a * a) / (a * (1 + nu) * ((1 - 2 * nu) * a * a + b * b))}
+    out = {}
+    for name, K in stiffness.items():
+        c = math.sqrt(K * a / (2 * rho))
+        for _ in range(200):
+            k = w / c
+            c = math.sqrt((K - rho_s * h * w * w) * bessel_i(1, k * a) / (rho * k * bessel_i(0, k * a)))
+        out[name + ", w = 2 pi/%.3g s (ka = %.2f)" % (period, w / c * a)] = c
+    return out
 
 
 def arrivals(run):
@@ -84,7 +115,8 @@ def main():
         if not s:
             sys.exit("tube3d_front: %s: no summary.json" % run)
         o = s.get("options", {})
-        p = (float(o["-structure_youngs_modulus"]), float(o["-structure_poisson_ratio"]), float(o["-fluid_density"]))
+        p = (float(o["-structure_youngs_modulus"]), float(o["-structure_poisson_ratio"]), float(o["-fluid_density"]),
+             float(o["-structure_density"]), float(o.get("-tube_inlet_duration", "0.003")))
         if params and p != params:
             sys.exit("tube3d_front: %s has other parameters (E, nu, rho) %s than %s" % (run, p, params))
         params = p
@@ -99,10 +131,13 @@ def main():
     for r in rows:
         print("| %s | %d | %g | %s | %.1f | %s | %s |" % (r["run"], r["unknowns"], r["dt"], r["arrivals_ms"], r["speed"],
                                                        r["pairs"], r["peaks"]))
-    E, nu, rho = params
-    print("\nLong-wave estimates (E = %g, nu = %g, rho = %g, a = %g, b = %g):\n" % (E, nu, rho, INNER, OUTER))
+    E, nu, rho, rho_s, duration = params
+    print("\nEstimates (E = %g, nu = %g, rho = %g, rho_s = %g, a = %g, b = %g; the pulse lasts %g s):\n" %
+          (E, nu, rho, rho_s, INNER, OUTER, duration))
     print("| estimate | c (cm/s) | measured / c (the last run) |\n|---|---|---|")
-    for k, c in estimates(E, nu, rho).items():
+    both = dict(("long wave, " + k, c) for k, c in estimates(E, nu, rho).items())
+    both.update(dispersive(E, nu, rho, rho_s, 2 * duration))
+    for k, c in both.items():
         print("| %s | %.1f | %.3f |" % (k, c, rows[-1]["speed"] / c))
     if args.csv:
         fr.write_csv(args.csv, rows, list(rows[0].keys()))
