@@ -42,7 +42,7 @@ int OptionsFilesCheck(int argc, char **argv, char message[], size_t len);
 PetscErrorCode ErrorReportingPush(void);
 const char    *ErrorReportingFirstMessage(void);
 /* the communicator the first error was raised on */
-MPI_Comm       ErrorReportingFirstComm(void);
+MPI_Comm ErrorReportingFirstComm(void);
 /* Drops the recorded message, so that a caller can replace a library's message by its own. */
 PetscErrorCode ErrorReportingForget(void);
 #endif

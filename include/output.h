@@ -5,7 +5,7 @@
 
 PetscErrorCode OutputMakeDirectories(const char dir[]);
 /* the same without raising: 0, or 1 with one line in why naming -output_dir */
-int            OutputMakeDirectoriesWhy(const char dir[], char why[], size_t len);
+int OutputMakeDirectoriesWhy(const char dir[], char why[], size_t len);
 
 /* A run owns its -output_dir: rank 0 creates <dir>/.fsiopt.lock (pid, host, start time)
    or refuses, on every rank, with one line naming the directory and its owner. A lock of

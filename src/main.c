@@ -109,7 +109,7 @@ int main(int argc, char **argv)
       /* the others wait in a call this rank will not make: it says why and ends the job
          (the launcher stops the other ranks). An error every rank of a subcommunicator
          raised (the structure's ranks of a split run) is said by its first rank only. */
-      MPI_Comm    comm = ErrorReportingFirstComm();
+      MPI_Comm    comm      = ErrorReportingFirstComm();
       PetscMPIInt comm_rank = 0, comm_size = 1;
       if (comm != MPI_COMM_NULL && MPI_Comm_size(comm, &comm_size) == MPI_SUCCESS && comm_size > 1 &&
           EveryRankStopped(comm))

@@ -140,7 +140,7 @@ static PetscReal SubproblemBytes(const char prefix[], PetscInt dim, PetscReal do
 
 PetscErrorCode MemoryEstimateAdd(MPI_Comm comm, const char prefix[], PetscInt dim, PetscReal dofs, const char source[])
 {
-  PetscBool   force = PETSC_FALSE, direct;
+  PetscBool   force    = PETSC_FALSE, direct;
   PetscReal   node_gib = 0, bytes, node_need, node_has, worst[2];
   PetscMPIInt size, node_size, rank;
   MPI_Comm    node;
@@ -179,8 +179,7 @@ PetscErrorCode MemoryEstimateAdd(MPI_Comm comm, const char prefix[], PetscInt di
     PetscCallMPI(MPI_Comm_rank(comm, &world_rank));
     mine.ratio = node_has > 0 ? node_need / node_has : 0;
     mine.rank  = world_rank;
-    PetscCallMPI(MPI_Allreduce(&mine, &first, 1, MPI_DOUBLE_INT, MPI_MAXLOC,
-                               comm));
+    PetscCallMPI(MPI_Allreduce(&mine, &first, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm));
     if (first.ratio <= 1) PetscFunctionReturn(0);
     report[0] = node_need;
     report[1] = node_has;

@@ -137,9 +137,9 @@ static PetscBool NameTheOption(const char *mess, char out[], size_t len)
   static const struct {
     const char *before, *after, *expected;
   } forms[] = {
-    {"Input string ",         " has no numeric value", "a number"                 },
-    {"Input string ",         " has no integer value", "an integer (no . in it)"  },
-    {"Unknown logical value: ", "",                    "true or false"            },
+    {"Input string ",           " has no numeric value", "a number"               },
+    {"Input string ",           " has no integer value", "an integer (no . in it)"},
+    {"Unknown logical value: ", "",                      "true or false"          },
   };
   for (size_t f = 0; f < sizeof(forms) / sizeof(*forms); ++f) {
     const size_t nb = strlen(forms[f].before);
@@ -160,7 +160,7 @@ static PetscBool NameTheOption(const char *mess, char out[], size_t len)
     OptionPairsParse(all, pairs);
     for (PetscInt i = 0; i < pairs->n; ++i) {
       /* a list is read item by item: "0.1,0.2" holds "0.1" */
-      const char *v = pairs->value[i];
+      const char *v     = pairs->value[i];
       PetscBool   holds = pairs->value_len[i] == nv && !strncmp(v, value, nv) ? PETSC_TRUE : PETSC_FALSE;
       for (const char *c = v; !holds && c < v + pairs->value_len[i]; ++c)
         if ((c == v || c[-1] == ',') && !strncmp(c, value, nv) && (c + nv == v + pairs->value_len[i] || c[nv] == ','))

@@ -43,9 +43,9 @@ static void Traction(Fluid f, PetscInt dim, const PetscScalar u[], const PetscSc
                      const PetscReal x[], const PetscReal n[], PetscInt nconstants, const PetscScalar constants[],
                      PetscReal traction[])
 {
-  const PetscScalar mu       = constants[FLUID_MU];
-  PetscScalar       data[9]  = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-  const PetscInt    uOff[2]  = {0, dim};
+  const PetscScalar mu        = constants[FLUID_MU];
+  PetscScalar       data[9]   = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+  const PetscInt    uOff[2]   = {0, dim};
   const PetscInt    uOff_x[2] = {0, dim * dim};
   PetscScalar       fields[4], gradients[3 * 3 + 3];
 
@@ -131,9 +131,10 @@ PetscErrorCode FluidBodyForceSurface(Fluid f, PetscReal force[3])
       PetscCall(PetscQuadratureDestroy(&cell_points));
       PetscCall(DMPlexVecGetClosure(f->dm, section, f->xlocal_work, support[0], NULL, &coefficients));
       for (PetscInt q = 0; q < nq; ++q) {
-        const PetscInt   g = e * geometry->numPoints + (every ? q : 0);
-        const PetscReal *Tu = T[0]->T[0] + (k * nq + q) * nb_u * dim, *Du = T[0]->T[1] + (k * nq + q) * nb_u * dim * dim;
-        const PetscReal *Tp = T[1]->T[0] + (k * nq + q) * nb_p;
+        const PetscInt   g    = e * geometry->numPoints + (every ? q : 0);
+        const PetscReal *Tu   = T[0]->T[0] + (k * nq + q) * nb_u * dim,
+                        *Du   = T[0]->T[1] + (k * nq + q) * nb_u * dim * dim;
+        const PetscReal *Tp   = T[1]->T[0] + (k * nq + q) * nb_p;
         PetscScalar      u[3] = {0, 0, 0}, grad[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, p = 0;
         PetscReal        traction[3];
 

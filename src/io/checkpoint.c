@@ -152,17 +152,20 @@ static PetscErrorCode DatasetSize(PetscViewer viewer, const char group[], const 
    H5T_STRING; an attribute holds one value, a dataset one dimension. */
 static PetscErrorCode CheckStoredType(Checkpoint cp, const char name[], PetscBool attribute, H5T_class_t expected)
 {
-  static const char *const what[] = {"an integer", "a float", "a time", "a string", "a bit field", "an opaque value",
-                                     "a compound",  "a reference", "an enumeration", "a variable-length value",
+  static const char *const what[] = {"an integer",     "a float",
+                                     "a time",         "a string",
+                                     "a bit field",    "an opaque value",
+                                     "a compound",     "a reference",
+                                     "an enumeration", "a variable-length value",
                                      "an array"};
-  hid_t       file, object, type, space;
-  H5T_class_t stored = H5T_NO_CLASS;
-  size_t      size   = 0;
-  int         ndims  = -1;
-  hssize_t    points = -1;
-  char       *group;
-  H5E_auto2_t handler;
-  void       *handler_data;
+  hid_t                    file, object, type, space;
+  H5T_class_t              stored = H5T_NO_CLASS;
+  size_t                   size   = 0;
+  int                      ndims  = -1;
+  hssize_t                 points = -1;
+  char                    *group;
+  H5E_auto2_t              handler;
+  void                    *handler_data;
 
   PetscFunctionBeginUser;
   PetscCall(PetscViewerHDF5GetFileId(cp->viewer, &file));
@@ -193,13 +196,16 @@ static PetscErrorCode CheckStoredType(Checkpoint cp, const char name[], PetscBoo
     else H5Dclose(object);
   }
   H5Eset_auto2(H5E_DEFAULT, handler, handler_data);
-  PetscCheck(stored == expected && (expected != H5T_FLOAT || size == 8), PETSC_COMM_WORLD, PETSC_ERR_FILE_UNEXPECTED,
+  PetscCheck(stored == expected && (expected != H5T_FLOAT || size == 8), PetscObjectComm((PetscObject)cp->viewer),
+             PETSC_ERR_FILE_UNEXPECTED,
              "option -restart %s: %s '%s' in %s holds %s%s, expected %s (damaged, or not an fsiopt checkpoint)",
              cp->path, attribute ? "attribute" : "dataset", name, group ? group : "/",
              stored >= 0 && stored < (H5T_class_t)(sizeof(what) / sizeof(*what)) ? what[stored] : "nothing readable",
              stored == H5T_FLOAT && size != 8 ? " of another precision" : "",
-             expected == H5T_INTEGER ? "an integer" : expected == H5T_FLOAT ? "a float" : "a string");
-  PetscCheck(attribute ? points == 1 : ndims == 1, PETSC_COMM_WORLD, PETSC_ERR_FILE_UNEXPECTED,
+             expected == H5T_INTEGER ? "an integer"
+             : expected == H5T_FLOAT ? "a float"
+                                     : "a string");
+  PetscCheck(attribute ? points == 1 : ndims == 1, PetscObjectComm((PetscObject)cp->viewer), PETSC_ERR_FILE_UNEXPECTED,
              "option -restart %s: %s '%s' in %s has %s, expected %s (damaged, or not an fsiopt checkpoint)", cp->path,
              attribute ? "attribute" : "dataset", name, group ? group : "/",
              attribute ? "more than one value" : "another shape", attribute ? "one" : "one dimension");

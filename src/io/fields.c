@@ -412,8 +412,9 @@ PetscErrorCode FieldWriterWrite(FieldWriter w, PetscInt step)
       OutputHDF5WriteFailed();
       PetscCall(ErrorReportingForget()); /* HDF5's and PETSc's messages name their internals */
       PetscCall(OutputWriteErrorText(w->partial, cause, why, sizeof(why)));
-      SETERRQ(w->comm, PETSC_ERR_FILE_WRITE, "cannot write %s (%s) at step %" PetscInt_FMT "; what was written is in %s",
-              w->path, why, step, w->partial);
+      SETERRQ(w->comm, PETSC_ERR_FILE_WRITE,
+              "cannot write %s (%s) at step %" PetscInt_FMT "; what was written is in %s", w->path, why, step,
+              w->partial);
     }
   }
   w->written[w->nwritten++] = step;

@@ -21,21 +21,21 @@ typedef struct {
 } Part;
 
 struct _p_FieldWriter {
-  MPI_Comm      comm;
-  PetscMPIInt   rank;
-  Fluid         fluid;
-  Structure     structure;
-  Part          part[2];
-  PetscInt      interval, steps, nwritten, *written;
-  PetscReal     t0, dt;
-  char          dir[PETSC_MAX_PATH_LEN], path[PETSC_MAX_PATH_LEN], partial[PETSC_MAX_PATH_LEN];
-  char          origin[128]; /* names this run in the files it writes and in its checkpoints */
-  PetscBool     restarting;  /* the written steps and the source below come from a checkpoint */
-  char          source[PETSC_MAX_PATH_LEN], source_origin[128];
-  PetscViewer   viewer; /* root only; NULL until FieldWriterOpen */
-  PetscBool     opened;
+  MPI_Comm       comm;
+  PetscMPIInt    rank;
+  Fluid          fluid;
+  Structure      structure;
+  Part           part[2];
+  PetscInt       interval, steps, nwritten, *written;
+  PetscReal      t0, dt;
+  char           dir[PETSC_MAX_PATH_LEN], path[PETSC_MAX_PATH_LEN], partial[PETSC_MAX_PATH_LEN];
+  char           origin[128]; /* names this run in the files it writes and in its checkpoints */
+  PetscBool      restarting;  /* the written steps and the source below come from a checkpoint */
+  char           source[PETSC_MAX_PATH_LEN], source_origin[128];
+  PetscViewer    viewer; /* root only; NULL until FieldWriterOpen */
+  PetscBool      opened;
   PetscErrorCode write_error; /* root: the first failed write of the fields in progress */
-  PetscLogEvent event;
+  PetscLogEvent  event;
 };
 
 /* The datasets of a step's group: geometry (dim columns), then each field (vectors with

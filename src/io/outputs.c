@@ -10,7 +10,7 @@ struct _p_Outputs {
   Structure        structure;
   CouplingProblem  problem;
   Probes           probes;
-  Probes           surface; /* force_surface.csv (-probes_surface_force) */
+  Probes           surface;      /* force_surface.csv (-probes_surface_force) */
   Vec              displacement; /* of the probed nodes */
   FieldWriter      fields;
 };
@@ -52,11 +52,12 @@ static PetscErrorCode SurfaceForceSetUp(Outputs out, PetscInt dim)
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Probes and the quantities of summary.json", "probes");
-  PetscCall(PetscOptionsBool("-probes_surface_force",
-                             "also write force_surface.csv: the body's force as the boundary integral of sigma n of the "
-                             "discrete solution (a check on probes.csv's volume-weighted drag and lift; from the run's "
-                             "first step, not restored on restart)",
-                             NULL, surface, &surface, &set));
+  PetscCall(
+    PetscOptionsBool("-probes_surface_force",
+                     "also write force_surface.csv: the body's force as the boundary integral of sigma n of the "
+                     "discrete solution (a check on probes.csv's volume-weighted drag and lift; from the run's "
+                     "first step, not restored on restart)",
+                     NULL, surface, &surface, &set));
   PetscOptionsEnd();
   if (!surface) PetscFunctionReturn(0);
   PetscCheck(scene->has_fluid && scene->fluid.n_force_faces, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,

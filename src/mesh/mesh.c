@@ -80,7 +80,8 @@ static PetscErrorCode MeshCheckBox(MPI_Comm comm, const char prefix[])
   PetscCall(PetscOptionsGetIntArray(NULL, NULL, option, faces, &nfaces, &set));
   for (PetscInt d = 0; set && d < nfaces; ++d)
     PetscCheck(faces[d] >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE,
-               "option %s: expected at least 1 cell in every direction, got %" PetscInt_FMT " in direction %" PetscInt_FMT,
+               "option %s: expected at least 1 cell in every direction, got %" PetscInt_FMT
+               " in direction %" PetscInt_FMT,
                option, faces[d], d + 1);
   PetscCall(PetscSNPrintf(lower_option, sizeof(lower_option), "-%sdm_plex_box_lower", prefix));
   PetscCall(PetscSNPrintf(upper_option, sizeof(upper_option), "-%sdm_plex_box_upper", prefix));
@@ -169,8 +170,8 @@ PetscErrorCode MeshCreate(MPI_Comm comm, const char prefix[], PetscInt refine, P
     char      source[PETSC_MAX_PATH_LEN + 64];
     PetscCall(DMGetDimension(dm, &mesh_dim));
     PetscCall(MemoryEstimateDofs(dm, refine, fields, &dofs));
-    PetscCall(PetscSNPrintf(source, sizeof(source), "%.*s mesh %s with -refine %" PetscInt_FMT, (int)(strlen(prefix) - 1), prefix,
-                            from_file ? filename : "(box)", refine));
+    PetscCall(PetscSNPrintf(source, sizeof(source), "%.*s mesh %s with -refine %" PetscInt_FMT,
+                            (int)(strlen(prefix) - 1), prefix, from_file ? filename : "(box)", refine));
     PetscCall(MemoryEstimateAdd(comm, prefix, mesh_dim, dofs, source));
   }
   for (PetscInt r = 0; r < refine; ++r) {

@@ -13,7 +13,7 @@
 
 /* The files a run writes in its -output_dir (outputs.c, history.c, summary.c, fields.c,
    output_lock.c), each also as NAME.partial or NAME.tmp while it is written. */
-static const char *const output_files[] = {"probes.csv", "history.csv", "summary.json", "fields.h5",
+static const char *const output_files[] = {"probes.csv",  "history.csv",       "summary.json", "fields.h5",
                                            "fields.xdmf", "force_surface.csv", ".fsiopt.lock", NULL};
 
 /* 0, or the output file the checkpoint would overwrite (it would replace the run's lock or

@@ -163,8 +163,8 @@ static PetscBool SameValue(const char *a, size_t la, const char *b, size_t lb)
     x[na] = 0;
     memcpy(y, b, nb);
     y[nb] = 0;
-    u = strtod(x, &ex);
-    v = strtod(y, &ey);
+    u     = strtod(x, &ex);
+    v     = strtod(y, &ey);
     if (*ex || *ey || !(u == v || PetscAbsReal(u - v) <= 1e-14 * PetscMax(PetscAbsReal(u), PetscAbsReal(v))))
       return PETSC_FALSE;
     if (!ca) return PETSC_TRUE;

@@ -117,8 +117,8 @@ static PetscErrorCode StructureFromScene(Run run, DM *mesh)
   PetscCall(StructureSetFromOptions(run->structure));
   PetscCall(SceneRequiredFaces(&run->scene.structure, &nfaces, faces));
   PetscCall(StructureGetMeshFields(run->structure, &fields));
-  PetscCall(MeshCreate(run->structure_comm, "structure_", run->params.refine, run->scene.dim, nfaces, faces, &fields,
-                       mesh));
+  PetscCall(
+    MeshCreate(run->structure_comm, "structure_", run->params.refine, run->scene.dim, nfaces, faces, &fields, mesh));
   PetscCall(StructureSetUp(run->structure, *mesh, &run->scene.structure, run->params.t_start, run->params.dt));
   PetscCall(StructureGetInfo(run->structure, &run->summary.dim, &run->summary.structure_dofs));
   PetscFunctionReturn(0);
