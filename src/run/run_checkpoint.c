@@ -16,19 +16,21 @@
 static const char *const output_files[] = {"probes.csv",  "history.csv",       "summary.json", "fields.h5",
                                            "fields.xdmf", "force_surface.csv", ".fsiopt.lock", NULL};
 
-/* 0, or the output file the checkpoint would overwrite (it would replace the run's lock or
-   probes and be replaced by them) */
-static const char *OutputFileAt(const char path[], const char output_dir[])
+/* Whether the checkpoint is in the run's -output_dir (which the run owns), and then the
+   output file it would overwrite (it would replace the run's lock or probes and be
+   replaced by them), or NULL */
+static PetscBool InOutputDir(const char path[], const char output_dir[], const char **clash)
 {
   char        dir[PATH_MAX], out[PATH_MAX], parent[PETSC_MAX_PATH_LEN];
   const char *slash = strrchr(path, '/'), *base = slash ? slash + 1 : path;
 
+  *clash = NULL;
   (void)snprintf(parent, sizeof(parent), "%.*s", slash ? (int)(slash - path) : 1, slash ? path : ".");
   if (!parent[0]) (void)snprintf(parent, sizeof(parent), "/");
-  if (!realpath(parent, dir) || !realpath(output_dir, out) || strcmp(dir, out)) return NULL;
-  for (int i = 0; output_files[i]; ++i)
-    if (!strncmp(base, output_files[i], strlen(output_files[i]))) return output_files[i];
-  return NULL;
+  if (!realpath(parent, dir) || !realpath(output_dir, out) || strcmp(dir, out)) return PETSC_FALSE;
+  for (int i = 0; output_files[i] && !*clash; ++i)
+    if (!strncmp(base, output_files[i], strlen(output_files[i]))) *clash = output_files[i];
+  return PETSC_TRUE;
 }
 
 /* Before the first step: a checkpoint that cannot be written would stop the run at its
@@ -45,10 +47,16 @@ static PetscErrorCode CheckWritable(const char path[], const char output_dir[])
   if (!rank) {
     struct stat st;
     int         fd;
+    PetscBool   owned;
     directory = !stat(path, &st) && S_ISDIR(st.st_mode);
-    clash     = OutputFileAt(path, output_dir);
+    owned     = InOutputDir(path, output_dir, &clash);
+    /* a killed run's temporary in the directory this run owns goes; elsewhere another run
+       may be writing it */
     PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
-    fd = directory || clash ? -1 : open(tmp, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (owned && !clash && !directory && !access(tmp, F_OK) && !unlink(tmp))
+      PetscCall(PetscPrintf(PETSC_COMM_SELF, "fsiopt: removed %s, a killed run's unfinished checkpoint\n", tmp));
+    PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.probe.%d", path, (int)getpid()));
+    fd = directory || clash ? -1 : open(tmp, O_WRONLY | O_CREAT | O_EXCL, 0644);
     if (fd < 0) cause = errno;
     else {
       (void)close(fd);
