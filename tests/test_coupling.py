@@ -37,6 +37,32 @@ def test_adjoint_identity_split_ranks():
     return adjoint_cases(2)
 
 
+FIELD_SPLIT = ["-fluid_ksp_type", "fgmres", "-fluid_ksp_rtol", "1e-10", "-fluid_pc_type", "fieldsplit",
+               "-fluid_pc_fieldsplit_type", "schur", "-fluid_pc_fieldsplit_schur_fact_type", "full",
+               "-fluid_pc_fieldsplit_schur_precondition", "selfp", "-fluid_fieldsplit_velocity_ksp_type", "preonly",
+               "-fluid_fieldsplit_velocity_pc_type", "gamg", "-fluid_fieldsplit_pressure_ksp_type", "preonly",
+               "-fluid_fieldsplit_pressure_pc_type", "jacobi"]
+
+
+@test("iterative fluid (FGMRES, Schur field split, GAMG on the velocity): the split's options are read, the adjoint "
+      "identity holds to 10 x the Krylov tolerance, the errors are the LU run's (1 and 2 ranks)")
+def test_field_split_fluid():
+    details = []
+    for nproc in (1, 2):
+        reference = solve(SHORT + ["-t_final", "0.51"], nproc=nproc)
+        rc, stdout, err, summary = run(SHORT + FIELD_SPLIT + ["-coupling_test_adjoint", "-t_final", "0.51"], nproc=nproc,
+                                       tag="field-split")
+        assert rc == 0 and summary, fail_text(rc, stdout, err)
+        line = printed(stdout, "adjoint test:")
+        assert len(line) == 1, "no adjoint test line in %s" % stdout[-300:]
+        rel = float(line[0].split()[-1])
+        assert rel <= 1e-9, "%d rank(s): adjoint identity %.2e, above 10 x the Krylov tolerance 1e-10" % (nproc, rel)
+        worst = max(abs(summary["errors"][k] - v) / v for k, v in reference["errors"].items())
+        assert worst <= 1e-8, "%d rank(s): errors %s, LU's %s" % (nproc, summary["errors"], reference["errors"])
+        details.append("%d rank%s: adjoint %.1e, errors within %.1e of LU's" % (nproc, "s" if nproc > 1 else "", rel, worst))
+    return "; ".join(details)
+
+
 def taylor_ratios(stdout):
     return [float(l.split()[-1]) for l in printed(stdout, "Taylor test:") if "ratio" in l]
 

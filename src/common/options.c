@@ -352,10 +352,13 @@ static PetscBool IsReadAtExit(const char name[])
 }
 
 /* Viewers, convergence reasons and Jacobian tests PETSc reads inside its solves, not when
-   the solver is set up: the first check lets them wait for the first step. */
+   the solver is set up, and the options of the solvers a preconditioner makes when it is
+   first set up (a field split's, a multigrid's levels, a block preconditioner's blocks):
+   the first check lets them wait for the first step. */
 static PetscBool IsReadInSolves(const char name[])
 {
-  const char *const lazy[] = {"_view", "converged_reason", "test_jacobian", "_monitor", NULL};
+  const char *const lazy[] = {"_view",      "converged_reason", "test_jacobian", "_monitor", "fieldsplit_",
+                              "mg_levels_", "mg_coarse_",       "sub_",          NULL};
 
   for (const char *const *l = lazy; *l; ++l)
     if (strstr(name, *l)) return PETSC_TRUE;
