@@ -481,11 +481,12 @@ PetscErrorCode OptionsCheckUnused(MPI_Comm comm, PetscBool after_first_step)
   {
     char        message[3072];
     const char *pronoun = n_unknown > 1 ? "them" : "it";
-    PetscCall(
-      PetscSNPrintf(message, sizeof(message), "option%s %s: nothing %s %s%s%s%s%s", n_unknown > 1 ? "s" : "", unknown,
-                    after_first_step ? "read" : "reads", pronoun,
-                    after_first_step ? " in the first step, where the solvers read their viewers, tests and inner solvers" : "",
-                    n_suggested ? " (the nearest known: " : "", nearest, n_suggested ? ")" : ""));
+    PetscCall(PetscSNPrintf(message, sizeof(message), "option%s %s: nothing %s %s%s%s%s%s", n_unknown > 1 ? "s" : "",
+                            unknown, after_first_step ? "read" : "reads", pronoun,
+                            after_first_step
+                              ? " in the first step, where the solvers read their viewers, tests and inner solvers"
+                              : "",
+                            n_suggested ? " (the nearest known: " : "", nearest, n_suggested ? ")" : ""));
     if (allow) PetscCall(PetscPrintf(comm, "fsiopt: warning: %s; let through by -options_allow_unused\n", message));
     else SETERRQ(comm, PETSC_ERR_ARG_WRONG, "%s; -options_allow_unused lets %s through", message, pronoun);
   }

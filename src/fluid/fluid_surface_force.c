@@ -105,8 +105,8 @@ PetscErrorCode FluidBodyForceSurface(Fluid f, PetscReal force[3])
     const PetscReal *weights;
     PetscFEGeom     *geometry;
     PetscTabulation  T[2];
-    PetscQuadrature  quadrature, cell_points;
-    PetscReal       *points, *x, *J, *invJ, *detJ;
+    PetscQuadrature  quadrature, cell_points[6] = {NULL, NULL, NULL, NULL, NULL, NULL}; /* per local face */
+    PetscReal       *x, *J, *invJ, *detJ;
     PetscInt         every;
 
     PetscCall(PetscFEGetFaceQuadrature(fe[0], &quadrature));
@@ -115,6 +115,7 @@ PetscErrorCode FluidBodyForceSurface(Fluid f, PetscReal force[3])
     PetscCall(PetscFEGetFaceTabulation(fe[1], 1, &T[1]));
     PetscCall(FEMFaceGeometry(f->dm, fe[0], faces, &geometry)); /* the normals, the faces' |J| */
     every = !geometry->isAffine && geometry->numPoints == nq;
+    PetscCheck(total == T[0]->Nb + T[1]->Nb, PETSC_COMM_SELF, PETSC_ERR_PLIB, "fluid surface force: closure size");
     PetscCall(PetscMalloc4(nq * dim, &x, nq * dim * dim, &J, nq * dim * dim, &invJ, nq, &detJ));
     PetscCall(ISGetIndices(faces, &face));
     for (PetscInt e = 0; e < n; ++e) {
@@ -122,13 +123,16 @@ PetscErrorCode FluidBodyForceSurface(Fluid f, PetscReal force[3])
       const PetscInt *support;
       PetscScalar    *coefficients = NULL;
 
+      PetscCheck(k >= 0 && k < 6, PETSC_COMM_SELF, PETSC_ERR_PLIB, "fluid surface force: local face %" PetscInt_FMT, k);
+      if (!cell_points[k]) {
+        PetscReal *points;
+        PetscCall(PetscMalloc1(nq * dim, &points));
+        PetscCall(ReferenceFacePoints(fe[0], k, dim, points));
+        PetscCall(PetscQuadratureCreate(PETSC_COMM_SELF, &cell_points[k]));
+        PetscCall(PetscQuadratureSetData(cell_points[k], dim, 1, nq, points, NULL));
+      }
       PetscCall(DMPlexGetSupport(f->dm, face[e], &support));
-      PetscCall(PetscMalloc1(nq * dim, &points));
-      PetscCall(ReferenceFacePoints(fe[0], k, dim, points));
-      PetscCall(PetscQuadratureCreate(PETSC_COMM_SELF, &cell_points));
-      PetscCall(PetscQuadratureSetData(cell_points, dim, 1, nq, points, NULL));
-      PetscCall(DMPlexComputeCellGeometryFEM(f->dm, support[0], cell_points, x, J, invJ, detJ));
-      PetscCall(PetscQuadratureDestroy(&cell_points));
+      PetscCall(DMPlexComputeCellGeometryFEM(f->dm, support[0], cell_points[k], x, J, invJ, detJ));
       PetscCall(DMPlexVecGetClosure(f->dm, section, f->xlocal_work, support[0], NULL, &coefficients));
       for (PetscInt q = 0; q < nq; ++q) {
         const PetscInt   g    = e * geometry->numPoints + (every ? q : 0);
@@ -150,8 +154,8 @@ PetscErrorCode FluidBodyForceSurface(Fluid f, PetscReal force[3])
         for (PetscInt c = 0; c < dim; ++c) force[c] += weights[q] * geometry->detJ[g] * traction[c];
       }
       PetscCall(DMPlexVecRestoreClosure(f->dm, section, f->xlocal_work, support[0], NULL, &coefficients));
-      PetscCheck(total == nb_u + nb_p, PETSC_COMM_SELF, PETSC_ERR_PLIB, "fluid surface force: closure size");
     }
+    for (PetscInt k = 0; k < 6; ++k) PetscCall(PetscQuadratureDestroy(&cell_points[k]));
     PetscCall(ISRestoreIndices(faces, &face));
     PetscCall(PetscFree4(x, J, invJ, detJ));
     PetscCall(PetscFEGeomDestroy(&geometry));
