@@ -194,6 +194,38 @@ static PetscErrorCode TangentJacobian(DM dm, Vec xlocal, Mat J, Mat P, void *ctx
   PetscFunctionReturn(0);
 }
 
+static PetscErrorCode RigidBodyModes(DM dm, PetscInt field_ignored, PetscInt field, MatNullSpace *modes)
+{
+  PetscFunctionBeginUser;
+  PetscCall(DMPlexCreateRigidBody(dm, field, modes));
+  PetscFunctionReturn(0);
+}
+
+/* GAMG builds its coarse spaces from the operator's near-nullspace; for the wall those are
+   its rigid-body modes (translations alone on a thin 3D wall leave the rotations to the
+   smoother). A factorization needs none. */
+static PetscErrorCode SetRigidBodyModes(Structure s)
+{
+  KSP       ksp;
+  PC        pc;
+  Mat       A;
+  PetscBool gamg;
+
+  PetscFunctionBeginUser;
+  PetscCall(SNESGetKSP(s->snes, &ksp));
+  PetscCall(KSPGetPC(ksp, &pc));
+  PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCGAMG, &gamg));
+  if (!gamg) PetscFunctionReturn(0);
+  PetscCall(SNESGetJacobian(s->snes, &A, NULL, NULL, NULL));
+  if (A) {
+    MatNullSpace modes;
+    PetscCall(DMPlexCreateRigidBody(s->dm, 0, &modes));
+    PetscCall(MatSetNearNullSpace(A, modes));
+    PetscCall(MatNullSpaceDestroy(&modes));
+  } else PetscCall(DMSetNearNullSpaceConstructor(s->dm, 0, RigidBodyModes)); /* DMCreateMatrix attaches them */
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode StructureSetUp(Structure s, DM mesh, const PhysicsData *data, PetscReal t0, PetscReal dt)
 {
   PetscFunctionBeginUser;
@@ -247,6 +279,7 @@ PetscErrorCode StructureSetUp(Structure s, DM mesh, const PhysicsData *data, Pet
   if (data->exact_rate)
     PetscCall(DMProjectFunctionLocal(s->dm, t0, &s->data.exact_rate, &s->data.ctx, INSERT_ALL_VALUES, s->etadot_local));
   PetscCall(StructureBackendSetUp(s)); /* after the projection, which PETSc's integration solves */
+  PetscCall(SetRigidBodyModes(s));
   PetscFunctionReturn(0);
 }
 
