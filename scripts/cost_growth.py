@@ -1,0 +1,200 @@
+#!/usr/bin/env python3
+"""How the cost of tube3d grows with its unknowns: LU against the iterative solvers of
+options/solvers/ (issue 27), level by level, one run at a time.
+
+Every level n of --levels (default 1,2) runs with each solver of --solvers (default
+lu,iterative):
+
+  [LAUNCHER -n P] bin/fsiopt -options_file options/tube3d.yaml -t_final T
+          -fluid_dm_plex_filename F -structure_dm_plex_filename W -log_view
+          -fluid_ksp_converged_reason -structure_ksp_converged_reason -mesh_ksp_converged_reason
+          [solver's options files] [--extra]
+
+lu adds nothing (MUMPS LU, the default); iterative adds options/solvers/fluid-schur-gamg.yaml,
+structure-cg-gamg.yaml and mesh-cg-gamg.yaml. The meshes of level n are generated with gmsh
+into out/meshes/ (as by scripts/tube3d_table.py). --ranks gives the ranks per level, one
+number for all or one per level ("1,8,64": a weak-scaling series, a level per rank count);
+with more than one rank the run goes through --mpiexec (default mpiexec; "srun" in a SLURM
+job, see scripts/slurm/).
+
+Tabulated per run: unknowns (fluid + wall), wall and stepping time (wall minus the Setup
+stage), core-microseconds per unknown and step (stepping x ranks / (steps x unknowns)), peak
+memory (summary.json memory_gib.peak) per unknown, Krylov iterations per linear solve of
+each subproblem (the mean of the KSP converged-reason lines; forward and transposed solves
+together), Gauss-Newton iterations per step and inner iterations per Gauss-Newton
+iteration, and the -log_view stage split per step. The crossover is the first level at
+which the iterative runs cost fewer core-microseconds per unknown and step than LU.
+
+Outputs under out/cost_growth/ (--out): cost_growth.csv and cost_growth.md; runs in
+<out>/runs/<run>/, one at a time, re-used while complete with the same command line and
+newer than their meshes (--force: run again). A failed run is reported in the tables with
+its error and the script exits non-zero at the end.
+
+Examples (build first: make all):
+  /usr/bin/python3 scripts/cost_growth.py --levels 1 --t-final 0.0001
+  /usr/bin/python3 scripts/cost_growth.py --levels 1,2,3 --t-final 0.0003
+  scripts/cost_growth.py --levels 2,3,4 --ranks 8,64,512 --mpiexec srun   # in a SLURM job"""
+import argparse, os, re, shlex, sys
+
+sys.dont_write_bytecode = True   # no scripts/__pycache__ next to the sources
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import bench as B   # noqa: E402
+import tube3d_table as T   # noqa: E402
+import fsiopt_runs as fr   # noqa: E402
+from fsiopt_runs import ROOT, rel, say   # noqa: E402
+
+SOLVERS = {
+    "lu": [],
+    "iterative": ["-options_file", "options/solvers/fluid-schur-gamg.yaml",
+                  "-options_file", "options/solvers/structure-cg-gamg.yaml",
+                  "-options_file", "options/solvers/mesh-cg-gamg.yaml"],
+}
+REASONS = ["-fluid_ksp_converged_reason", "-structure_ksp_converged_reason", "-mesh_ksp_converged_reason"]
+SUBPROBLEMS = ("fluid", "structure", "mesh")
+KRYLOV_LINE = re.compile(r"Linear (\w+?)_ solve converged due to \w+ iterations (\d+)")
+
+
+def int_list(text, what):
+    try:
+        values = [int(v) for v in text.split(",") if v.strip()]
+    except ValueError:
+        raise SystemExit("cost_growth: %s: expected comma-separated integers, got %r" % (what, text))
+    if not values or min(values) < 1:
+        raise SystemExit("cost_growth: %s: expected integers >= 1, got %r" % (what, text))
+    return values
+
+
+def krylov_iterations(run_dir):
+    """{subproblem: mean Krylov iterations per linear solve} from the run's stdout.log."""
+    counts = {}
+    try:
+        with open(os.path.join(run_dir, "stdout.log")) as f:
+            for m in KRYLOV_LINE.finditer(f.read()):
+                counts.setdefault(m.group(1), []).append(int(m.group(2)))
+    except (OSError, TypeError):
+        return {}
+    return {k: sum(v) / len(v) for k, v in counts.items()}
+
+
+def cost_row(r, level, solver, np):
+    row = T.result_row(r)
+    row.update(level=level, solver=solver, np=np)
+    unknowns = (row["fluid_dofs"] or 0) + (row["structure_dofs"] or 0) if row["fluid_dofs"] != "" else ""
+    row["unknowns"] = unknowns
+    setup = r.stages.get("Setup")
+    stepping = row["wall_time_s"] - setup if row["wall_time_s"] != "" and setup is not None else ""
+    row["stepping_s"] = stepping
+    steps = row["steps"] or 0
+    row["core_us_per_unknown_step"] = stepping * np / (steps * unknowns) * 1e6 if stepping != "" and steps and unknowns else ""
+    peak = ((r.summary or {}).get("memory_gib") or {}).get("peak") if r.ok else None
+    row["peak_memory_gib"] = peak if peak is not None else ""
+    row["peak_kib_per_unknown"] = peak * 2 ** 20 / unknowns if peak is not None and unknowns else ""
+    its = krylov_iterations(r.run_dir) if r.run_dir else {}
+    for sub in SUBPROBLEMS:
+        row["krylov_its_%s" % sub] = its.get(sub, "")
+    return row
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--levels", default="1,2", help="mesh levels n, comma-separated (default 1,2)")
+    ap.add_argument("--solvers", default="lu,iterative", help="comma-separated of %s (default lu,iterative)"
+                                                              % ",".join(SOLVERS))
+    ap.add_argument("--t-final", type=float, default=0.0003, help="end time of every run (default 0.0003 = 3 steps)")
+    ap.add_argument("--ranks", default="1", help="MPI ranks: one number, or one per level (default 1)")
+    ap.add_argument("--mpiexec", default="mpiexec", help='launcher of runs on more than one rank (default "mpiexec")')
+    ap.add_argument("--extra", default="", help='options passed to every run, e.g. --extra="-coupling_inner gmres"')
+    ap.add_argument("--gmsh", default="gmsh", help="gmsh binary (default gmsh)")
+    ap.add_argument("--mesh-dir", default=os.path.join(ROOT, "out", "meshes"), help="where the meshes go "
+                                                                                    "(default out/meshes)")
+    ap.add_argument("--out", default=os.path.join(ROOT, "out", "cost_growth"), help="output directory "
+                                                                                    "(default out/cost_growth)")
+    ap.add_argument("--bin", default=T.FSIOPT, help="fsiopt binary (default bin/fsiopt)")
+    ap.add_argument("--force", action="store_true", help="run again even when a complete matching run exists")
+    ap.add_argument("--retries", type=int, default=2, help="retries of a run that dies without an fsiopt error")
+    args = ap.parse_args()
+    levels = int_list(args.levels, "--levels")
+    ranks = int_list(args.ranks, "--ranks")
+    if len(ranks) == 1:
+        ranks = ranks * len(levels)
+    if len(ranks) != len(levels):
+        ap.error("--ranks: one number, or one per level (%d levels, %d rank counts)" % (len(levels), len(ranks)))
+    solvers = [s.strip() for s in args.solvers.split(",") if s.strip()]
+    unknown = [s for s in solvers if s not in SOLVERS]
+    if unknown or not solvers:
+        ap.error("--solvers: expected some of %s, got %r" % (",".join(SOLVERS), args.solvers))
+    if args.t_final <= 0:
+        ap.error("--t-final: positive expected")
+    launcher = shlex.split(args.mpiexec)
+    if not launcher:
+        ap.error("--mpiexec: empty")
+    args.out = os.path.abspath(args.out)
+    args.mesh_dir = os.path.abspath(args.mesh_dir)
+    runs_dir = os.path.join(args.out, "runs")
+    extra = shlex.split(args.extra)
+    if not os.path.isfile(args.bin):
+        say("cost_growth: %s not found (build first: make all)" % rel(args.bin), err=True)
+
+    plan = []   # (level, solver, np, run)
+    for level, np in zip(levels, ranks):
+        try:
+            meshes = T.ensure_meshes(level, args.mesh_dir, args.gmsh)
+        except fr.MeshError as e:
+            say("  mesh n=%d FAILED: %s" % (level, e), err=True)
+            plan += [(level, s, np, T.failed_run("n%d-%s" % (level, s), "n = %d, %s" % (level, s), "mesh: %s" % e,
+                                                 np=np)) for s in solvers]
+            continue
+        for s in solvers:
+            r = T.tube3d_run(level, args.t_final, meshes, REASONS + SOLVERS[s] + extra, np, 0,
+                             launcher if np > 1 else None)
+            r.label = "n = %d, %s, %s" % (level, s, T.layout_text(np, 0))
+            plan.append((level, s, np, r))
+    T.run_runs([p[3] for p in plan], args.bin, runs_dir, args.force, args.retries)
+
+    rows = [cost_row(r, level, s, np) for level, s, np, r in plan]
+    step_keys = [T.per_step_key(st) for st in T.STEP_STAGES]
+    fields = ["level", "solver", "np", "status", "error", "fluid_dofs", "structure_dofs", "unknowns", "steps",
+              "wall_time_s", "stepping_s", "core_us_per_unknown_step", "peak_memory_gib", "peak_kib_per_unknown"] + \
+             ["krylov_its_%s" % sub for sub in SUBPROBLEMS] + \
+             ["avg_coupling_iterations", "inner_per_coupling_iteration", "coupling_iterations", "inner_iterations",
+              "fluid_linear_solves", "max_interface_jump", "converged"] + step_keys + \
+             [B.stage_key(st) for st in B.STAGES] + ["run_dir", "command"]
+    os.makedirs(args.out, exist_ok=True)
+    base = os.path.join(args.out, "cost_growth")
+    fr.write_csv(base + ".csv", rows, fields)
+
+    fmt = T.fmt
+    tf = fr.fmt_num(args.t_final)
+    md = ["# fsiopt cost growth: tube3d, LU against iterative solvers", "",
+          "Scene: `-options_file %s -t_final %s`%s; levels %s on %s rank(s); runs in `%s`, one at a time. "
+          "iterative = %s." % (T.OPTIONS_FILE, tf, ", extra options `%s`" % " ".join(extra) if extra else "",
+                               ",".join(map(str, levels)), ",".join(map(str, ranks)), rel(runs_dir),
+                               " ".join(SOLVERS["iterative"][1::2])), "",
+          "| level | solver | ranks | unknowns | wall s | stepping s | core-µs / unknown / step | peak KiB / unknown "
+          "| Krylov its fluid / structure / mesh | GN its/step | inner its/GN it | status |", "|" + "---|" * 12]
+    for (level, s, np, r), row in zip(plan, rows):
+        md.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
+            level, s, np, row["unknowns"], fmt(row["wall_time_s"], "%.3g"), fmt(row["stepping_s"], "%.3g"),
+            fmt(row["core_us_per_unknown_step"], "%.4g"), fmt(row["peak_kib_per_unknown"], "%.3g"),
+            " / ".join(fmt(row["krylov_its_%s" % sub], "%.1f") or "-" for sub in SUBPROBLEMS),
+            fmt(row["avg_coupling_iterations"], "%.3g"), fmt(row["inner_per_coupling_iteration"], "%.3g"),
+            T.status_text(r)))
+    cost = {(row["level"], row["solver"]): row["core_us_per_unknown_step"] for row in rows}
+    cross = [lv for lv in levels if cost.get((lv, "iterative"), "") != "" and cost.get((lv, "lu"), "") != ""
+             and cost[(lv, "iterative")] < cost[(lv, "lu")]]
+    compared = [lv for lv in levels if cost.get((lv, "iterative"), "") != "" and cost.get((lv, "lu"), "") != ""]
+    if compared:
+        md += ["", "Iterative over LU, core-µs per unknown and step: %s. Crossover: %s." % (
+            ", ".join("level %d %.3g×" % (lv, cost[(lv, "iterative")] / cost[(lv, "lu")]) for lv in compared),
+            "level %d" % cross[0] if cross else "none up to level %d" % compared[-1])]
+    md += ["", "## -log_view stage split (s per step)", "",
+           "| level | solver | " + " | ".join(T.STEP_STAGES) + " |", "|" + "---|" * (2 + len(T.STEP_STAGES))]
+    for row in rows:
+        md.append("| %s | %s | %s |" % (row["level"], row["solver"], " | ".join(fmt(row[k], "%.3g") for k in step_keys)))
+    md += ["", T.STAGE_NOTE]
+    fr.finish_report(md, base + ".md", [base + e for e in (".csv", ".md")],
+                     [(r.label, r) for _, _, _, r in plan if not r.ok], len(plan), "cost_growth", "run(s)")
+
+
+if __name__ == "__main__":
+    main()
