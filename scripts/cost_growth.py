@@ -34,7 +34,7 @@ Examples (build first: make all):
   /usr/bin/python3 scripts/cost_growth.py --levels 1 --t-final 0.0001
   /usr/bin/python3 scripts/cost_growth.py --levels 1,2,3 --t-final 0.0003
   scripts/cost_growth.py --levels 2,3,4 --ranks 8,64,512 --mpiexec srun   # in a SLURM job"""
-import argparse, os, re, shlex, sys
+import argparse, os, re, sys
 
 sys.dont_write_bytecode = True   # no scripts/__pycache__ next to the sources
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -102,13 +102,7 @@ def main():
                                                               % ",".join(SOLVERS))
     ap.add_argument("--t-final", type=float, default=0.0003, help="end time of every run (default 0.0003 = 3 steps)")
     ap.add_argument("--ranks", default="1", help="MPI ranks: one number, or one per level (default 1)")
-    ap.add_argument("--mpiexec", default="mpiexec", help='launcher of runs on more than one rank (default "mpiexec")')
-    ap.add_argument("--extra", default="", help='options passed to every run, e.g. --extra="-coupling_inner gmres"')
-    ap.add_argument("--gmsh", default="gmsh", help="gmsh binary (default gmsh)")
-    ap.add_argument("--mesh-dir", default=os.path.join(ROOT, "out", "meshes"), help="where the meshes go "
-                                                                                    "(default out/meshes)")
-    ap.add_argument("--out", default=os.path.join(ROOT, "out", "cost_growth"), help="output directory "
-                                                                                    "(default out/cost_growth)")
+    T.add_study_args(ap, "cost_growth", "-coupling_inner gmres")
     ap.add_argument("--bin", default=T.FSIOPT, help="fsiopt binary (default bin/fsiopt)")
     ap.add_argument("--force", action="store_true", help="run again even when a complete matching run exists")
     ap.add_argument("--retries", type=int, default=2, help="retries of a run that dies without an fsiopt error")
@@ -123,17 +117,8 @@ def main():
     unknown = [s for s in solvers if s not in SOLVERS]
     if unknown or not solvers:
         ap.error("--solvers: expected some of %s, got %r" % (",".join(SOLVERS), args.solvers))
-    if args.t_final <= 0:
-        ap.error("--t-final: positive expected")
-    launcher = shlex.split(args.mpiexec)
-    if not launcher:
-        ap.error("--mpiexec: empty")
-    args.out = os.path.abspath(args.out)
-    args.mesh_dir = os.path.abspath(args.mesh_dir)
+    launcher, extra = T.check_study_args(ap, args, "cost_growth")
     runs_dir = os.path.join(args.out, "runs")
-    extra = shlex.split(args.extra)
-    if not os.path.isfile(args.bin):
-        say("cost_growth: %s not found (build first: make all)" % rel(args.bin), err=True)
 
     plan = []   # (level, solver, np, run)
     for level, np in zip(levels, ranks):

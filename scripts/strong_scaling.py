@@ -43,7 +43,7 @@ Examples (build first: make all):
   scripts/strong_scaling.py --level 1 --t-final 0.0003 --layouts 1:0,2:1
   scripts/strong_scaling.py                                  # n = 2, 1:0,2:1,2:0
   scripts/strong_scaling.py --level 3 --mpiexec srun --layouts "8:0,16:0,16:4,32:8"   # in a SLURM job"""
-import argparse, os, shlex, sys
+import argparse, os, sys
 
 import matplotlib
 matplotlib.use("Agg")
@@ -186,14 +186,7 @@ def main():
     ap.add_argument("--layouts", default=DEFAULT_LAYOUTS, help='comma-separated P:K, MPI ranks : structure ranks; '
                                                                'the first is the speed-up\'s base (default "%s")'
                                                                % DEFAULT_LAYOUTS)
-    ap.add_argument("--mpiexec", default="mpiexec", help='launcher, called as LAUNCHER -n P bin/fsiopt ... '
-                                                         '(default "mpiexec"; e.g. "srun")')
-    ap.add_argument("--extra", default="", help='options passed to every run, e.g. --extra="-coupling_tol 1e-5"')
-    ap.add_argument("--gmsh", default="gmsh", help="gmsh binary (default gmsh)")
-    ap.add_argument("--mesh-dir", default=os.path.join(ROOT, "out", "meshes"), help="where the meshes go "
-                                                                                    "(default out/meshes)")
-    ap.add_argument("--out", default=os.path.join(ROOT, "out", "scaling"), help="output directory "
-                                                                                "(default out/scaling)")
+    T.add_study_args(ap, "scaling", "-coupling_tol 1e-5")
     ap.add_argument("--runs-dir", default=None, help="where the runs go (default <out>/runs)")
     ap.add_argument("--bin", default=T.FSIOPT, help="fsiopt binary (default bin/fsiopt)")
     ap.add_argument("--force", action="store_true", help="run again even when a complete matching run exists")
@@ -208,17 +201,8 @@ def main():
         ap.error("--layouts: no layout")
     if args.level < 1:
         ap.error("--level: at least 1")
-    if args.t_final <= 0:
-        ap.error("--t-final: positive expected")
-    launcher = shlex.split(args.mpiexec)
-    if not launcher:
-        ap.error("--mpiexec: empty")
-    args.out = os.path.abspath(args.out)
-    args.mesh_dir = os.path.abspath(args.mesh_dir)
+    launcher, extra = T.check_study_args(ap, args, "strong_scaling")
     args.runs_dir = os.path.abspath(args.runs_dir or os.path.join(args.out, "runs"))
-    extra = shlex.split(args.extra)
-    if not os.path.isfile(args.bin):
-        say("strong_scaling: %s not found (build first: make all)" % rel(args.bin), err=True)
 
     say("meshes in %s" % rel(args.mesh_dir))
     runs = []

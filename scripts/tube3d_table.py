@@ -77,6 +77,34 @@ def ensure_meshes(level, mesh_dir, gmsh="gmsh"):
     return paths
 
 
+def add_study_args(ap, out_name, extra_example):
+    """The arguments every tube3d study shares (checked by check_study_args)."""
+    ap.add_argument("--mpiexec", default="mpiexec", help='launcher, called as LAUNCHER -n P bin/fsiopt ... '
+                                                         '(default "mpiexec"; e.g. "srun")')
+    ap.add_argument("--extra", default="", help='options passed to every run, e.g. --extra="%s"' % extra_example)
+    ap.add_argument("--gmsh", default="gmsh", help="gmsh binary (default gmsh)")
+    ap.add_argument("--mesh-dir", default=os.path.join(ROOT, "out", "meshes"), help="where the meshes go "
+                                                                                    "(default out/meshes)")
+    ap.add_argument("--out", default=os.path.join(ROOT, "out", out_name), help="output directory "
+                                                                               "(default out/%s)" % out_name)
+
+
+def check_study_args(ap, args, script):
+    """The arguments every tube3d study shares: --t-final positive, --mpiexec split into the
+    launcher, --out and --mesh-dir made absolute, --extra split, a missing --bin named;
+    returns (launcher, extra)."""
+    if args.t_final <= 0:
+        ap.error("--t-final: positive expected")
+    launcher = shlex.split(args.mpiexec)
+    if not launcher:
+        ap.error("--mpiexec: empty")
+    args.out = os.path.abspath(args.out)
+    args.mesh_dir = os.path.abspath(args.mesh_dir)
+    if not os.path.isfile(args.bin):
+        say("%s: %s not found (build first: make all)" % (script, rel(args.bin)), err=True)
+    return launcher, shlex.split(args.extra)
+
+
 # ---------------------------------------------------------------------------- runs
 class Run(fr.Variant):
     """A tube3d run on a rank layout: np ranks (launcher + ['-n', np] in front of bin/fsiopt
