@@ -62,6 +62,20 @@ def test_misspelled_options_refused():
     return "%d options, %d YAML keys refused with their suggestion" % (len(TYPOS), len(YAML_TYPOS))
 
 
+@test("a solver options file for a solver the scene lacks: one line naming the prefix, exit 1, no outputs", quick=True)
+def test_absent_solver_refused():
+    # mms-ns's fluid mesh does not move, so nothing reads options/solvers/mesh-cg-gamg.yaml
+    out = out_dir("absent-solver")
+    rc, stdout, err, _ = run(NS_STEP + ["-options_file", "options/solvers/mesh-cg-gamg.yaml"], out=out)
+    lines = [l for l in (stdout + err).splitlines() if l.strip()]
+    assert rc != 0 and len(lines) == 1, "exit %d, %d lines: %s" % (rc, len(lines), (stdout + err)[-300:])
+    assert lines[0].startswith("fsiopt: error: options -mesh_") and "no solver with the prefix -mesh_" in lines[0] \
+        and "nearest known" not in lines[0], "line: %s" % lines[0]
+    left = os.listdir(out) if os.path.isdir(out) else []
+    assert not left, "left %s" % left
+    return lines[0]
+
+
 @test("-options_allow_unused lets a misspelled option through with a warning; another set-up's option warns")
 def test_allow_unused_and_other_setups():
     rc, stdout, err, summary = run(NS_STEP + ["-coupling_tl", "1e-8", "-options_allow_unused"])

@@ -437,11 +437,25 @@ static PetscBool IsDeferred(const char name[])
   return PETSC_FALSE;
 }
 
+/* the longest of fsiopt's solver prefixes that name starts with ("" for none) */
+static void SolverPrefix(const char name[], char prefix[], size_t len)
+{
+  size_t best = 0;
+
+  (void)PetscStrncpy(prefix, "", len);
+  for (const char *const *p = solver_prefixes; **p; ++p)
+    if (!strncmp(name, *p, strlen(*p)) && strlen(*p) > best) {
+      best = strlen(*p);
+      (void)PetscStrncpy(prefix, *p, len);
+    }
+}
+
 PetscErrorCode OptionsCheckUnused(MPI_Comm comm, PetscBool after_first_step)
 {
   PetscInt  n;
   char    **names, **values, unknown[1024] = "", nearest[1024] = "", unread[1024] = "";
-  PetscInt  n_unknown = 0, n_suggested = 0;
+  char      exact_prefix[64] = "";
+  PetscInt  n_unknown = 0, n_suggested = 0, n_exact = 0;
   PetscBool allow = PETSC_FALSE;
 
   PetscFunctionBeginUser;
@@ -466,7 +480,9 @@ PetscErrorCode OptionsCheckUnused(MPI_Comm comm, PetscBool after_first_step)
     PetscCall(PetscStrlcat(unknown, n_unknown++ ? ", -" : "-", sizeof(unknown)));
     PetscCall(PetscStrlcat(unknown, names[i], sizeof(unknown)));
     Nearest(names[i], suggestion, sizeof(suggestion));
-    if (suggestion[0]) {
+    if (!strcmp(suggestion + 1, names[i])) { /* a solver option of a solver this set-up lacks */
+      if (!n_exact++) SolverPrefix(names[i], exact_prefix, sizeof(exact_prefix));
+    } else if (suggestion[0]) {
       PetscCall(PetscStrlcat(nearest, n_suggested++ ? ", " : "", sizeof(nearest)));
       PetscCall(PetscStrlcat(nearest, suggestion, sizeof(nearest)));
     }
@@ -480,13 +496,17 @@ PetscErrorCode OptionsCheckUnused(MPI_Comm comm, PetscBool after_first_step)
   if (!n_unknown) PetscFunctionReturn(0);
   {
     char        message[3072];
-    const char *pronoun = n_unknown > 1 ? "them" : "it";
-    PetscCall(PetscSNPrintf(message, sizeof(message), "option%s %s: nothing %s %s%s%s%s%s", n_unknown > 1 ? "s" : "",
+    const char *pronoun     = n_unknown > 1 ? "them" : "it";
+    char        absent[128] = "";
+    if (n_exact)
+      PetscCall(
+        PetscSNPrintf(absent, sizeof(absent), " (this set-up has no solver with the prefix -%s)", exact_prefix));
+    PetscCall(PetscSNPrintf(message, sizeof(message), "option%s %s: nothing %s %s%s%s%s%s%s", n_unknown > 1 ? "s" : "",
                             unknown, after_first_step ? "read" : "reads", pronoun,
                             after_first_step
                               ? " in the first step, where the solvers read their viewers, tests and inner solvers"
                               : "",
-                            n_suggested ? " (the nearest known: " : "", nearest, n_suggested ? ")" : ""));
+                            absent, n_suggested ? " (the nearest known: " : "", nearest, n_suggested ? ")" : ""));
     if (allow) PetscCall(PetscPrintf(comm, "fsiopt: warning: %s; let through by -options_allow_unused\n", message));
     else SETERRQ(comm, PETSC_ERR_ARG_WRONG, "%s; -options_allow_unused lets %s through", message, pronoun);
   }
