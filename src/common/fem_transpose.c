@@ -9,8 +9,9 @@
 
 typedef struct {
   KSP              ksp;          /* on A^T, with the forward KSP's prefix and DM */
-  Mat              A_transposed; /* of the forward operator (its preconditioning matrix is A here) */
-  PetscObjectState state;        /* of the forward operator when A_transposed was made */
+  Mat              A_transposed; /* explicit when A is P; else A's transpose applied by its MatMultTranspose */
+  Mat              P_transposed; /* explicit: the split's blocks come from it */
+  PetscObjectState state;        /* of P when P_transposed was made */
 } TransposedSolver;
 
 static PetscErrorCode TransposedSolverDestroy(void *ctx)
@@ -20,6 +21,7 @@ static PetscErrorCode TransposedSolverDestroy(void *ctx)
   PetscFunctionBeginUser;
   PetscCall(KSPDestroy(&ts->ksp));
   PetscCall(MatDestroy(&ts->A_transposed));
+  PetscCall(MatDestroy(&ts->P_transposed));
   PetscCall(PetscFree(ts));
   PetscFunctionReturn(0);
 }
@@ -34,8 +36,6 @@ static PetscErrorCode TransposedSolverGet(SNES snes, KSP ksp, TransposedSolver *
   PetscFunctionBeginUser;
   PetscCall(PetscObjectQuery((PetscObject)snes, "fsiopt_transposed_solver", (PetscObject *)&container));
   PetscCall(KSPGetOperators(ksp, &A, &P));
-  PetscCheck(A == P, PetscObjectComm((PetscObject)ksp), PETSC_ERR_SUP,
-             "transposed solves with a field split need the operator as its own preconditioning matrix");
   if (!container) {
     const char *prefix;
     DM          dm;
@@ -56,10 +56,16 @@ static PetscErrorCode TransposedSolverGet(SNES snes, KSP ksp, TransposedSolver *
     PetscCall(PetscObjectCompose((PetscObject)snes, "fsiopt_transposed_solver", (PetscObject)container));
     PetscCall(PetscContainerDestroy(&container));
   } else PetscCall(PetscContainerGetPointer(container, (void **)&ts));
-  PetscCall(PetscObjectStateGet((PetscObject)A, &state));
-  if (!ts->A_transposed || state != ts->state) {
-    PetscCall(MatTranspose(A, ts->A_transposed ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, &ts->A_transposed));
-    PetscCall(KSPSetOperators(ts->ksp, ts->A_transposed, ts->A_transposed));
+  PetscCall(PetscObjectStateGet((PetscObject)P, &state));
+  if (!ts->P_transposed || state != ts->state) {
+    PetscCall(MatTranspose(P, ts->P_transposed ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, &ts->P_transposed));
+    if (!ts->A_transposed) {
+      if (A == P) {
+        PetscCall(PetscObjectReference((PetscObject)ts->P_transposed));
+        ts->A_transposed = ts->P_transposed;
+      } else PetscCall(MatCreateTranspose(A, &ts->A_transposed)); /* -fluid_matfree: follows A */
+    }
+    PetscCall(KSPSetOperators(ts->ksp, ts->A_transposed, ts->P_transposed));
     ts->state = state;
   }
   *solver = ts;
