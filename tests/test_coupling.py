@@ -57,14 +57,15 @@ def preconditioner_applications(log, stage):
 
 @test("iterative fluid (FGMRES, Schur field split, GAMG on the velocity): the split's options are read, the adjoint "
       "identity holds to 10 x the Krylov tolerance, the transposed solves need no more iterations than the forward "
-      "ones, the errors are the LU run's (1 and 2 ranks)")
+      "ones, the errors are the LU run's (1 and 2 ranks; 1 rank with -fluid_matfree)")
 def test_field_split_fluid():
     details = []
-    for nproc in (1, 2):
+    for nproc, matfree in ((1, []), (2, []), (1, ["-fluid_matfree"])):
         reference = solve(SHORT + ["-t_final", "0.51"], nproc=nproc)
-        log = os.path.join(WORK, "field-split-%d.log" % nproc)
-        rc, stdout, err, summary = run(SHORT + FIELD_SPLIT + ["-coupling_test_adjoint", "-t_final", "0.51",
-                                                              "-log_view", ":" + log], nproc=nproc, tag="field-split")
+        log = os.path.join(WORK, "field-split-%d%s.log" % (nproc, "-matfree" if matfree else ""))
+        rc, stdout, err, summary = run(SHORT + FIELD_SPLIT + matfree + ["-coupling_test_adjoint", "-t_final", "0.51",
+                                                                        "-log_view", ":" + log], nproc=nproc,
+                                       tag="field-split")
         assert rc == 0 and summary, fail_text(rc, stdout, err)
         # PETSc 3.18's field split applies no true transpose: 7.8 x the forward iterations before the
         # transposed solves got a preconditioner of their own (src/common/fem_transpose.c)
@@ -77,8 +78,9 @@ def test_field_split_fluid():
         assert rel <= 1e-9, "%d rank(s): adjoint identity %.2e, above 10 x the Krylov tolerance 1e-10" % (nproc, rel)
         worst = max(abs(summary["errors"][k] - v) / v for k, v in reference["errors"].items())
         assert worst <= 1e-8, "%d rank(s): errors %s, LU's %s" % (nproc, summary["errors"], reference["errors"])
-        details.append("%d rank%s: adjoint %.1e, %.1f/%.1f its per forward/transposed solve, errors within %.1e of LU's"
-                       % (nproc, "s" if nproc > 1 else "", rel, forward, transposed, worst))
+        details.append("%d rank%s%s: adjoint %.1e, %.1f/%.1f its per forward/transposed solve, errors within %.1e of "
+                       "LU's" % (nproc, "s" if nproc > 1 else "", " matrix-free" if matfree else "", rel, forward,
+                                 transposed, worst))
     return "; ".join(details)
 
 
