@@ -389,18 +389,6 @@ PetscErrorCode FEMInvalidateGeometry(DM dm)
   PetscFunctionReturn(0);
 }
 
-/* The columns of the dense rhs at once: a factorization reads its factors once for the
-   block (KSPMatSolve falls back to one solve per column for an iterative KSP). */
-PetscErrorCode FEMLinearSolveBlock(SNES snes, Mat rhs, Mat x)
-{
-  KSP ksp;
-
-  PetscFunctionBeginUser;
-  PetscCall(SNESGetKSP(snes, &ksp));
-  PetscCall(KSPMatSolve(ksp, rhs, x));
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode FEMUpdateJacobian(SNES snes, Vec x)
 {
   PetscFunctionBeginUser;

@@ -1,5 +1,7 @@
-/* Solves with the transpose of a subproblem's linearized operator (the adjoint products).
-   A factorization solves with its own transpose, and so do Krylov methods with most
+/* The linearized solves of a subproblem (the sensitivity and adjoint products), with its
+   operator or its transpose. A solve that does not converge stops the run with one line:
+   with LU it never happens; an iterative solver's limits are options. A factorization
+   solves with its own transpose, and so do Krylov methods with most
    preconditioners. PETSc 3.18's PCFIELDSPLIT does not apply the transpose of its Schur
    factorization: on tube3d the transposed fluid solves took 1000 FGMRES iterations where
    the forward ones took 75. For it a second KSP solves with the explicit transpose, built
@@ -72,6 +74,25 @@ static PetscErrorCode TransposedSolverGet(SNES snes, KSP ksp, TransposedSolver *
   PetscFunctionReturn(0);
 }
 
+/* which solve failed, and the options that would change it */
+static PetscErrorCode CheckConverged(KSP ksp, const char what[])
+{
+  KSPConvergedReason reason;
+  PetscInt           its;
+  const char        *prefix;
+
+  PetscFunctionBeginUser;
+  PetscCall(KSPGetConvergedReason(ksp, &reason));
+  if (reason >= 0) PetscFunctionReturn(0);
+  PetscCall(KSPGetIterationNumber(ksp, &its));
+  PetscCall(KSPGetOptionsPrefix(ksp, &prefix));
+  if (!prefix) prefix = "";
+  SETERRQ(PetscObjectComm((PetscObject)ksp), PETSC_ERR_NOT_CONVERGED,
+          "%s linearized solve (-%sksp_type) did not converge: %s after %" PetscInt_FMT
+          " iterations (-%sksp_rtol, -%sksp_max_it, -%spc_type set it)",
+          what, prefix, KSPConvergedReasons[reason], its, prefix, prefix, prefix);
+}
+
 PetscErrorCode FEMLinearSolve(SNES snes, Vec rhs, Vec x, PetscBool transpose)
 {
   KSP       ksp;
@@ -82,6 +103,7 @@ PetscErrorCode FEMLinearSolve(SNES snes, Vec rhs, Vec x, PetscBool transpose)
   PetscCall(SNESGetKSP(snes, &ksp));
   if (!transpose) {
     PetscCall(KSPSolve(ksp, rhs, x));
+    PetscCall(CheckConverged(ksp, "a"));
     PetscFunctionReturn(0);
   }
   PetscCall(KSPGetPC(ksp, &pc));
@@ -90,6 +112,23 @@ PetscErrorCode FEMLinearSolve(SNES snes, Vec rhs, Vec x, PetscBool transpose)
     TransposedSolver *ts = NULL;
     PetscCall(TransposedSolverGet(snes, ksp, &ts));
     PetscCall(KSPSolve(ts->ksp, rhs, x));
-  } else PetscCall(KSPSolveTranspose(ksp, rhs, x));
+    PetscCall(CheckConverged(ts->ksp, "a transposed"));
+  } else {
+    PetscCall(KSPSolveTranspose(ksp, rhs, x));
+    PetscCall(CheckConverged(ksp, "a transposed"));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* The columns of the dense rhs at once: a factorization reads its factors once for the
+   block (KSPMatSolve falls back to one solve per column for an iterative KSP). */
+PetscErrorCode FEMLinearSolveBlock(SNES snes, Mat rhs, Mat x)
+{
+  KSP ksp;
+
+  PetscFunctionBeginUser;
+  PetscCall(SNESGetKSP(snes, &ksp));
+  PetscCall(KSPMatSolve(ksp, rhs, x));
+  PetscCall(CheckConverged(ksp, "a block"));
   PetscFunctionReturn(0);
 }
