@@ -68,7 +68,7 @@ def test_field_split_fluid():
                                        tag="field-split")
         assert rc == 0 and summary, fail_text(rc, stdout, err)
         # PETSc 3.18's field split applies no true transpose: 7.8 x the forward iterations before the
-        # transposed solves got a preconditioner of their own (src/common/fem_transpose.c)
+        # transposed solves got a preconditioner of their own (src/common/fem_linear_solve.c)
         forward, transposed = preconditioner_applications(log, "Sensitivity"), preconditioner_applications(log, "Adjoint")
         assert transposed <= 1.5 * forward, "%d rank(s): %.1f preconditioner applications per transposed solve, " \
             "%.1f per forward one" % (nproc, transposed, forward)
