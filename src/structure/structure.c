@@ -201,9 +201,9 @@ static PetscErrorCode RigidBodyModes(DM dm, PetscInt field_ignored, PetscInt fie
   PetscFunctionReturn(0);
 }
 
-/* GAMG builds its coarse spaces from the operator's near-nullspace; for the wall those are
-   its rigid-body modes (translations alone on a thin 3D wall leave the rotations to the
-   smoother). A factorization needs none. */
+/* GAMG builds its coarse spaces from the operator's near-nullspace, which for elasticity
+   are the rigid-body modes; without them it takes the translations only. A factorization
+   needs none. */
 static PetscErrorCode SetRigidBodyModes(Structure s)
 {
   KSP       ksp;
