@@ -26,7 +26,7 @@ OBJ  := $(SRC:%.c=build/%.o) build/known_options.o build/version.o
 GEO  := $(wildcard meshes/*.geo)
 MSH  := $(GEO:.geo=.msh) meshes/tube3d-fluid-tets.msh meshes/tube3d-wall-tets.msh
 
-.PHONY: all deps run test test-quick check-memory format clean FORCE
+.PHONY: all deps run test test-quick check-memory format clean bend3d-meshes FORCE
 
 all: bin/fsiopt $(MSH)
 
@@ -88,6 +88,17 @@ meshes/tube3d-%.msh: meshes/tube3d-%.geo meshes/tube3d-section.geoinc
 # and the same tube in tetrahedra
 meshes/tube3d-%-tets.msh: meshes/tube3d-%.geo meshes/tube3d-section.geoinc
 	gmsh -3 -format msh22 -v 2 -setnumber simplex 1 -o $@ $< >/dev/null
+
+# the bent tube: the same cross-section swept along a curved axis, tetrahedra
+meshes/bend3d-%.msh: meshes/bend3d-%.geo meshes/bend3d.geoinc meshes/tube3d-section.geoinc
+	gmsh -3 -format msh22 -v 2 -o $@ $< >/dev/null
+
+# and its finer levels (not built by `all`): make bend3d-meshes
+meshes/bend3d-%-n2.msh: meshes/bend3d-%.geo meshes/bend3d.geoinc meshes/tube3d-section.geoinc
+	gmsh -3 -format msh22 -v 2 -setnumber n 2 -o $@ $< >/dev/null
+meshes/bend3d-%-n3.msh: meshes/bend3d-%.geo meshes/bend3d.geoinc meshes/tube3d-section.geoinc
+	gmsh -3 -format msh22 -v 2 -setnumber n 3 -o $@ $< >/dev/null
+bend3d-meshes: $(foreach n,2 3,meshes/bend3d-fluid-n$(n).msh meshes/bend3d-wall-n$(n).msh)
 
 meshes/turek-hron-%.msh: meshes/turek-hron-%.geo meshes/turek-hron.geoinc
 	gmsh -2 -format msh22 -v 2 -o $@ $< >/dev/null

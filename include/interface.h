@@ -18,6 +18,14 @@
    (or no structure) passes NULL for that side's vectors. */
 typedef struct _p_Interface *Interface;
 
+/* how the interface mass becomes the diagonal weight of the objective (-coupling_interface_lumping) */
+typedef enum {
+  INTERFACE_LUMPING_AUTO,
+  INTERFACE_LUMPING_ROW_SUM,
+  INTERFACE_LUMPING_HRZ
+} InterfaceLumping;
+extern const char *const InterfaceLumpings[];
+
 PetscErrorCode InterfaceCreate(MPI_Comm comm, DM fluid, PetscInt fluid_face, DM structure, PetscInt structure_face,
                                Interface *);
 PetscErrorCode InterfaceDestroy(Interface *);
@@ -26,7 +34,8 @@ PetscErrorCode InterfaceCreateVector(Interface, Vec *);        /* all interface 
 PetscErrorCode InterfaceCreateControlVector(Interface, Vec *); /* fluid-free nodes */
 /* The interface mass matrix (vector-valued, all interface nodes): (M g)_i = (g, phi_i)_Gamma. */
 PetscErrorCode InterfaceGetMass(Interface, Mat *);
-/* Row sums of the interface mass matrix on the control nodes (a lumped L2 weight). */
+/* The lumped interface mass on the control nodes (a diagonal L2 weight): its row sums, or its
+   diagonal scaled to the same total where row sums vanish (-coupling_interface_lumping). */
 PetscErrorCode InterfaceGetLumpedControlMass(Interface, Vec *);
 
 /* control <-> interface: restriction to the control nodes and zero extension */

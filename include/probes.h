@@ -15,7 +15,7 @@ typedef struct _p_Probes *Probes;
 typedef struct {
   PetscInt  n;
   PetscReal window;
-  char      name[FSIOPT_MAX_QUANTITIES][32];
+  char      name[FSIOPT_MAX_QUANTITIES][48];
   PetscReal final[FSIOPT_MAX_QUANTITIES], mean[FSIOPT_MAX_QUANTITIES], amplitude[FSIOPT_MAX_QUANTITIES],
     frequency[FSIOPT_MAX_QUANTITIES];
 } QuantityTable;

@@ -142,6 +142,8 @@ def test_bad_input_meshes():
         ("gmsh: a cell naming a node twice", F + ["-fluid_dm_plex_filename", collapsed], "names node 4 twice"),
         ("box without cells in a direction", F + ["-fluid_dm_plex_box_faces", "0,4"], "-fluid_dm_plex_box_faces: expected at least 1 cell"),
         ("box with its corners swapped", F + ["-fluid_dm_plex_box_lower", "1,1", "-fluid_dm_plex_box_upper", "0,0"], "-fluid_dm_plex_box_lower and -fluid_dm_plex_box_upper"),
+        ("row sums as the weight of P2 triangles", ["-options_file", "options/bend3d.yaml", "-coupling_interface_lumping",
+                                                    "row-sum"], "option -coupling_interface_lumping: the row sums"),
         ("non-conforming interface (counts)", ["-scene", "mms-stokes", "-structure_dm_plex_box_faces", "5,2"], "do not conform"),
         ("non-conforming interface (shifted)", ["-scene", "mms-stokes", "-structure_dm_plex_box_lower", "0.01,1", "-structure_dm_plex_box_upper", "1.01,1.5"], "fluid node (0"),
     ])

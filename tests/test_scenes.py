@@ -1,10 +1,10 @@
-"""The scenes: channel2d against its stored probes, tube3d on split ranks, the Turek-Hron
-benchmarks (mesh levels, a beam estimate, the steady state, the periodic quantities
-and scripts/turek_hron_series.py)."""
+"""The scenes: channel2d against its stored probes, tube3d on split ranks, bend3d
+(tetrahedra, a curved axis), the Turek-Hron benchmarks (mesh levels, a beam estimate, the
+steady state, the periodic quantities and scripts/turek_hron_series.py)."""
 import contextlib, csv, io, math, os, subprocess, sys
 
-from harness import (CHANNEL, REFERENCE, ROOT, TUREK, WORK, fr, last_rows, probes_difference, read_probes,  # noqa: F401
-                     solve, test)
+from harness import (CHANNEL, REFERENCE, ROOT, TUREK, WORK, fail_text, fr, last_rows, printed, probes_difference,  # noqa: F401
+                     read_probes, run, solve, test)
 
 CHANNEL_REFERENCE = os.path.join(REFERENCE, "channel2d-50-steps-probes.csv")
 
@@ -46,6 +46,35 @@ def test_tube3d_split_ranks():
         "the wall near the inlet should bulge first: %s" % a[-1]
     return "%d dofs, %.2f GN its/step, radial displacement at z = 1.25: %.2e, 2 ranks within %.1e" % (
         one["fluid_dofs"] + one["structure_dofs"], one["avg_coupling_iterations"], a[-1][radial], worst)
+
+
+@test("bend3d: (P2,P1) tetrahedra on a curved axis: the adjoint identity, 2 ranks (fluid | structure; both "
+      "distributed) = 1 rank, the wall bulges at the inlet first")
+def test_bend3d():
+    args = ["-options_file", "options/bend3d.yaml", "-t_final", "0.0002"]
+    rc, stdout, err, _ = run(args[:-1] + ["0.0001", "-coupling_test_adjoint"], tag="bend3d-adjoint")
+    assert rc == 0, fail_text(rc, stdout, err)
+    line = printed(stdout, "adjoint test:")
+    assert len(line) == 1, "no adjoint test line in %s" % stdout[-300:]
+    adjoint = float(line[0].split()[-1])
+    assert adjoint <= 1e-10, "adjoint identity: relative difference %.2e" % adjoint
+    outs = [os.path.join(WORK, "bend%d" % k) for k in range(3)]
+    one = solve(args, out=outs[0])
+    solve(args + ["-structure_ranks", "1"], nproc=2, out=outs[1])
+    shared = solve(args, nproc=2, out=outs[2])
+    assert shared["ranks"]["fluid"] == 2, "ranks %s" % shared["ranks"]
+    head, a = read_probes(os.path.join(outs[0], "probes.csv"))
+    scale = max(abs(x) for r in a for x in r[1:])
+    worst = 0.0
+    for out in outs[1:]:
+        _, b = read_probes(os.path.join(out, "probes.csv"))
+        worst = max(worst, max(abs(x - y) for ra, rb in zip(a, b) for x, y in zip(ra[1:], rb[1:])) / scale)
+    assert worst <= 1e-8, "2 ranks differ by %.2e relative" % worst
+    inlet, outlet = head.index("dx(-0.5;0.;0.5)"), head.index("dz(2.;0.;3.)")
+    assert a[-1][inlet] < 0 and abs(a[-1][inlet]) >= 10 * abs(a[-1][outlet]), \
+        "the wall near the inlet should bulge (outwards, -x) first: %s" % a[-1]
+    return "%d dofs, %.2f GN its/step, adjoint %.1e, inlet bulge %.2e, 2 ranks within %.1e" % (
+        one["fluid_dofs"] + one["structure_dofs"], one["avg_coupling_iterations"], adjoint, -a[-1][inlet], worst)
 
 
 # ---- Turek-Hron ----

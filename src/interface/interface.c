@@ -6,6 +6,8 @@
 
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 
+const char *const InterfaceLumpings[] = {"auto", "row-sum", "hrz", "InterfaceLumping", "INTERFACE_LUMPING_", NULL};
+
 static void MassG0(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
                    const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[],
                    const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[],
@@ -130,12 +132,47 @@ static PetscErrorCode InterfaceAssembleMass(Interface itf, DM fluid, PetscInt fa
   PetscFunctionReturn(0);
 }
 
+/* The diagonal weight of the least-squares objective. Row sums are the usual lumping but
+   vanish at the vertices of P2 triangles (the traces of P2 tetrahedra); the scaled diagonal
+   (Hinton-Rock-Zienkiewicz) is positive for every Lagrange element and keeps the total mass.
+   With one element type on the interface, the global scale equals HRZ's per-element one. */
+static PetscErrorCode InterfaceLumpMass(Interface itf, InterfaceLumping lumping)
+{
+  Vec       ones, lumped;
+  PetscReal smallest, total, diagonal_total;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecDuplicate(itf->all, &ones));
+  PetscCall(VecDuplicate(itf->all, &lumped));
+  PetscCall(VecSet(ones, 1.0));
+  PetscCall(MatMult(itf->mass, ones, lumped));
+  PetscCall(VecMin(lumped, NULL, &smallest));
+  /* relative to the largest entry: round-off leaves +-1e-18 where the row sum is zero */
+  {
+    PetscReal largest;
+    PetscCall(VecMax(lumped, NULL, &largest));
+    if (smallest <= 1e-12 * largest && lumping == INTERFACE_LUMPING_AUTO) lumping = INTERFACE_LUMPING_HRZ;
+  }
+  if (lumping == INTERFACE_LUMPING_HRZ) {
+    PetscCall(VecSum(lumped, &total));
+    PetscCall(MatGetDiagonal(itf->mass, lumped));
+    PetscCall(VecSum(lumped, &diagonal_total));
+    PetscCall(VecScale(lumped, total / diagonal_total));
+  }
+  PetscCall(VecDuplicate(itf->control_template, &itf->lumped_control));
+  PetscCall(InterfaceRestrict(itf, lumped, itf->lumped_control));
+  PetscCall(VecDestroy(&ones));
+  PetscCall(VecDestroy(&lumped));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode InterfaceCreate(MPI_Comm comm, DM fluid, PetscInt fluid_face, DM structure, PetscInt structure_face,
                                Interface *interface)
 {
-  Interface itf;
-  PetscInt  dim_local = 0, dim;
-  PetscReal rtol      = 1e-8;
+  Interface        itf;
+  PetscInt         dim_local = 0, dim;
+  PetscReal        rtol      = 1e-8;
+  InterfaceLumping lumping   = INTERFACE_LUMPING_AUTO;
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&itf));
@@ -148,6 +185,11 @@ PetscErrorCode InterfaceCreate(MPI_Comm comm, DM fluid, PetscInt fluid_face, DM 
   PetscCall(OptionsRealInRange(PetscOptionsObject, "-coupling_interface_tol",
                                "tolerance of the interface node matching, relative to the interface's extent", 0.0, 1.0,
                                &rtol));
+  PetscCall(PetscOptionsEnum("-coupling_interface_lumping",
+                             "diagonal weight of the least-squares objective: the interface mass's row sums, its "
+                             "diagonal scaled to the same total (positive for P2 triangles, whose vertex row sums "
+                             "vanish), or auto (row sums where all are positive, else the scaled diagonal)",
+                             NULL, InterfaceLumpings, (PetscEnum)lumping, (PetscEnum *)&lumping, NULL));
   PetscOptionsEnd();
   if (fluid) PetscCall(SideCollect(fluid, fluid_face, "fluid", &itf->fluid));
   if (structure) PetscCall(SideCollect(structure, structure_face, "structure", &itf->structure));
@@ -171,17 +213,7 @@ PetscErrorCode InterfaceCreate(MPI_Comm comm, DM fluid, PetscInt fluid_face, DM 
   }
   PetscCall(InterfaceMatch(itf, rtol, fluid_face, structure_face));
   PetscCall(InterfaceAssembleMass(itf, fluid, fluid_face));
-  {
-    Vec ones, rowsum;
-    PetscCall(VecDuplicate(itf->all, &ones));
-    PetscCall(VecDuplicate(itf->all, &rowsum));
-    PetscCall(VecSet(ones, 1.0));
-    PetscCall(MatMult(itf->mass, ones, rowsum));
-    PetscCall(VecDuplicate(itf->control_template, &itf->lumped_control));
-    PetscCall(InterfaceRestrict(itf, rowsum, itf->lumped_control));
-    PetscCall(VecDestroy(&ones));
-    PetscCall(VecDestroy(&rowsum));
-  }
+  PetscCall(InterfaceLumpMass(itf, lumping));
   *interface = itf;
   PetscFunctionReturn(0);
 }

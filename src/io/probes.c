@@ -7,7 +7,7 @@
 struct _p_Probes {
   MPI_Comm comm;
   PetscInt npoints, dim, nextra, ncolumns;
-  char (*names)[32];
+  char (*names)[48];
   VecScatter  to_zero;
   Vec         values; /* on rank 0: npoints * dim */
   PartialFile file;
@@ -69,13 +69,14 @@ PetscErrorCode ProbesCreate(MPI_Comm comm, PetscInt dim, PetscInt nodes, const P
   for (PetscInt p = 0; p < npoints; ++p)
     for (PetscInt d = 0; d < dim; ++d, ++column) {
       if (dim == 3)
-        PetscCall(PetscSNPrintf(P->names[column], 32, "d%c(%g;%g;%g)", "xyz"[d], (double)points[p][0],
-                                (double)points[p][1], (double)points[p][2]));
+        PetscCall(PetscSNPrintf(P->names[column], sizeof(P->names[column]), "d%c(%g;%g;%g)", "xyz"[d],
+                                (double)points[p][0], (double)points[p][1], (double)points[p][2]));
       else
-        PetscCall(
-          PetscSNPrintf(P->names[column], 32, "d%c(%g;%g)", "xyz"[d], (double)points[p][0], (double)points[p][1]));
+        PetscCall(PetscSNPrintf(P->names[column], sizeof(P->names[column]), "d%c(%g;%g)", "xyz"[d],
+                                (double)points[p][0], (double)points[p][1]));
     }
-  for (PetscInt e = 0; e < nextra; ++e, ++column) PetscCall(PetscStrncpy(P->names[column], extra_names[e], 32));
+  for (PetscInt e = 0; e < nextra; ++e, ++column)
+    PetscCall(PetscStrncpy(P->names[column], extra_names[e], sizeof(P->names[column])));
   if (npoints) {
     PetscInt *index;
     IS        from;

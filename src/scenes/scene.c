@@ -16,6 +16,7 @@ PetscErrorCode SceneRegisterAll(void)
   PetscCall(PetscFunctionListAdd(&scene_list, "channel2d", SceneCreate_Channel2D));
   PetscCall(PetscFunctionListAdd(&scene_list, "tube3d", SceneCreate_Tube3D));
   PetscCall(PetscFunctionListAdd(&scene_list, "turek-hron", SceneCreate_TurekHron));
+  PetscCall(PetscFunctionListAdd(&scene_list, "bend3d", SceneCreate_Bend3D));
   PetscFunctionReturn(0);
 }
 
