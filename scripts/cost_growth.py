@@ -1,18 +1,18 @@
 #!/usr/bin/env python3
-"""How the cost of tube3d grows with its unknowns: LU against the iterative solvers of
-options/solvers/ (issue 27), level by level, one run at a time.
+"""How the cost of tube3d (or bend3d, --scene) grows with its unknowns: LU against the
+iterative solvers of options/solvers/ (issue 27), level by level, one run at a time.
 
 Every level n of --levels (default 1,2) runs with each solver of --solvers (default
 lu,iterative):
 
-  [LAUNCHER -n P] bin/fsiopt -options_file options/tube3d.yaml -t_final T
+  [LAUNCHER -n P] bin/fsiopt -options_file options/SCENE.yaml -t_final T
           -fluid_dm_plex_filename F -structure_dm_plex_filename W -log_view
           -fluid_ksp_converged_reason -structure_ksp_converged_reason -mesh_ksp_converged_reason
           [solver's options files] [--extra]
 
 lu adds nothing (MUMPS LU, the default); iterative adds options/solvers/fluid-schur-gamg.yaml,
 structure-cg-gamg.yaml and mesh-cg-gamg.yaml. The meshes of level n are generated with gmsh
-into out/meshes/ (as by scripts/tube3d_table.py). --ranks gives the ranks per level, one
+into out/meshes/ (as by scripts/tube3d_table.py; bend3d's from meshes/bend3d-*.geo). --ranks gives the ranks per level, one
 number for all or one per level ("1,8,64": a weak-scaling series, a level per rank count);
 with more than one rank the run goes through --mpiexec (default mpiexec; "srun" in a SLURM
 job, see scripts/slurm/).
@@ -33,6 +33,7 @@ its error and the script exits non-zero at the end.
 Examples (build first: make all):
   /usr/bin/python3 scripts/cost_growth.py --levels 1 --t-final 0.0001
   /usr/bin/python3 scripts/cost_growth.py --levels 1,2,3 --t-final 0.0003
+  /usr/bin/python3 scripts/cost_growth.py --scene bend3d --levels 1,2 --t-final 0.0001
   scripts/cost_growth.py --levels 2,3,4 --ranks 8,64,512 --mpiexec srun   # in a SLURM job"""
 import argparse, os, re, sys
 
@@ -97,6 +98,7 @@ def cost_row(r, level, solver, np):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--scene", default="tube3d", choices=sorted(T.TUBES), help="the tube (default tube3d)")
     ap.add_argument("--levels", default="1,2", help="mesh levels n, comma-separated (default 1,2)")
     ap.add_argument("--solvers", default="lu,iterative", help="comma-separated of %s (default lu,iterative)"
                                                               % ",".join(SOLVERS))
@@ -123,7 +125,7 @@ def main():
     plan = []   # (level, solver, np, run)
     for level, np in zip(levels, ranks):
         try:
-            meshes = T.ensure_meshes(level, args.mesh_dir, args.gmsh)
+            meshes = T.ensure_meshes(level, args.mesh_dir, args.gmsh, args.scene)
         except fr.MeshError as e:
             say("  mesh n=%d FAILED: %s" % (level, e), err=True)
             plan += [(level, s, np, T.failed_run("n%d-%s" % (level, s), "n = %d, %s" % (level, s), "mesh: %s" % e,
@@ -131,7 +133,7 @@ def main():
             continue
         for s in solvers:
             r = T.tube3d_run(level, args.t_final, meshes, REASONS + SOLVERS[s] + extra, np, 0,
-                             launcher if np > 1 else None)
+                             launcher if np > 1 else None, args.scene)
             r.label = "n = %d, %s, %s" % (level, s, T.layout_text(np, 0))
             plan.append((level, s, np, r))
     T.run_runs([p[3] for p in plan], args.bin, runs_dir, args.force, args.retries)
@@ -150,9 +152,9 @@ def main():
 
     fmt = T.fmt
     tf = fr.fmt_num(args.t_final)
-    md = ["# fsiopt cost growth: tube3d, LU against iterative solvers", "",
+    md = ["# fsiopt cost growth: %s, LU against iterative solvers" % args.scene, "",
           "Scene: `-options_file %s -t_final %s`%s; levels %s on %s rank(s); runs in `%s`, one at a time. "
-          "iterative = %s." % (T.OPTIONS_FILE, tf, ", extra options `%s`" % " ".join(extra) if extra else "",
+          "iterative = %s." % (T.TUBES[args.scene][0], tf, ", extra options `%s`" % " ".join(extra) if extra else "",
                                ",".join(map(str, levels)), ",".join(map(str, ranks)), rel(runs_dir),
                                " ".join(SOLVERS["iterative"][1::2])), "",
           "| level | solver | ranks | unknowns | wall s | stepping s | core-µs / unknown / step | peak KiB / unknown "

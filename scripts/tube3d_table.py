@@ -53,6 +53,11 @@ FSIOPT = fr.FSIOPT
 OPTIONS_FILE = "options/tube3d.yaml"
 GEO = {"fluid": "meshes/tube3d-fluid.geo", "wall": "meshes/tube3d-wall.geo"}
 GEO_INCLUDES = ["meshes/tube3d-section.geoinc"]
+# the tube scenes a study can run (--scene of scripts/cost_growth.py): options file, .geo
+# files per part and the files they include
+TUBES = {"tube3d": (OPTIONS_FILE, GEO, GEO_INCLUDES),
+         "bend3d": ("options/bend3d.yaml", {"fluid": "meshes/bend3d-fluid.geo", "wall": "meshes/bend3d-wall.geo"},
+                    ["meshes/bend3d.geoinc", "meshes/tube3d-section.geoinc"])}
 OUTPUTS = fr.OUTPUTS + ("stdout.log",)
 # the stage split of the tables, in s per step; B.STAGES (all of fsiopt's stages) go to the CSV
 STEP_STAGES = ["Fluid", "Structure", "MeshMotion", "Sensitivity", "Adjoint", "Optimizer", "Setup"]
@@ -65,15 +70,16 @@ def per_step_key(stage):
 
 
 # ---------------------------------------------------------------------------- meshes
-def mesh_paths(level, mesh_dir):
-    return {part: os.path.join(mesh_dir, "tube3d-%s-n%d.msh" % (part, level)) for part in GEO}
+def mesh_paths(level, mesh_dir, scene="tube3d"):
+    return {part: os.path.join(mesh_dir, "%s-%s-n%d.msh" % (scene, part, level)) for part in TUBES[scene][1]}
 
 
-def ensure_meshes(level, mesh_dir, gmsh="gmsh"):
+def ensure_meshes(level, mesh_dir, gmsh="gmsh", scene="tube3d"):
     """{'fluid': path, 'wall': path} of level n (fsiopt_runs.ensure_gmsh_mesh). Raises MeshError."""
-    paths = mesh_paths(level, mesh_dir)
-    for part, geo in GEO.items():
-        fr.ensure_gmsh_mesh(geo, GEO_INCLUDES, paths[part], level, 3, "%s n=%d" % (part, level), gmsh=gmsh, verbosity=1)
+    paths = mesh_paths(level, mesh_dir, scene)
+    _, geos, includes = TUBES[scene]
+    for part, geo in geos.items():
+        fr.ensure_gmsh_mesh(geo, includes, paths[part], level, 3, "%s n=%d" % (part, level), gmsh=gmsh, verbosity=1)
     return paths
 
 
@@ -120,14 +126,14 @@ class Run(fr.Variant):
         return self.launcher + ["-n", str(self.params["np"])] + cmd if self.launcher else cmd
 
 
-def tube3d_run(level, t_final, meshes, extra, np=1, structure_ranks=0, launcher=None):
+def tube3d_run(level, t_final, meshes, extra, np=1, structure_ranks=0, launcher=None, scene="tube3d"):
     tf = fr.fmt_num(t_final)
-    options = ["-options_file", OPTIONS_FILE, "-t_final", tf, "-fluid_dm_plex_filename", rel(meshes["fluid"]),
+    options = ["-options_file", TUBES[scene][0], "-t_final", tf, "-fluid_dm_plex_filename", rel(meshes["fluid"]),
                "-structure_dm_plex_filename", rel(meshes["wall"])]
     if structure_ranks:
         options += ["-structure_ranks", str(structure_ranks)]
     options += ["-log_view"] + extra
-    name = "n%d-T%s-np%d%s%s" % (level, tf, np, "-k%d" % structure_ranks if structure_ranks else "",
+    name = "%sn%d-T%s-np%d%s%s" % ("" if scene == "tube3d" else scene + "-", level, tf, np, "-k%d" % structure_ranks if structure_ranks else "",
                                  fr.extra_tag(extra))
     label = "n = %d, %s" % (level, layout_text(np, structure_ranks))
     return Run(name, label, options, launcher=launcher, np=np, structure_ranks=structure_ranks, level=level,
