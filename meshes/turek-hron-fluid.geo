@@ -19,9 +19,9 @@ Line(4) = {4, 1};
 // The cylinder's wetted part: the big arc from (x0, 0.21) counter-clockwise to
 // (x0, 0.19), in four arcs of less than 180 degrees.
 Point(20) = {cx, cy, 0};
-Point(21) = {cx, cy + rn, 0};
-Point(22) = {cx - rn, cy, 0};
-Point(23) = {cx, cy - rn, 0};
+Point(21) = {cx, cy + rc, 0};
+Point(22) = {cx - rc, cy, 0};
+Point(23) = {cx, cy - rc, 0};
 Circle(21) = {15, 20, 21};
 Circle(22) = {21, 20, 22};
 Circle(23) = {22, 20, 23};

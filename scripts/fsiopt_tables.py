@@ -213,12 +213,11 @@ class MeshError(Exception):
     pass
 
 
-def ensure_gmsh_mesh(geo, includes, out, level, dim, what, gmsh="gmsh", verbosity=2, setnumbers=()):
-    """out: the gmsh mesh (msh 2.2, -setnumber n level, and -setnumber NAME VALUE for each pair
-    of setnumbers) of the .geo file `geo` (paths relative to the repository root), generated
-    unless present and newer than `geo` and `includes` (the caller names `out` after the
-    setnumbers); written to a temporary name and renamed, so that an interrupted gmsh never
-    leaves a mesh that looks complete. Raises MeshError."""
+def ensure_gmsh_mesh(geo, includes, out, level, dim, what, gmsh="gmsh", verbosity=2):
+    """out: the gmsh mesh (msh 2.2, -setnumber n level) of the .geo file `geo` (paths relative
+    to the repository root), generated unless present and newer than `geo` and `includes`;
+    written to a temporary name and renamed, so that an interrupted gmsh never leaves a mesh
+    that looks complete. Raises MeshError."""
     os.makedirs(os.path.dirname(out) or ".", exist_ok=True)
     try:
         newest = max(os.path.getmtime(os.path.join(ROOT, g)) for g in [geo] + list(includes))
@@ -228,10 +227,7 @@ def ensure_gmsh_mesh(geo, includes, out, level, dim, what, gmsh="gmsh", verbosit
         say("  mesh %-23s re-used %s" % (what, rel(out)))
         return out
     tmp = "%s.tmp%d.msh" % (out[:-len(".msh")], os.getpid())
-    cmd = [gmsh, "-%d" % dim, "-format", "msh22", "-v", str(verbosity), "-setnumber", "n", str(level)]
-    for name, value in setnumbers:
-        cmd += ["-setnumber", name, "%.17g" % value]
-    cmd += ["-o", tmp, geo]
+    cmd = [gmsh, "-%d" % dim, "-format", "msh22", "-v", str(verbosity), "-setnumber", "n", str(level), "-o", tmp, geo]
     say("  mesh %-23s running: %s" % (what, shlex.join(cmd)))
     try:
         p = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True)

@@ -3,13 +3,12 @@
 
 The fluid mesh's cells are straight between the cylinder's nodes, so the wetted cylinder is
 the polygon inscribed in its circle r = 0.05 and encloses less than its area. For every
-level n of --levels this script makes the level's meshes twice with gmsh:
+level n of --levels this script takes the level's meshes in two geometries:
 
   inscribed  the benchmark's meshes (meshes/turek-hron-{fluid,flag}.geo, -setnumber n N);
-  area       the same meshes with the cylinder's nodes at the radius R that makes the
-             polygon of the inscribed mesh's segments enclose pi r^2:
-             R = r sqrt(sum theta_i / sum sin theta_i) over the segment angles theta_i of
-             face set 5 (-setnumber rn R; the flag's clamped end x0 follows R),
+  area       the same meshes with the cylinder's nodes (but the flag's two corners on it)
+             moved radially to the radius R that makes the polygon enclose the circle's
+             area pi r^2 over its arc: the same cells, the same flag mesh,
 
 and runs every case of --cases (default cfd1) on both:
 
@@ -47,56 +46,89 @@ CENTRE, RADIUS, CYLINDER = (0.2, 0.2), 0.05, 5   # the scene's cylinder and its 
 GEOMETRIES = ("inscribed", "area")
 
 
-def read_cylinder(path):
-    """The segments of face set 5 of a msh 2.2 file as (node, node) coordinate pairs."""
+def read_msh(path):
+    """(lines, {node: (line index, x, y)}, [(node, node) of face set 5], {nodes of other face sets})."""
     with open(path) as f:
         lines = f.read().split("\n")
     try:
         i = lines.index("$Nodes")
         nodes = {}
-        for line in lines[i + 2:i + 2 + int(lines[i + 1])]:
-            a = line.split()
-            nodes[int(a[0])] = (float(a[1]), float(a[2]))
+        for k in range(i + 2, i + 2 + int(lines[i + 1])):
+            a = lines[k].split()
+            nodes[int(a[0])] = (k, float(a[1]), float(a[2]))
         i = lines.index("$Elements")
-        segments = []
+        segments, others = [], set()
         for line in lines[i + 2:i + 2 + int(lines[i + 1])]:
             a = [int(x) for x in line.split()]
-            if a[1] == 1 and a[3] == CYLINDER:   # a 2-node line of physical group 5
-                segments.append((nodes[a[-2]], nodes[a[-1]]))
+            if a[1] == 1:   # a 2-node line: its physical group, then its nodes
+                (segments.append(tuple(a[-2:])) if a[3] == CYLINDER else others.update(a[-2:]))
     except (ValueError, KeyError, IndexError) as e:
         raise fr.MeshError("%s: not a msh 2.2 file with face set %d (%s)" % (rel(path), CYLINDER, e))
     if not segments:
         raise fr.MeshError("%s: no segment in face set %d" % (rel(path), CYLINDER))
-    return segments
+    return lines, nodes, segments, others
+
+
+def angle(node):
+    return math.atan2(node[2] - CENTRE[1], node[1] - CENTRE[0])
+
+
+def radius(node):
+    return math.hypot(node[1] - CENTRE[0], node[2] - CENTRE[1])
 
 
 def polygon(path):
-    """(radius of the nodes, segment angles, enclosed area / circle's area over the arc)."""
-    angles, radii = [], []
-    for p, q in read_cylinder(path):
-        a = [math.atan2(y - CENTRE[1], x - CENTRE[0]) for x, y in (p, q)]
-        angles.append(abs((a[1] - a[0] + math.pi) % (2 * math.pi) - math.pi))
-        radii += [math.hypot(x - CENTRE[0], y - CENTRE[1]) for x, y in (p, q)]
-    r = sum(radii) / len(radii)
-    # triangles from the centre: the polygon's area over the circle's sector of the same angles
-    ratio = r * r * sum(math.sin(t) for t in angles) / (RADIUS * RADIUS * sum(angles))
-    return r, angles, ratio
+    """(mean radius of the cylinder's nodes, segment angles, the polygon's area over the
+    circle's sector of the same angles)."""
+    _, nodes, segments, _ = read_msh(path)
+    angles, area = [], 0.0
+    for p, q in segments:
+        t = abs((angle(nodes[q]) - angle(nodes[p]) + math.pi) % (2 * math.pi) - math.pi)
+        angles.append(t)
+        area += 0.5 * radius(nodes[p]) * radius(nodes[q]) * math.sin(t)   # the triangle from the centre
+    moved = {n for seg in segments for n in seg}
+    r = sum(radius(nodes[n]) for n in moved) / len(moved)
+    return r, angles, area / (0.5 * RADIUS * RADIUS * sum(angles))
+
+
+def area_mesh(inscribed, out):
+    """The inscribed fluid mesh with the cylinder's nodes moved radially to R, its other nodes
+    (the flag's corners on the circle among them, so the flag mesh still conforms) kept: the
+    same cells, and a polygon that encloses the circle's area. Written unless `out` is newer
+    than `inscribed`; returns R."""
+    lines, nodes, segments, others = read_msh(inscribed)
+    # sum over segments of the centre triangles = (r^2/2) sum(theta): quadratic in R
+    a = b = c = 0.0
+    for p, q in segments:
+        t = abs((angle(nodes[q]) - angle(nodes[p]) + math.pi) % (2 * math.pi) - math.pi)
+        fixed = (p in others) + (q in others)
+        a += math.sin(t) if fixed == 0 else 0.0
+        b += RADIUS * math.sin(t) if fixed == 1 else 0.0
+        c += RADIUS * RADIUS * (t - (math.sin(t) if fixed == 2 else 0.0))
+    R = (-b + math.sqrt(b * b + 4 * a * c)) / (2 * a)
+    for n in {n for seg in segments for n in seg} - others:
+        k, x, y = nodes[n]
+        scale = R / radius(nodes[n])
+        words = lines[k].split()
+        lines[k] = " ".join([words[0], "%.17g" % (CENTRE[0] + scale * (x - CENTRE[0])),
+                             "%.17g" % (CENTRE[1] + scale * (y - CENTRE[1]))] + words[3:])
+    if not (os.path.isfile(out) and os.path.getmtime(out) > os.path.getmtime(inscribed)):
+        tmp = out + ".tmp%d" % os.getpid()
+        with open(tmp, "w") as f:
+            f.write("\n".join(lines))
+        os.replace(tmp, out)
+    return R
 
 
 def meshes(level, geometry, mesh_dir, gmsh):
-    """{part: path} of a level's meshes of one geometry, and the nodes' radius R."""
+    """{part: path} of a level's meshes of one geometry, and the cylinder nodes' radius R."""
     paths = {p: os.path.join(mesh_dir, "turek-hron-%s-n%d.msh" % (p, level)) for p in GEO}
     for part, geo in GEO.items():
         fr.ensure_gmsh_mesh(geo, INCLUDES, paths[part], level, 2, "%s n=%d" % (part, level), gmsh=gmsh, verbosity=1)
     if geometry == "inscribed":
         return paths, RADIUS
-    _, angles, _ = polygon(paths["fluid"])
-    R = RADIUS * math.sqrt(sum(angles) / sum(math.sin(t) for t in angles))
-    area = {p: os.path.join(mesh_dir, "turek-hron-%s-n%d-area.msh" % (p, level)) for p in GEO}
-    for part, geo in GEO.items():
-        fr.ensure_gmsh_mesh(geo, INCLUDES, area[part], level, 2, "%s n=%d area" % (part, level), gmsh=gmsh,
-                            verbosity=1, setnumbers=[("rn", R)])
-    return area, R
+    area = dict(paths, fluid=os.path.join(mesh_dir, "turek-hron-fluid-n%d-area.msh" % level))
+    return area, area_mesh(paths["fluid"], area["fluid"])
 
 
 def columns(case):

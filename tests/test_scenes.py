@@ -146,7 +146,7 @@ def stored_level3(case, parts, columns, extra, reference):
 
 
 @test("turek-hron meshes: the cylinder's nodes on r = 0.05 (the inscribed polygon, levels 1 and 2); "
-      "scripts/turek_polygon.py's area polygon encloses pi r^2 to 1e-6")
+      "scripts/turek_polygon.py's area mesh: the same cells, its polygon encloses pi r^2 to 1e-12")
 def test_turek_polygon():
     sys.path.insert(0, os.path.join(ROOT, "scripts"))
     import turek_polygon as tp
@@ -154,16 +154,17 @@ def test_turek_polygon():
     for level in (1, 2):
         with contextlib.redirect_stdout(io.StringIO()):
             paths, R = tp.meshes(level, "area", os.path.join(WORK, "polygon"), "gmsh")
-        r0, angles, inscribed = tp.polygon(turek_mesh("fluid", level))
-        r1, _, area = tp.polygon(paths["fluid"])
+        inscribed = turek_mesh("fluid", level)
+        r0, angles, ratio = tp.polygon(inscribed)
         assert abs(r0 - 0.05) <= 1e-9, "level %d: the cylinder's nodes at r = %.9f" % (level, r0)
         # the inscribed polygon's area deficit: 1 - sin(t)/t ~ t^2/6 for segment angles t
         t = sum(angles) / len(angles)
-        assert 0.5 * t * t / 6 < 1 - inscribed < 2 * t * t / 6, "level %d: deficit %.3e, angle %.4f" % (
-            level, 1 - inscribed, t)
-        assert abs(r1 - R) <= 1e-9 and abs(area - 1) <= 1e-6, "level %d: nodes at %.9f (R %.9f), area ratio %.9f" % (
-            level, r1, R, area)
-        found.append("n = %d: deficit %.2e, R = %.6f" % (level, 1 - inscribed, R))
+        assert 0.5 * t * t / 6 < 1 - ratio < 2 * t * t / 6, "level %d: deficit %.3e, angle %.4f" % (level, 1 - ratio, t)
+        _, _, area = tp.polygon(paths["fluid"])
+        assert abs(area - 1) <= 1e-12 and R > 0.05, "level %d: area ratio %.15f, R %.9f" % (level, area, R)
+        cells = [open(p).read().split("$Elements")[1] for p in (inscribed, paths["fluid"])]
+        assert cells[0] == cells[1], "level %d: the area mesh has other cells" % level
+        found.append("n = %d: deficit %.2e, R = %.6f" % (level, 1 - ratio, R))
     return "; ".join(found)
 
 
