@@ -66,6 +66,9 @@ PetscErrorCode FEMSolveSteady(DM dm, const char prefix[], PetscInt *jacobian_ass
 PetscErrorCode FEMInvalidateGeometry(DM dm);
 /* A solve with A or A^T, the factors the SNES holds (no new factorization). */
 PetscErrorCode FEMLinearSolve(SNES snes, Vec rhs, Vec x, PetscBool transpose);
+/* An inexact product's relative tolerance for the linearized solves that follow (0: each
+   solver's own -*_ksp_rtol); a solve takes the larger of the two. */
+PetscErrorCode FEMSetLinearizedRtol(PetscReal rtol);
 PetscErrorCode FEMLinearSolveBlock(SNES snes, Mat rhs, Mat x);
 /* Assembles the Jacobian at x and factors it now (FEM_JACOBIAN_ON_REQUEST). */
 PetscErrorCode FEMUpdateJacobian(SNES snes, Vec x);

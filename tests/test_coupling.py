@@ -121,6 +121,33 @@ def test_solver_option_files():
     return "; ".join(details)
 
 
+def krylov_iterations(stdout, prefix):
+    return sum(int(l.split()[-1]) for l in stdout.splitlines() if l.strip().startswith("Linear %s_ solve" % prefix))
+
+
+@test("inexact products (-coupling_inexact_products, GMRES on J): tube3d with the iterative solver files, one step: "
+      "the exact products' Gauss-Newton and GMRES iterations and probes (1e-5), fewer fluid Krylov iterations")
+def test_inexact_products():
+    args = ["-options_file", "options/tube3d.yaml", "-t_final", "0.0001", "-coupling_inner", "gmres",
+            "-fluid_ksp_converged_reason"] + SOLVER_FILES["fluid-schur-gamg"] + SOLVER_FILES["structure-cg-gamg"] + \
+        SOLVER_FILES["mesh-cg-gamg"]
+    found = {}
+    for theta in ("0", "0.01"):
+        out = out_dir("inexact-%s" % theta)
+        rc, stdout, err, summary = run(args + ["-coupling_inexact_products", theta], out=out)
+        assert rc == 0 and summary, fail_text(rc, stdout, err)
+        found[theta] = (summary, krylov_iterations(stdout, "fluid"), read_probes(os.path.join(out, "probes.csv"))[1])
+    (exact, exact_its, a), (inexact, inexact_its, b) = found["0"], found["0.01"]
+    for key in ("coupling_iterations", "inner_iterations"):
+        assert exact[key] == inexact[key], "%s: %s exact, %s inexact" % (key, exact[key], inexact[key])
+    scale = max(abs(v) for r in a for v in r[1:])
+    diff = max(abs(x - y) for ra, rb in zip(a, b) for x, y in zip(ra[1:], rb[1:])) / scale
+    assert diff <= 1e-5, "probes differ by %.2e relative" % diff
+    assert inexact_its <= 0.7 * exact_its, "fluid Krylov iterations: %d inexact, %d exact" % (inexact_its, exact_its)
+    return "%d GN, %d GMRES its; fluid Krylov its %d -> %d; probes within %.1e" % (
+        exact["coupling_iterations"], exact["inner_iterations"], exact_its, inexact_its, diff)
+
+
 def taylor_ratios(stdout):
     return [float(l.split()[-1]) for l in printed(stdout, "Taylor test:") if "ratio" in l]
 

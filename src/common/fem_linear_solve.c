@@ -93,6 +93,32 @@ static PetscErrorCode CheckConverged(KSP ksp, const char what[])
           what, prefix, KSPConvergedReasons[reason], its, prefix, prefix, prefix);
 }
 
+/* set by the coupling around an inexact product (-coupling_inexact_products) */
+static PetscReal linearized_rtol = 0;
+
+PetscErrorCode FEMSetLinearizedRtol(PetscReal rtol)
+{
+  PetscFunctionBeginUser;
+  linearized_rtol = rtol;
+  PetscFunctionReturn(0);
+}
+
+/* KSPSolve or KSPSolveTranspose at the larger of the KSP's rtol and linearized_rtol */
+static PetscErrorCode SolveAtTolerance(KSP ksp, Vec rhs, Vec x, PetscBool transpose, const char what[])
+{
+  PetscReal rtol, abstol, dtol;
+  PetscInt  maxits;
+
+  PetscFunctionBeginUser;
+  PetscCall(KSPGetTolerances(ksp, &rtol, &abstol, &dtol, &maxits));
+  if (linearized_rtol > rtol) PetscCall(KSPSetTolerances(ksp, linearized_rtol, abstol, dtol, maxits));
+  if (transpose) PetscCall(KSPSolveTranspose(ksp, rhs, x));
+  else PetscCall(KSPSolve(ksp, rhs, x));
+  if (linearized_rtol > rtol) PetscCall(KSPSetTolerances(ksp, rtol, abstol, dtol, maxits));
+  PetscCall(CheckConverged(ksp, what));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FEMLinearSolve(SNES snes, Vec rhs, Vec x, PetscBool transpose)
 {
   KSP       ksp;
@@ -102,8 +128,7 @@ PetscErrorCode FEMLinearSolve(SNES snes, Vec rhs, Vec x, PetscBool transpose)
   PetscFunctionBeginUser;
   PetscCall(SNESGetKSP(snes, &ksp));
   if (!transpose) {
-    PetscCall(KSPSolve(ksp, rhs, x));
-    PetscCall(CheckConverged(ksp, "a"));
+    PetscCall(SolveAtTolerance(ksp, rhs, x, PETSC_FALSE, "a"));
     PetscFunctionReturn(0);
   }
   PetscCall(KSPGetPC(ksp, &pc));
@@ -111,12 +136,8 @@ PetscErrorCode FEMLinearSolve(SNES snes, Vec rhs, Vec x, PetscBool transpose)
   if (split) {
     TransposedSolver *ts = NULL;
     PetscCall(TransposedSolverGet(snes, ksp, &ts));
-    PetscCall(KSPSolve(ts->ksp, rhs, x));
-    PetscCall(CheckConverged(ts->ksp, "a transposed"));
-  } else {
-    PetscCall(KSPSolveTranspose(ksp, rhs, x));
-    PetscCall(CheckConverged(ksp, "a transposed"));
-  }
+    PetscCall(SolveAtTolerance(ts->ksp, rhs, x, PETSC_FALSE, "a transposed"));
+  } else PetscCall(SolveAtTolerance(ksp, rhs, x, PETSC_TRUE, "a transposed"));
   PetscFunctionReturn(0);
 }
 

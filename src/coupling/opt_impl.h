@@ -50,6 +50,7 @@ typedef struct {
   Vec       x_linearization;        /* that point */
   PetscBool linearization_current;  /* the problem's factors are those of x_linearization */
   PetscReal krylov_jump_fraction;   /* the Krylov method stops when the predicted jump is below this x tol */
+  PetscReal inexact_products;       /* theta of the relaxed product tolerance; 0: exact products */
   PetscReal chord_contraction;      /* a chord step that shrinks the jump less than this rebuilds J0 */
   PetscBool start_correction;       /* -coupling_start_correction */
   PetscInt  secants;                /* -coupling_secant_updates */

@@ -8,6 +8,7 @@
    solving further only sharpens a prediction the next residual replaces. */
 #include "opt_impl.h"
 #include "logging.h"
+#include "fem.h"
 
 /* PETSc fixes the signatures of SNES callbacks; each uses a few of their arguments. */
 #pragma GCC diagnostic ignored "-Wunused-parameter"
@@ -49,14 +50,31 @@ static PetscErrorCode Jacobian(SNES snes, Vec x, Mat A, Mat B, void *ctx)
   PetscFunctionReturn(0);
 }
 
+/* With -coupling_inexact_products theta, a product may be the less accurate the smaller the
+   Krylov residual r already is (relaxed inexact Krylov, Simoncini and Szyld 2003): its
+   error enters the residual scaled by the step's coefficient, which shrinks like |r|. The
+   products' linearized solves stop at theta x abstol / |r|, capped at 0.1, and never
+   tighter than the solvers' own -*_ksp_rtol. The converged jump is the nonlinear residual's,
+   so inexact products change the iterations, not the answer. */
 static PetscErrorCode NewtonMult(Mat A, Vec h, Vec y)
 {
   Coupling C;
+  Opt     *opt;
 
   PetscFunctionBeginUser;
   PetscCall(MatShellGetContext(A, &C));
+  opt = (Opt *)C->data;
   PetscCall(Linearize(C, PETSC_FALSE));
+  if (opt->inexact_products > 0) {
+    KSP       ksp;
+    PetscReal rnorm, abstol;
+    PetscCall(SNESGetKSP(opt->snes, &ksp));
+    PetscCall(KSPGetResidualNorm(ksp, &rnorm));
+    PetscCall(KSPGetTolerances(ksp, NULL, &abstol, NULL, NULL));
+    PetscCall(FEMSetLinearizedRtol(rnorm > 0 ? PetscMin(0.1, opt->inexact_products * abstol / rnorm) : 0.1));
+  }
   PetscCall(CouplingProblemJacobianMult(C->problem, h, y));
+  PetscCall(FEMSetLinearizedRtol(0));
   PetscFunctionReturn(0);
 }
 
