@@ -258,8 +258,8 @@ static PetscErrorCode OptSetUp(Coupling C)
   /* tube3d, iterative solvers, 2 steps: 0.01 halves the fluid's Krylov iterations (2842 ->
      1460) at the same Gauss-Newton and GMRES iterations; 0.1 gains little more and moves
      the probes by 4e-5 relative (docs/solvers.md). With LU it changes nothing. */
-  opt->inexact_products     = 0.01;
-  opt->chord_contraction    = 0.5;
+  opt->inexact_products  = 0.01;
+  opt->chord_contraction = 0.5;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Optimization-based coupling", "coupling");
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_tol",
                                 "stop when ||u - v_s||_{L2(Gamma_I)} falls below this", &opt->tol));
@@ -304,10 +304,10 @@ static PetscErrorCode OptSetUp(Coupling C)
                          "this fraction of -coupling_tol",
                          1e-12, 1.0, &opt->krylov_jump_fraction));
     PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-coupling_inexact_products",
-                                 "gmres, bicgstab: theta of the relaxed products: the product at Krylov residual r "
-                                 "solves its linearized problems to the relative tolerance theta x (the Krylov "
-                                 "method's absolute tolerance) / ||r||, at most 0.1 (0: each solver's own rtol)",
-                                 &opt->inexact_products));
+                                     "gmres, bicgstab: theta of the relaxed products: the product at Krylov residual r "
+                                     "solves its linearized problems to the relative tolerance theta x (the Krylov "
+                                     "method's absolute tolerance) / ||r||, at most 0.1 (0: each solver's own rtol)",
+                                     &opt->inexact_products));
     PetscCall(OptionsRealInRange(PetscOptionsObject, "-coupling_chord_contraction",
                                  "chord: rebuild the explicit J0 after an iteration that shrank the jump by less than "
                                  "this factor",

@@ -149,8 +149,7 @@ PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure struc
     PetscCall(InterfaceGetLumpedControlMass(itf, &lumped));
     PetscCall(VecMin(lumped, NULL, &wmin));
     PetscCheck(wmin > 0, comm, PETSC_ERR_SUP,
-               "option -coupling_interface_lumping: the row sums of the interface mass have a non-positive entry "
-               "(%g), as at the vertices of P2 triangles; expected hrz or auto for this element",
+               "interface: the lumped interface mass has a non-positive entry (%g); its weight needs positive ones",
                (double)wmin);
     PetscCall(VecCopy(lumped, P->weight_sqrt));
     PetscCall(VecSqrtAbs(P->weight_sqrt));

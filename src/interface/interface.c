@@ -151,7 +151,13 @@ static PetscErrorCode InterfaceLumpMass(Interface itf, InterfaceLumping lumping)
   {
     PetscReal largest;
     PetscCall(VecMax(lumped, NULL, &largest));
-    if (smallest <= 1e-12 * largest && lumping == INTERFACE_LUMPING_AUTO) lumping = INTERFACE_LUMPING_HRZ;
+    if (smallest <= 1e-12 * largest) {
+      PetscCheck(lumping != INTERFACE_LUMPING_ROW_SUM, itf->comm, PETSC_ERR_ARG_INCOMP,
+                 "option -coupling_interface_lumping: the row sums of the interface mass have a non-positive entry "
+                 "(%g), as at the vertices of P2 triangles; expected hrz or auto for this element",
+                 (double)smallest);
+      lumping = INTERFACE_LUMPING_HRZ;
+    }
   }
   if (lumping == INTERFACE_LUMPING_HRZ) {
     PetscCall(VecSum(lumped, &total));
