@@ -12,8 +12,9 @@ lu,iterative):
 
 lu adds nothing (MUMPS LU, the default); iterative adds options/solvers/fluid-schur-gamg.yaml,
 structure-cg-gamg.yaml and mesh-cg-gamg.yaml. The meshes of level n are generated with gmsh
-into out/meshes/ (as by scripts/tube3d_table.py; bend3d's from meshes/bend3d-*.geo). --ranks gives the ranks per level, one
-number for all or one per level ("1,8,64": a weak-scaling series, a level per rank count);
+into out/meshes/ (as by scripts/tube3d_table.py; bend3d's from meshes/bend3d-*.geo). --ranks
+gives the ranks per level, one number for all or one per level ("1,8,64": a weak-scaling
+series, a level per rank count);
 with more than one rank the run goes through --mpiexec (default mpiexec; "srun" in a SLURM
 job, see scripts/slurm/).
 
