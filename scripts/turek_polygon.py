@@ -39,9 +39,7 @@ import fsiopt_runs as fr   # noqa: E402
 from fsiopt_runs import ROOT, rel, say   # noqa: E402
 from turek_hron_rows import CASES, MESH_OPTION, PARTS, QUANTITIES   # noqa: E402
 
-OPTIONS_FILE = "options/turek-hron.yaml"
-GEO = {"fluid": "meshes/turek-hron-fluid.geo", "flag": "meshes/turek-hron-flag.geo"}
-INCLUDES = ["meshes/turek-hron.geoinc"]
+from turek_hron_table import GEO, GEO_INCLUDES as INCLUDES, OPTIONS_FILE   # noqa: E402
 CENTRE, RADIUS, CYLINDER = (0.2, 0.2), 0.05, 5   # the scene's cylinder and its face set
 GEOMETRIES = ("inscribed", "area")
 
@@ -77,13 +75,17 @@ def radius(node):
     return math.hypot(node[1] - CENTRE[0], node[2] - CENTRE[1])
 
 
+def segment_angle(nodes, p, q):
+    return abs((angle(nodes[q]) - angle(nodes[p]) + math.pi) % (2 * math.pi) - math.pi)
+
+
 def polygon(path):
     """(mean radius of the cylinder's nodes, segment angles, the polygon's area over the
     circle's sector of the same angles)."""
     _, nodes, segments, _ = read_msh(path)
     angles, area = [], 0.0
     for p, q in segments:
-        t = abs((angle(nodes[q]) - angle(nodes[p]) + math.pi) % (2 * math.pi) - math.pi)
+        t = segment_angle(nodes, p, q)
         angles.append(t)
         area += 0.5 * radius(nodes[p]) * radius(nodes[q]) * math.sin(t)   # the triangle from the centre
     moved = {n for seg in segments for n in seg}
@@ -100,7 +102,7 @@ def area_mesh(inscribed, out):
     # sum over segments of the centre triangles = (r^2/2) sum(theta): quadratic in R
     a = b = c = 0.0
     for p, q in segments:
-        t = abs((angle(nodes[q]) - angle(nodes[p]) + math.pi) % (2 * math.pi) - math.pi)
+        t = segment_angle(nodes, p, q)
         fixed = (p in others) + (q in others)
         a += math.sin(t) if fixed == 0 else 0.0
         b += RADIUS * math.sin(t) if fixed == 1 else 0.0
