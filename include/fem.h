@@ -46,6 +46,12 @@ PetscErrorCode FEMZero(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt 
 PetscErrorCode FEMResidual(DM dm, Vec xlocal, Vec fglobal);
 /* Global state to local state with the boundary values of the current time. */
 PetscErrorCode FEMGlobalToLocal(DM dm, Vec xglobal, Vec xlocal);
+/* The same with the Dirichlet values kept until *time or the constrained points' coordinates
+   change (fem_dirichlet_values.c). */
+typedef struct _n_FEMDirichletValues *FEMDirichletValues;
+PetscErrorCode FEMDirichletValuesCreate(DM dm, const PetscReal *time, FEMDirichletValues *dv);
+PetscErrorCode FEMDirichletValuesGlobalToLocal(FEMDirichletValues dv, Vec xglobal, Vec xlocal);
+PetscErrorCode FEMDirichletValuesDestroy(FEMDirichletValues *dv);
 /* The SNES of one subproblem: boundary insertion at the solver's time, a Jacobian that
    counts its assemblies (= LU factorizations), MUMPS LU by default, and with
    the policy's Jacobian updates (see FEMJacobianPolicy).

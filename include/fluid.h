@@ -46,9 +46,11 @@ PetscErrorCode FluidLinearSolveBlock(Fluid, Mat rhs, Mat x);                 /* 
 /* Dirichlet-Neumann use: solves with the interface rows (global indices) set to `values`
    (a global vector; only those rows are read) and returns the reaction R(x) - history on
    those rows (0 elsewhere): the load a traction-controlled fluid would need there. */
+PetscErrorCode FluidSetUpDirichlet(Fluid, IS rows); /* its solver and options (-fluid_dirichlet_) */
 PetscErrorCode FluidSolveDirichlet(Fluid, IS rows, Vec values, Vec reaction, PetscInt step);
 PetscErrorCode FluidGetDM(Fluid, DM *);
 PetscErrorCode FluidGetSolution(Fluid, Vec *);
+PetscErrorCode FluidGlobalToLocal(Fluid, Vec x, Vec xlocal); /* with the Dirichlet values of the fluid's time */
 PetscErrorCode FluidGetTime(Fluid, PetscReal *);
 
 /* Moving meshes (fluid_ale.c). Displacements are local vectors in the coordinate layout

@@ -63,6 +63,7 @@ OUTPUTS = ("summary.json", "probes.csv", "history.csv", "stdout.log")
 STAGES = ["Main Stage", "Setup", "Fluid", "Structure", "MeshMotion", "Output", "Optimizer", "Sensitivity", "Adjoint"]
 DEFAULT_METHODS = "opt,dn:-coupling_omega 0.05,aitken,iqnils"
 REFERENCE_OPTIONS = ["-coupling", "opt", "-coupling_tol", "1e-7", "-fluid_snes_rtol", "1e-10", "-fluid_rhs_rtol", "1e-12"]
+REFERENCE_DEFAULT = " ".join(REFERENCE_OPTIONS)
 OPT_TOLS = [1e-2, 1e-3, 1e-4, 1e-5]
 RTOLS = [1e-3, 1e-4, 1e-5, 1e-6]
 
@@ -460,7 +461,9 @@ def work_precision(args, methods, extra):
         rows.append(row)
     for level, r in refs.items():
         row = bench_row("reference", r, r)
-        row.update({"refine": level, "tolerance_option": "-coupling_tol", "tolerance": 1e-7})
+        tol = REFERENCE_OPTIONS[REFERENCE_OPTIONS.index("-coupling_tol") + 1] if "-coupling_tol" in REFERENCE_OPTIONS \
+            else "nan"
+        row.update({"refine": level, "tolerance_option": "-coupling_tol", "tolerance": float(tol)})
         rows.append(row)
     fields = ["method", "refine", "tolerance_option", "tolerance", "status", "reused", "error", "elapsed_s",
               "wall_time_s", "probe_error", "its_per_step", "fluid_solves", "fluid_linear_solves", "work_factor",
@@ -522,8 +525,48 @@ def work_precision(args, methods, extra):
             status_cell(row),
             cell(row, "wall_time_s", "%.3g") or ("(%.3g)" % float(row["elapsed_s"])), cell(row, "probe_error", "%.2e"),
             cell(row, "its_per_step", "%.3g"), cell(row, "fluid_solves", "%d"), cell(row, "work_factor", "%.3g")))
+    md += equal_accuracy_table(args, methods, points, refs)
     fr.write_report(md, base_path + ".md", [base_path + e for e in (".png", ".csv", ".md")])
     return all(r.ok for r in refs.values())
+
+
+def equal_accuracy_table(args, methods, points, refs):
+    """The speed-up of one method over each other at equal accuracy, without interpolation:
+    for every run of another method, the cheapest run of the chosen method whose probe error
+    is no larger, and the ratio of their wall times."""
+    chosen = [m for m in methods if m.spec == args.speedup_of] if args.speedup_of else \
+        [m for m in methods if not m.partitioned][:1]
+    if not chosen:
+        return ["", "No equal-accuracy table: --speedup-of names no method of --methods."]
+    me = chosen[0]
+    md = ["", "## Speed-up of `%s` at equal accuracy" % md_escape(me.spec), "",
+          "For each run of another method: the cheapest run of `%s` with a probe error no larger, and the ratio of "
+          "the wall times (above 1: `%s` is faster). None: no run of it was that accurate." % (
+              md_escape(me.spec), md_escape(me.spec)), "",
+          "| refine | method | tolerance | probe error | wall s | its tolerance | its probe error | its wall s | speed-up |",
+          "|---|---|---|---|---|---|---|---|---|"]
+    for level in args.refine_levels:
+        mine = [(r.wall, probe_error(r, refs[level]), tol) for m, lv, tol, r in points
+                if m is me and lv == level and r.ok]
+        mine = [p for p in mine if not math.isnan(p[1])]
+        for m in methods:
+            if m is me:
+                continue
+            for mm, lv, tol, r in points:
+                if mm is not m or lv != level or not r.ok:
+                    continue
+                err = probe_error(r, refs[level])
+                if math.isnan(err):
+                    continue
+                better = [p for p in mine if p[1] <= err]
+                if better:
+                    w, e, t = min(better)
+                    md.append("| %d | %s | %g | %.2e | %.3g | %g | %.2e | %.3g | %.2f |" % (
+                        level, md_escape(m.spec), tol, err, r.wall, t, e, w, r.wall / w))
+                else:
+                    md.append("| %d | %s | %g | %.2e | %.3g | none | | | |" % (level, md_escape(m.spec), tol, err,
+                                                                              r.wall))
+    return md
 
 
 def main():
@@ -553,8 +596,15 @@ def main():
     ap.add_argument("--rtols", type=floats, default=RTOLS, help="work-precision: -coupling_rtol of the partitioned "
                                                                 "methods (default 1e-3,1e-4,1e-5,1e-6)")
     ap.add_argument("--refine-levels", type=ints, default=[0], help="work-precision: -refine levels (default 0)")
+    ap.add_argument("--reference", default=REFERENCE_DEFAULT,
+                    help='the reference run\'s options (default "%s"); a scene whose own -coupling_tol is '
+                         'already 1e-7 (turek-hron) needs a tighter one' % REFERENCE_DEFAULT)
+    ap.add_argument("--speedup-of", default="",
+                    help="work-precision: the method (its NAME[:options] as in --methods) whose speed-up over the "
+                         "others at equal probe error is tabulated (default: the first opt method)")
     args = ap.parse_args()
-    global PROBE_PREFIXES
+    global PROBE_PREFIXES, REFERENCE_OPTIONS
+    REFERENCE_OPTIONS = shlex.split(args.reference)
     PROBE_PREFIXES = tuple(p.strip() + "(" for p in args.probes.split(",") if p.strip())
     if not PROBE_PREFIXES:
         ap.error("--probes: no column")

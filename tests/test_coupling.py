@@ -314,6 +314,23 @@ def test_iqnimvj_fewer_sweeps():
     return "sweeps per step: iqnimvj %.2f, iqnils %.2f; 2 ranks within %.1e" % (imvj, ils, layouts)
 
 
+@test("partitioned fluid factors kept across steps (-fluid_dirichlet_snes_lag_jacobian 20): iqnimvj's channel2d "
+      "probes equal those of a factorization per step (10 x its rtol) with fewer fluid factorizations")
+def test_dirichlet_factors_across_steps():
+    args = CHANNEL + ["-t_final", "0.01", "-coupling", "iqnimvj"]
+    runs = {}
+    for tag, extra in (("per-step", []), ("lagged", ["-fluid_dirichlet_snes_lag_jacobian", "20"])):
+        out = os.path.join(WORK, "dirichlet-lag-" + tag)
+        s = solve(args + extra, out=out)
+        runs[tag] = (s, read_probes(os.path.join(out, "probes.csv"))[1])
+    fresh, lagged = runs["per-step"][0]["factorizations"]["fluid"], runs["lagged"][0]["factorizations"]["fluid"]
+    assert lagged < fresh / 2, "fluid factorizations: lagged %d, per step %d" % (lagged, fresh)
+    diff = probes_difference(runs["lagged"][1], runs["per-step"][1])
+    rtol = 1e-5  # the partitioned methods' default -coupling_rtol
+    assert diff <= 10 * rtol, "lagged factors change the probes by %.2e" % diff
+    return "fluid factorizations %d -> %d, probes within %.1e" % (fresh, lagged, diff)
+
+
 @test("iqnimvj restart modes: slide over the whole run = no restart byte for byte, svd without truncation = no "
       "restart (1e-10); every 5 steps ls and svd need fewer sweeps than zero; all agree (1e-5); svd on fluid | "
       "structure ranks = 1 rank")

@@ -357,8 +357,10 @@ static PetscBool IsReadAtExit(const char name[])
    the first check lets them wait for the first step. */
 static PetscBool IsReadInSolves(const char name[])
 {
-  const char *const lazy[] = {"_view",      "converged_reason", "test_jacobian", "_monitor", "fieldsplit_",
-                              "mg_levels_", "mg_coarse_",       "sub_",          NULL};
+  /* mat_<package>_: a factorization package reads its options at the first factorization */
+  const char *const lazy[] = {"_view",      "converged_reason", "test_jacobian", "_monitor",     "fieldsplit_",
+                              "mg_levels_", "mg_coarse_",       "sub_",          "mat_mumps_",   "mat_superlu_",
+                              "mat_umfpack_", "mat_klu_",       NULL};
 
   for (const char *const *l = lazy; *l; ++l)
     if (strstr(name, *l)) return PETSC_TRUE;

@@ -78,11 +78,9 @@ static PetscErrorCode MatchInitialVelocity(CouplingProblem P)
 
   PetscFunctionBeginUser;
   if (P->fluid) {
-    DM  dm;
     Vec state;
-    PetscCall(FluidGetDM(P->fluid, &dm));
     PetscCall(FluidGetSolution(P->fluid, &state));
-    PetscCall(FEMGlobalToLocal(dm, state, P->fluid_local));
+    PetscCall(FluidGlobalToLocal(P->fluid, state, P->fluid_local));
   }
   PetscCall(InterfaceFluidTrace(P->itf, P->fluid_local, P->all_a));
   if (P->structure) PetscCall(StructureGetVelocityLocal(P->structure, &etadot));

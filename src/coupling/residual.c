@@ -106,13 +106,11 @@ PetscErrorCode CouplingProblemResidual(CouplingProblem P, Vec x, Vec F)
     }
   }
   if (P->fluid) {
-    DM  dm;
     Vec state;
     PetscCall(PetscLogStagePush(FSIOPT_STAGE_FLUID));
     PetscCall(FluidSolve(P->fluid, P->fluid_vec, P->step));
-    PetscCall(FluidGetDM(P->fluid, &dm));
     PetscCall(FluidGetSolution(P->fluid, &state));
-    PetscCall(FEMGlobalToLocal(dm, state, P->fluid_local));
+    PetscCall(FluidGlobalToLocal(P->fluid, state, P->fluid_local));
     PetscCall(PetscLogStagePop());
   }
   if (P->domain == DOMAIN_LAGGED) PetscCall(SolveStructure(P));

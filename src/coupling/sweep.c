@@ -19,6 +19,11 @@ PetscErrorCode CouplingProblemCheckSweepable(CouplingProblem P)
              "a "
              "traction condition besides the interface; this scene's fluid is enclosed (incompressibility dilemma): "
              "use -coupling opt");
+  /* the Dirichlet fluid's solver now, so that its options are read before the run checks them */
+  if (P->fluid) {
+    if (!P->fluid_interface_rows) PetscCall(InterfaceGetFluidRows(P->itf, &P->fluid_interface_rows));
+    PetscCall(FluidSetUpDirichlet(P->fluid, P->fluid_interface_rows));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -46,7 +51,6 @@ static PetscErrorCode FluidUnderVelocity(CouplingProblem P, Vec v, Vec x)
 {
   PetscFunctionBeginUser;
   if (P->fluid) {
-    DM  dm;
     Vec state;
     if (!P->fluid_interface_rows) PetscCall(InterfaceGetFluidRows(P->itf, &P->fluid_interface_rows));
     PetscCall(VecZeroEntries(P->fluid_vec));
@@ -54,9 +58,8 @@ static PetscErrorCode FluidUnderVelocity(CouplingProblem P, Vec v, Vec x)
     PetscCall(PetscLogStagePush(FSIOPT_STAGE_FLUID));
     PetscCall(FluidSolveDirichlet(P->fluid, P->fluid_interface_rows, P->fluid_vec, P->fluid_sol, P->step));
     PetscCall(PetscLogStagePop());
-    PetscCall(FluidGetDM(P->fluid, &dm));
     PetscCall(FluidGetSolution(P->fluid, &state));
-    PetscCall(FEMGlobalToLocal(dm, state, P->fluid_local));
+    PetscCall(FluidGlobalToLocal(P->fluid, state, P->fluid_local));
   }
   PetscCall(InterfaceFluidGather(P->itf, P->fluid ? P->fluid_sol : NULL, P->all_a));
   PetscCall(InterfaceRestrict(P->itf, P->all_a, P->r));

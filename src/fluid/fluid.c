@@ -211,7 +211,7 @@ PetscErrorCode FluidBeginStep(Fluid f, PetscInt step)
   StepFailureClear(&f->failure);
   f->steps_at_dt++;
   /* Old-domain mass term, evaluated before the time and the mesh move on. */
-  PetscCall(FEMGlobalToLocal(f->dm, f->x, f->xlocal_old));
+  PetscCall(FluidGlobalToLocal(f, f->x, f->xlocal_old));
   if (f->steady) PetscCall(VecZeroEntries(f->history));
   else {
     const PetscBool bdf2 = FluidStepIsBDF2(f);
@@ -415,7 +415,7 @@ PetscErrorCode FluidCheckpoint(Fluid f, Checkpoint cp, PetscBool load)
       if (!load) PetscCall(DMLocalToGlobal(f->dm, f->xlocal_previous, INSERT_VALUES, previous));
       PetscCall(CheckpointVec(cp, "previous_state", previous, load));
       f->time = t - f->dt;
-      if (load) PetscCall(FEMGlobalToLocal(f->dm, previous, f->xlocal_previous));
+      if (load) PetscCall(FluidGlobalToLocal(f, previous, f->xlocal_previous));
       f->time = t;
       PetscCall(DMRestoreGlobalVector(f->dm, &previous));
     } else PetscCall(CheckpointLocalVec(cp, "previous_state", f->dm, f->xlocal_previous, load));

@@ -158,61 +158,18 @@ PetscErrorCode FluidOperatorJacobian(Fluid f, Vec xlocal, PetscBool old_mass, Ma
 }
 
 /* x with its boundary values. PETSc's backend projects them at every call (the reference);
-   libCEED's keeps them until the time or the mesh changes, which saves the projection
-   at each residual of a step (the scenes' Dirichlet data depend on t and x only) */
-static PetscErrorCode StateToLocal(Fluid f, Vec x, Vec xlocal)
+   libCEED's keeps them until the time or the constrained nodes move (the scenes' Dirichlet
+   data depend on t and x only), which saves the projection at each residual of a step,
+   also while the interface, and with it the mesh, moves */
+PetscErrorCode FluidGlobalToLocal(Fluid f, Vec x, Vec xlocal)
 {
-  Vec                coordinates;
-  PetscObjectId      id;
-  PetscObjectState   state;
-  const PetscScalar *b;
-  PetscScalar       *a;
-
   PetscFunctionBeginUser;
   if (!f->backend_ceed) {
     PetscCall(FEMGlobalToLocal(f->dm, x, xlocal));
     PetscFunctionReturn(0);
   }
-  PetscCall(DMGetCoordinatesLocal(f->dm, &coordinates));
-  PetscCall(PetscObjectGetId((PetscObject)coordinates, &id));
-  PetscCall(PetscObjectStateGet((PetscObject)coordinates, &state));
-  if (!f->boundary_values) {
-    PetscSection section;
-    PetscInt     pStart, pEnd, n = 0;
-    PetscCall(DMCreateLocalVector(f->dm, &f->boundary_values));
-    PetscCall(DMGetLocalSection(f->dm, &section));
-    PetscCall(PetscSectionGetChart(section, &pStart, &pEnd));
-    for (PetscInt p = pStart; p < pEnd; ++p) {
-      PetscInt cdof;
-      PetscCall(PetscSectionGetConstraintDof(section, p, &cdof));
-      n += cdof;
-    }
-    PetscCall(PetscMalloc1(n, &f->boundary_dofs));
-    f->n_boundary_dofs = 0;
-    for (PetscInt p = pStart; p < pEnd; ++p) {
-      PetscInt        cdof, off;
-      const PetscInt *cind;
-      PetscCall(PetscSectionGetConstraintDof(section, p, &cdof));
-      if (!cdof) continue;
-      PetscCall(PetscSectionGetOffset(section, p, &off));
-      PetscCall(PetscSectionGetConstraintIndices(section, p, &cind));
-      for (PetscInt k = 0; k < cdof; ++k) f->boundary_dofs[f->n_boundary_dofs++] = off + cind[k];
-    }
-    f->boundary_values_time = PETSC_MAX_REAL;
-  }
-  if (f->boundary_values_time != f->time || id != f->boundary_values_id || state != f->boundary_values_state) {
-    PetscCall(VecZeroEntries(f->boundary_values));
-    PetscCall(DMPlexInsertBoundaryValues(f->dm, PETSC_TRUE, f->boundary_values, 0.0, NULL, NULL, NULL));
-    f->boundary_values_time  = f->time;
-    f->boundary_values_id    = id;
-    f->boundary_values_state = state;
-  }
-  PetscCall(DMGlobalToLocal(f->dm, x, INSERT_VALUES, xlocal));
-  PetscCall(VecGetArray(xlocal, &a));
-  PetscCall(VecGetArrayRead(f->boundary_values, &b));
-  for (PetscInt i = 0; i < f->n_boundary_dofs; ++i) a[f->boundary_dofs[i]] = b[f->boundary_dofs[i]];
-  PetscCall(VecRestoreArrayRead(f->boundary_values, &b));
-  PetscCall(VecRestoreArray(xlocal, &a));
+  if (!f->dirichlet_values) PetscCall(FEMDirichletValuesCreate(f->dm, &f->time, &f->dirichlet_values));
+  PetscCall(FEMDirichletValuesGlobalToLocal(f->dirichlet_values, x, xlocal));
   PetscFunctionReturn(0);
 }
 
@@ -222,7 +179,7 @@ PetscErrorCode FluidSNESResidual(SNES snes, Vec x, Vec F, void *ctx)
 
   PetscFunctionBeginUser;
   (void)snes;
-  PetscCall(StateToLocal(f, x, f->xlocal_work));
+  PetscCall(FluidGlobalToLocal(f, x, f->xlocal_work));
   /* on a moving mesh the time derivative acts through the old domains' mass (fluid_ale.c) */
   PetscCall(FluidOperatorResidual(f, f->xlocal_work, f->moving, F));
   PetscFunctionReturn(0);
@@ -234,7 +191,7 @@ PetscErrorCode FluidSNESJacobian(SNES snes, Vec x, Mat J, Mat P, void *ctx)
 
   PetscFunctionBeginUser;
   (void)snes;
-  PetscCall(StateToLocal(f, x, f->xlocal_work));
+  PetscCall(FluidGlobalToLocal(f, x, f->xlocal_work));
   PetscCall(FluidOperatorJacobian(f, f->xlocal_work, f->moving, J, P));
   f->counts.factorizations++;
   PetscFunctionReturn(0);
@@ -315,8 +272,7 @@ PetscErrorCode FluidBackendDestroy(Fluid f)
   PetscCall(FEMCeedFluidDestroy(&f->ceed));
   PetscCall(MatDestroy(&f->ceed_jacobian));
   PetscCall(DMDestroy(&f->dm_loads));
-  PetscCall(VecDestroy(&f->boundary_values));
-  PetscCall(PetscFree(f->boundary_dofs));
+  PetscCall(FEMDirichletValuesDestroy(&f->dirichlet_values));
   PetscCall(FEMTractionCacheDestroy(&f->tractions));
   PetscCall(FluidMatFreeDestroy(f));
   PetscFunctionReturn(0);

@@ -51,7 +51,7 @@ static PetscErrorCode DirichletJacobian(SNES snes, Vec x, Mat J, Mat P, void *ct
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode DirichletSetUp(Fluid f, IS rows)
+PetscErrorCode FluidSetUpDirichlet(Fluid f, IS rows)
 {
   Mat             J;
   KSP             ksp;
@@ -60,6 +60,7 @@ static PetscErrorCode DirichletSetUp(Fluid f, IS rows)
   const PetscInt *idx;
 
   PetscFunctionBeginUser;
+  if (f->snes_dirichlet) PetscFunctionReturn(0);
   PetscCall(ISGetLocalSize(rows, &n));
   PetscCall(ISGetIndices(rows, &idx));
   PetscCall(VecGetOwnershipRange(f->x, &rstart, NULL));
@@ -96,6 +97,8 @@ static PetscErrorCode DirichletSetUp(Fluid f, IS rows)
      tighter solve than the state alone (relative to the first residual of each solve) */
   PetscCall(SNESSetTolerances(f->snes_dirichlet, f->atol, 1e-10, PETSC_DEFAULT, 50, PETSC_DEFAULT));
   PetscCall(SNESSetFromOptions(f->snes_dirichlet));
+  PetscCall(SNESGetLagJacobian(f->snes_dirichlet, &f->dirichlet_lag));
+  if (f->dirichlet_lag < 1) f->dirichlet_lag = 0;
   PetscFunctionReturn(0);
 }
 
@@ -106,9 +109,12 @@ PetscErrorCode FluidSolveDirichlet(Fluid f, IS rows, Vec values, Vec reaction, P
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_FLUID_SOLVE, 0, 0, 0, 0));
-  if (!f->snes_dirichlet) PetscCall(DirichletSetUp(f, rows));
-  /* one factorization per time step: later iterations of the step reuse it (chord) */
-  if (f->dirichlet_step != step) PetscCall(SNESSetLagJacobian(f->snes_dirichlet, -2));
+  if (!f->snes_dirichlet) PetscCall(FluidSetUpDirichlet(f, rows));
+  /* one factorization per time step: later iterations of the step reuse it (chord); a
+     user's lag keeps the factors across steps too, as the traction-controlled fluid's does,
+     except after a change of the time step (FluidSetTimeStep) */
+  if (f->dirichlet_step != step && (!f->dirichlet_lag || f->dirichlet_step < 0))
+    PetscCall(SNESSetLagJacobian(f->snes_dirichlet, -2));
   f->dirichlet_step = step;
   PetscCall(VecCopy(f->history, f->dirichlet_rhs));
   PetscCall(VecGetArray(f->dirichlet_rhs, &b));
@@ -124,6 +130,7 @@ PetscErrorCode FluidSolveDirichlet(Fluid f, IS rows, Vec values, Vec reaction, P
   }
   PetscCall(FluidNonlinearSolve(f, f->snes_dirichlet, f->dirichlet_rhs, PETSC_TRUE, step,
                                 " with the interface velocity prescribed"));
+  if (f->dirichlet_lag) PetscCall(SNESSetLagJacobian(f->snes_dirichlet, f->dirichlet_lag));
   /* the reaction: what the interface rows of R(x) = history + load would need as load */
   {
     const PetscScalar *h;

@@ -255,7 +255,7 @@ PetscErrorCode FluidBodyForce(Fluid f, PetscReal force[3])
   PetscFunctionBeginUser;
   PetscCheck(f->data.n_force_faces, f->comm, PETSC_ERR_ARG_WRONGSTATE,
              "the scene names no body faces for a fluid force");
-  PetscCall(FEMGlobalToLocal(f->dm, f->x, f->xlocal_work));
+  PetscCall(FluidGlobalToLocal(f, f->x, f->xlocal_work));
   /* the initial state has no time derivative to go with it: its force is the steady one */
   PetscCall(SetConstants(f, dm, f->step == 0 ? 0.0 : -1, -1, -1));
   if (f->moving) PetscCall(MovingSum(f, now));

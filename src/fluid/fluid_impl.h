@@ -72,16 +72,13 @@ struct _p_Fluid {
   IS           dirichlet_rows_global;
   PetscScalar *dirichlet_residual; /* R(x) on them at the last evaluation */
   PetscInt     dirichlet_step;
+  PetscInt     dirichlet_lag; /* -fluid_dirichlet_snes_lag_jacobian K > 0: factors kept across steps */
   /* the operators on the libCEED backend (fluid_backend.c) */
   PetscBool        backend_ceed;                    /* the solver's operators are libCEED's */
   FEMCeedFluid     ceed;                            /* NULL on the PETSc backend without -fem_backend_check */
   Mat              ceed_jacobian;                   /* of its COO pattern: the solver's matrix on the libCEED backend */
   DM               dm_loads;                        /* the scene's volume loads alone, NULL without */
-  Vec              boundary_values;                 /* the Dirichlet values of a time and mesh (libCEED's backend) */
-  PetscInt         n_boundary_dofs, *boundary_dofs; /* the constrained local dofs */
-  PetscReal        boundary_values_time;
-  PetscObjectId    boundary_values_id;
-  PetscObjectState boundary_values_state;
+  FEMDirichletValues dirichlet_values; /* kept per time and boundary position (libCEED's backend) */
   FEMTractionCache tractions; /* the scene's traction terms of a time and mesh */
   PetscBool        matfree;   /* -fluid_matfree (fluid_matfree.c) */
   PetscInt         matfree_checked_step;

@@ -96,7 +96,7 @@ PetscErrorCode FluidBodyForceSurface(Fluid f, PetscReal force[3])
   PetscCheck(nq == nq_pressure, f->comm, PETSC_ERR_SUP,
              "fluid surface force: velocity and pressure need the same face quadrature");
   PetscCall(DMGetLocalSection(f->dm, &section));
-  PetscCall(FEMGlobalToLocal(f->dm, f->x, f->xlocal_work));
+  PetscCall(FluidGlobalToLocal(f, f->x, f->xlocal_work));
   PetscCall(FluidBodyFaces(f, &faces));
   PetscCall(ISGetLocalSize(faces, &n));
   for (PetscInt c = 0; c < 3; ++c) force[c] = 0;
