@@ -24,7 +24,7 @@ PetscErrorCode FEMDirichletValuesCreate(DM dm, const PetscReal *time, FEMDirichl
 {
   FEMDirichletValues dv;
   PetscSection       section, coord_section;
-  PetscInt           pStart, pEnd, n_dofs = 0, n_coords = 0;
+  PetscInt           pStart, pEnd, cStart, cEnd, n_dofs = 0, n_coords = 0;
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&dv));
@@ -34,6 +34,7 @@ PetscErrorCode FEMDirichletValuesCreate(DM dm, const PetscReal *time, FEMDirichl
   PetscCall(DMGetLocalSection(dm, &section));
   PetscCall(DMGetCoordinateSection(dm, &coord_section));
   PetscCall(PetscSectionGetChart(section, &pStart, &pEnd));
+  PetscCall(PetscSectionGetChart(coord_section, &cStart, &cEnd)); /* the vertices, on an affine field */
   /* two passes: count, then fill */
   for (PetscInt pass = 0; pass < 2; ++pass) {
     n_dofs = n_coords = 0;
@@ -52,6 +53,7 @@ PetscErrorCode FEMDirichletValuesCreate(DM dm, const PetscReal *time, FEMDirichl
       PetscCall(DMPlexGetTransitiveClosure(dm, p, PETSC_TRUE, &n_closure, &closure));
       for (PetscInt c = 0; c < n_closure; ++c) {
         PetscInt q = closure[2 * c], qdof = 0, qoff;
+        if (q < cStart || q >= cEnd) continue;
         PetscCall(PetscSectionGetDof(coord_section, q, &qdof));
         if (!qdof) continue;
         if (pass) {
