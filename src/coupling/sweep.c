@@ -52,8 +52,7 @@ static PetscErrorCode FluidUnderVelocity(CouplingProblem P, Vec v, Vec x)
   PetscFunctionBeginUser;
   if (P->fluid) {
     Vec state;
-    if (!P->fluid_interface_rows) PetscCall(InterfaceGetFluidRows(P->itf, &P->fluid_interface_rows));
-    PetscCall(VecZeroEntries(P->fluid_vec));
+    PetscCall(VecZeroEntries(P->fluid_vec)); /* its rows: CouplingProblemCheckSweepable */
     PetscCall(InterfaceFluidSpread(P->itf, v, P->fluid_vec));
     PetscCall(PetscLogStagePush(FSIOPT_STAGE_FLUID));
     PetscCall(FluidSolveDirichlet(P->fluid, P->fluid_interface_rows, P->fluid_vec, P->fluid_sol, P->step));

@@ -109,7 +109,7 @@ PetscErrorCode FluidSolveDirichlet(Fluid f, IS rows, Vec values, Vec reaction, P
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_FLUID_SOLVE, 0, 0, 0, 0));
-  if (!f->snes_dirichlet) PetscCall(FluidSetUpDirichlet(f, rows));
+  PetscCall(FluidSetUpDirichlet(f, rows)); /* once: the coupling's set-up made it already */
   /* one factorization per time step: later iterations of the step reuse it (chord); a
      user's lag keeps the factors across steps too, as the traction-controlled fluid's does,
      except after a change of the time step (FluidSetTimeStep) */
