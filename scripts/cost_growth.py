@@ -11,7 +11,9 @@ lu,iterative):
           [solver's options files] [--extra]
 
 lu adds nothing (MUMPS LU, the default); iterative adds options/solvers/fluid-schur-gamg.yaml,
-structure-cg-gamg.yaml and mesh-cg-gamg.yaml. The meshes of level n are generated with gmsh
+structure-cg-gamg.yaml and mesh-cg-gamg.yaml; iterative-ilu is fluid-schur-gamg.yaml with
+fluid-velocity-ilu.yaml, structure-cg-ilu.yaml and mesh-cg-gamg.yaml (ILU(0) on the fluid's
+velocity block and on the wall, for small time steps). The meshes of level n are generated with gmsh
 into out/meshes/ (as by scripts/tube3d_table.py; bend3d's from meshes/bend3d-*.geo). --ranks
 gives the ranks per level, one number for all or one per level ("1,8,64": a weak-scaling
 series, a level per rank count);
@@ -50,6 +52,10 @@ SOLVERS = {
     "iterative": ["-options_file", "options/solvers/fluid-schur-gamg.yaml",
                   "-options_file", "options/solvers/structure-cg-gamg.yaml",
                   "-options_file", "options/solvers/mesh-cg-gamg.yaml"],
+    "iterative-ilu": ["-options_file", "options/solvers/fluid-schur-gamg.yaml",
+                      "-options_file", "options/solvers/fluid-velocity-ilu.yaml",
+                      "-options_file", "options/solvers/structure-cg-ilu.yaml",
+                      "-options_file", "options/solvers/mesh-cg-gamg.yaml"],
 }
 REASONS = ["-fluid_ksp_converged_reason", "-structure_ksp_converged_reason", "-mesh_ksp_converged_reason"]
 SUBPROBLEMS = ("fluid", "structure", "mesh")
@@ -155,9 +161,9 @@ def main():
     tf = fr.fmt_num(args.t_final)
     md = ["# fsiopt cost growth: %s, LU against iterative solvers" % args.scene, "",
           "Scene: `-options_file %s -t_final %s`%s; levels %s on %s rank(s); runs in `%s`, one at a time. "
-          "iterative = %s." % (T.TUBES[args.scene][0], tf, ", extra options `%s`" % " ".join(extra) if extra else "",
-                               ",".join(map(str, levels)), ",".join(map(str, ranks)), rel(runs_dir),
-                               " ".join(SOLVERS["iterative"][1::2])), "",
+          "%s." % (T.TUBES[args.scene][0], tf, ", extra options `%s`" % " ".join(extra) if extra else "",
+                   ",".join(map(str, levels)), ",".join(map(str, ranks)), rel(runs_dir),
+                   "; ".join("%s = %s" % (s, " ".join(SOLVERS[s][1::2])) for s in solvers if SOLVERS[s])), "",
           "| level | solver | ranks | unknowns | wall s | stepping s | core-µs / unknown / step | peak KiB / unknown "
           "| Krylov its fluid / structure / mesh | GN its/step | inner its/GN it | status |", "|" + "---|" * 12]
     for (level, s, np, r), row in zip(plan, rows):

@@ -85,7 +85,8 @@ def test_field_split_fluid():
 
 
 SOLVER_FILES = {name: ["-options_file", "options/solvers/%s.yaml" % name]
-                for name in ("fluid-schur-gamg", "structure-cg-gamg", "mesh-cg-gamg")}
+                for name in ("fluid-schur-gamg", "fluid-velocity-ilu", "structure-cg-gamg", "structure-cg-ilu",
+                             "mesh-cg-gamg")}
 
 
 @test("options/solvers: iterative fluid, structure and mesh motion solves (field split, CG + GAMG) keep the adjoint "
@@ -118,6 +119,42 @@ def test_solver_option_files():
         assert len(lu) == len(it) and scale > 0 and diff <= 1e-6, "channel2d: probes %.2e from LU's" % diff
         details.append("%d rank%s: adjoint %.1e (mms-ns) %.1e (channel2d), errors within %.1e, probes within %.1e"
                        % (nproc, "s" if nproc > 1 else "", adjoint[0], channel_adjoint[0], worst, diff))
+    return "; ".join(details)
+
+
+@test("tube3d with the iterative solver files for small time steps (field split with ILU(0) on the velocity, CG + "
+      "ILU(0) on the wall, CG + GAMG on the mesh): "
+      "the adjoint identity to 10 x the Krylov tolerance, the LU run's Gauss-Newton iterations and probes within the "
+      "coupling tolerance, 1 and 2 ranks")
+def test_tube3d_iterative():
+    # both with the adjoint test, which moves the first step's linearization (7 Gauss-Newton
+    # iterations in two steps instead of 6, with LU as with the iterative files)
+    args = ["-options_file", "options/tube3d.yaml", "-t_final", "0.0002", "-coupling_inner", "gmres",
+            "-coupling_test_adjoint"]
+    files = SOLVER_FILES["fluid-schur-gamg"] + SOLVER_FILES["fluid-velocity-ilu"] + \
+        SOLVER_FILES["structure-cg-ilu"] + SOLVER_FILES["mesh-cg-gamg"]
+    details = []
+    for nproc in (1, 2):
+        lu_out, it_out = out_dir("tube3d-lu-%d" % nproc), out_dir("tube3d-iterative-%d" % nproc)
+        lu = solve(args, nproc=nproc, out=lu_out)
+        rc, stdout, err, summary = run(args + files, nproc=nproc, out=it_out)
+        assert rc == 0 and summary, fail_text(rc, stdout, err)
+        line = printed(stdout, "adjoint test:")
+        assert len(line) == 1, "no adjoint test line in %s" % stdout[-300:]
+        adjoint = float(line[0].split()[-1])
+        assert adjoint <= 1e-9, "%d rank(s): adjoint identity %.2e, above 10 x the Krylov tolerance 1e-10" % (
+            nproc, adjoint)
+        assert summary["coupling_iterations"] == lu["coupling_iterations"], \
+            "%d rank(s): %d Gauss-Newton iterations, LU %d" % (nproc, summary["coupling_iterations"],
+                                                              lu["coupling_iterations"])
+        _, a = read_probes(os.path.join(lu_out, "probes.csv"))
+        _, b = read_probes(os.path.join(it_out, "probes.csv"))
+        scale = max(abs(x) for r in a for x in r[1:])
+        diff = max(abs(x - y) for ra, rb in zip(a, b) for x, y in zip(ra[1:], rb[1:])) / scale
+        # tube3d's -coupling_tol 1e-4 bounds the interface velocity jump; the probes are displacements
+        assert len(a) == len(b) and scale > 0 and diff <= 1e-4, "%d rank(s): probes %.2e from LU's" % (nproc, diff)
+        details.append("%d rank%s: adjoint %.1e, %d GN its as LU, probes within %.1e" % (
+            nproc, "s" if nproc > 1 else "", adjoint, lu["coupling_iterations"], diff))
     return "; ".join(details)
 
 
