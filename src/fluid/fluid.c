@@ -71,6 +71,11 @@ PetscErrorCode FluidSetFromOptions(Fluid f)
                                 "nonlinear solves also stop when ||F|| <= rhs_rtol ||rhs||, a relative accuracy of the "
                                 "state that does not depend on how good the initial guess was",
                                 &f->rhs_rtol));
+  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-fluid_newton_ksp_rtol",
+                                   "relative Krylov tolerance of the nonlinear solves' Newton steps, apart from the "
+                                   "linearized solves of the coupling's products (which keep -fluid_ksp_rtol); 0: "
+                                   "-fluid_ksp_rtol for both. With LU it changes nothing",
+                                   &f->newton_ksp_rtol));
   PetscCall(PetscOptionsBool("-fluid_initial_projection",
                              "Start from the Stokes projection of the scene's exact solution (discretely divergence "
                              "free) instead of its interpolant",
@@ -281,8 +286,16 @@ PetscErrorCode FluidNonlinearSolve(Fluid f, SNES snes, Vec rhs, PetscBool chord,
 {
   SNESConvergedReason reason;
   PetscInt            its;
+  KSP                 ksp;
+  PetscReal           rtol, abstol, dtol;
+  PetscInt            maxits;
 
   PetscFunctionBeginUser;
+  /* A Newton step needs only to reduce the residual, which the next step measures again; the
+     products' linearized solves are the derivative itself and keep the solver's tolerance */
+  PetscCall(SNESGetKSP(snes, &ksp));
+  PetscCall(KSPGetTolerances(ksp, &rtol, &abstol, &dtol, &maxits));
+  if (f->newton_ksp_rtol > 0) PetscCall(KSPSetTolerances(ksp, f->newton_ksp_rtol, abstol, dtol, maxits));
   if (chord) PetscCall(VecCopy(f->x, f->x_start));
   PetscCall(SNESSolve(snes, rhs, f->x));
   if (snes == f->snes && f->lag_after_rebuild) {
@@ -305,6 +318,7 @@ PetscErrorCode FluidNonlinearSolve(Fluid f, SNES snes, Vec rhs, PetscBool chord,
     PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
     PetscCall(SNESSetLagJacobian(snes, -1)); /* the fresh factors serve from now on */
   }
+  if (f->newton_ksp_rtol > 0) PetscCall(KSPSetTolerances(ksp, rtol, abstol, dtol, maxits));
   f->counts.nonlinear_solves += 1;
   if (reason <= 0)
     PetscCall(StepFailureSet(&f->failure,

@@ -41,6 +41,7 @@ struct _p_Fluid {
   PetscInt   n_backflow_faces, backflow_faces[FSIOPT_MAX_BOUNDARIES];
   PetscReal  atol;     /* the user's (or our default) absolute residual tolerance */
   PetscReal  rhs_rtol; /* and one relative to the right-hand side */
+  PetscReal  newton_ksp_rtol; /* the Krylov tolerance of the Newton steps (0: the solver's own) */
   /* moving meshes (fluid_ale.c) */
   PetscBool moving;
   DM        dm_aux; /* the mesh velocity z, Q1 */
