@@ -78,6 +78,15 @@ def read_probes(path):
     return [fr.column_name(n) for n in rows[0]], [[float(v) for v in r] for r in rows[1:]]
 
 
+def difference_to_largest(rows, reference):
+    """The largest difference of two probe series (t first) relative to the reference's
+    largest value over all its columns (probes_difference scales each column by its own)."""
+    scale = max(abs(v) for r in reference for v in r[1:])
+    assert len(rows) == len(reference) and scale > 0, "%d against %d probe rows, scale %g" % (
+        len(rows), len(reference), scale)
+    return max(abs(a - b) for ra, rb in zip(rows, reference) for a, b in zip(ra[1:], rb[1:])) / scale
+
+
 def last_rows(out, name="history.csv"):
     """{step: the step's last row} of a run's history.csv."""
     last = {}

@@ -3,8 +3,8 @@
 steady state, the periodic quantities and scripts/turek_hron_series.py)."""
 import contextlib, csv, io, math, os, subprocess, sys
 
-from harness import (CHANNEL, REFERENCE, ROOT, TUREK, WORK, fail_text, fr, last_rows, printed, probes_difference,  # noqa: F401
-                     read_probes, run, solve, test)
+from harness import (CHANNEL, REFERENCE, ROOT, TUREK, WORK, difference_to_largest, fail_text, fr, last_rows,  # noqa: F401
+                     printed, probes_difference, read_probes, run, solve, test)
 
 CHANNEL_REFERENCE = os.path.join(REFERENCE, "channel2d-50-steps-probes.csv")
 
@@ -38,8 +38,7 @@ def test_tube3d_split_ranks():
     assert one["dim"] == 3 and one["max_interface_jump"] <= 1e-4, "dim %s, jump %s" % (one["dim"], one["max_interface_jump"])
     head, a = read_probes(os.path.join(outs[0], "probes.csv"))
     _, b = read_probes(os.path.join(outs[1], "probes.csv"))
-    scale = max(abs(x) for r in a for x in r[1:])
-    worst = max(abs(x - y) for ra, rb in zip(a, b) for x, y in zip(ra[1:], rb[1:])) / scale
+    worst = difference_to_largest(b, a)
     assert worst <= 1e-8, "2 ranks differ by %.2e relative" % worst
     radial = head.index("dx(0.5;0.;1.25)")
     assert a[-1][radial] > 0 and a[-1][radial] >= 10 * abs(a[-1][head.index("dx(0.5;0.;3.75)")]), \
@@ -64,11 +63,7 @@ def test_bend3d():
     shared = solve(args, nproc=2, out=outs[2])
     assert shared["ranks"]["fluid"] == 2, "ranks %s" % shared["ranks"]
     head, a = read_probes(os.path.join(outs[0], "probes.csv"))
-    scale = max(abs(x) for r in a for x in r[1:])
-    worst = 0.0
-    for out in outs[1:]:
-        _, b = read_probes(os.path.join(out, "probes.csv"))
-        worst = max(worst, max(abs(x - y) for ra, rb in zip(a, b) for x, y in zip(ra[1:], rb[1:])) / scale)
+    worst = max(difference_to_largest(read_probes(os.path.join(out, "probes.csv"))[1], a) for out in outs[1:])
     assert worst <= 1e-8, "2 ranks differ by %.2e relative" % worst
     inlet, outlet = head.index("dx(-0.5;0.;0.5)"), head.index("dz(2.;0.;3.)")
     assert a[-1][inlet] < 0 and abs(a[-1][inlet]) >= 10 * abs(a[-1][outlet]), \
