@@ -37,6 +37,25 @@ def test_adjoint_identity_split_ranks():
     return adjoint_cases(2)
 
 
+@test("the adjoint test checks the run's own Jacobian and leaves the run as it was: tube3d, two steps with and "
+      "without -coupling_test_adjoint, the same history and probes to the last digit", quick=True)
+def test_adjoint_check_leaves_run():
+    args = ["-options_file", "options/tube3d.yaml", "-t_final", "0.0002"]
+    plain, checked = out_dir("tube3d-plain"), out_dir("tube3d-checked")
+    solve(args, out=plain)
+    rc, stdout, err, summary = run(args + ["-coupling_test_adjoint"], out=checked)
+    assert rc == 0 and summary, fail_text(rc, stdout, err)
+    line = printed(stdout, "adjoint test:")
+    assert len(line) == 1, "no adjoint test line in %s" % stdout[-300:]
+    adjoint = float(line[0].split()[-1])
+    assert adjoint <= 1e-10, "adjoint identity: relative difference %.2e" % adjoint
+    for name in ("history.csv", "probes.csv"):
+        assert same_file(os.path.join(plain, name), os.path.join(checked, name)), \
+            "%s differs with -coupling_test_adjoint" % name
+    return "adjoint %.1e; %d Gauss-Newton iterations either way, history and probes identical" % (
+        adjoint, summary["coupling_iterations"])
+
+
 FIELD_SPLIT = ["-fluid_ksp_type", "fgmres", "-fluid_ksp_rtol", "1e-10", "-fluid_pc_type", "fieldsplit",
                "-fluid_pc_fieldsplit_type", "schur", "-fluid_pc_fieldsplit_schur_fact_type", "full",
                "-fluid_pc_fieldsplit_schur_precondition", "selfp", "-fluid_fieldsplit_velocity_ksp_type", "preonly",
@@ -126,8 +145,6 @@ def test_solver_option_files():
       "the adjoint identity to 10 x the Krylov tolerance, the LU run's Gauss-Newton iterations and probes within the "
       "coupling tolerance, 1 and 2 ranks")
 def test_tube3d_iterative():
-    # both with the adjoint test, which moves the first step's linearization (7 Gauss-Newton
-    # iterations in two steps instead of 6, with LU as with the iterative files)
     args = ["-options_file", "options/tube3d.yaml", "-t_final", "0.0002", "-coupling_inner", "gmres",
             "-coupling_test_adjoint"]
     files = SOLVER_FILES["fluid-schur-gamg"] + SOLVER_FILES["fluid-velocity-ilu"] + \
