@@ -42,6 +42,35 @@ def test_sigint_sigterm_stop_after_the_step():
     return ", ".join(details)
 
 
+@test("the standard output's reader goes away (a closed pipe): the run stops after the step with a checkpoint and "
+      "complete outputs, one line on stderr, exit != 0, and the checkpoint continues the run", quick=True)
+def test_closed_stdout_pipe():
+    out = os.path.join(WORK, "closed-pipe")
+    cmd = fr.fsiopt_command(CHANNEL + ["-t_final", "0.05", "-progress_seconds", "0.2"], 1, out)
+    proc = subprocess.Popen(cmd, cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    proc.stdout.readline()   # the run started; then nobody reads its standard output any more
+    proc.stdout.close()
+    try:
+        err = proc.stderr.read()
+        rc = proc.wait(timeout=300)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        raise AssertionError("the run did not stop after its standard output was closed")
+    lines = [l for l in err.splitlines() if l.strip()]
+    assert rc not in (0, 141, -13), "exit status %d (141 or -13: killed by SIGPIPE)" % rc
+    assert len(lines) == 1 and lines[0].startswith("fsiopt: error: interrupted by SIGPIPE after step ") and \
+        "-restart" in lines[0], "stderr %s" % lines
+    s = fr.read_summary(out)
+    step = s["steps_done"]
+    assert s["interrupted"] == "SIGPIPE" and s["converged"] is False and 0 < step < 500, "summary %s" % s
+    assert fr.checkpoint_step(os.path.join(out, "checkpoint.h5")) == step, "the checkpoint is not of step %d" % step
+    _, rows = read_probes(os.path.join(out, "probes.csv"))  # complete, not .partial
+    assert len(rows) == step + 1, "%d probe rows after step %d" % (len(rows), step)
+    more = solve(CHANNEL + ["-t_final", repr((step + 2) * s["dt"]), "-restart", os.path.join(out, "checkpoint.h5")])
+    assert more["first_step"] == step + 1 and more["steps_done"] == step + 2, "restart %s" % more
+    return "stopped after step %d with its checkpoint, restarted at step %d" % (step, more["first_step"])
+
+
 @test("SIGTERM, SIGINT, SIGHUP during the set-up: one line, exit != 0, no lock, no output left")
 def test_signal_during_setup():
     details = []

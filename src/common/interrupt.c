@@ -12,6 +12,13 @@ static void Catch(int signum)
   caught = signum;
 }
 
+/* every write to the closed pipe raises it again: the first one stops the run, the rest
+   leave the writes failing quietly while the run writes its checkpoint and outputs */
+static void CatchPipe(int signum)
+{
+  if (!caught) caught = signum;
+}
+
 static void CatchCheckpointRequest(int signum)
 {
   (void)signum;
@@ -31,6 +38,13 @@ PetscErrorCode InterruptInstall(void)
   PetscCheck(sigaction(SIGINT, &action, NULL) == 0 && sigaction(SIGTERM, &action, NULL) == 0 &&
                sigaction(SIGHUP, &action, NULL) == 0,
              PETSC_COMM_SELF, PETSC_ERR_SYS, "cannot install the SIGINT/SIGTERM/SIGHUP handler");
+  /* SIGPIPE: whatever read the standard output went away (tee, a log reader), which would
+     otherwise end the run at its next line without a checkpoint */
+  memset(&action, 0, sizeof(action));
+  action.sa_handler = CatchPipe;
+  sigemptyset(&action.sa_mask);
+  PetscCheck(sigaction(SIGPIPE, &action, NULL) == 0, PETSC_COMM_SELF, PETSC_ERR_SYS,
+             "cannot install the SIGPIPE handler");
   memset(&action, 0, sizeof(action));
   action.sa_handler = CatchCheckpointRequest; /* every SIGUSR1 asks again */
   sigemptyset(&action.sa_mask);
@@ -42,8 +56,8 @@ PetscErrorCode InterruptInstall(void)
 /* Tests need a signal that lands after a known step, on a loaded machine as on an idle one. */
 PetscErrorCode InterruptSetFromOptions(void)
 {
-  const char *const names[]   = {"SIGTERM", "SIGINT", "SIGKILL", "SIGHUP", "SIGUSR1"};
-  const int         numbers[] = {SIGTERM, SIGINT, SIGKILL, SIGHUP, SIGUSR1};
+  const char *const names[]   = {"SIGTERM", "SIGINT", "SIGKILL", "SIGHUP", "SIGUSR1", "SIGPIPE"};
+  const int         numbers[] = {SIGTERM, SIGINT, SIGKILL, SIGHUP, SIGUSR1, SIGPIPE};
   PetscInt          which     = 0;
   PetscBool         in_setup  = PETSC_FALSE;
 
@@ -52,7 +66,7 @@ PetscErrorCode InterruptSetFromOptions(void)
   PetscCall(PetscOptionsInt("-interrupt_test_step",
                             "testing: the process sends itself -interrupt_test_signal after this step (0: never)", NULL,
                             test_step, &test_step, NULL));
-  PetscCall(PetscOptionsEList("-interrupt_test_signal", "testing: the signal of -interrupt_test_step", NULL, names, 5,
+  PetscCall(PetscOptionsEList("-interrupt_test_signal", "testing: the signal of -interrupt_test_step", NULL, names, 6,
                               names[which], &which, NULL));
   PetscCall(PetscOptionsBool("-interrupt_test_setup",
                              "testing: the process sends itself -interrupt_test_signal during its set-up", NULL,
@@ -101,5 +115,9 @@ PetscErrorCode InterruptCheckSetUp(const char where[])
 
 const char *InterruptName(int signum)
 {
-  return signum == SIGINT ? "SIGINT" : signum == SIGTERM ? "SIGTERM" : signum == SIGHUP ? "SIGHUP" : "a signal";
+  return signum == SIGINT    ? "SIGINT"
+         : signum == SIGTERM ? "SIGTERM"
+         : signum == SIGHUP  ? "SIGHUP"
+         : signum == SIGPIPE ? "SIGPIPE"
+                             : "a signal";
 }
