@@ -99,6 +99,14 @@ def printed(stdout, prefix):
     return [l for l in stdout.splitlines() if l.startswith(prefix)]
 
 
+def adjoint_difference(stdout):
+    """The relative difference <J h, r> - <h, J^T r> that the one "adjoint test:" line of
+    -coupling_test_adjoint reports."""
+    lines = printed(stdout, "adjoint test:")
+    assert len(lines) == 1, "expected one adjoint test line, found %d in %s" % (len(lines), stdout[-300:])
+    return float(lines[0].split()[-1])
+
+
 def same_file(a, b):
     return open(a, "rb").read() == open(b, "rb").read()
 

@@ -4,7 +4,7 @@ whose assembled mass and Laplacian equal PETSc's on every finite-element space o
 quadrilaterals, triangles and hexahedra, Q1, Q2, P1, P2, on one and two ranks, on each
 backend that runs here (opt/blocked, ref/serial)."""
 import os, re
-from harness import CHANNEL, SHORT, TUREK, out_dir, printed, probes_difference, read_probes, run, test
+from harness import CHANNEL, SHORT, TUREK, adjoint_difference, out_dir, probes_difference, read_probes, run, test
 
 CHECK = re.compile(r"fsiopt: libCEED check: (\w+) field (\d+) \((\w+), (\d) components, (\dD \w+) cells\): "
                    r"mass ([0-9.e+-]+), Laplacian ([0-9.e+-]+)")
@@ -125,9 +125,7 @@ def test_matfree_jacobian():
     assert difference <= 1e-10, "channel2d 10 steps: matrix-free GMRES probes differ from LU's by %.2e" % difference
     rc, stdout, err, _ = run(SHORT + KRYLOV + ["-coupling_test_adjoint", "-t_final", "0.51"], out=out_dir("matfree-adjoint"))
     assert rc == 0, "adjoint: exit %d: %s" % (rc, (err or stdout)[-300:])
-    line = printed(stdout, "adjoint test:")
-    assert len(line) == 1, "no adjoint test line in %s" % stdout[-300:]
-    adjoint = float(line[0].split()[-1])
+    adjoint = adjoint_difference(stdout)
     assert adjoint <= 1e-10, "adjoint identity with the matrix-free Jacobian: %.2e" % adjoint
     return "%d products on %d set-ups, worst %.1e; probes %.1e from LU's; adjoint identity %.1e" % (
         checks, len(cases), worst, difference, adjoint)

@@ -66,8 +66,8 @@ PetscErrorCode InterruptSetFromOptions(void)
   PetscCall(PetscOptionsInt("-interrupt_test_step",
                             "testing: the process sends itself -interrupt_test_signal after this step (0: never)", NULL,
                             test_step, &test_step, NULL));
-  PetscCall(PetscOptionsEList("-interrupt_test_signal", "testing: the signal of -interrupt_test_step", NULL, names, 6,
-                              names[which], &which, NULL));
+  PetscCall(PetscOptionsEList("-interrupt_test_signal", "testing: the signal of -interrupt_test_step", NULL, names,
+                              (PetscInt)PETSC_STATIC_ARRAY_LENGTH(names), names[which], &which, NULL));
   PetscCall(PetscOptionsBool("-interrupt_test_setup",
                              "testing: the process sends itself -interrupt_test_signal during its set-up", NULL,
                              in_setup, &in_setup, NULL));
