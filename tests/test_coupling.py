@@ -205,6 +205,33 @@ def test_inexact_products():
         "within %.1e" % (exact["coupling_iterations"], exact["inner_iterations"], its[0], its[1], its[2], max(diffs))
 
 
+@test("the last Gauss-Newton step's products (-coupling_inexact_products_last): tube3d with the iterative solver "
+      "files, five steps: each step's final jump within 15 % of the LU run's (the last step's products as loose as "
+      "the others': further off), LU's Gauss-Newton iterations")
+def test_last_step_products():
+    args = ["-options_file", "options/tube3d.yaml", "-t_final", "0.0005", "-coupling_inner", "gmres"]
+    files = SOLVER_FILES["fluid-schur-gamg"] + SOLVER_FILES["fluid-velocity-ilu"] + \
+        SOLVER_FILES["structure-cg-ilu"] + SOLVER_FILES["mesh-cg-gamg"]
+    lu_out = out_dir("last-products-lu")
+    lu = solve(args, out=lu_out)
+    lu_jumps = {k: float(r["jump"]) for k, r in last_rows(lu_out).items()}
+    found = {}
+    for name, extra in (("default", []), ("loose", ["-coupling_inexact_products_last", "0.01"])):
+        out = out_dir("last-products-%s" % name)
+        rc, stdout, err, summary = run(args + files + extra, out=out)
+        assert rc == 0 and summary, fail_text(rc, stdout, err)
+        jumps = {k: float(r["jump"]) for k, r in last_rows(out).items()}
+        assert sorted(jumps) == sorted(lu_jumps), "steps %s against LU's %s" % (sorted(jumps), sorted(lu_jumps))
+        found[name] = (summary, max(abs(jumps[k] / lu_jumps[k] - 1) for k in jumps))
+    (default, off), (_, loose_off) = found["default"], found["loose"]
+    assert default["coupling_iterations"] == lu["coupling_iterations"], "Gauss-Newton iterations %d, LU %d" % (
+        default["coupling_iterations"], lu["coupling_iterations"])
+    assert off <= 0.15, "final jumps up to %.0f %% from LU's" % (100 * off)
+    assert loose_off > off, "loose last products: final jumps %.0f %% from LU's, not further than %.0f %%" % (
+        100 * loose_off, 100 * off)
+    return "%d GN as LU; final jumps within %.1f %% of LU's (%.0f %% with the last products loose)" % (
+        lu["coupling_iterations"], 100 * off, 100 * loose_off)
+
 def taylor_ratios(stdout):
     return [float(l.split()[-1]) for l in printed(stdout, "Taylor test:") if "ratio" in l]
 

@@ -259,6 +259,10 @@ static PetscErrorCode OptSetUp(Coupling C)
      1460) at the same Gauss-Newton and GMRES iterations; 0.1 gains little more and moves
      the probes by 4e-5 relative (docs/solvers.md). With LU it changes nothing. */
   opt->inexact_products  = 0.01;
+  /* tube3d levels 1-3 with the iterative-ilu files: the step that lands within the tolerance
+     needs products about ten times as accurate as the others to make LU's iterations
+     (docs/solvers.md, session 42) */
+  opt->inexact_products_last = 0.001;
   opt->chord_contraction = 0.5;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Optimization-based coupling", "coupling");
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_tol",
@@ -308,6 +312,11 @@ static PetscErrorCode OptSetUp(Coupling C)
                                      "solves its linearized problems to the relative tolerance theta x (the Krylov "
                                      "method's absolute tolerance) / ||r||, at most 0.1 (0: each solver's own rtol)",
                                      &opt->inexact_products));
+    PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-coupling_inexact_products_last",
+                                     "gmres, bicgstab: theta of the relaxed products in a Gauss-Newton step expected "
+                                     "to be the last (its jump, shrunk once more by the last iteration's ratio, within "
+                                     "10 x -coupling_tol); the smaller of it and -coupling_inexact_products applies",
+                                     &opt->inexact_products_last));
     PetscCall(OptionsRealInRange(PetscOptionsObject, "-coupling_chord_contraction",
                                  "chord: rebuild the explicit J0 after an iteration that shrank the jump by less than "
                                  "this factor",

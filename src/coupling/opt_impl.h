@@ -51,6 +51,8 @@ typedef struct {
   PetscBool linearization_current;  /* the problem's factors are those of x_linearization */
   PetscReal krylov_jump_fraction;   /* the Krylov method stops when the predicted jump is below this x tol */
   PetscReal inexact_products;       /* theta of the relaxed product tolerance; 0: exact products */
+  PetscReal inexact_products_last;  /* theta for a Gauss-Newton step expected to be the last */
+  PetscReal fnorm, fnorm_previous;  /* ||F|| at this Gauss-Newton iterate and the one before (0: none) */
   PetscReal chord_contraction;      /* a chord step that shrinks the jump less than this rebuilds J0 */
   PetscBool start_correction;       /* -coupling_start_correction */
   PetscInt  secants;                /* -coupling_secant_updates */

@@ -55,7 +55,11 @@ static PetscErrorCode Jacobian(SNES snes, Vec x, Mat A, Mat B, void *ctx)
    error enters the residual scaled by the step's coefficient, which shrinks like |r|. The
    products' linearized solves stop at theta x abstol / |r|, capped at 0.1, and never
    tighter than the solvers' own -*_ksp_rtol. The converged jump is the nonlinear residual's,
-   so inexact products change the iterations, not the answer. */
+   so inexact products change the iterations, not the answer. The step expected to be the
+   last (||F_k|| shrunk once more by the ratio ||F_k|| / ||F_k-1|| lands within 20 x abstol,
+   10 x -coupling_tol) must reach abstol itself, so its products use the smaller
+   theta of -coupling_inexact_products_last: the earlier steps' errors are swamped by the
+   nonlinearity the next iteration corrects anyway. */
 static PetscErrorCode NewtonMult(Mat A, Vec h, Vec y)
 {
   Coupling C;
@@ -67,11 +71,13 @@ static PetscErrorCode NewtonMult(Mat A, Vec h, Vec y)
   PetscCall(Linearize(C, PETSC_FALSE));
   if (opt->inexact_products > 0) {
     KSP       ksp;
-    PetscReal rnorm, abstol;
+    PetscReal rnorm, abstol, theta = opt->inexact_products;
     PetscCall(SNESGetKSP(opt->snes, &ksp));
     PetscCall(KSPGetResidualNorm(ksp, &rnorm));
     PetscCall(KSPGetTolerances(ksp, NULL, &abstol, NULL, NULL));
-    PetscCall(FEMSetLinearizedRtol(rnorm > 0 ? PetscMin(0.1, opt->inexact_products * abstol / rnorm) : 0.1));
+    if (opt->fnorm_previous > 0 && opt->fnorm * (opt->fnorm / opt->fnorm_previous) <= 20 * abstol)
+      theta = PetscMin(theta, opt->inexact_products_last);
+    PetscCall(FEMSetLinearizedRtol(rnorm > 0 ? PetscMin(0.1, theta * abstol / rnorm) : 0.1));
   }
   PetscCall(CouplingProblemJacobianMult(C->problem, h, y));
   PetscCall(FEMSetLinearizedRtol(0));
@@ -123,6 +129,8 @@ static PetscErrorCode ConvergenceTest(SNES snes, PetscInt its, PetscReal xnorm, 
     PetscCall(VecCopy(C->x, opt->x_previous));
     PetscCall(VecCopy(F, opt->F_previous));
   }
+  opt->fnorm_previous = its > 0 ? opt->fnorm : 0;
+  opt->fnorm          = Fnorm;
   PetscCall(SNESGetLinearSolveIterations(snes, &krylov_total));
   PetscCall(PetscLogStagePop());
   PetscCall(OptTestIteration(C, its, 0.5 * Fnorm * Fnorm, krylov_total, &verdict));
