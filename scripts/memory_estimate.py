@@ -15,10 +15,18 @@ from fsiopt_runs import run_fsiopt  # noqa: E402
 CHANNEL = ["-options_file", "options/channel2d.yaml", "-t_final", "0.0002"]
 FSI3 = ["-options_file", "options/turek-hron.yaml", "-turek_case", "fsi3", "-dt", "0.0005", "-t_final", "0.001"]
 TUBE = ["-options_file", "options/tube3d.yaml", "-t_final", "0.0001"]
+# the iterative solver files (options/solvers/): every subproblem by a Krylov method
+ITERATIVE = ["-options_file", "options/solvers/fluid-schur-gamg.yaml", "-options_file",
+             "options/solvers/structure-cg-gamg.yaml", "-options_file", "options/solvers/mesh-cg-gamg.yaml"]
+TUBE_ITERATIVE = ["-options_file", "options/solvers/fluid-schur-gamg.yaml", "-options_file",
+                  "options/solvers/fluid-velocity-ilu.yaml", "-options_file", "options/solvers/structure-cg-ilu.yaml",
+                  "-options_file", "options/solvers/mesh-cg-gamg.yaml", "-coupling_inner", "gmres"]
 CASES = [
     ("channel2d", CHANNEL, 0, 1, True), ("channel2d", CHANNEL, 1, 1, True), ("channel2d", CHANNEL, 2, 1, False),
     ("channel2d", CHANNEL, 2, 2, False), ("turek-hron fsi3", FSI3, 0, 1, True), ("turek-hron fsi3", FSI3, 1, 1, False),
     ("tube3d", TUBE, 0, 1, True), ("tube3d", TUBE, 0, 2, False), ("tube3d", TUBE, 1, 1, False),
+    ("channel2d iterative", CHANNEL + ITERATIVE, 1, 1, True), ("channel2d iterative", CHANNEL + ITERATIVE, 2, 1, False),
+    ("tube3d iterative", TUBE + TUBE_ITERATIVE, 0, 1, True), ("tube3d iterative", TUBE + TUBE_ITERATIVE, 1, 1, False),
 ]
 LOW, HIGH = 1.0, 2.5
 
@@ -29,7 +37,7 @@ def main():
     ap.add_argument("--json", help="write the rows here")
     args = ap.parse_args()
     work, rows, failed = tempfile.mkdtemp(prefix="fsiopt-memory-estimate-"), [], 0
-    print("%-16s %6s %5s %10s %12s %10s %7s" % ("scene", "refine", "ranks", "unknowns", "estimate GiB", "peak GiB",
+    print("%-19s %6s %5s %10s %12s %10s %7s" % ("scene", "refine", "ranks", "unknowns", "estimate GiB", "peak GiB",
                                                 "ratio"))
     for name, options, refine, ranks, quick in CASES:
         if args.quick and not quick:
@@ -38,7 +46,7 @@ def main():
         run = run_fsiopt(options + ["-refine", str(refine)], nproc=ranks, out_dir=out)
         s = run.summary or {}
         if run.returncode != 0 or "memory_gib" not in s:
-            print("%-16s %6d %5d  FAILED: %s" % (name, refine, ranks, (run.stderr or "").strip()[-200:]))
+            print("%-19s %6d %5d  FAILED: %s" % (name, refine, ranks, (run.stderr or "").strip()[-200:]))
             failed += 1
             continue
         est, peak = s["memory_gib"]["estimate"], s["memory_gib"]["peak"]
@@ -48,7 +56,7 @@ def main():
         unknowns = s["fluid_dofs"] + s["structure_dofs"]
         rows.append(dict(scene=name, refine=refine, ranks=ranks, unknowns=unknowns, estimate_gib=est, peak_gib=peak,
                          ratio=ratio))
-        print("%-16s %6d %5d %10d %12.3f %10.3f %7.2f%s" % (name, refine, ranks, unknowns, est, peak, ratio,
+        print("%-19s %6d %5d %10d %12.3f %10.3f %7.2f%s" % (name, refine, ranks, unknowns, est, peak, ratio,
                                                             "" if ok else "  outside [%g, %g]" % (LOW, HIGH)),
               flush=True)
     if args.json:

@@ -87,6 +87,11 @@ def difference_to_largest(rows, reference):
     return max(abs(a - b) for ra, rb in zip(rows, reference) for a, b in zip(ra[1:], rb[1:])) / scale
 
 
+# options/solvers/: the iterative solvers' files, by name
+SOLVER_FILES = {name: ["-options_file", "options/solvers/%s.yaml" % name]
+                for name in ("fluid-schur-gamg", "fluid-velocity-ilu", "structure-cg-gamg", "structure-cg-ilu",
+                             "mesh-cg-gamg")}
+
 def last_rows(out, name="history.csv"):
     """{step: the step's last row} of a run's history.csv."""
     last = {}

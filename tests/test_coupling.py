@@ -5,7 +5,7 @@ import csv, math, os
 
 from harness import (CHANNEL, NS_STEP, SHORT, WORK, adjoint_difference, check_rates, difference_to_largest,  # noqa: F401
                      fail_text, last_rows, out_dir, printed, probes_difference, read_probes, run, same_file, solve,
-                     test)
+                     test, SOLVER_FILES)
 
 
 def adjoint_cases(nproc):
@@ -97,10 +97,6 @@ def test_field_split_fluid():
                                  transposed, worst))
     return "; ".join(details)
 
-
-SOLVER_FILES = {name: ["-options_file", "options/solvers/%s.yaml" % name]
-                for name in ("fluid-schur-gamg", "fluid-velocity-ilu", "structure-cg-gamg", "structure-cg-ilu",
-                             "mesh-cg-gamg")}
 
 
 @test("options/solvers: iterative fluid, structure and mesh motion solves (field split, CG + GAMG) keep the adjoint "

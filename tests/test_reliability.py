@@ -4,7 +4,7 @@ Bad input and -help: test_bad_input.py."""
 import csv, math, os, shutil, subprocess
 
 from harness import (CHANNEL, FLUID_SPACE, ROOT, TUREK, WORK, S, fail_text, fr, inputs_dir, last_rows, out_dir,  # noqa: F401
-                     read_probes, refused, run, same_file, solve, test)
+                     read_probes, refused, run, same_file, solve, test, SOLVER_FILES)
 
 
 def interrupted(name, step, nproc=1, extra=()):
@@ -252,7 +252,7 @@ def test_full_disk():
 
 
 @test("memory: a -refine a node cannot hold is refused before refining, with the estimate; -force runs it; the "
-      "estimate bounds the peak resident memory within [1, 2.5] (1 rank, 2 ranks shared and split)")
+      "estimate bounds the peak resident memory within [1, 2.5] (1 rank, 2 ranks shared and split, iterative solvers)")
 def test_memory_estimate():
     short = CHANNEL + ["-t_final", "0.0002"]
     cases = [("channel2d -refine 7", CHANNEL + ["-refine", "7"], "fluid mesh (box) with -refine 7: estimated memory"),
@@ -267,7 +267,11 @@ def test_memory_estimate():
     for label, args, nproc in (("channel2d -refine 1", short + ["-refine", "1"], 1),
                                ("channel2d on 2 ranks", short, 2),
                                ("channel2d split", short + ["-structure_ranks", "1"], 2),
-                               ("tube3d", ["-options_file", "options/tube3d.yaml", "-t_final", "0.0001"], 1)):
+                               ("tube3d", ["-options_file", "options/tube3d.yaml", "-t_final", "0.0001"], 1),
+                               ("tube3d iterative", ["-options_file", "options/tube3d.yaml", "-t_final", "0.0001",
+                                                     "-coupling_inner", "gmres"] + SOLVER_FILES["fluid-schur-gamg"] +
+                                SOLVER_FILES["fluid-velocity-ilu"] + SOLVER_FILES["structure-cg-ilu"] +
+                                SOLVER_FILES["mesh-cg-gamg"], 1)):
         rc, stdout, err, s = run(args, nproc=nproc, tag="memory")
         assert rc == 0 and s, "%s: exit %s, %s" % (label, rc, err[-300:])
         ratio = s["memory_gib"]["estimate"] / s["memory_gib"]["peak"]
