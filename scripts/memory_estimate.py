@@ -11,16 +11,14 @@ import argparse, json, os, sys, tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from fsiopt_runs import run_fsiopt  # noqa: E402
+from cost_growth import SOLVERS  # noqa: E402
 
 CHANNEL = ["-options_file", "options/channel2d.yaml", "-t_final", "0.0002"]
 FSI3 = ["-options_file", "options/turek-hron.yaml", "-turek_case", "fsi3", "-dt", "0.0005", "-t_final", "0.001"]
 TUBE = ["-options_file", "options/tube3d.yaml", "-t_final", "0.0001"]
-# the iterative solver files (options/solvers/): every subproblem by a Krylov method
-ITERATIVE = ["-options_file", "options/solvers/fluid-schur-gamg.yaml", "-options_file",
-             "options/solvers/structure-cg-gamg.yaml", "-options_file", "options/solvers/mesh-cg-gamg.yaml"]
-TUBE_ITERATIVE = ["-options_file", "options/solvers/fluid-schur-gamg.yaml", "-options_file",
-                  "options/solvers/fluid-velocity-ilu.yaml", "-options_file", "options/solvers/structure-cg-ilu.yaml",
-                  "-options_file", "options/solvers/mesh-cg-gamg.yaml", "-coupling_inner", "gmres"]
+# every subproblem by a Krylov method: cost_growth.py's solver files (options/solvers/)
+ITERATIVE = SOLVERS["iterative"]
+TUBE_ITERATIVE = SOLVERS["iterative-ilu"] + ["-coupling_inner", "gmres"]
 CASES = [
     ("channel2d", CHANNEL, 0, 1, True), ("channel2d", CHANNEL, 1, 1, True), ("channel2d", CHANNEL, 2, 1, False),
     ("channel2d", CHANNEL, 2, 2, False), ("turek-hron fsi3", FSI3, 0, 1, True), ("turek-hron fsi3", FSI3, 1, 1, False),

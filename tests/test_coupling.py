@@ -5,7 +5,7 @@ import csv, math, os
 
 from harness import (CHANNEL, NS_STEP, SHORT, WORK, adjoint_difference, check_rates, difference_to_largest,  # noqa: F401
                      fail_text, last_rows, out_dir, printed, probes_difference, read_probes, run, same_file, solve,
-                     test, SOLVER_FILES)
+                     test, ITERATIVE_ILU, SOLVER_FILES)
 
 
 def adjoint_cases(nproc):
@@ -98,7 +98,6 @@ def test_field_split_fluid():
     return "; ".join(details)
 
 
-
 @test("options/solvers: iterative fluid, structure and mesh motion solves (field split, CG + GAMG) keep the adjoint "
       "identity to 10 x the Krylov tolerance and the LU run's errors (mms-ns) and probes (channel2d), 1 and 2 ranks")
 def test_solver_option_files():
@@ -138,8 +137,7 @@ def test_solver_option_files():
 def test_tube3d_iterative():
     args = ["-options_file", "options/tube3d.yaml", "-t_final", "0.0002", "-coupling_inner", "gmres",
             "-coupling_test_adjoint"]
-    files = SOLVER_FILES["fluid-schur-gamg"] + SOLVER_FILES["fluid-velocity-ilu"] + \
-        SOLVER_FILES["structure-cg-ilu"] + SOLVER_FILES["mesh-cg-gamg"]
+    files = ITERATIVE_ILU
     details = []
     for nproc in (1, 2):
         lu_out, it_out = out_dir("tube3d-lu-%d" % nproc), out_dir("tube3d-iterative-%d" % nproc)
@@ -206,8 +204,7 @@ def test_inexact_products():
       "the others': further off), LU's Gauss-Newton iterations")
 def test_last_step_products():
     args = ["-options_file", "options/tube3d.yaml", "-t_final", "0.0005", "-coupling_inner", "gmres"]
-    files = SOLVER_FILES["fluid-schur-gamg"] + SOLVER_FILES["fluid-velocity-ilu"] + \
-        SOLVER_FILES["structure-cg-ilu"] + SOLVER_FILES["mesh-cg-gamg"]
+    files = ITERATIVE_ILU
     lu_out = out_dir("last-products-lu")
     lu = solve(args, out=lu_out)
     lu_jumps = {k: float(r["jump"]) for k, r in last_rows(lu_out).items()}
@@ -227,6 +224,7 @@ def test_last_step_products():
         100 * loose_off, 100 * off)
     return "%d GN as LU; final jumps within %.1f %% of LU's (%.0f %% with the last products loose)" % (
         lu["coupling_iterations"], 100 * off, 100 * loose_off)
+
 
 def taylor_ratios(stdout):
     return [float(l.split()[-1]) for l in printed(stdout, "Taylor test:") if "ratio" in l]

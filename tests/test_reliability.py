@@ -4,7 +4,7 @@ Bad input and -help: test_bad_input.py."""
 import csv, math, os, shutil, subprocess
 
 from harness import (CHANNEL, FLUID_SPACE, ROOT, TUREK, WORK, S, fail_text, fr, inputs_dir, last_rows, out_dir,  # noqa: F401
-                     read_probes, refused, run, same_file, solve, test, SOLVER_FILES)
+                     read_probes, refused, run, same_file, solve, test, ITERATIVE_ILU)
 
 
 def interrupted(name, step, nproc=1, extra=()):
@@ -269,9 +269,7 @@ def test_memory_estimate():
                                ("channel2d split", short + ["-structure_ranks", "1"], 2),
                                ("tube3d", ["-options_file", "options/tube3d.yaml", "-t_final", "0.0001"], 1),
                                ("tube3d iterative", ["-options_file", "options/tube3d.yaml", "-t_final", "0.0001",
-                                                     "-coupling_inner", "gmres"] + SOLVER_FILES["fluid-schur-gamg"] +
-                                SOLVER_FILES["fluid-velocity-ilu"] + SOLVER_FILES["structure-cg-ilu"] +
-                                SOLVER_FILES["mesh-cg-gamg"], 1)):
+                                                     "-coupling_inner", "gmres"] + ITERATIVE_ILU, 1)):
         rc, stdout, err, s = run(args, nproc=nproc, tag="memory")
         assert rc == 0 and s, "%s: exit %s, %s" % (label, rc, err[-300:])
         ratio = s["memory_gib"]["estimate"] / s["memory_gib"]["peak"]
