@@ -40,7 +40,10 @@ PetscErrorCode FluidGetFailure(Fluid, const char **reason);
 PetscErrorCode FluidSetInterface(Fluid, PetscInt face, PetscBool convective_term);
 PetscErrorCode FluidBeginStep(Fluid, PetscInt step);       /* old-domain term, t += dt */
 PetscErrorCode FluidSolve(Fluid, Vec load, PetscInt step); /* R(x) = history + load */
-PetscErrorCode FluidUpdateJacobian(Fluid);                 /* A = dR/dx at the current state, factored */
+/* A = dR/dx at the current state, factored; or, reuse_preconditioner (Krylov solvers), the
+   preconditioner of the last full update kept for it */
+PetscErrorCode FluidUpdateJacobian(Fluid, PetscBool reuse_preconditioner);
+PetscErrorCode FluidSolverIsKrylov(Fluid, PetscBool *krylov);
 PetscErrorCode FluidLinearSolve(Fluid, Vec rhs, Vec x, PetscBool transpose); /* with the factors in hand */
 PetscErrorCode FluidLinearSolveBlock(Fluid, Mat rhs, Mat x);                 /* dense columns, forward */
 /* Dirichlet-Neumann use: solves with the interface rows (global indices) set to `values`

@@ -11,8 +11,10 @@ typedef struct _p_MeshMotion *MeshMotion;
 
 PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfixed, const PetscInt fixed_faces[],
                                 MeshMotion *);
-/* interface: an interface vector (fluid node order) of displacements; the result is a
-   local vector in the fluid's coordinate layout. Collective on the fluid's ranks. */
+/* interface: an interface vector (fluid node order) of displacements; displacement, a local
+   vector in the fluid's coordinate layout, holds the mesh in hand on entry (an iterative
+   solver's first guess, -mesh_motion_warm_start) and the result on exit. Collective on
+   the fluid's ranks. */
 PetscErrorCode MeshMotionSolve(MeshMotion, Interface, Vec interface, Vec displacement);
 /* the displacement at the step's start (coordinate layout); incremental motions rebuild
    their operator on that mesh. Collective on the fluid's ranks. */

@@ -31,6 +31,8 @@ def test_bad_input_choices():
         ("unknown mesh motion", CHANNEL + ["-mesh_motion", "biharmonc"], "-mesh_motion. Available options: harmonic elastic biharmonic"),
         ("matrix-free fluid on PETSc's backend", F + ["-fluid_matfree", "-fem_backend", "petsc"], "-fluid_matfree"),
         ("surface force without a body", ["-scene", "mms-structure", "-probes_surface_force"], "-probes_surface_force"),
+        ("lagged preconditioner of an LU fluid", CHANNEL + ["-coupling_lag_preconditioner_only"], "-coupling_lag_preconditioner_only"),
+        ("first guess for an LU mesh motion", CHANNEL + ["-mesh_motion_warm_start", "1"], "-mesh_motion_warm_start"),
     ])
 
 
@@ -266,7 +268,8 @@ def test_help_lists_options():
     text = help_text(TUREK)
     for opt in ["-turek_case", "-turek_mean_velocity", "-turek_ramp_time", "-turek_gravity", "-turek_gravity_ramp",
                 "-quantities_window", "-checkpoint_every", "-checkpoint_file", "-restart", "-fluid_steady",
-                "-mesh_motion_stiffening", "-mesh_motion_incremental", "-dt_min", "-fluid_time_order",
+                "-mesh_motion_stiffening", "-mesh_motion_incremental", "-mesh_motion_warm_start", "-dt_min",
+                "-fluid_time_order", "-coupling_lag_preconditioner_only",
                 "-coupling_explicit_jacobian_rebuild_its", "-interrupt_test_step", "-interrupt_test_signal",
                 "-coupling_inner", "-coupling_inner_jump_fraction", "-coupling_chord_contraction",
                 "-coupling_start_correction", "-coupling_extrapolation_recurrence", "-coupling_secant_updates", "-coupling_tol_relative"]:

@@ -389,15 +389,10 @@ PetscErrorCode FEMInvalidateGeometry(DM dm)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FEMUpdateJacobian(SNES snes, Vec x)
-{
-  PetscFunctionBeginUser;
-  PetscCall(SNESSetLagJacobian(snes, -2));
-  PetscCall(FEMFactorJacobianAt(snes, x));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode FEMFactorJacobianAt(SNES snes, Vec x)
+/* SNESComputeJacobian sets the KSP's reuse flag from the SNES's preconditioner lag: ours
+   comes after it. While set, PCSetUp skips, also in the nonlinear solves that follow (they
+   reuse this Jacobian); the next full update clears it. */
+static PetscErrorCode AssembleAt(SNES snes, Vec x, PetscBool reuse_preconditioner)
 {
   Mat J, P;
   KSP ksp;
@@ -408,7 +403,35 @@ PetscErrorCode FEMFactorJacobianAt(SNES snes, Vec x)
   PetscCall(SNESComputeJacobian(snes, x, J, P));
   PetscCall(SNESGetKSP(snes, &ksp));
   PetscCall(KSPSetOperators(ksp, J, P));
+  PetscCall(KSPSetReusePreconditioner(ksp, reuse_preconditioner));
   PetscCall(KSPSetUp(ksp));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMUpdateJacobian(SNES snes, Vec x, PetscBool reuse_preconditioner)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SNESSetLagJacobian(snes, -2));
+  PetscCall(AssembleAt(snes, x, reuse_preconditioner));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMSolverIsKrylov(SNES snes, PetscBool *krylov)
+{
+  KSP       ksp;
+  PetscBool preonly;
+
+  PetscFunctionBeginUser;
+  PetscCall(SNESGetKSP(snes, &ksp));
+  PetscCall(PetscObjectTypeCompare((PetscObject)ksp, KSPPREONLY, &preonly));
+  *krylov = preonly ? PETSC_FALSE : PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMFactorJacobianAt(SNES snes, Vec x)
+{
+  PetscFunctionBeginUser;
+  PetscCall(AssembleAt(snes, x, PETSC_FALSE));
   PetscFunctionReturn(0);
 }
 

@@ -70,6 +70,11 @@ static PetscErrorCode TransposedSolverGet(SNES snes, KSP ksp, TransposedSolver *
     PetscCall(KSPSetOperators(ts->ksp, ts->A_transposed, ts->P_transposed));
     ts->state = state;
   }
+  { /* the forward solver's preconditioner lagged behind its operator: so is this one */
+    PetscBool reuse;
+    PetscCall(KSPGetReusePreconditioner(ksp, &reuse));
+    PetscCall(KSPSetReusePreconditioner(ts->ksp, reuse));
+  }
   *solver = ts;
   PetscFunctionReturn(0);
 }

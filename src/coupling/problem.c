@@ -94,6 +94,7 @@ PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure struc
 {
   CouplingProblem P;
   PetscReal       wmin;
+  PetscBool       lag_set = PETSC_FALSE;
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&P));
@@ -106,6 +107,7 @@ PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure struc
   P->measure          = STRUCTURE_VELOCITY_SCHEME;
   P->converged_jump   = -1;
   P->jacobian_lag     = 1;
+  P->lag_preconditioner_only = PETSC_TRUE;
   P->predict          = PETSC_TRUE;
   P->extrapolate_mesh = PETSC_TRUE;
   PetscOptionsBegin(comm, NULL, "Coupling problem options", "coupling");
@@ -121,6 +123,11 @@ PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure struc
                               "refactor the fluid Jacobian at every K-th Gauss-Newton iteration (1: exact "
                               "Gauss-Newton; more: an older Jacobian in J h and J^T r)",
                               1, 1000000, &P->jacobian_lag));
+  PetscCall(PetscOptionsBool("-coupling_lag_preconditioner_only",
+                             "with a Krylov fluid solver: assemble the fluid Jacobian at every Gauss-Newton iteration "
+                             "(exact J h and J^T r, Newton steps in the fluid solves) and lag only its preconditioner "
+                             "by -coupling_jacobian_lag",
+                             NULL, P->lag_preconditioner_only, &P->lag_preconditioner_only, &lag_set));
   PetscCall(PetscOptionsBool("-coupling_predictor",
                              "start each fluid solve of a step from the last state plus its linearized response to the "
                              "control's change (one solve with the factors in hand)",
@@ -137,6 +144,14 @@ PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure struc
   PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-coupling_tikhonov",
                                    "Tikhonov weight epsilon (delta) of eps/2 ||g||^2_{L2(Gamma_I)}", &P->tikhonov));
   PetscOptionsEnd();
+  if (fluid) {
+    PetscBool krylov;
+    PetscCall(FluidSolverIsKrylov(fluid, &krylov));
+    PetscCheck(krylov || !lag_set || !P->lag_preconditioner_only, comm, PETSC_ERR_ARG_INCOMP,
+               "option -coupling_lag_preconditioner_only: expected a Krylov fluid solver (-fluid_ksp_type other than "
+               "preonly); a factorization is its own preconditioner");
+    P->lag_preconditioner_only = (PetscBool)(P->lag_preconditioner_only && krylov);
+  }
   if (structure) P->velocity_coefficient = StructureVelocityCoefficient(structure, P->measure);
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &P->velocity_coefficient, 1, MPIU_REAL, MPI_MAX, comm));
 

@@ -190,16 +190,21 @@ PetscErrorCode UpdateJacobian(CouplingProblem P, Vec x, PetscBool force)
   if (same && (!force || P->jacobian_fresh)) PetscFunctionReturn(0);
   /* the same decision on every rank */
   P->jacobian_fresh = force || ++P->jacobian_age >= P->jacobian_lag ? PETSC_TRUE : PETSC_FALSE;
-  if (P->jacobian_fresh) {
-    if (P->fluid) {
-      PetscCall(PetscLogStagePush(FSIOPT_STAGE_FLUID));
-      PetscCall(FluidUpdateJacobian(P->fluid));
-      PetscCall(PetscLogStagePop());
-    }
-    P->jacobian_age = 0;
+  if (P->fluid && (P->jacobian_fresh || P->lag_preconditioner_only)) {
+    PetscCall(PetscLogStagePush(FSIOPT_STAGE_FLUID));
+    PetscCall(FluidUpdateJacobian(P->fluid, P->jacobian_fresh ? PETSC_FALSE : PETSC_TRUE));
+    PetscCall(PetscLogStagePop());
   }
+  if (P->jacobian_fresh) P->jacobian_age = 0;
   PetscCall(VecCopy(x, P->jacobian_x));
   P->jacobian_valid = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemJacobianCurrent(CouplingProblem P, PetscBool *current)
+{
+  PetscFunctionBeginUser;
+  *current = P->jacobian_fresh || P->lag_preconditioner_only ? PETSC_TRUE : PETSC_FALSE;
   PetscFunctionReturn(0);
 }
 

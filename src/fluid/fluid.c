@@ -357,11 +357,20 @@ PetscErrorCode FluidStep(Fluid f, PetscInt step)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FluidUpdateJacobian(Fluid f)
+PetscErrorCode FluidUpdateJacobian(Fluid f, PetscBool reuse_preconditioner)
 {
   PetscFunctionBeginUser;
   if (f->model == FLUID_STOKES) PetscFunctionReturn(0); /* constant: factored once */
-  PetscCall(FEMUpdateJacobian(f->snes, f->x));
+  f->operator_only = reuse_preconditioner && f->matfree ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(FEMUpdateJacobian(f->snes, f->x, reuse_preconditioner));
+  f->operator_only = PETSC_FALSE;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidSolverIsKrylov(Fluid f, PetscBool *krylov)
+{
+  PetscFunctionBeginUser;
+  PetscCall(FEMSolverIsKrylov(f->snes, krylov));
   PetscFunctionReturn(0);
 }
 

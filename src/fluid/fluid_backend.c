@@ -192,6 +192,10 @@ PetscErrorCode FluidSNESJacobian(SNES snes, Vec x, Mat J, Mat P, void *ctx)
   PetscFunctionBeginUser;
   (void)snes;
   PetscCall(FluidGlobalToLocal(f, x, f->xlocal_work));
+  if (f->operator_only && J == f->matfree_jacobian) { /* P, the lagged preconditioner's, stays */
+    PetscCall(FluidMatFreeUpdate(f, f->xlocal_work, f->moving));
+    PetscFunctionReturn(0);
+  }
   PetscCall(FluidOperatorJacobian(f, f->xlocal_work, f->moving, J, P));
   f->counts.factorizations++;
   PetscFunctionReturn(0);

@@ -84,6 +84,7 @@ struct _p_Fluid {
   PetscBool        matfree;   /* -fluid_matfree (fluid_matfree.c) */
   PetscInt         matfree_checked_step;
   Mat              matfree_jacobian; /* the SNES's operator; ceed_jacobian its preconditioner */
+  PetscBool        operator_only;    /* the next Jacobian moves matfree_jacobian's state only */
   Mat              boundary_jacobian;
   PetscBool        check_backends;
   PetscInt         backend_checked_step;

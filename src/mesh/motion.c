@@ -37,6 +37,7 @@ struct _p_MeshMotion {
   MotionType        type;
   PetscReal         stiffening;
   PetscBool         incremental;
+  PetscBool         warm_start, warm_start_set; /* a Krylov solver starts from the mesh in hand */
   Vec               coordinates_reference, start; /* incremental: the step's start d^{n-1}, coordinate layout */
   DM                dm_stiffness;                 /* a P0 field: each cell's weight */
   FEMCeedElasticity ceed;                         /* the operator by libCEED (not biharmonic) */
@@ -232,6 +233,12 @@ PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfix
                              "weights of that mesh (one assembly and factorization per step), instead of the total "
                              "displacement from the reference mesh",
                              NULL, mm->incremental, &mm->incremental, NULL));
+  mm->warm_start = PETSC_TRUE;
+  PetscCall(PetscOptionsBool("-mesh_motion_warm_start",
+                             "an iterative mesh solver (-mesh_ksp_type other than preonly) starts from the "
+                             "displacement of the mesh in hand, which checkpoints keep, so a restarted run repeats the "
+                             "iterations",
+                             NULL, mm->warm_start, &mm->warm_start, &mm->warm_start_set));
   PetscOptionsEnd();
   /* a quadrature of its own: PETSc 3.18 caches cell geometry by quadrature on the cell
      IS that clones share, and this mesh does not move */
@@ -294,6 +301,16 @@ PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfix
     PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
   }
   PetscCall(KSPSetFromOptions(mm->ksp));
+  {
+    PetscBool preonly;
+    PetscCall(PetscObjectTypeCompare((PetscObject)mm->ksp, KSPPREONLY, &preonly));
+    PetscCheck(!preonly || !mm->warm_start_set || !mm->warm_start, PetscObjectComm((PetscObject)fluid),
+               PETSC_ERR_ARG_INCOMP,
+               "option -mesh_motion_warm_start: expected an iterative mesh solver (-mesh_ksp_type other than "
+               "preonly); a factorization takes no first guess");
+    mm->warm_start = (PetscBool)(mm->warm_start && !preonly);
+    if (mm->warm_start) PetscCall(KSPSetInitialGuessNonzero(mm->ksp, PETSC_TRUE));
+  }
   PetscCall(KSPSetUp(mm->ksp));
   PetscCall(DMCreateGlobalVector(mm->dm, &mm->d));
   PetscCall(VecDuplicate(mm->d, &mm->rhs));
@@ -326,6 +343,32 @@ PetscErrorCode MeshMotionBeginStep(MeshMotion mm, Vec displacement)
   PetscCall(FEMInvalidateGeometry(mm->dm_all));
   if (mm->stiffening > 0) PetscCall(ComputeStiffness(mm));
   PetscCall(AssembleOperator(mm));
+  PetscFunctionReturn(0);
+}
+
+/* Between the motion's local layout and the coordinate layout, vertex by vertex: to_motion,
+   motion = coordinates - start; else coordinates = motion + start (start NULL: 0). */
+static PetscErrorCode Relayout(MeshMotion mm, PetscBool to_motion, const PetscScalar start[], const PetscScalar from[],
+                               PetscScalar to[])
+{
+  PetscInt     dim, vStart, vEnd;
+  PetscSection ls, cs;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetDimension(mm->dm, &dim));
+  PetscCall(DMPlexGetDepthStratum(mm->dm, 0, &vStart, &vEnd));
+  PetscCall(DMGetLocalSection(mm->dm, &ls));
+  PetscCall(DMGetCoordinateSection(mm->dm, &cs));
+  for (PetscInt v = vStart; v < vEnd; ++v) {
+    PetscInt off, coff;
+    PetscCall(PetscSectionGetFieldOffset(ls, v, 0, &off));
+    PetscCall(PetscSectionGetOffset(cs, v, &coff));
+    for (PetscInt d = 0; d < dim; ++d) {
+      const PetscScalar s = start ? start[coff + d] : 0.0;
+      if (to_motion) to[off + d] = from[coff + d] - s;
+      else to[coff + d] = from[off + d] + s;
+    }
+  }
   PetscFunctionReturn(0);
 }
 
@@ -372,6 +415,18 @@ PetscErrorCode MeshMotionSolve(MeshMotion mm, Interface itf, Vec interface, Vec 
     PetscCall(VecRestoreSubVector(mm->operator_bc_all, mm->free_in_all, &free_part));
   }
   PetscCall(VecScale(mm->rhs, -1.0));
+  if (mm->warm_start) { /* not the solver's last answer: a restarted run has not got it */
+    const PetscScalar *now;
+    PetscScalar       *guess;
+    PetscCall(DMGetLocalVector(mm->dm, &dlocal));
+    PetscCall(VecGetArrayRead(displacement, &now));
+    PetscCall(VecGetArray(dlocal, &guess));
+    PetscCall(Relayout(mm, PETSC_TRUE, start, now, guess));
+    PetscCall(VecRestoreArray(dlocal, &guess));
+    PetscCall(VecRestoreArrayRead(displacement, &now));
+    PetscCall(DMLocalToGlobal(mm->dm, dlocal, INSERT_VALUES, mm->d));
+    PetscCall(DMRestoreLocalVector(mm->dm, &dlocal));
+  }
   PetscCall(KSPSolve(mm->ksp, mm->rhs, mm->d));
   PetscCall(KSPGetConvergedReason(mm->ksp, &reason));
   PetscCheck(reason > 0, PetscObjectComm((PetscObject)mm->dm), PETSC_ERR_NOT_CONVERGED,
@@ -382,12 +437,7 @@ PetscErrorCode MeshMotionSolve(MeshMotion mm, Interface itf, Vec interface, Vec 
   PetscCall(VecAXPY(dlocal, 1.0, mm->bc_local));
   PetscCall(VecGetArrayRead(dlocal, &g));
   PetscCall(VecGetArray(displacement, &b));
-  for (PetscInt v = vStart; v < vEnd; ++v) {
-    PetscInt off, coff;
-    PetscCall(PetscSectionGetFieldOffset(ls, v, 0, &off));
-    PetscCall(PetscSectionGetOffset(cs, v, &coff));
-    for (PetscInt d = 0; d < dim; ++d) b[coff + d] = g[off + d] + (start ? start[coff + d] : 0.0);
-  }
+  PetscCall(Relayout(mm, PETSC_FALSE, start, g, b));
   PetscCall(VecRestoreArray(displacement, &b));
   PetscCall(VecRestoreArrayRead(dlocal, &g));
   if (start) PetscCall(VecRestoreArrayRead(mm->start, &start));
