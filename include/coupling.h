@@ -60,9 +60,6 @@ PetscErrorCode CouplingProblemUpdateJacobian(CouplingProblem, Vec x);
 PetscErrorCode CouplingProblemRefreshJacobian(CouplingProblem, Vec x);
 /* Jumps at or below this need no new Jacobian: the optimizer accepts the point. */
 PetscErrorCode CouplingProblemSetConvergedJump(CouplingProblem, PetscReal);
-/* whether the products of the last update use the fluid's Jacobian at its point (not a
-   lagged one: -coupling_jacobian_lag, -coupling_lag_preconditioner_only) */
-PetscErrorCode CouplingProblemJacobianCurrent(CouplingProblem, PetscBool *current);
 PetscErrorCode CouplingProblemJacobianMult(CouplingProblem, Vec h, Vec y);
 PetscErrorCode CouplingProblemJacobianMultBlock(CouplingProblem, Mat H, Mat Y); /* dense columns */
 PetscErrorCode CouplingProblemJacobianMultTranspose(CouplingProblem, Vec rho, Vec y);

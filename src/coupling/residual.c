@@ -201,13 +201,6 @@ PetscErrorCode UpdateJacobian(CouplingProblem P, Vec x, PetscBool force)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CouplingProblemJacobianCurrent(CouplingProblem P, PetscBool *current)
-{
-  PetscFunctionBeginUser;
-  *current = P->jacobian_fresh || P->lag_preconditioner_only ? PETSC_TRUE : PETSC_FALSE;
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode CouplingProblemUpdateJacobian(CouplingProblem P, Vec x)
 {
   PetscFunctionBeginUser;
