@@ -46,6 +46,7 @@ PetscErrorCode FluidUpdateJacobian(Fluid, PetscBool reuse_preconditioner);
 PetscErrorCode FluidSolverIsKrylov(Fluid, PetscBool *krylov);
 PetscErrorCode FluidLinearSolve(Fluid, Vec rhs, Vec x, PetscBool transpose); /* with the factors in hand */
 PetscErrorCode FluidLinearSolveBlock(Fluid, Mat rhs, Mat x);                 /* dense columns, forward */
+PetscErrorCode FluidLinearSolveGuess(Fluid, Vec rhs, Vec x); /* forward, a first guess's accuracy */
 /* Dirichlet-Neumann use: solves with the interface rows (global indices) set to `values`
    (a global vector; only those rows are read) and returns the reaction R(x) - history on
    those rows (0 elsewhere): the load a traction-controlled fluid would need there. */

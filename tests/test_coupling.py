@@ -200,7 +200,8 @@ def krylov_iterations(stdout, prefix):
     return sum(int(l.split()[-1]) for l in stdout.splitlines() if l.strip().startswith("Linear %s_ solve" % prefix))
 
 
-@test("inexact products (-coupling_inexact_products, GMRES on J) and Newton steps (-fluid_newton_ksp_rtol): tube3d "
+@test("inexact products (-coupling_inexact_products, GMRES on J), Newton steps and first guesses "
+      "(-fluid_newton_ksp_rtol): tube3d "
       "with the iterative solver files, one step: the exact run's Gauss-Newton and GMRES iterations and probes (within "
       "the coupling tolerance, 1e-4), "
       "fewer fluid Krylov iterations with each (at most 0.7 x and 0.8 x those before it)")

@@ -82,7 +82,7 @@ PetscErrorCode CouplingProblemResidual(CouplingProblem P, Vec x, Vec F)
       PetscCall(VecZeroEntries(P->fluid_vec));
       PetscCall(InterfaceFluidSpread(P->itf, P->all_q, P->fluid_vec));
       PetscCall(PetscLogStagePush(FSIOPT_STAGE_FLUID));
-      PetscCall(FluidLinearSolve(P->fluid, P->fluid_vec, P->fluid_sol, PETSC_FALSE));
+      PetscCall(FluidLinearSolveGuess(P->fluid, P->fluid_vec, P->fluid_sol));
       PetscCall(PetscLogStagePop());
       PetscCall(FluidGetSolution(P->fluid, &state));
       PetscCall(VecAXPY(state, 1.0, P->fluid_sol));
