@@ -121,7 +121,8 @@ PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure struc
                              NULL, VelocityMeasures, (PetscEnum)P->measure, (PetscEnum *)&P->measure, NULL));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_jacobian_lag",
                               "refactor the fluid Jacobian at every K-th Gauss-Newton iteration (1: exact "
-                              "Gauss-Newton; more: an older Jacobian in J h and J^T r)",
+                              "Gauss-Newton; more: an older Jacobian in J h and J^T r; with a Krylov fluid solver "
+                              "and -coupling_lag_preconditioner_only, only its preconditioner is that old)",
                               1, 1000000, &P->jacobian_lag));
   PetscCall(PetscOptionsBool("-coupling_lag_preconditioner_only",
                              "with a Krylov fluid solver: assemble the fluid Jacobian at every Gauss-Newton iteration "
