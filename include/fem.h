@@ -79,8 +79,8 @@ PetscErrorCode FEMLinearSolveBlock(SNES snes, Mat rhs, Mat x);
 /* Assembles the Jacobian at x and factors it now (FEM_JACOBIAN_ON_REQUEST); with
    reuse_preconditioner (a Krylov solver) the preconditioner of the last full update stays. */
 PetscErrorCode FEMUpdateJacobian(SNES snes, Vec x, PetscBool reuse_preconditioner);
-/* Whether the SNES's linear solver iterates (not preonly: a factorization, the default) */
-PetscErrorCode FEMSolverIsKrylov(SNES snes, PetscBool *krylov);
+/* Whether a linear solver iterates (not preonly: a factorization, the default) */
+PetscErrorCode FEMSolverIsKrylov(KSP ksp, PetscBool *krylov);
 /* The same for a Newton SNES after its solve: the linear solves that follow use the
    tangent at x; its next solve assembles afresh. */
 PetscErrorCode FEMFactorJacobianAt(SNES snes, Vec x);

@@ -109,6 +109,11 @@ def printed(stdout, prefix):
     return [l for l in stdout.splitlines() if l.startswith(prefix)]
 
 
+def krylov_iterations(stdout, prefix):
+    """The iterations of each linear solve under `prefix` (-<prefix>_ksp_converged_reason)."""
+    return [int(l.split()[-1]) for l in stdout.splitlines() if l.strip().startswith("Linear %s_ solve" % prefix)]
+
+
 def adjoint_difference(stdout):
     """The relative difference <J h, r> - <h, J^T r> that the one "adjoint test:" line of
     -coupling_test_adjoint reports."""

@@ -4,8 +4,8 @@ the agreement of the optimization-based and the partitioned couplings."""
 import csv, math, os
 
 from harness import (CHANNEL, NS_STEP, SHORT, WORK, adjoint_difference, check_rates, difference_to_largest,  # noqa: F401
-                     fail_text, last_rows, out_dir, printed, probes_difference, read_probes, run, same_file, solve,
-                     test, ITERATIVE_ILU, SOLVER_FILES)
+                     fail_text, krylov_iterations, last_rows, out_dir, printed, probes_difference, read_probes, run,
+                     same_file, solve, test, ITERATIVE_ILU, SOLVER_FILES)
 
 
 # LU refactored at every Gauss-Newton iteration: exact products, as the iterative solvers'
@@ -196,10 +196,6 @@ def test_lagged_preconditioner_only():
         default["coupling_iterations"], off, lagged["coupling_iterations"])
 
 
-def krylov_iterations(stdout, prefix):
-    return sum(int(l.split()[-1]) for l in stdout.splitlines() if l.strip().startswith("Linear %s_ solve" % prefix))
-
-
 @test("inexact products (-coupling_inexact_products, GMRES on J), Newton steps and first guesses "
       "(-fluid_newton_ksp_rtol): tube3d "
       "with the iterative solver files, one step: the exact run's Gauss-Newton and GMRES iterations and probes (within "
@@ -218,7 +214,7 @@ def test_inexact_products():
         out = out_dir("inexact-%s" % name)
         rc, stdout, err, summary = run(args + extra, out=out)
         assert rc == 0 and summary, fail_text(rc, stdout, err)
-        found[name] = (summary, krylov_iterations(stdout, "fluid"), read_probes(os.path.join(out, "probes.csv"))[1])
+        found[name] = (summary, sum(krylov_iterations(stdout, "fluid")), read_probes(os.path.join(out, "probes.csv"))[1])
     exact, exact_its, a = found["exact"]
     its, diffs = [exact_its], []
     # the products' relaxation removes the most (0.52 x, measured), the Newton steps' tolerance the

@@ -3,8 +3,9 @@ diverging steps and their retries, output ownership, full disks, memory, ranks, 
 Bad input and -help: test_bad_input.py."""
 import csv, math, os, shutil, subprocess
 
-from harness import (CHANNEL, FLUID_SPACE, ROOT, TUREK, WORK, S, fail_text, fr, inputs_dir, last_rows, out_dir,  # noqa: F401
-                     read_probes, refused, run, same_file, solve, test, ITERATIVE_ILU)
+from harness import (CHANNEL, FLUID_SPACE, ROOT, TUREK, WORK, S, fail_text, fr, inputs_dir,  # noqa: F401
+                     krylov_iterations, last_rows, out_dir, read_probes, refused, run, same_file, solve, test,
+                     ITERATIVE_ILU)
 
 
 def interrupted(name, step, nproc=1, extra=()):
@@ -126,11 +127,6 @@ def test_sigusr1_checkpoint():
     return "; ".join(details)
 
 
-def mesh_iterations(stdout):
-    its = [int(l.split()[-1]) for l in stdout.splitlines() if l.strip().startswith("Linear mesh_ solve")]
-    return sum(its) / max(len(its), 1)
-
-
 @test("an iterative mesh solver starts from the mesh in hand (-mesh_motion_warm_start): tube3d with the iterative "
       "solver files, four steps: at most 0.85 x the CG iterations from zero, and a restart from step 2 continues the "
       "run byte for byte")
@@ -145,7 +141,8 @@ def test_mesh_warm_start_restart():
         outs[name] = out_dir("mesh-%s" % name.split()[0])
         rc, stdout, err, s = run(args + extra, out=outs[name])
         assert rc == 0 and s, "%s: %s" % (name, fail_text(rc, stdout, err))
-        its[name] = mesh_iterations(stdout)
+        solves = krylov_iterations(stdout, "mesh")
+        its[name] = sum(solves) / max(len(solves), 1)
     assert its["warm"] <= 0.85 * its["cold"], "CG iterations per mesh solve %.2f warm, %.2f from zero" % (
         its["warm"], its["cold"])
     again = out_dir("mesh-restart")

@@ -416,13 +416,11 @@ PetscErrorCode FEMUpdateJacobian(SNES snes, Vec x, PetscBool reuse_preconditione
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FEMSolverIsKrylov(SNES snes, PetscBool *krylov)
+PetscErrorCode FEMSolverIsKrylov(KSP ksp, PetscBool *krylov)
 {
-  KSP       ksp;
   PetscBool preonly;
 
   PetscFunctionBeginUser;
-  PetscCall(SNESGetKSP(snes, &ksp));
   PetscCall(PetscObjectTypeCompare((PetscObject)ksp, KSPPREONLY, &preonly));
   *krylov = preonly ? PETSC_FALSE : PETSC_TRUE;
   PetscFunctionReturn(0);

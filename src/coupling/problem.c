@@ -98,18 +98,18 @@ PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure struc
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&P));
-  P->comm             = comm;
-  P->fluid            = fluid;
-  P->structure        = structure;
-  P->itf              = itf;
-  P->fluid_data       = *fluid_data;
-  P->variant          = CONTROL_TRACTION;
-  P->measure          = STRUCTURE_VELOCITY_SCHEME;
-  P->converged_jump   = -1;
-  P->jacobian_lag     = 1;
+  P->comm                    = comm;
+  P->fluid                   = fluid;
+  P->structure               = structure;
+  P->itf                     = itf;
+  P->fluid_data              = *fluid_data;
+  P->variant                 = CONTROL_TRACTION;
+  P->measure                 = STRUCTURE_VELOCITY_SCHEME;
+  P->converged_jump          = -1;
+  P->jacobian_lag            = 1;
   P->lag_preconditioner_only = PETSC_TRUE;
-  P->predict          = PETSC_TRUE;
-  P->extrapolate_mesh = PETSC_TRUE;
+  P->predict                 = PETSC_TRUE;
+  P->extrapolate_mesh        = PETSC_TRUE;
   PetscOptionsBegin(comm, NULL, "Coupling problem options", "coupling");
   PetscCall(PetscOptionsEnum("-coupling_control",
                              "What the control replaces: the fluid traction (seed ch. 3, 6) or the traction minus the "

@@ -192,7 +192,7 @@ PetscErrorCode UpdateJacobian(CouplingProblem P, Vec x, PetscBool force)
   P->jacobian_fresh = force || ++P->jacobian_age >= P->jacobian_lag ? PETSC_TRUE : PETSC_FALSE;
   if (P->fluid && (P->jacobian_fresh || P->lag_preconditioner_only)) {
     PetscCall(PetscLogStagePush(FSIOPT_STAGE_FLUID));
-    PetscCall(FluidUpdateJacobian(P->fluid, P->jacobian_fresh ? PETSC_FALSE : PETSC_TRUE));
+    PetscCall(FluidUpdateJacobian(P->fluid, (PetscBool)!P->jacobian_fresh));
     PetscCall(PetscLogStagePop());
   }
   if (P->jacobian_fresh) P->jacobian_age = 0;

@@ -369,8 +369,11 @@ PetscErrorCode FluidUpdateJacobian(Fluid f, PetscBool reuse_preconditioner)
 
 PetscErrorCode FluidSolverIsKrylov(Fluid f, PetscBool *krylov)
 {
+  KSP ksp;
+
   PetscFunctionBeginUser;
-  PetscCall(FEMSolverIsKrylov(f->snes, krylov));
+  PetscCall(SNESGetKSP(f->snes, &ksp));
+  PetscCall(FEMSolverIsKrylov(ksp, krylov));
   PetscFunctionReturn(0);
 }
 

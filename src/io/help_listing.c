@@ -74,12 +74,12 @@ static PetscErrorCode Captured(const char name[], const char value[])
   PetscFunctionReturn(0);
 }
 
-/* whole UTF-8 sequences only: summary.json is UTF-8 */
-static PetscBool ValidUTF8(const char text[])
+/* printable UTF-8 (summary.json is UTF-8): no control characters, whole sequences only */
+static PetscBool IsText(const char text[])
 {
   for (const unsigned char *c = (const unsigned char *)text; *c;) {
     const int extra = *c < 0x80 ? 0 : (*c & 0xe0) == 0xc0 ? 1 : (*c & 0xf0) == 0xe0 ? 2 : (*c & 0xf8) == 0xf0 ? 3 : -1;
-    if (extra < 0 || (extra == 1 && *c < 0xc2)) return PETSC_FALSE;
+    if (*c < 0x20 || *c == 0x7f || extra < 0 || (extra == 1 && *c < 0xc2)) return PETSC_FALSE;
     ++c;
     for (int k = 0; k < extra; ++k, ++c)
       if ((*c & 0xc0) != 0x80) return PETSC_FALSE;
@@ -109,9 +109,7 @@ static PetscErrorCode CaptureLine(const char line[])
   if (!strcmp(value, "<unspecified>")) PetscFunctionReturn(0);
   /* PETSc 3.18 prints an uninitialized buffer as the default of -<prefix>dm_plex_boundary_label:
      bytes that are no text (a run's summary.json was then no UTF-8, and a test read none) */
-  for (const char *c = value; *c; ++c)
-    if ((unsigned char)*c < 0x20 || (unsigned char)*c == 0x7f) PetscFunctionReturn(0);
-  if (!ValidUTF8(value)) PetscFunctionReturn(0);
+  if (!IsText(value)) PetscFunctionReturn(0);
   PetscCall(PetscStrncpy(option, name, PetscMin(sizeof(option), name_len + 1)));
   PetscCall(Captured(option, value));
   PetscFunctionReturn(0);

@@ -37,7 +37,7 @@ struct _p_MeshMotion {
   MotionType        type;
   PetscReal         stiffening;
   PetscBool         incremental;
-  PetscBool         warm_start, warm_start_set; /* a Krylov solver starts from the mesh in hand */
+  PetscBool         warm_start;                 /* a Krylov solver starts from the mesh in hand */
   Vec               coordinates_reference, start; /* incremental: the step's start d^{n-1}, coordinate layout */
   DM                dm_stiffness;                 /* a P0 field: each cell's weight */
   FEMCeedElasticity ceed;                         /* the operator by libCEED (not biharmonic) */
@@ -216,6 +216,7 @@ PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfix
                                 MeshMotion *motion)
 {
   MeshMotion  mm;
+  PetscBool   warm_start_set = PETSC_FALSE;
   PhysicsData data;
   PetscDS     ds;
 
@@ -238,7 +239,7 @@ PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfix
                              "an iterative mesh solver (-mesh_ksp_type other than preonly) starts from the "
                              "displacement of the mesh in hand, which checkpoints keep, so a restarted run repeats the "
                              "iterations",
-                             NULL, mm->warm_start, &mm->warm_start, &mm->warm_start_set));
+                             NULL, mm->warm_start, &mm->warm_start, &warm_start_set));
   PetscOptionsEnd();
   /* a quadrature of its own: PETSc 3.18 caches cell geometry by quadrature on the cell
      IS that clones share, and this mesh does not move */
@@ -302,13 +303,12 @@ PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfix
   }
   PetscCall(KSPSetFromOptions(mm->ksp));
   {
-    PetscBool preonly;
-    PetscCall(PetscObjectTypeCompare((PetscObject)mm->ksp, KSPPREONLY, &preonly));
-    PetscCheck(!preonly || !mm->warm_start_set || !mm->warm_start, PetscObjectComm((PetscObject)fluid),
-               PETSC_ERR_ARG_INCOMP,
+    PetscBool krylov;
+    PetscCall(FEMSolverIsKrylov(mm->ksp, &krylov));
+    PetscCheck(krylov || !warm_start_set || !mm->warm_start, PetscObjectComm((PetscObject)fluid), PETSC_ERR_ARG_INCOMP,
                "option -mesh_motion_warm_start: expected an iterative mesh solver (-mesh_ksp_type other than "
                "preonly); a factorization takes no first guess");
-    mm->warm_start = (PetscBool)(mm->warm_start && !preonly);
+    mm->warm_start = (PetscBool)(mm->warm_start && krylov);
     if (mm->warm_start) PetscCall(KSPSetInitialGuessNonzero(mm->ksp, PETSC_TRUE));
   }
   PetscCall(KSPSetUp(mm->ksp));
