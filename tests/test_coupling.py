@@ -140,8 +140,11 @@ def test_solver_option_files():
       "the adjoint identity to 10 x the Krylov tolerance, the Gauss-Newton iterations of LU refactored at every "
       "iteration (the products exact in both) and probes within the coupling tolerance, 1 and 2 ranks")
 def test_tube3d_iterative():
+    # at the scene's -coupling_tol 1e-4 the two runs may stop at jumps anywhere below it, and a probe
+    # moves with the jump it stopped at (about 4 x here); at 1e-6 the probes must agree far below 1e-4
+    tolerance = 1e-6
     args = ["-options_file", "options/tube3d.yaml", "-t_final", "0.0002", "-coupling_inner", "gmres",
-            "-coupling_test_adjoint"]
+            "-coupling_test_adjoint", "-coupling_tol", "%g" % tolerance]
     files = ITERATIVE_ILU
     details = []
     for nproc in (1, 2):
@@ -158,8 +161,8 @@ def test_tube3d_iterative():
         _, a = read_probes(os.path.join(lu_out, "probes.csv"))
         _, b = read_probes(os.path.join(it_out, "probes.csv"))
         diff = difference_to_largest(b, a)
-        # tube3d's -coupling_tol 1e-4 bounds the interface velocity jump; the probes are displacements
-        assert diff <= 1e-4, "%d rank(s): probes %.2e from LU's" % (nproc, diff)
+        assert diff <= 10 * tolerance, "%d rank(s): probes %.2e from LU's, above 10 x the coupling tolerance" % (
+            nproc, diff)
         details.append("%d rank%s: adjoint %.1e, %d GN its as LU, probes within %.1e" % (
             nproc, "s" if nproc > 1 else "", adjoint, lu["coupling_iterations"], diff))
     return "; ".join(details)
@@ -235,8 +238,9 @@ def test_inexact_products():
 
 
 @test("the last Gauss-Newton step's products (-coupling_inexact_products_last): tube3d with the iterative solver "
-      "files and the fluid's operator lagged as LU's factors are, five steps: each step's final jump within 15 % of "
-      "the LU run's (the last step's products as loose as the others': further off), LU's Gauss-Newton iterations")
+      "files and the fluid's operator lagged as LU's factors are, five steps: each step's final jump within 25 % of "
+      "the LU run's (the last step's products as loose as the others': twice as far off), LU's Gauss-Newton "
+      "iterations")
 def test_last_step_products():
     args = ["-options_file", "options/tube3d.yaml", "-t_final", "0.0005", "-coupling_inner", "gmres"]
     # the rule predicts linear convergence, which a lagged operator gives (with a fresh one the
@@ -256,8 +260,10 @@ def test_last_step_products():
     (default, off), (_, loose_off) = found["default"], found["loose"]
     assert default["coupling_iterations"] == lu["coupling_iterations"], "Gauss-Newton iterations %d, LU %d" % (
         default["coupling_iterations"], lu["coupling_iterations"])
-    assert off <= 0.15, "final jumps up to %.0f %% from LU's" % (100 * off)
-    assert loose_off > off, "loose last products: final jumps %.0f %% from LU's, not further than %.0f %%" % (
+    # ILU's numbering alone moves a final jump by 5-17 % (the preconditioner changes which error
+    # the products keep within their tolerance); loose last products move them several times more
+    assert off <= 0.25, "final jumps up to %.0f %% from LU's" % (100 * off)
+    assert loose_off > 2 * off, "loose last products: final jumps %.0f %% from LU's, not 2 x further than %.0f %%" % (
         100 * loose_off, 100 * off)
     return "%d GN as LU; final jumps within %.1f %% of LU's (%.0f %% with the last products loose)" % (
         lu["coupling_iterations"], 100 * off, 100 * loose_off)
