@@ -138,7 +138,8 @@ def test_solver_option_files():
 @test("tube3d with the iterative solver files for small time steps (field split with ILU(0) on the velocity, CG + "
       "ILU(0) on the wall, CG + GAMG on the mesh): "
       "the adjoint identity to 10 x the Krylov tolerance, the Gauss-Newton iterations of LU refactored at every "
-      "iteration (the products exact in both) and probes within the coupling tolerance, 1 and 2 ranks")
+      "iteration (the products exact in both) and probes within 10 x the coupling tolerance (both at 1e-6), 1 and 2 "
+      "ranks")
 def test_tube3d_iterative():
     # at the scene's -coupling_tol 1e-4 the two runs may stop at jumps anywhere below it, and a probe
     # moves with the jump it stopped at (about 4 x here); at 1e-6 the probes must agree far below 1e-4
