@@ -30,6 +30,15 @@ PetscBool      CheckpointIsFile(Checkpoint);
 /* Whether the solvers rebuild their factors after this save or load (see above). */
 PetscBool CheckpointResynchronizes(Checkpoint, PetscBool load);
 
+/* A part only some ranks hold (the fluid's and the structure's states on fluid | structure
+   ranks): parallel HDF5 creates a dataset on every rank that has the file open, so between
+   these two calls (collective on the file's ranks) the file is open on `part` alone
+   (MPI_COMM_NULL on the others), one part after another. EndPart takes the error of the
+   part's work on this rank (0 on the others) and returns on every rank the first failed
+   rank's. A part held by every rank, or a checkpoint in memory, keeps the file as it is. */
+PetscErrorCode CheckpointBeginPart(Checkpoint, MPI_Comm part);
+PetscErrorCode CheckpointEndPart(Checkpoint, PetscErrorCode part_error);
+
 /* Names below go into the current group. */
 PetscErrorCode CheckpointPushGroup(Checkpoint, const char group[]);
 PetscErrorCode CheckpointPopGroup(Checkpoint);

@@ -11,6 +11,10 @@
    and the run refused if a node cannot hold it (memory_estimate.h). */
 PetscErrorCode MeshCreate(MPI_Comm, const char prefix[], PetscInt refine, PetscInt dim, PetscInt nrequired,
                           const PetscInt required[], const MeshFields *fields, DM *);
+/* The unknowns `fields` will have on the mesh MeshCreate would build (MemoryEstimateDofs on
+   the mesh as read, checked as MeshCreate checks it); nothing is kept. Collective. */
+PetscErrorCode MeshCountDofs(MPI_Comm, const char prefix[], PetscInt refine, PetscInt dim, PetscInt nrequired,
+                             const PetscInt required[], const MeshFields *fields, PetscReal *dofs);
 /* A number that changes when the mesh is split or numbered differently: the owned cells'
    centroids weighted by their global numbers, summed over the ranks. A checkpoint's
    vectors are in that numbering; collective. */

@@ -45,4 +45,7 @@ const char    *ErrorReportingFirstMessage(void);
 MPI_Comm ErrorReportingFirstComm(void);
 /* Drops the recorded message, so that a caller can replace a library's message by its own. */
 PetscErrorCode ErrorReportingForget(void);
+/* After work only some ranks of comm did (ierr there, 0 elsewhere): collective; every rank
+   returns the error of the lowest rank that failed, with its message. */
+PetscErrorCode ErrorReportingAgree(MPI_Comm comm, PetscErrorCode ierr);
 #endif

@@ -10,9 +10,10 @@
 typedef struct _p_Progress *Progress;
 
 PetscErrorCode ProgressCreate(MPI_Comm, Progress *);
-/* collective: the unknowns of a side are known on its ranks */
+/* collective: the unknowns of a side are known on its ranks; structure_ranks: K of a
+   fluid | structure split, else anything outside 1..ranks-1 */
 PetscErrorCode ProgressStart(Progress, const RunParams *, PetscInt first_step, PetscInt fluid_dofs,
-                             PetscInt structure_dofs, const char method[]);
+                             PetscInt structure_dofs, const char method[], PetscMPIInt structure_ranks);
 /* coupling may be NULL (a scene with one side) */
 PetscErrorCode ProgressStep(Progress, PetscInt step, Coupling);
 PetscErrorCode ProgressDestroy(Progress *);

@@ -20,10 +20,12 @@ typedef struct {
   PetscBool possible;     /* this set-up can write one: then SIGINT/SIGTERM write one too */
   PetscInt  last;         /* the step of the last one written, -1: none */
   PetscReal layouts[2];   /* MeshLayoutSignature of the fluid and structure meshes at set-up, before they moved */
+  PetscInt  structure_ranks; /* of a fluid | structure split, 0: both on every rank */
 } RunCheckpointParams;
 
-/* restartable: the coupling method (if any) keeps all its state in checkpoints. */
-PetscErrorCode RunCheckpointSetFromOptions(const RunParams *, PetscBool separate_ranks, PetscBool restartable,
+/* structure_ranks: K of a fluid | structure split, 0 for both on every rank; restartable:
+   the coupling method (if any) keeps all its state in checkpoints. */
+PetscErrorCode RunCheckpointSetFromOptions(const RunParams *, PetscInt structure_ranks, PetscBool restartable,
                                            RunCheckpointParams *);
 /* The options that define the discrete problem, "name value" lines (run_fingerprint.c); and
    the first difference of a checkpoint's from this run's, outside `change`, refused. */

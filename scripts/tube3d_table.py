@@ -130,7 +130,7 @@ def tube3d_run(level, t_final, meshes, extra, np=1, structure_ranks=0, launcher=
     tf = fr.fmt_num(t_final)
     options = ["-options_file", TUBES[scene][0], "-t_final", tf, "-fluid_dm_plex_filename", rel(meshes["fluid"]),
                "-structure_dm_plex_filename", rel(meshes["wall"])]
-    if structure_ranks:
+    if np > 1:   # the layout asked for, also where fsiopt's default would size a split
         options += ["-structure_ranks", str(structure_ranks)]
     options += ["-log_view"] + extra
     name = "%sn%d-T%s-np%d%s%s" % ("" if scene == "tube3d" else scene + "-", level, tf, np, "-k%d" % structure_ranks if structure_ranks else "",

@@ -453,6 +453,84 @@ def test_partitioned_restart():
     return "restarted at step 41 of 80: probes.csv byte for byte the uninterrupted run's"
 
 
+@test("fluid | structure ranks write checkpoints and restart from them: 2 and 3 ranks (the fluid on 1 and 2, the "
+      "structure on 1 and 2) continue the run that wrote them to 1e-12, a SIGTERM's checkpoint too; a damaged part "
+      "or another -structure_ranks is refused in one line")
+def test_split_restart():
+    details = []
+    for nproc, structure in ((2, 1), (3, 1), (3, 2)):
+        args = CHANNEL + ["-structure_ranks", str(structure), "-checkpoint_every", "10"]
+        full, first, restarted = (os.path.join(WORK, "split-%s-%d-%d" % (n, nproc, structure)) for n in ("full", "first", "restarted"))
+        solve(args + ["-t_final", "0.002"], nproc=nproc, out=full)
+        solve(args + ["-t_final", "0.001"], nproc=nproc, out=first)
+        ck = os.path.join(first, "checkpoint.h5")
+        assert fr.checkpoint_step(ck) == 10, "checkpoint of step %d, not 10" % fr.checkpoint_step(ck)
+        s = solve(args + ["-t_final", "0.002", "-restart", ck], nproc=nproc, out=restarted)
+        assert s["first_step"] == 11 and s["steps_done"] == 20, "restart at step %s, done %s" % (s["first_step"], s["steps_done"])
+        # to round-off: two fluid ranks may add in another order from run to run
+        gap = fr.probes_difference(read_probes(os.path.join(restarted, "probes.csv"))[1],
+                                   read_probes(os.path.join(full, "probes.csv"))[1])
+        assert gap <= 1e-12, "%d ranks, -structure_ranks %d: the restarted probes differ from the uninterrupted " \
+            "run's by %.1e" % (nproc, structure, gap)
+        details.append("%d:%d %.0e" % (nproc, structure, gap))
+    rc, err, out = interrupted("SIGTERM", 10, 2, extra=["-structure_ranks", "1", "-t_final", "0.002"])
+    ck = os.path.join(out, "checkpoint.h5")
+    assert rc != 0 and os.path.exists(ck) and fr.checkpoint_step(ck) == 10, \
+        "SIGTERM on fluid | structure ranks: exit %s, checkpoint %s" % (rc, os.path.exists(ck))
+    again = os.path.join(WORK, "split-sigterm-restarted")
+    solve(CHANNEL + ["-structure_ranks", "1", "-t_final", "0.002", "-restart", ck], nproc=2, out=again)
+    plain = os.path.join(WORK, "split-sigterm-plain")
+    solve(CHANNEL + ["-structure_ranks", "1", "-t_final", "0.002", "-checkpoint_every", "10"], nproc=2, out=plain)
+    gap = fr.probes_difference(read_probes(os.path.join(again, "probes.csv"))[1],
+                               read_probes(os.path.join(plain, "probes.csv"))[1])
+    assert gap <= 1e-12, "the SIGTERM checkpoint's restart differs from the run by %.1e" % gap
+    import h5py
+    problems = []
+    source = os.path.join(WORK, "split-first-2-1", "checkpoint.h5")
+    cases = [("the structure's part", "structure/load_old", ["-structure_ranks", "1"], "no dataset /structure/load_old"),
+             ("the fluid's part", "fluid/state", ["-structure_ranks", "1"], "no dataset /fluid/state"),
+             ("the coupling's fluid part", "coupling/mesh_displacement", ["-structure_ranks", "1"],
+              "no dataset /coupling/mesh_displacement"),
+             ("no split", None, [], "written with -structure_ranks 1, this run has 0")]
+    for name, dataset, extra, token in cases:
+        ck = os.path.join(inputs_dir(), "split-%s.h5" % name.replace(" ", "-").replace("'", ""))
+        shutil.copy(source, ck)
+        if dataset:
+            with h5py.File(ck, "a") as f:
+                del f[dataset]
+        rc, stdout, err, summary = run(CHANNEL + extra + ["-t_final", "0.002", "-restart", ck], nproc=2, tag="split-bad")
+        lines = [l for l in (stdout + err).splitlines() if l.startswith("fsiopt")]
+        if rc == 0 or summary is not None or len(lines) != 1 or token not in lines[0] or "PETSC ERROR" in stdout + err:
+            problems.append("%s: exit %s, %s" % (name, rc, lines))
+    assert not problems, "; ".join(problems)
+    return "probes of the restarted run against the uninterrupted one (ranks:structure ranks): %s; SIGTERM's " \
+        "checkpoint %.0e; %d damaged or mismatched checkpoints refused in one line" % (", ".join(details), gap, len(cases))
+
+
+@test("-structure_ranks by default gives the structure the whole ranks its share of the unknowns fills: mms-stokes "
+      "(30 % structure) shares 2 ranks and splits 4 ranks 3 | 1, stated in the first line, and the split run's errors "
+      "are the 1-rank run's (1e-7)")
+def test_sized_structure_ranks():
+    args = ["-options_file", "options/mms-stokes.yaml", "-t_final", "0.55"]
+    one = solve(args)
+    details = []
+    for nproc in (2, 4):
+        rc, stdout, err, s = run(args, nproc=nproc, tag="sized")
+        assert rc == 0 and s, "%d ranks: %s" % (nproc, fail_text(rc, stdout, err))
+        share = s["structure_dofs"] / (s["fluid_dofs"] + s["structure_dofs"])
+        K = int(nproc * share)
+        expected = {"fluid": nproc - K, "structure": K, "total": nproc} if K else \
+            {"fluid": nproc, "structure": nproc, "total": nproc}
+        assert s["ranks"] == expected, "%d ranks, structure share %.3f: layout %s, expected %s" % (
+            nproc, share, s["ranks"], expected)
+        said = "(%d fluid | %d structure)" % (nproc - K, K)
+        assert (said in stdout) == (K > 0), "%d ranks: the first line %s" % (nproc, stdout.splitlines()[:1])
+        worst = max(abs(s["errors"][k] - v) / abs(v) for k, v in one["errors"].items())
+        assert worst <= 1e-7, "%d ranks: errors differ from 1 rank's by %.1e" % (nproc, worst)
+        details.append("%d ranks: %s, errors within %.0e of 1 rank" % (nproc, said if K else "shared", worst))
+    return "structure share %.3f; %s" % (share, "; ".join(details))
+
+
 def diverging_cases():
     return [
         ("mesh motion inverting cells", ["-scene", "gcl", "-dt", "0.01", "-t_final", "0.1", "-gcl_amplitude", "0.6"], "inverted or degenerate at step 3"),

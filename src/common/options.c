@@ -208,6 +208,25 @@ PetscErrorCode ErrorReportingForget(void)
   return 0;
 }
 
+PetscErrorCode ErrorReportingAgree(MPI_Comm comm, PetscErrorCode ierr)
+{
+  PetscMPIInt rank, size, mine, first;
+  int         code = (int)ierr;
+  char        message[sizeof(first_message)];
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  mine = ierr ? rank : size;
+  PetscCallMPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm));
+  if (first == size) PetscFunctionReturn(0);
+  PetscCall(PetscStrncpy(message, ErrorReportingFirstMessage(), sizeof(message)));
+  PetscCallMPI(MPI_Bcast(message, (PetscMPIInt)sizeof(message), MPI_CHAR, first, comm));
+  PetscCallMPI(MPI_Bcast(&code, 1, MPI_INT, first, comm));
+  PetscCall(ErrorReportingForget());
+  SETERRQ(comm, (PetscErrorCode)code, "%s", message);
+}
+
 PetscErrorCode ErrorReportingPush(void)
 {
   PetscFunctionBeginUser;

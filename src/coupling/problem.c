@@ -213,16 +213,26 @@ PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure struc
   PetscFunctionReturn(0);
 }
 
+static PetscErrorCode MeshDisplacementsCheckpoint(CouplingProblem P, DM dm, Checkpoint cp, PetscBool load)
+{
+  DM cdm;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetCoordinateDM(dm, &cdm));
+  PetscCall(CheckpointLocalVec(cp, "mesh_displacement", cdm, P->mesh_displacement, load));
+  PetscCall(CheckpointLocalVec(cp, "mesh_displacement_before", cdm, P->mesh_displacement_before, load));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode CouplingProblemCheckpoint(CouplingProblem P, Checkpoint cp, PetscBool load)
 {
+  DM dm = NULL;
+
   PetscFunctionBeginUser;
-  if (P->motion) {
-    DM dm, cdm;
-    PetscCall(FluidGetDM(P->fluid, &dm));
-    PetscCall(DMGetCoordinateDM(dm, &cdm));
-    PetscCall(CheckpointLocalVec(cp, "mesh_displacement", cdm, P->mesh_displacement, load));
-    PetscCall(CheckpointLocalVec(cp, "mesh_displacement_before", cdm, P->mesh_displacement_before, load));
-  }
+  /* the mesh displacements are the fluid ranks' part */
+  if (P->fluid) PetscCall(FluidGetDM(P->fluid, &dm));
+  PetscCall(CheckpointBeginPart(cp, dm ? PetscObjectComm((PetscObject)dm) : MPI_COMM_NULL));
+  PetscCall(CheckpointEndPart(cp, P->motion ? MeshDisplacementsCheckpoint(P, dm, cp, load) : 0));
   if (CheckpointResynchronizes(cp, load))
     P->jacobian_age = 0; /* the fluid refactors at the next step (FluidCheckpoint) */
   PetscFunctionReturn(0);

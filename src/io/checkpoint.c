@@ -18,7 +18,11 @@ typedef struct {
 } MemoryEntry;
 
 struct _p_Checkpoint {
-  PetscViewer  viewer; /* NULL: in memory */
+  PetscViewer  viewer; /* NULL: in memory, or in a part this rank does not hold */
+  PetscBool    file, load;
+  MPI_Comm     comm;                          /* a file's: the ranks that open it */
+  char         open_name[PETSC_MAX_PATH_LEN]; /* the file open: path, or its temporary while written */
+  PetscBool    in_part;                       /* between CheckpointBeginPart and CheckpointEndPart */
   char         path[PETSC_MAX_PATH_LEN];
   char         group[64];
   MemoryEntry *entries;
@@ -27,12 +31,12 @@ struct _p_Checkpoint {
 
 PetscBool CheckpointResynchronizes(Checkpoint cp, PetscBool load)
 {
-  return load || cp->viewer ? PETSC_TRUE : PETSC_FALSE;
+  return load || cp->file ? PETSC_TRUE : PETSC_FALSE;
 }
 
 PetscBool CheckpointIsFile(Checkpoint cp)
 {
-  return cp->viewer ? PETSC_TRUE : PETSC_FALSE;
+  return cp->file;
 }
 
 PetscErrorCode CheckpointCreateInMemory(Checkpoint *cp)
@@ -57,7 +61,7 @@ PetscErrorCode CheckpointPushGroup(Checkpoint cp, const char group[])
 {
   PetscFunctionBeginUser;
   if (cp->viewer) PetscCall(PetscViewerHDF5PushGroup(cp->viewer, group));
-  else PetscCall(PetscStrncpy(cp->group, group, sizeof(cp->group)));
+  PetscCall(PetscStrncpy(cp->group, group, sizeof(cp->group))); /* a file's, for a part's reopening */
   PetscFunctionReturn(0);
 }
 
@@ -65,7 +69,7 @@ PetscErrorCode CheckpointPopGroup(Checkpoint cp)
 {
   PetscFunctionBeginUser;
   if (cp->viewer) PetscCall(PetscViewerHDF5PopGroup(cp->viewer));
-  else cp->group[0] = 0;
+  cp->group[0] = 0;
   PetscFunctionReturn(0);
 }
 
@@ -365,7 +369,7 @@ static PetscErrorCode TemporaryName(const char path[], char tmp[], size_t len)
 
 PetscErrorCode CheckpointOpen(MPI_Comm comm, const char path[], PetscBool load, Checkpoint *cp)
 {
-  char        tmp[PETSC_MAX_PATH_LEN];
+  char        tmp[PETSC_MAX_PATH_LEN] = "";
   PetscViewer viewer;
 
   PetscFunctionBeginUser;
@@ -395,7 +399,52 @@ PetscErrorCode CheckpointOpen(MPI_Comm comm, const char path[], PetscBool load, 
   }
   PetscCall(PetscNew(cp));
   (*cp)->viewer = viewer;
+  (*cp)->file   = PETSC_TRUE;
+  (*cp)->load   = load;
+  (*cp)->comm   = comm;
   PetscCall(PetscStrncpy((*cp)->path, path, sizeof((*cp)->path)));
+  PetscCall(PetscStrncpy((*cp)->open_name, load ? path : tmp, sizeof((*cp)->open_name)));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Reopen(Checkpoint cp, MPI_Comm comm)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscViewerHDF5Open(comm, cp->open_name, cp->load ? FILE_MODE_READ : FILE_MODE_APPEND, &cp->viewer));
+  if (cp->group[0]) PetscCall(PetscViewerHDF5PushGroup(cp->viewer, cp->group));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CheckpointBeginPart(Checkpoint cp, MPI_Comm part)
+{
+  PetscMPIInt size, part_size = 0;
+
+  PetscFunctionBeginUser;
+  PetscCheck(!cp->in_part, PETSC_COMM_SELF, PETSC_ERR_ORDER, "checkpoint parts do not nest");
+  if (!cp->file) PetscFunctionReturn(0);
+  PetscCallMPI(MPI_Comm_size(cp->comm, &size));
+  if (part != MPI_COMM_NULL) PetscCallMPI(MPI_Comm_size(part, &part_size));
+  if (part_size == size) PetscFunctionReturn(0); /* every rank holds it */
+  cp->in_part = PETSC_TRUE;
+  PetscCall(PetscViewerDestroy(&cp->viewer));
+  PetscCallMPI(MPI_Barrier(cp->comm)); /* closed on every rank before it opens on some */
+  if (part != MPI_COMM_NULL) PetscCall(Reopen(cp, part));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CheckpointEndPart(Checkpoint cp, PetscErrorCode part_error)
+{
+  PetscErrorCode closing;
+
+  PetscFunctionBeginUser;
+  if (!cp->in_part) {
+    PetscCall(part_error);
+    PetscFunctionReturn(0);
+  }
+  cp->in_part = PETSC_FALSE;
+  closing     = PetscViewerDestroy(&cp->viewer);
+  PetscCall(ErrorReportingAgree(cp->comm, part_error ? part_error : closing));
+  PetscCall(Reopen(cp, cp->comm));
   PetscFunctionReturn(0);
 }
 

@@ -46,11 +46,11 @@ static PetscErrorCode Flush(MPI_Comm comm)
 }
 
 PetscErrorCode ProgressStart(Progress p, const RunParams *params, PetscInt first_step, PetscInt fluid_dofs,
-                             PetscInt structure_dofs, const char method[])
+                             PetscInt structure_dofs, const char method[], PetscMPIInt structure_ranks)
 {
   PetscInt    dofs[2] = {fluid_dofs, structure_dofs};
   PetscMPIInt size;
-  char        sides[128] = "";
+  char        sides[128] = "", layout[64] = "";
 
   PetscFunctionBeginUser;
   p->params     = params;
@@ -67,10 +67,13 @@ PetscErrorCode ProgressStart(Progress p, const RunParams *params, PetscInt first
   else
     PetscCall(PetscSNPrintf(sides, sizeof(sides), "%s %" PetscInt_FMT " unknowns", dofs[0] ? "fluid" : "structure",
                             dofs[0] ? dofs[0] : dofs[1]));
+  if (structure_ranks > 0 && structure_ranks < size)
+    PetscCall(PetscSNPrintf(layout, sizeof(layout), " (%d fluid | %d structure)", (int)(size - structure_ranks),
+                            (int)structure_ranks));
   PetscCall(
     PetscPrintf(p->comm,
-                "fsiopt: %s: %s on %d rank%s; steps %" PetscInt_FMT " to %" PetscInt_FMT " of dt %g (t = %g to %g)\n",
-                params->scene, sides, (int)size, size > 1 ? "s" : "", first_step, params->steps, (double)params->dt,
+                "fsiopt: %s: %s on %d rank%s%s; steps %" PetscInt_FMT " to %" PetscInt_FMT " of dt %g (t = %g to %g)\n",
+                params->scene, sides, (int)size, size > 1 ? "s" : "", layout, first_step, params->steps, (double)params->dt,
                 (double)(params->t_start + (first_step - 1) * params->dt), (double)params->t_final));
   PetscCall(Flush(p->comm));
   PetscFunctionReturn(0);

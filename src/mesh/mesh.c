@@ -96,18 +96,19 @@ static PetscErrorCode MeshCheckBox(MPI_Comm comm, const char prefix[])
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode MeshCreate(MPI_Comm comm, const char prefix[], PetscInt refine, PetscInt dim, PetscInt nrequired,
-                          const PetscInt required[], const MeshFields *fields, DM *mesh)
+/* The mesh as the options give it, before it is distributed or refined, checked. */
+static PetscErrorCode LoadChecked(MPI_Comm comm, const char prefix[], PetscInt dim, PetscInt nrequired,
+                                  const PetscInt required[], DM *mesh, char filename[PETSC_MAX_PATH_LEN],
+                                  PetscBool *from_file_)
 {
-  DM          dm;
-  char        option[256], filename[PETSC_MAX_PATH_LEN] = "";
-  PetscBool   from_file, distributed;
-  PetscMPIInt size;
+  DM        dm;
+  char      option[256];
+  PetscBool from_file;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_MESH, 0, 0, 0, 0));
+  filename[0] = 0;
   PetscCall(PetscSNPrintf(option, sizeof(option), "-%sdm_plex_filename", prefix));
-  PetscCall(PetscOptionsGetString(NULL, NULL, option, filename, sizeof(filename), &from_file));
+  PetscCall(PetscOptionsGetString(NULL, NULL, option, filename, PETSC_MAX_PATH_LEN, &from_file));
   if (from_file) PetscCall(CheckReadableFile(comm, option, filename));
   if (from_file) {
     size_t len;
@@ -147,6 +148,38 @@ PetscErrorCode MeshCreate(MPI_Comm comm, const char prefix[], PetscInt refine, P
   }
   PetscCall(MeshCheckFaceSets(dm, prefix, from_file ? filename : "(box)", nrequired, required));
   PetscCall(MeshCheckCells(dm, prefix, from_file ? filename : "(box)"));
+  *mesh       = dm;
+  *from_file_ = from_file;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode MeshCountDofs(MPI_Comm comm, const char prefix[], PetscInt refine, PetscInt dim, PetscInt nrequired,
+                             const PetscInt required[], const MeshFields *fields, PetscReal *dofs)
+{
+  DM        dm;
+  char      filename[PETSC_MAX_PATH_LEN];
+  PetscBool from_file;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_MESH, 0, 0, 0, 0));
+  PetscCall(LoadChecked(comm, prefix, dim, nrequired, required, &dm, filename, &from_file));
+  PetscCall(MemoryEstimateDofs(dm, refine, fields, dofs));
+  PetscCall(DMDestroy(&dm));
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_MESH, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode MeshCreate(MPI_Comm comm, const char prefix[], PetscInt refine, PetscInt dim, PetscInt nrequired,
+                          const PetscInt required[], const MeshFields *fields, DM *mesh)
+{
+  DM          dm;
+  char        filename[PETSC_MAX_PATH_LEN];
+  PetscBool   from_file, distributed;
+  PetscMPIInt size;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_MESH, 0, 0, 0, 0));
+  PetscCall(LoadChecked(comm, prefix, dim, nrequired, required, &dm, filename, &from_file));
 
   PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCall(DMPlexIsDistributed(dm, &distributed));

@@ -75,7 +75,7 @@ PetscErrorCode RunAdvance(Run run)
   s->first_step = run->first_step;
   if (run->first_step <= run->params.steps)
     PetscCall(ProgressStart(run->progress, &run->params, run->first_step, s->fluid_dofs, s->structure_dofs,
-                            run->coupled ? run->params.coupling : NULL));
+                            run->coupled ? run->params.coupling : NULL, s->structure_ranks));
   for (PetscInt step = run->first_step; step <= run->params.steps; ++step) {
     PetscCall(StepRetryAdvance(run->retry, step, &run->failure));
     if (run->failure) {

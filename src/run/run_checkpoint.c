@@ -76,11 +76,12 @@ static PetscErrorCode CheckWritable(const char path[], const char output_dir[])
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode RunCheckpointSetFromOptions(const RunParams *params, PetscBool separate_ranks, PetscBool restartable,
+PetscErrorCode RunCheckpointSetFromOptions(const RunParams *params, PetscInt structure_ranks, PetscBool restartable,
                                            RunCheckpointParams *cp)
 {
   PetscFunctionBeginUser;
-  cp->every      = 0;
+  cp->every           = 0;
+  cp->structure_ranks = structure_ranks;
   cp->last       = -1;
   cp->restart[0] = 0;
   cp->change_dt  = PETSC_FALSE;
@@ -109,10 +110,7 @@ PetscErrorCode RunCheckpointSetFromOptions(const RunParams *params, PetscBool se
              "option -restart_change_dt: expected with -restart FILE");
   PetscCheck(!cp->change[0] || cp->restarting, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
              "option -restart_change: expected with -restart FILE");
-  PetscCheck(!(cp->every || cp->restarting) || !separate_ranks, PETSC_COMM_WORLD, PETSC_ERR_SUP,
-             "option %s: checkpoints need fluid and structure on the same ranks (-structure_ranks 0)",
-             cp->restarting ? "-restart" : "-checkpoint_every");
-  cp->possible = !separate_ranks && restartable ? PETSC_TRUE : PETSC_FALSE;
+  cp->possible = restartable;
   /* with -checkpoint_every, and for the checkpoint a SIGTERM or SIGUSR1 writes */
   if ((cp->every || cp->possible) && !OptionsHelpRequested()) PetscCall(CheckWritable(cp->file, params->output_dir));
   PetscFunctionReturn(0);
@@ -138,7 +136,8 @@ PetscErrorCode RunCheckpointSetLayouts(RunCheckpointParams *cp, Fluid fluid, Str
   DM dm;
 
   PetscFunctionBeginUser;
-  cp->layouts[0] = cp->layouts[1] = 0;
+  /* on fluid | structure ranks, each side's from its ranks */
+  cp->layouts[0] = cp->layouts[1] = PETSC_MIN_REAL;
   if (fluid) {
     PetscCall(FluidGetDM(fluid, &dm));
     PetscCall(MeshLayoutSignature(dm, &cp->layouts[0]));
@@ -147,6 +146,9 @@ PetscErrorCode RunCheckpointSetLayouts(RunCheckpointParams *cp, Fluid fluid, Str
     PetscCall(StructureGetDM(structure, &dm));
     PetscCall(MeshLayoutSignature(dm, &cp->layouts[1]));
   }
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, cp->layouts, 2, MPIU_REAL, MPIU_MAX, PETSC_COMM_WORLD));
+  for (PetscInt k = 0; k < 2; ++k)
+    if (cp->layouts[k] == PETSC_MIN_REAL) cp->layouts[k] = 0;
   PetscFunctionReturn(0);
 }
 
@@ -170,14 +172,40 @@ static PetscErrorCode CheckpointLayouts(Checkpoint cp, const char path[], PetscB
   PetscFunctionReturn(0);
 }
 
+/* The split of the ranks the states are stored from; a checkpoint without it was written
+   before a split could write one, on every rank. */
+static PetscErrorCode CheckpointStructureRanks(Checkpoint cp, const char path[], PetscBool load,
+                                               const RunCheckpointParams *cpp)
+{
+  PetscInt  written = cpp->structure_ranks;
+  PetscBool has     = PETSC_TRUE;
+
+  PetscFunctionBeginUser;
+  if (load) PetscCall(CheckpointHasAttribute(cp, "structure_ranks", &has));
+  if (has) PetscCall(CheckpointInt(cp, "structure_ranks", &written, load));
+  else written = 0;
+  PetscCheck(written == cpp->structure_ranks, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
+             "option -restart %s: written with -structure_ranks %" PetscInt_FMT ", this run has %" PetscInt_FMT
+             " (restart on the layout that wrote it)",
+             path, written, cpp->structure_ranks);
+  PetscFunctionReturn(0);
+}
+
 #define FINGERPRINT_LEN 65536
 
+/* On fluid | structure ranks each side's state is a part of the file its ranks write alone. */
 static PetscErrorCode ModulesCheckpoint(Checkpoint cp, PetscBool load, Fluid fluid, Structure structure,
                                         Coupling coupling, Probes probes, FieldWriter fields)
 {
+  DM dm;
+
   PetscFunctionBeginUser;
-  if (fluid) PetscCall(FluidCheckpoint(fluid, cp, load));
-  if (structure) PetscCall(StructureCheckpoint(structure, cp, load));
+  if (fluid) PetscCall(FluidGetDM(fluid, &dm));
+  PetscCall(CheckpointBeginPart(cp, fluid ? PetscObjectComm((PetscObject)dm) : MPI_COMM_NULL));
+  PetscCall(CheckpointEndPart(cp, fluid ? FluidCheckpoint(fluid, cp, load) : 0));
+  if (structure) PetscCall(StructureGetDM(structure, &dm));
+  PetscCall(CheckpointBeginPart(cp, structure ? PetscObjectComm((PetscObject)dm) : MPI_COMM_NULL));
+  PetscCall(CheckpointEndPart(cp, structure ? StructureCheckpoint(structure, cp, load) : 0));
   if (coupling) PetscCall(CouplingCheckpoint(coupling, cp, load));
   if (probes) PetscCall(ProbesCheckpoint(probes, cp, load));
   PetscCall(FieldWriterCheckpoint(fields, cp, load));
@@ -190,11 +218,16 @@ PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, 
 {
   Checkpoint cp;
   PetscReal  dt = params->dt, t_start = params->t_start;
-  PetscInt   fluid_dofs = summary->fluid_dofs, structure_dofs = summary->structure_dofs, ranks = summary->total_ranks;
+  PetscInt   dofs[2] = {summary->fluid_dofs, summary->structure_dofs}, fluid_dofs, structure_dofs,
+           ranks = summary->total_ranks;
   PetscBool  has_fingerprint = PETSC_TRUE, other_dt;
   char      *fingerprint, *written;
 
   PetscFunctionBeginUser;
+  /* on fluid | structure ranks each side counts its own */
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, dofs, 2, MPIU_INT, MPI_MAX, PETSC_COMM_WORLD));
+  fluid_dofs     = dofs[0];
+  structure_dofs = dofs[1];
   PetscCall(CheckpointOpen(PETSC_COMM_WORLD, path, load, &cp));
   PetscCall(CheckpointPushGroup(cp, "/run"));
   PetscCall(CheckpointInt(cp, "step", step, load));
@@ -207,6 +240,7 @@ PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, 
   PetscCall(CheckpointInt(cp, "fluid_dofs", &fluid_dofs, load));
   PetscCall(CheckpointInt(cp, "structure_dofs", &structure_dofs, load));
   PetscCall(CheckpointInt(cp, "ranks", &ranks, load));
+  PetscCall(CheckpointStructureRanks(cp, path, load, cpp));
   PetscCall(CheckpointLayouts(cp, path, load, cpp));
   PetscCall(PetscMalloc2(FINGERPRINT_LEN, &fingerprint, FINGERPRINT_LEN, &written));
   PetscCall(RunFingerprint(fingerprint, FINGERPRINT_LEN));
@@ -233,11 +267,11 @@ PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, 
                "option -restart_change_dt: not with -write_fields (the fields written are listed by steps of the "
                "checkpoint's dt %g)",
                (double)dt);
-    PetscCheck(fluid_dofs == summary->fluid_dofs && structure_dofs == summary->structure_dofs, PETSC_COMM_WORLD,
+    PetscCheck(fluid_dofs == dofs[0] && structure_dofs == dofs[1], PETSC_COMM_WORLD,
                PETSC_ERR_ARG_INCOMP,
                "option -restart %s: written for %" PetscInt_FMT " fluid and %" PetscInt_FMT
                " structure unknowns, this run has %" PetscInt_FMT " and %" PetscInt_FMT " (another scene or mesh)",
-               path, fluid_dofs, structure_dofs, summary->fluid_dofs, summary->structure_dofs);
+               path, fluid_dofs, structure_dofs, dofs[0], dofs[1]);
     PetscCheck(ranks == summary->total_ranks, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
                "option -restart %s: written on %" PetscInt_FMT
                " ranks, this run has %d (the meshes' distribution must be the same)",

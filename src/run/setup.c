@@ -49,6 +49,43 @@ static PetscErrorCode RunParamsSetFromOptions(RunParams *p)
   PetscFunctionReturn(0);
 }
 
+/* -structure_ranks' default: the whole ranks the structure's share of the unknowns fills,
+   floor(P n_s / (n_f + n_s)), the unknowns counted on the meshes as read (MeshCountDofs)
+   before either side is made; 0 (both on every rank) where that share is less than a rank.
+   On the current domain, every scene's default, a split lets the two sides' linearized
+   solves overlap but not their nonlinear ones, and a structure rank with less than its
+   share of work idles: on 2 ranks tube3d level 1 ran 24.3 s split and 22.2 s shared
+   (docs/iterations.md). */
+static PetscErrorCode SizedStructureRanks(Run run, PetscMPIInt size, PetscInt *K)
+{
+  Fluid      fluid;
+  Structure  structure;
+  MeshFields fields;
+  PetscInt   nfaces, faces[2 * FSIOPT_MAX_BOUNDARIES];
+  PetscReal  dofs[2];
+
+  PetscFunctionBeginUser;
+  PetscCall(FluidCreate(PETSC_COMM_WORLD, &fluid));
+  PetscCall(FluidSetFromOptions(fluid));
+  if (run->scene.fluid.n_fixed_mesh_faces) PetscCall(FluidEnableMeshMotion(fluid));
+  PetscCall(FluidGetMeshFields(fluid, &fields));
+  PetscCall(FluidDestroy(&fluid));
+  PetscCall(SceneRequiredFaces(&run->scene.fluid, &nfaces, faces));
+  PetscCall(MeshCountDofs(PETSC_COMM_WORLD, "fluid_", run->params.refine, run->scene.dim, nfaces, faces, &fields,
+                          &dofs[0]));
+  PetscCall(StructureCreate(PETSC_COMM_WORLD, &structure));
+  PetscCall(StructureSetFromOptions(structure));
+  PetscCall(StructureGetMeshFields(structure, &fields));
+  PetscCall(StructureDestroy(&structure));
+  PetscCall(SceneRequiredFaces(&run->scene.structure, &nfaces, faces));
+  PetscCall(MeshCountDofs(PETSC_COMM_WORLD, "structure_", run->params.refine, run->scene.dim, nfaces, faces, &fields,
+                          &dofs[1]));
+  *K = 0;
+  if (dofs[0] > 0 && dofs[1] > 0) *K = (PetscInt)PetscFloorReal(size * dofs[1] / (dofs[0] + dofs[1]));
+  *K = PetscMin(PetscMax(*K, 0), size - 1);
+  PetscFunctionReturn(0);
+}
+
 /* Fluid ranks first, then structure ranks (-structure_ranks K); K = 0, or one rank,
    puts both on every rank, one after the other. */
 static PetscErrorCode SplitRanks(Run run)
@@ -56,14 +93,18 @@ static PetscErrorCode SplitRanks(Run run)
   RunSummary *s = &run->summary;
   PetscMPIInt size, rank;
   PetscInt    K = 0;
+  PetscBool   given;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
   PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
+  PetscCall(PetscOptionsHasName(NULL, NULL, "-structure_ranks", &given));
+  if (!given && run->coupled && size > 1 && !run->help) PetscCall(SizedStructureRanks(run, size, &K));
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Parallel layout", "fsiopt");
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-structure_ranks",
-                              "ranks of the structure, the rest go to the fluid (0: both on all ranks)", 0, size - 1,
-                              &K));
+                              "ranks of the structure, the rest go to the fluid (0: both on all ranks; default: the "
+                              "whole ranks the structure's share of the unknowns fills, else 0)",
+                              0, size - 1, &K));
   PetscOptionsEnd();
   run->fluid_comm     = PETSC_COMM_WORLD;
   run->structure_comm = PETSC_COMM_WORLD;
@@ -161,7 +202,8 @@ static PetscErrorCode CheckpointOrStart(Run run)
   if (run->coupling) PetscCall(CouplingIsRestartable(run->coupling, &restartable));
   PetscCall(OutputsGetProbes(run->outputs, &probes));
   PetscCall(OutputsGetFields(run->outputs, &fields));
-  PetscCall(RunCheckpointSetFromOptions(&run->params, separate, restartable, &run->checkpoint));
+  PetscCall(RunCheckpointSetFromOptions(&run->params, separate ? run->summary.structure_ranks : 0, restartable,
+                                        &run->checkpoint));
   restart = run->checkpoint.restarting && !run->help;
   if (run->checkpoint.possible) PetscCall(RunCheckpointSetLayouts(&run->checkpoint, run->fluid, run->structure));
   run->first_step = 1;
