@@ -45,6 +45,8 @@ PetscErrorCode CouplingProblemGetControlVariant(
 PetscErrorCode CouplingProblemCreateControl(CouplingProblem, Vec *);
 PetscErrorCode CouplingProblemCreateJacobian(CouplingProblem, Mat *);
 PetscErrorCode CouplingProblemGetTikhonov(CouplingProblem, PetscReal *);
+/* Whether the fluid's linear (and linearized) solves iterate; the same on every rank */
+PetscErrorCode CouplingProblemFluidSolverIsKrylov(CouplingProblem, PetscBool *);
 /* The control the first step starts from: the scene's exact traction at t0, or 0. */
 PetscErrorCode CouplingProblemInitialControl(CouplingProblem, PetscReal t0, Vec x);
 

@@ -135,6 +135,31 @@ def test_solver_option_files():
     return "; ".join(details)
 
 
+@test("-coupling_inner defaults to gmres where the fluid's solves iterate, cgls where they factor: tube3d with the "
+      "iterative solver files, three steps, is then the gmres run byte for byte, with at most half the fluid linear "
+      "solves of cgls at the same Gauss-Newton iterations")
+def test_inner_default_iterative():
+    args = ["-options_file", "options/tube3d.yaml", "-t_final", "0.0003"]
+    runs = {}
+    for name, extra in (("default", []), ("gmres", ["-coupling_inner", "gmres"]), ("cgls", ["-coupling_inner", "cgls"])):
+        out = out_dir("inner-%s" % name)
+        runs[name] = (solve(args + ITERATIVE_ILU + extra, out=out), out)
+    lu = solve(args)
+    default, gmres, cgls = (runs[n][0] for n in ("default", "gmres", "cgls"))
+    assert default["options"]["-coupling_inner"] == "gmres" and lu["options"]["-coupling_inner"] == "cgls", \
+        "inner: %s with the iterative files, %s with LU" % (default["options"]["-coupling_inner"],
+                                                           lu["options"]["-coupling_inner"])
+    assert same_file(os.path.join(runs["default"][1], "probes.csv"), os.path.join(runs["gmres"][1], "probes.csv")), \
+        "the default's probes differ from the gmres run's"
+    assert gmres["coupling_iterations"] == cgls["coupling_iterations"] and \
+        gmres["fluid_linear_solves"] <= 0.5 * cgls["fluid_linear_solves"], \
+        "gmres %d Gauss-Newton iterations, %d fluid linear solves; cgls %d, %d" % (
+            gmres["coupling_iterations"], gmres["fluid_linear_solves"], cgls["coupling_iterations"],
+            cgls["fluid_linear_solves"])
+    return "default gmres (LU: cgls); %d Gauss-Newton iterations both; fluid linear solves gmres %d, cgls %d" % (
+        gmres["coupling_iterations"], gmres["fluid_linear_solves"], cgls["fluid_linear_solves"])
+
+
 @test("tube3d with the iterative solver files for small time steps (field split with ILU(0) on the velocity, CG + "
       "ILU(0) on the wall, CG + GAMG on the mesh): "
       "the adjoint identity to 10 x the Krylov tolerance, the Gauss-Newton iterations of LU refactored at every "

@@ -148,11 +148,13 @@ PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure struc
   if (fluid) {
     PetscBool krylov;
     PetscCall(FluidSolverIsKrylov(fluid, &krylov));
+    P->fluid_krylov = krylov;
     PetscCheck(krylov || !lag_set || !P->lag_preconditioner_only, comm, PETSC_ERR_ARG_INCOMP,
                "option -coupling_lag_preconditioner_only: expected a Krylov fluid solver (-fluid_ksp_type other than "
                "preonly); a factorization is its own preconditioner");
     P->lag_preconditioner_only = (PetscBool)(P->lag_preconditioner_only && krylov);
   }
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &P->fluid_krylov, 1, MPIU_BOOL, MPI_LOR, comm));
   if (structure) P->velocity_coefficient = StructureVelocityCoefficient(structure, P->measure);
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &P->velocity_coefficient, 1, MPIU_REAL, MPI_MAX, comm));
 
@@ -281,6 +283,13 @@ PetscErrorCode CouplingProblemCreateControl(CouplingProblem P, Vec *x)
   PetscFunctionBeginUser;
   PetscCall(VecDuplicate(P->weight_sqrt, x));
   PetscCall(VecZeroEntries(*x));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemFluidSolverIsKrylov(CouplingProblem P, PetscBool *krylov)
+{
+  PetscFunctionBeginUser;
+  *krylov = P->fluid_krylov;
   PetscFunctionReturn(0);
 }
 
