@@ -186,8 +186,8 @@ static PetscErrorCode CheckpointStructureRanks(Checkpoint cp, const char path[],
   else written = 0;
   PetscCheck(written == cpp->structure_ranks, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
              "option -restart %s: written with -structure_ranks %" PetscInt_FMT ", this run has %" PetscInt_FMT
-             " (restart on the layout that wrote it)",
-             path, written, cpp->structure_ranks);
+             " (restart on the layout that wrote it: add -structure_ranks %" PetscInt_FMT ")",
+             path, written, cpp->structure_ranks, written);
   PetscFunctionReturn(0);
 }
 
