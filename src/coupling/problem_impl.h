@@ -32,7 +32,7 @@ struct _p_CouplingProblem {
   PetscReal                converged_jump;             /* at or below it, no new Jacobian: the optimizer stops there */
   PetscInt                 jacobian_lag, jacobian_age; /* refactor the fluid every jacobian_lag requests */
   PetscBool                lag_preconditioner_only;    /* in between, assemble anew under the lagged preconditioner */
-  PetscBool                fluid_krylov;               /* the fluid's linear solves iterate (on its ranks and all others) */
+  PetscBool                fluid_krylov;               /* the fluid's linear solves iterate (known on every rank) */
   PetscBool                predict;                    /* fluid's first guess from the linearization */
   Vec                      control_change;
   MeshMotion               motion; /* fluid ranks of a moving interface; NULL otherwise */

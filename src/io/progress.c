@@ -73,7 +73,8 @@ PetscErrorCode ProgressStart(Progress p, const RunParams *params, PetscInt first
   PetscCall(
     PetscPrintf(p->comm,
                 "fsiopt: %s: %s on %d rank%s%s; steps %" PetscInt_FMT " to %" PetscInt_FMT " of dt %g (t = %g to %g)\n",
-                params->scene, sides, (int)size, size > 1 ? "s" : "", layout, first_step, params->steps, (double)params->dt,
+                params->scene, sides, (int)size, size > 1 ? "s" : "", layout, first_step, params->steps,
+                (double)params->dt,
                 (double)(params->t_start + (first_step - 1) * params->dt), (double)params->t_final));
   PetscCall(Flush(p->comm));
   PetscFunctionReturn(0);

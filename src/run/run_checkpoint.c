@@ -82,10 +82,10 @@ PetscErrorCode RunCheckpointSetFromOptions(const RunParams *params, PetscInt str
   PetscFunctionBeginUser;
   cp->every           = 0;
   cp->structure_ranks = structure_ranks;
-  cp->last       = -1;
-  cp->restart[0] = 0;
-  cp->change_dt  = PETSC_FALSE;
-  cp->change[0]  = 0;
+  cp->last            = -1;
+  cp->restart[0]      = 0;
+  cp->change_dt       = PETSC_FALSE;
+  cp->change[0]       = 0;
   PetscCall(PetscSNPrintf(cp->file, sizeof(cp->file), "%s/checkpoint.h5", params->output_dir));
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Checkpoints and restarts", "fsiopt");
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-checkpoint_every", "write the state every K steps (0: never)", 0,
