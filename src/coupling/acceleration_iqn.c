@@ -20,6 +20,15 @@ PetscErrorCode IQNColumnsSetUp(IQNColumns *qn, Vec model, const char title[])
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_iqn_columns", columns, 1, 10000, &qn->max_cols));
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-coupling_iqn_filter", filter, &qn->filter));
   PetscOptionsEnd();
+  PetscCall(IQNColumnsAllocate(qn, model, qn->max_cols, qn->filter));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode IQNColumnsAllocate(IQNColumns *qn, Vec model, PetscInt max_cols, PetscReal filter)
+{
+  PetscFunctionBeginUser;
+  qn->max_cols = max_cols;
+  qn->filter   = filter;
   PetscCall(VecDuplicate(model, &qn->r_before));
   PetscCall(VecDuplicate(model, &qn->sweep_before));
   PetscCall(VecDuplicateVecs(model, qn->max_cols, &qn->Q));
@@ -37,7 +46,7 @@ PetscErrorCode IQNColumnsDropBefore(IQNColumns *qn, PetscInt step, PetscInt reus
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode AddColumn(IQNColumns *qn, PetscInt step, Vec dr, Vec dxt)
+PetscErrorCode IQNColumnsAdd(IQNColumns *qn, PetscInt step, Vec dr, Vec dxt)
 {
   Vec v, w;
 
@@ -65,7 +74,7 @@ PetscErrorCode IQNColumnsRecord(IQNColumns *qn, PetscInt step, PetscInt k, Vec s
   if (k > 0) {
     PetscCall(VecAYPX(qn->r_before, -1.0, r));         /* r_k - r_{k-1} */
     PetscCall(VecAYPX(qn->sweep_before, -1.0, sweep)); /* S_k - S_{k-1} */
-    PetscCall(AddColumn(qn, step, qn->r_before, qn->sweep_before));
+    PetscCall(IQNColumnsAdd(qn, step, qn->r_before, qn->sweep_before));
   }
   PetscCall(VecCopy(r, qn->r_before));
   PetscCall(VecCopy(sweep, qn->sweep_before));

@@ -16,6 +16,10 @@ typedef struct {
 
 /* -coupling_iqn_columns, -coupling_iqn_filter (title: the method's name in -help) */
 PetscErrorCode IQNColumnsSetUp(IQNColumns *, Vec model, const char title[]);
+/* the same without options: at most max_cols columns, the given filter */
+PetscErrorCode IQNColumnsAllocate(IQNColumns *, Vec model, PetscInt max_cols, PetscReal filter);
+/* a column (v, w) of step `step`, newest first; the oldest goes when all max_cols are taken */
+PetscErrorCode IQNColumnsAdd(IQNColumns *, PetscInt step, Vec v, Vec w);
 /* a new column from (r_k, S_k) and the previous pair (k > 0); remembers the pair */
 PetscErrorCode IQNColumnsRecord(IQNColumns *, PetscInt step, PetscInt k, Vec sweep, Vec r);
 /* drops the columns of steps before step - reuse (and past max_cols) */

@@ -152,6 +152,7 @@ static PetscErrorCode OptResynchronize(Coupling C)
 
   PetscFunctionBeginUser;
   if (opt->explicit_jacobian) PetscCall(ExplicitJacobianRequestRebuild(opt->explicit_jacobian));
+  PetscCall(OptRecycleForget(opt));
   PetscFunctionReturn(0);
 }
 
@@ -328,6 +329,14 @@ static PetscErrorCode OptSetUp(Coupling C)
                                  "chord: rebuild the explicit J0 after an iteration that shrank the jump by less than "
                                  "this factor",
                                  0.0, 1.0, &opt->chord_contraction));
+    PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_inner_recycle",
+                                "gmres, bicgstab: start each Krylov solve from the least-squares fit of F by the "
+                                "products J h of this step's and the last K steps' solves (0: from zero)",
+                                0, 1000, &opt->recycle_steps));
+    opt->recycle_columns = 50;
+    PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_inner_recycle_columns",
+                                "gmres, bicgstab: keep at most this many of those products, the newest", 1, 10000,
+                                &opt->recycle_columns));
     PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_secant_updates",
                                 "correct the explicit J0^-1 after each iteration by Broyden's secant update from its "
                                 "step and the change of F, carried across steps; after K of them they start again from "

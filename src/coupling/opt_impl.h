@@ -6,6 +6,7 @@
    itself). Both stop on the interface jump with the same test. */
 #include "coupling_impl.h"
 #include "explicit_jacobian.h"
+#include "acceleration_iqn.h"
 #include <petsctao.h>
 #include <petscsnes.h>
 
@@ -58,6 +59,14 @@ typedef struct {
   PetscInt  secants;                /* -coupling_secant_updates */
   Vec       x_previous, F_previous; /* the last iterate and its F, for the secant update */
   Vec       correction;
+  /* opt_krylov_recycle.c: earlier products start each Krylov solve */
+  PetscInt   recycle_steps;   /* -coupling_inner_recycle: of this many steps back (0: none) */
+  PetscInt   recycle_columns; /* -coupling_inner_recycle_columns */
+  IQNColumns recycled;        /* V: the products J h, W: their h */
+  Vec        recycle_start;   /* the solve's start x0 from them */
+  Vec        recycle_rhs;     /* the solve's right-hand side, restored after it */
+  PetscBool  recycle_active;  /* this solve started from x0 */
+  PetscReal  product_rnorm;   /* > 0: the Krylov residual the next product's tolerance assumes */
 } Opt;
 
 /* F(x), called in the optimizer's stage */
@@ -65,6 +74,22 @@ PetscErrorCode OptResidual(Coupling, Vec x, Vec F);
 /* The stopping test of an iteration (DESIGN §3): writes its history row, counts its inner
    iterations (the solver's running total `inner_total`) and decides. */
 PetscErrorCode OptTestIteration(Coupling, PetscInt its, PetscReal objective, PetscInt inner_total, OptVerdict *);
+
+/* opt_krylov_recycle.c */
+PetscErrorCode OptRecycleSetUp(Coupling, KSP);
+PetscErrorCode OptRecycleRecord(Opt *, Vec h, Vec Jh);
+/* drops the kept products: after a checkpoint file (in the run that writes it as in the run
+   that restarts from it, which go on identically) and after a new dt (J scales with it) */
+PetscErrorCode OptRecycleForget(Opt *);
+PetscErrorCode OptRecycleDestroy(Opt *);
+
+/* opt_krylov_recycle.c */
+PetscErrorCode OptRecycleSetUp(Coupling, KSP);
+PetscErrorCode OptRecycleRecord(Opt *, Vec h, Vec Jh);
+/* drops the kept products: after a checkpoint file (in the run that writes it as in the run
+   that restarts from it, which go on identically) and after a new dt (J scales with it) */
+PetscErrorCode OptRecycleForget(Opt *);
+PetscErrorCode OptRecycleDestroy(Opt *);
 
 /* opt_newton_krylov.c */
 PetscErrorCode OptNewtonKrylovSetUp(Coupling);

@@ -78,7 +78,8 @@ static PetscErrorCode NewtonMult(Mat A, Vec h, Vec y)
     KSP       ksp;
     PetscReal rnorm, abstol, theta = opt->inexact_products;
     PetscCall(SNESGetKSP(opt->snes, &ksp));
-    PetscCall(KSPGetResidualNorm(ksp, &rnorm));
+    if (opt->product_rnorm > 0) rnorm = opt->product_rnorm;
+    else PetscCall(KSPGetResidualNorm(ksp, &rnorm));
     PetscCall(KSPGetTolerances(ksp, NULL, &abstol, NULL, NULL));
     if (opt->fnorm_previous > 0 && opt->fnorm * (opt->fnorm / opt->fnorm_previous) <= 20 * abstol)
       theta = PetscMin(theta, opt->inexact_products_last);
@@ -86,6 +87,7 @@ static PetscErrorCode NewtonMult(Mat A, Vec h, Vec y)
   }
   PetscCall(CouplingProblemJacobianMult(C->problem, h, y));
   PetscCall(FEMSetLinearizedRtol(0));
+  PetscCall(OptRecycleRecord(opt, h, y));
   PetscFunctionReturn(0);
 }
 
@@ -175,6 +177,9 @@ PetscErrorCode OptNewtonKrylovSetUp(Coupling C)
   PetscCheck(opt->inner_type != OPT_INNER_CHORD || opt->rebuild_every > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
              "option -coupling_inner chord: the chord step is -J0^-1 F with the explicit J0; expected "
              "-coupling_explicit_jacobian K > 0");
+  PetscCheck(opt->inner_type != OPT_INNER_CHORD || !opt->recycle_steps, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
+             "option -coupling_inner_recycle: starts a Krylov method from earlier products; expected -coupling_inner "
+             "gmres or bicgstab, got chord");
   PetscCall(VecDuplicate(C->x, &opt->x_linearization));
   PetscCall(VecGetLocalSize(C->x, &n));
   PetscCall(VecGetSize(C->x, &N));
@@ -211,6 +216,7 @@ PetscErrorCode OptNewtonKrylovSetUp(Coupling C)
     PetscCall(KSPGetPC(ksp, &pc));
     PetscCall(PCSetType(pc, PCNONE));
   }
+  PetscCall(OptRecycleSetUp(C, ksp));
   PetscCall(SNESSetFromOptions(opt->snes));
   PetscFunctionReturn(0);
 }
@@ -240,5 +246,6 @@ PetscErrorCode OptNewtonKrylovDestroy(Coupling C)
   PetscCall(VecDestroy(&opt->x_linearization));
   PetscCall(VecDestroy(&opt->x_previous));
   PetscCall(VecDestroy(&opt->F_previous));
+  PetscCall(OptRecycleDestroy(opt));
   PetscFunctionReturn(0);
 }
