@@ -59,14 +59,15 @@ typedef struct {
   PetscInt  secants;                /* -coupling_secant_updates */
   Vec       x_previous, F_previous; /* the last iterate and its F, for the secant update */
   Vec       correction;
-  /* opt_krylov_recycle.c: earlier products start each Krylov solve */
+  /* opt_krylov_recycle.c: earlier products precondition each Krylov solve */
   PetscInt   recycle_steps;   /* -coupling_inner_recycle: of this many steps back (0: none) */
   PetscInt   recycle_columns; /* -coupling_inner_recycle_columns */
+  PetscReal  recycle_filter;  /* -coupling_inner_recycle_filter */
   IQNColumns recycled;        /* V: the products J h, W: their h */
-  Vec        recycle_start;   /* the solve's start x0 from them */
-  Vec        recycle_rhs;     /* the solve's right-hand side, restored after it */
-  PetscBool  recycle_active;  /* this solve started from x0 */
-  PetscReal  product_rnorm;   /* > 0: the Krylov residual the next product's tolerance assumes */
+  Vec       *recycle_W;       /* the kept columns' h, fixed for the solve in progress */
+  PetscInt   recycle_kept;    /* how many */
+  PetscReal  recycle_scale;   /* ||W|| / ||V|| of those: J^-1's size off their span */
+  PetscReal  recycle_stretch; /* <= 1: scale ||r|| / ||P r|| of the last application */
 } Opt;
 
 /* F(x), called in the optimizer's stage */

@@ -78,12 +78,14 @@ static PetscErrorCode NewtonMult(Mat A, Vec h, Vec y)
     KSP       ksp;
     PetscReal rnorm, abstol, theta = opt->inexact_products;
     PetscCall(SNESGetKSP(opt->snes, &ksp));
-    if (opt->product_rnorm > 0) rnorm = opt->product_rnorm;
-    else PetscCall(KSPGetResidualNorm(ksp, &rnorm));
+    PetscCall(KSPGetResidualNorm(ksp, &rnorm));
     PetscCall(KSPGetTolerances(ksp, NULL, &abstol, NULL, NULL));
     if (opt->fnorm_previous > 0 && opt->fnorm * (opt->fnorm / opt->fnorm_previous) <= 20 * abstol)
       theta = PetscMin(theta, opt->inexact_products_last);
-    PetscCall(FEMSetLinearizedRtol(rnorm > 0 ? PetscMin(0.1, theta * abstol / rnorm) : 0.1));
+    /* tighter where the recycled preconditioner stretched h (opt_krylov_recycle.c) */
+    PetscCall(FEMSetLinearizedRtol((rnorm > 0 ? PetscMin(0.1, theta * abstol / rnorm) : 0.1) *
+                                   (opt->recycle_stretch > 0 ? opt->recycle_stretch : 1.0)));
+    opt->recycle_stretch = 1.0;
   }
   PetscCall(CouplingProblemJacobianMult(C->problem, h, y));
   PetscCall(FEMSetLinearizedRtol(0));
@@ -178,8 +180,8 @@ PetscErrorCode OptNewtonKrylovSetUp(Coupling C)
              "option -coupling_inner chord: the chord step is -J0^-1 F with the explicit J0; expected "
              "-coupling_explicit_jacobian K > 0");
   PetscCheck(opt->inner_type != OPT_INNER_CHORD || !opt->recycle_steps, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
-             "option -coupling_inner_recycle: starts a Krylov method from earlier products; expected -coupling_inner "
-             "gmres or bicgstab, got chord");
+             "option -coupling_inner_recycle: preconditions a Krylov method by earlier products; expected "
+             "-coupling_inner gmres or bicgstab, got chord");
   PetscCall(VecDuplicate(C->x, &opt->x_linearization));
   PetscCall(VecGetLocalSize(C->x, &n));
   PetscCall(VecGetSize(C->x, &N));
