@@ -1,8 +1,9 @@
 /* -coupling opt -coupling_inner gmres|bicgstab|chord: Newton on the square interface system
    F(x) = 0 (SNES newtonls, unit steps). With no Tikhonov term the control and the jump live
    in the same interface space, so an iteration's step solves J h = -F itself: by GMRES or
-   BiCGStab right-preconditioned by the LU of the explicit J0 in hand (one linearized solve
-   per Krylov iteration, no adjoint solve, the conditioning of J instead of J^T J), or as the
+   BiCGStab right-preconditioned by the LU of the explicit J0 in hand or by the earlier
+   products (-coupling_inner_recycle, opt_krylov_recycle.c) (one linearized solve per
+   Krylov iteration, no adjoint solve, the conditioning of J instead of J^T J), or as the
    chord step h = -J0^{-1} F, which costs no linearized solve at all. The Krylov method stops
    when the linearized jump ||F + J h|| is below -coupling_inner_jump_fraction x -coupling_tol:
    solving further only sharpens a prediction the next residual replaces. */
