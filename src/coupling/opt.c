@@ -330,17 +330,18 @@ static PetscErrorCode OptSetUp(Coupling C)
                                  "this factor",
                                  0.0, 1.0, &opt->chord_contraction));
     PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_inner_recycle",
-                                "gmres, bicgstab: precondition each Krylov solve by the products J h of this step's and "
-                                "the last K steps' solves: J^-1 on their span (0: no preconditioner)",
+                                "gmres, bicgstab: precondition each Krylov solve by the products J h of this step's "
+                                "and the last K steps' solves: J^-1 on their span (0: no preconditioner)",
                                 0, 1000, &opt->recycle_steps));
+    opt->recycle_stretch = 1.0;
     opt->recycle_columns = 50;
     PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_inner_recycle_columns",
                                 "gmres, bicgstab: keep at most this many of those products, the newest", 1, 10000,
                                 &opt->recycle_columns));
     opt->recycle_filter = 1e-8;
     PetscCall(OptionsRealInRange(PetscOptionsObject, "-coupling_inner_recycle_filter",
-                                 "gmres, bicgstab: drop a product whose part orthogonal to the newer ones is below this "
-                                 "fraction of its norm (as -coupling_iqn_filter does)",
+                                 "gmres, bicgstab: drop a product whose part orthogonal to the newer ones is below "
+                                 "this fraction of its norm (as -coupling_iqn_filter does)",
                                  0.0, 1.0, &opt->recycle_filter));
     PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_secant_updates",
                                 "correct the explicit J0^-1 after each iteration by Broyden's secant update from its "

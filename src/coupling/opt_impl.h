@@ -64,10 +64,9 @@ typedef struct {
   PetscInt   recycle_columns; /* -coupling_inner_recycle_columns */
   PetscReal  recycle_filter;  /* -coupling_inner_recycle_filter */
   IQNColumns recycled;        /* V: the products J h, W: their h */
-  Vec       *recycle_W;       /* the kept columns' h, fixed for the solve in progress */
-  PetscInt   recycle_kept;    /* how many */
+  Vec       *recycle_W;       /* the kept columns' h (recycled.kept of them), fixed for the solve in progress */
   PetscReal  recycle_scale;   /* ||W|| / ||V|| of those: J^-1's size off their span */
-  PetscReal  recycle_stretch; /* <= 1: scale ||r|| / ||P r|| of the last application */
+  PetscReal  recycle_stretch; /* <= 1: scale ||r|| / ||P r|| of the last application; 1 without one */
 } Opt;
 
 /* F(x), called in the optimizer's stage */
@@ -75,14 +74,6 @@ PetscErrorCode OptResidual(Coupling, Vec x, Vec F);
 /* The stopping test of an iteration (DESIGN §3): writes its history row, counts its inner
    iterations (the solver's running total `inner_total`) and decides. */
 PetscErrorCode OptTestIteration(Coupling, PetscInt its, PetscReal objective, PetscInt inner_total, OptVerdict *);
-
-/* opt_krylov_recycle.c */
-PetscErrorCode OptRecycleSetUp(Coupling, KSP);
-PetscErrorCode OptRecycleRecord(Opt *, Vec h, Vec Jh);
-/* drops the kept products: after a checkpoint file (in the run that writes it as in the run
-   that restarts from it, which go on identically) and after a new dt (J scales with it) */
-PetscErrorCode OptRecycleForget(Opt *);
-PetscErrorCode OptRecycleDestroy(Opt *);
 
 /* opt_krylov_recycle.c */
 PetscErrorCode OptRecycleSetUp(Coupling, KSP);

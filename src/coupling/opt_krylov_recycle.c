@@ -36,7 +36,6 @@ static PetscErrorCode PreSolve(KSP ksp, Vec b, Vec x, void *ctx)
     PetscCall(VecNorm(qn->V[qn->keep[i]], NORM_2, &t));
     vv += t * t;
   }
-  opt->recycle_kept  = qn->kept;
   opt->recycle_scale = vv > 0 ? PetscSqrtReal(ww / vv) : 1.0;
   PetscFunctionReturn(0);
 }
@@ -54,7 +53,7 @@ static PetscErrorCode ApplyPC(PC pc, Vec r, Vec y)
   PetscCall(PCShellGetContext(pc, &C));
   opt  = (Opt *)C->data;
   qn   = &opt->recycled;
-  kept = opt->recycle_kept;
+  kept = qn->kept;
   n    = qn->max_cols;
   PetscCall(VecCopy(r, y));
   opt->recycle_stretch = 1.0;

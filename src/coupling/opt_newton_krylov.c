@@ -84,8 +84,7 @@ static PetscErrorCode NewtonMult(Mat A, Vec h, Vec y)
     if (opt->fnorm_previous > 0 && opt->fnorm * (opt->fnorm / opt->fnorm_previous) <= 20 * abstol)
       theta = PetscMin(theta, opt->inexact_products_last);
     /* tighter where the recycled preconditioner stretched h (opt_krylov_recycle.c) */
-    PetscCall(FEMSetLinearizedRtol((rnorm > 0 ? PetscMin(0.1, theta * abstol / rnorm) : 0.1) *
-                                   (opt->recycle_stretch > 0 ? opt->recycle_stretch : 1.0)));
+    PetscCall(FEMSetLinearizedRtol((rnorm > 0 ? PetscMin(0.1, theta * abstol / rnorm) : 0.1) * opt->recycle_stretch));
     opt->recycle_stretch = 1.0;
   }
   PetscCall(CouplingProblemJacobianMult(C->problem, h, y));
