@@ -25,7 +25,10 @@ stage), core-microseconds per unknown and step (stepping x ranks / (steps x unkn
 memory (summary.json memory_gib.peak) per unknown, Krylov iterations per linear solve of
 each subproblem (the mean of the KSP converged-reason lines; forward and transposed solves
 together), Gauss-Newton iterations per step and inner iterations per Gauss-Newton
-iteration, and the -log_view stage split per step. The crossover is the first level at
+iteration, the -log_view stage split per step, and the kernels a step is made of (the fluid's
+field-split application inside a product, the fluid Jacobian and residual, the product's
+structure solve, the mesh-motion solve): core-µs per unknown and call and calls per step,
+with each kernel's growth from the first level to the last split into the two. The crossover is the first level at
 which the iterative runs cost fewer core-microseconds per unknown and step than LU.
 
 Outputs under out/cost_growth/ (--out): cost_growth.csv and cost_growth.md; runs in
@@ -60,6 +63,19 @@ SOLVERS = {
 REASONS = ["-fluid_ksp_converged_reason", "-structure_ksp_converged_reason", "-mesh_ksp_converged_reason"]
 SUBPROBLEMS = ("fluid", "structure", "mesh")
 KRYLOV_LINE = re.compile(r"Linear (\w+?)_ solve converged due to \w+ iterations (\d+)")
+# The kernels a step is made of, from -log_view: (key, label, stage (None: all stages), the
+# event timed, the event counted (None: the timed one), the unknowns it is per). A cost that
+# grows with the unknowns is either more calls per step or dearer calls; this splits the two.
+# The first three are fixed work per call; a structure or mesh solve iterates inside its call.
+FIXED_WORK = ("fs_apply", "fluid_jacobian", "fluid_residual")
+KERNELS = [
+    ("fs_apply", "product's fluid solve, per field-split application", "Sensitivity", "FluidLinSolve",
+     "KSPSolve_FS_Schu", "fluid_dofs"),
+    ("fluid_jacobian", "fluid Jacobian assembly", None, "FluidJacobian", None, "fluid_dofs"),
+    ("fluid_residual", "fluid residual", None, "FluidResidual", None, "fluid_dofs"),
+    ("structure_product", "product's structure solve", "Sensitivity", "StructLinSolve", None, "structure_dofs"),
+    ("mesh_solve", "mesh-motion solve", "MeshMotion", "MeshMotion", "KSPSolve", "fluid_dofs"),
+]
 
 
 def int_list(text, what):
@@ -84,6 +100,51 @@ def krylov_iterations(run_dir):
     return {k: sum(v) / len(v) for k, v in counts.items()}
 
 
+def kernel_costs(run_dir, row, np):
+    """{key_us: core-µs per unknown and call, key_calls: calls per step} of every kernel
+    (empty where the run has no such event, e.g. no field split with LU)."""
+    out = {}
+    try:
+        with open(os.path.join(run_dir, "stdout.log")) as f:
+            text = f.read()
+    except (OSError, TypeError):
+        text = ""
+    table = fr.parse_stage_event_table(text)
+    stages = fr.parse_stages(text)
+
+    def total(stage, event):
+        """(count, seconds) of event in stage, or over all stages; a stage's own time for a stage's name"""
+        if stage is not None and event == stage:
+            return 1, stages.get(stage, 0.0)
+        tables = [table.get(stage, {})] if stage is not None else table.values()
+        found = [t[event] for t in tables if event in t]
+        return sum(e[0] for e in found), sum(e[1] for e in found)
+
+    for key, _, stage, timed, counted, per in KERNELS:
+        calls, seconds = total(stage, timed)
+        if counted:
+            calls = total(stage, counted)[0]
+        unknowns, steps = row.get(per) or 0, row.get("steps") or 0
+        ok = calls and seconds and unknowns and steps
+        out[key + "_us"] = seconds * np / (calls * unknowns) * 1e6 if ok else ""
+        out[key + "_calls"] = calls / steps if ok else ""
+    return out
+
+
+def kernel_share(costs, calls, keys=None):
+    """core-µs per unknown (fluid + wall) and step of the kernels (those of `keys`, default
+    all), at the cost per call of the row `costs` and the calls per step of the row `calls`
+    (None when a kernel is missing)"""
+    total = 0.0
+    for key, _, _, _, _, per in KERNELS:
+        if keys is not None and key not in keys:
+            continue
+        if costs.get(key + "_us", "") == "" or calls.get(key + "_calls", "") == "" or not costs.get("unknowns"):
+            return None
+        total += costs[key + "_us"] * calls[key + "_calls"] * costs[per] / costs["unknowns"]
+    return total
+
+
 def cost_row(r, level, solver, np):
     row = T.result_row(r)
     row.update(level=level, solver=solver, np=np)
@@ -100,6 +161,7 @@ def cost_row(r, level, solver, np):
     its = krylov_iterations(r.run_dir) if r.run_dir else {}
     for sub in SUBPROBLEMS:
         row["krylov_its_%s" % sub] = its.get(sub, "")
+    row.update(kernel_costs(r.run_dir, row, np) if r.run_dir else {})
     return row
 
 
@@ -152,6 +214,7 @@ def main():
              ["krylov_its_%s" % sub for sub in SUBPROBLEMS] + \
              ["avg_coupling_iterations", "inner_per_coupling_iteration", "coupling_iterations", "inner_iterations",
               "fluid_linear_solves", "max_interface_jump", "converged"] + step_keys + \
+             [k + suffix for k, *_ in KERNELS for suffix in ("_us", "_calls")] + \
              [B.stage_key(st) for st in B.STAGES] + ["run_dir", "command"]
     os.makedirs(args.out, exist_ok=True)
     base = os.path.join(args.out, "cost_growth")
@@ -186,6 +249,35 @@ def main():
     for row in rows:
         md.append("| %s | %s | %s |" % (row["level"], row["solver"], " | ".join(fmt(row[k], "%.3g") for k in step_keys)))
     md += ["", T.STAGE_NOTE]
+    md += ["", "## Kernels: core-µs per unknown and call × calls per step", "",
+           "| level | solver | " + " | ".join(k[1] for k in KERNELS) + " |", "|" + "---|" * (2 + len(KERNELS))]
+    for row in rows:
+        md.append("| %s | %s | %s |" % (row["level"], row["solver"], " | ".join(
+            "%s × %s" % (fmt(row.get(k + "_us", ""), "%.3g"), fmt(row.get(k + "_calls", ""), "%.3g"))
+            if row.get(k + "_us", "") != "" else "-" for k, *_ in KERNELS)))
+    for s in solvers:
+        mine = [row for row in rows if row["solver"] == s and row.get("core_us_per_unknown_step", "") != ""]
+        if len(mine) < 2:
+            continue
+        a, b = mine[0], mine[-1]
+        parts = ["%s %.3g× per call, %.3g× calls" % (label, b[k + "_us"] / a[k + "_us"], b[k + "_calls"] / a[k + "_calls"])
+                 for k, label, *_ in KERNELS if a.get(k + "_us", "") != "" and b.get(k + "_us", "") != ""]
+        md += ["", "%s, level %s → %s: the whole step %.3g×; %s." % (
+            s, a["level"], b["level"], b["core_us_per_unknown_step"] / a["core_us_per_unknown_step"], "; ".join(parts))]
+        shares = [kernel_share(a, a), kernel_share(b, b)]
+        fixed = [kernel_share(a, a, FIXED_WORK), kernel_share(b, a, FIXED_WORK)]
+        if all(shares) and all(fixed):
+            md[-1] += (" At level %s's calls per step, level %s's kernels would cost %.3g× level %s's, the fluid's "
+                       "three alone %.3g× (their work per call has no iteration in it: no iteration count removes "
+                       "this growth). The kernels make %.0f %% and %.0f %% of the steps' cost." % (
+                           a["level"], b["level"], kernel_share(b, a) / shares[0], a["level"], fixed[1] / fixed[0],
+                           100 * shares[0] / a["core_us_per_unknown_step"], 100 * shares[1] / b["core_us_per_unknown_step"]))
+    md += ["", "A kernel's cost is per unknown of its subproblem (fluid or structure; the mesh motion's per fluid "
+           "unknown) and per call: a call of the field-split row is one application of the fluid's Schur field "
+           "split inside a product's FGMRES (the product's fluid solve time over the applications), the mesh-motion "
+           "row's one CG solve (the MeshMotion stage over its solves). A kernel whose cost per unknown and call "
+           "grows does more work per unknown (wider stencils, more multigrid levels) or runs slower (caches); one "
+           "whose calls per step grow is iterated more."]
     fr.finish_report(md, base + ".md", [base + e for e in (".csv", ".md")],
                      [(r.label, r) for _, _, _, r in plan if not r.ok], len(plan), "cost_growth", "run(s)")
 

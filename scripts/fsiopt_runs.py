@@ -209,8 +209,9 @@ def parse_stages(stdout_text):
     return stages
 
 
-def parse_stage_events(stdout_text):
-    """{stage name: {event name: seconds (max over ranks)}} from -log_view's event table."""
+def parse_stage_event_table(stdout_text):
+    """{stage name: {event name: (count, seconds (max over ranks), flop (max over ranks))}}
+    from -log_view's event table."""
     events, stage = {}, None
     for line in stdout_text.splitlines():
         if line.startswith("Object Type") and events:
@@ -221,12 +222,18 @@ def parse_stage_events(stdout_text):
             events.setdefault(stage, {})
             continue
         fields = line.split()
-        if stage and len(fields) > 4 and fields[1].isdigit():
+        if stage and len(fields) > 6 and fields[1].isdigit():
             try:
-                events[stage][fields[0]] = float(fields[3])
+                events[stage][fields[0]] = (int(fields[1]), float(fields[3]), float(fields[5]))
             except ValueError:
                 pass
     return events
+
+
+def parse_stage_events(stdout_text):
+    """{stage name: {event name: seconds (max over ranks)}} from -log_view's event table."""
+    return {stage: {name: e[1] for name, e in table.items()}
+            for stage, table in parse_stage_event_table(stdout_text).items()}
 
 
 def parse_event_count(stdout_text, event):
