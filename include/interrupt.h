@@ -15,6 +15,11 @@ PetscErrorCode InterruptTestAfterStep(PetscInt step);
 /* The stopping signal any rank has received since the start (0: none), and whether any
    rank received a SIGUSR1 since the last check; collective. */
 PetscErrorCode InterruptCheck(MPI_Comm, int *signum, PetscBool *checkpoint);
+/* The stopping signal any rank has received since the start (0: none), leaving SIGUSR1's
+   requests to InterruptCheck; collective. A failed step asks before it retries. */
+PetscErrorCode InterruptStopPending(MPI_Comm, int *signum);
+/* -interrupt_test_failure: the signal of -interrupt_test_signal when a step first fails */
+PetscErrorCode InterruptTestAfterFailure(void);
 const char    *InterruptName(int signum);
 /* Installed at the start (main), the handlers hold a stop that comes during the set-up until
    the next of these checks, which end the run with one line (collective on every rank;

@@ -21,8 +21,12 @@ typedef struct {
 PetscErrorCode StepRetryCreate(const RunParams *, Fluid, Structure, Coupling, StepRetry *);
 /* Takes step `step` (from t_start + (step-1) dt to t_start + step dt). On return *failure
    is NULL, or the reason the step failed with the smallest dt allowed; the state is then
-   the failed attempt's. Collective. */
+   the failed attempt's. A stopping signal caught when an attempt from the step's start has
+   failed ends the step there instead of retrying it: *failure is NULL, the state is the
+   one the step started from, and StepRetryGetStop names the signal. Collective. */
 PetscErrorCode StepRetryAdvance(StepRetry, PetscInt step, const char **failure);
+/* The signal that ended the last step before its retries (0: none) */
+PetscErrorCode StepRetryGetStop(StepRetry, int *signum);
 /* Sets the dt of the fluid, structure and coupling, as a retried step does: BDF2 starts
    again with one backward-Euler step and the coupling drops its extrapolation history. */
 PetscErrorCode StepRetrySetTimeStep(StepRetry, PetscReal dt);

@@ -270,7 +270,7 @@ def test_help_lists_options():
                 "-quantities_window", "-checkpoint_every", "-checkpoint_file", "-restart", "-fluid_steady",
                 "-mesh_motion_stiffening", "-mesh_motion_incremental", "-mesh_motion_warm_start", "-dt_min",
                 "-fluid_time_order", "-coupling_lag_preconditioner_only",
-                "-coupling_explicit_jacobian_rebuild_its", "-interrupt_test_step", "-interrupt_test_signal",
+                "-coupling_explicit_jacobian_rebuild_its", "-interrupt_test_step", "-interrupt_test_signal", "-interrupt_test_failure",
                 "-coupling_inner", "-coupling_inner_jump_fraction", "-coupling_chord_contraction",
                 "-coupling_start_correction", "-coupling_extrapolation_recurrence", "-coupling_secant_updates", "-coupling_tol_relative"]:
         assert opt in text, "%s not in -help of turek-hron" % opt

@@ -577,6 +577,39 @@ def test_diverging_steps():
     return "%d cases" % len(cases)
 
 
+@test("a stopping signal when a step fails ends the run before the retries, at the step before, with its checkpoint")
+def test_signal_stops_retries():
+    # channel2d with two Gauss-Newton iterations allowed: step 8 is the first that fails and would be retried
+    base = CHANNEL + ["-t_final", "0.005", "-coupling_tol", "1e-6", "-dt", "5e-4", "-coupling_max_it", "2"]
+    details = []
+    for nproc in (1, 2):
+        stopped, after = os.path.join(WORK, "stop-retry-%d" % nproc), os.path.join(WORK, "stop-after-%d" % nproc)
+        for d in (stopped, after):
+            shutil.rmtree(d, ignore_errors=True)
+        rc, stdout, err, s = run(base + ["-interrupt_test_failure"], nproc=nproc, out=stopped)
+        lines = [l for l in err.splitlines() if l.startswith("fsiopt")]
+        assert rc != 0 and len(lines) == 1 and lines[0].startswith("fsiopt: error: interrupted by SIGTERM after step 7 ") \
+            and "-restart" in lines[0], "%d ranks: rc %d, stderr %s" % (nproc, rc, lines)
+        assert "not retried: SIGTERM" in stdout and "retrying with dt" not in stdout, "%d ranks: the step was retried" % nproc
+        assert s["steps_done"] == 7 and s["failed_attempts"] == 1 and s["interrupted"] == "SIGTERM" and s["failure"] is None \
+            and s["converged"] is False, "%d ranks: summary %s" % (nproc, s)
+        assert fr.checkpoint_step(os.path.join(stopped, "checkpoint.h5")) == 7, "%d ranks: the checkpoint is not of step 7" % nproc
+        assert len(read_probes(os.path.join(stopped, "probes.csv"))[1]) == 8, "%d ranks: probes.csv does not end at step 7" % nproc
+        rows = list(csv.DictReader(open(os.path.join(stopped, "history.csv"))))
+        assert [r["event"] for r in rows if r["event"] in ("retry", "failed")] == ["failed"], "%d ranks: history's events" % nproc
+        # the checkpoint is the one a signal after step 7 leaves: both continue the run alike, byte for byte
+        rc2, _, err2, _ = run(base + ["-interrupt_test_step", "7"], nproc=nproc, out=after)
+        assert rc2 != 0 and fr.checkpoint_step(os.path.join(after, "checkpoint.h5")) == 7, "signal after step 7: %s" % err2
+        ends = []
+        for d in (stopped, after):
+            more = solve(base + ["-restart", os.path.join(d, "checkpoint.h5")], nproc=nproc, out=d + "-restarted")
+            assert more["first_step"] == 8 and more["steps_done"] == 10, "restart of %s: %s" % (d, more)
+            ends.append(open(os.path.join(d + "-restarted", "probes.csv")).read())
+        assert ends[0] == ends[1], "%d ranks: the two checkpoints continue differently" % nproc
+        details.append("%d rank%s: stopped at step 8's first failure, 1 failed attempt" % (nproc, "s" if nproc > 1 else ""))
+    return "%s; each checkpoint of step 7 continues the run byte for byte as one written after step 7" % ", ".join(details)
+
+
 @test("diverging steps retried with dt/2: = the run at dt/2 (SVK), near the smallest dt's run (channel2d)")
 def test_retried_steps():
     svk = ["-options_file", "options/mms-structure.yaml", "-structure_model", "svk"]

@@ -6,6 +6,7 @@ static volatile sig_atomic_t requests    = 0; /* SIGUSR1s received */
 static int                   answered    = 0; /* of those, the ones InterruptCheck has reported */
 static PetscInt              test_step   = 0; /* -interrupt_test_step */
 static int                   test_signal = SIGTERM;
+static PetscBool             test_failure = PETSC_FALSE; /* -interrupt_test_failure, until it fires */
 
 static void Catch(int signum)
 {
@@ -68,6 +69,9 @@ PetscErrorCode InterruptSetFromOptions(void)
                             test_step, &test_step, NULL));
   PetscCall(PetscOptionsEList("-interrupt_test_signal", "testing: the signal of -interrupt_test_step", NULL, names,
                               (PetscInt)PETSC_STATIC_ARRAY_LENGTH(names), names[which], &which, NULL));
+  PetscCall(PetscOptionsBool("-interrupt_test_failure",
+                             "testing: the process sends itself -interrupt_test_signal when a step first fails", NULL,
+                             test_failure, &test_failure, NULL));
   PetscCall(PetscOptionsBool("-interrupt_test_setup",
                              "testing: the process sends itself -interrupt_test_signal during its set-up", NULL,
                              in_setup, &in_setup, NULL));
@@ -85,6 +89,25 @@ PetscErrorCode InterruptTestAfterStep(PetscInt step)
   if (test_step > 0 && step == test_step)
     PetscCheck(raise(test_signal) == 0, PETSC_COMM_SELF, PETSC_ERR_SYS,
                "option -interrupt_test_step: cannot raise the signal");
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode InterruptTestAfterFailure(void)
+{
+  PetscFunctionBeginUser;
+  if (!test_failure) PetscFunctionReturn(0);
+  test_failure = PETSC_FALSE;
+  PetscCheck(raise(test_signal) == 0, PETSC_COMM_SELF, PETSC_ERR_SYS,
+             "option -interrupt_test_failure: cannot raise the signal");
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode InterruptStopPending(MPI_Comm comm, int *signum)
+{
+  int local = (int)caught;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Allreduce(&local, signum, 1, MPI_INT, MPI_MAX, comm));
   PetscFunctionReturn(0);
 }
 

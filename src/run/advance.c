@@ -78,6 +78,19 @@ PetscErrorCode RunAdvance(Run run)
                             run->coupled ? run->params.coupling : NULL, s->structure_ranks));
   for (PetscInt step = run->first_step; step <= run->params.steps; ++step) {
     PetscCall(StepRetryAdvance(run->retry, step, &run->failure));
+    {
+      int stopped;
+      PetscCall(StepRetryGetStop(run->retry, &stopped));
+      if (stopped) {
+        /* the step failed and was not retried: the state and the outputs are those of the step before */
+        run->signal_caught = stopped;
+        s->steps_done      = step - 1;
+        s->interrupted     = InterruptName(stopped);
+        if (run->checkpoint.possible && step - 1 >= run->first_step && run->checkpoint.last != step - 1)
+          PetscCall(WriteCheckpoint(run, step - 1));
+        break;
+      }
+    }
     if (run->failure) {
       /* the outputs end with the last step completed; the last checkpoint stays */
       s->steps_done = step - 1;

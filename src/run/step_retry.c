@@ -3,6 +3,7 @@
 #include "checkpoint.h"
 #include "options.h"
 #include "logging.h"
+#include "interrupt.h"
 
 struct _p_StepRetry {
   const RunParams *params;
@@ -13,6 +14,8 @@ struct _p_StepRetry {
   Checkpoint       start; /* the state the attempt in progress started from; NULL: no retries */
   StepFailure      failure;
   StepRetryStats   stats;
+  PetscReal        step_start; /* t at the start of the step in progress */
+  int              stopped;    /* the signal that ended the step in progress before a retry (0: none) */
 };
 
 PetscErrorCode StepRetryCreate(const RunParams *params, Fluid fluid, Structure structure, Coupling coupling,
@@ -103,6 +106,23 @@ static PetscErrorCode Attempt(StepRetry R, PetscInt step, PetscReal t, PetscReal
   }
   R->stats.failed_attempts++;
   retry = R->start && dt / 2 >= R->dt_min * (1 - 1e-12) ? PETSC_TRUE : PETSC_FALSE;
+  if (retry && t == R->step_start) {
+    /* A stop asked for now would otherwise wait for every retry (a diverging step may take
+       minutes, longer than a batch system's grace before SIGKILL). From the step's start the
+       state kept is the one the step began with: back to it, at the run's dt, and stop there. */
+    int signum;
+    PetscCall(InterruptTestAfterFailure());
+    PetscCall(InterruptStopPending(PETSC_COMM_WORLD, &signum));
+    if (signum) {
+      if (R->coupling) PetscCall(CouplingLogRetry(R->coupling, step, "failed"));
+      PetscCall(StepRetrySetTimeStep(R, R->params->dt));
+      PetscCall(KeepStart(R, PETSC_TRUE));
+      R->stopped = signum;
+      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fsiopt: %s; not retried: %s asks the run to stop\n", reason,
+                            InterruptName(signum)));
+      PetscFunctionReturn(0);
+    }
+  }
   if (R->coupling) PetscCall(CouplingLogRetry(R->coupling, step, retry ? "retry" : "failed"));
   if (!retry) {
     if (!R->start)
@@ -116,7 +136,9 @@ static PetscErrorCode Attempt(StepRetry R, PetscInt step, PetscReal t, PetscReal
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fsiopt: %s; retrying with dt = %g\n", reason, (double)(dt / 2)));
   PetscCall(KeepStart(R, PETSC_TRUE));
   *failed = PETSC_FALSE;
-  for (PetscInt half = 0; half < 2 && !*failed; ++half) PetscCall(Attempt(R, step, t + half * dt / 2, dt / 2, failed));
+  for (PetscInt half = 0; half < 2 && !*failed && !R->stopped; ++half)
+    PetscCall(Attempt(R, step, t + half * dt / 2, dt / 2, failed));
+  if (R->stopped) *failed = PETSC_TRUE;
   PetscFunctionReturn(0);
 }
 
@@ -127,9 +149,18 @@ PetscErrorCode StepRetryAdvance(StepRetry R, PetscInt step, const char **failure
 
   PetscFunctionBeginUser;
   StepFailureClear(&R->failure);
-  PetscCall(Attempt(R, step, R->params->t_start + (step - 1) * R->params->dt, R->params->dt, &failed));
+  R->step_start = R->params->t_start + (step - 1) * R->params->dt;
+  R->stopped    = 0;
+  PetscCall(Attempt(R, step, R->step_start, R->params->dt, &failed));
   if (R->stats.failed_attempts > failed_before && !failed) R->stats.retried_steps++;
-  *failure = failed ? R->failure.reason : NULL;
+  *failure = failed && !R->stopped ? R->failure.reason : NULL;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode StepRetryGetStop(StepRetry R, int *signum)
+{
+  PetscFunctionBeginUser;
+  *signum = R->stopped;
   PetscFunctionReturn(0);
 }
 
