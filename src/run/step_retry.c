@@ -136,9 +136,8 @@ static PetscErrorCode Attempt(StepRetry R, PetscInt step, PetscReal t, PetscReal
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fsiopt: %s; retrying with dt = %g\n", reason, (double)(dt / 2)));
   PetscCall(KeepStart(R, PETSC_TRUE));
   *failed = PETSC_FALSE;
-  for (PetscInt half = 0; half < 2 && !*failed && !R->stopped; ++half)
-    PetscCall(Attempt(R, step, t + half * dt / 2, dt / 2, failed));
-  if (R->stopped) *failed = PETSC_TRUE;
+  /* a stopped half returns failed, which ends this loop too */
+  for (PetscInt half = 0; half < 2 && !*failed; ++half) PetscCall(Attempt(R, step, t + half * dt / 2, dt / 2, failed));
   PetscFunctionReturn(0);
 }
 
