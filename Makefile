@@ -119,7 +119,7 @@ test-quick: deps
 	$(MAKE) all
 	$(PYTHON) tests/run_tests.py --quick
 
-# a subset of runs under valgrind memcheck and PETSc's malloc trace (about 40 minutes: docs/limits.md)
+# a subset of runs under valgrind memcheck and PETSc's malloc trace (about 40 minutes: docs/testing.md)
 check-memory: deps
 	$(MAKE) all
 	$(PYTHON) scripts/check_memory.py

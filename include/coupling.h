@@ -6,7 +6,7 @@
 #include "interface.h"
 #include <petscviewer.h>
 
-/* The control problem of one time step (DESIGN §3), on the parent communicator.
+/* The control problem of one time step (docs/design.md §3), on the parent communicator.
 
    The optimizer's variable is the scaled control x = W^{1/2} g, with W the lumped
    interface mass on the control nodes: the Euclidean norm of x is then the L2(Gamma_I)
@@ -107,7 +107,10 @@ typedef struct {
   PetscInt stalled_steps;
   PetscReal
     max_jump; /* largest final interface velocity jump of a step (partitioned: zero to the solvers' tolerance) */
-  PetscReal last_jump; /* that of the last step completed */
+  PetscReal last_jump;   /* that of the last step completed */
+  PetscReal max_measure; /* largest final value of the method's convergence measure over the steps */
+  const char *measure;   /* its name and tolerance ("interface jump ||u - v_s||_L2(Gamma_I) <= 1e-4") */
+  const char *setting;   /* how the method iterates ("chord on J0 ...") */
 } CouplingStats;
 
 /* The methods by name (-coupling), as the scenes are: CouplingRegisterAll() adds opt, dn,

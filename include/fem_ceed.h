@@ -3,7 +3,7 @@
 #include <petscdmplex.h>
 #include <ceed.h>
 
-/* libCEED, the fast backend of the finite-element operators (DESIGN §5): the pieces of a
+/* libCEED, the fast backend of the finite-element operators (docs/design.md §5): the pieces of a
    CeedOperator taken from a DMPlex and its PetscFE, so that an operator integrates what
    PETSc's integration does, at the same quadrature points with the same basis values. */
 

@@ -104,7 +104,7 @@ static inline const char *StepFailureReason(const StepFailure *failure)
   return failure->reason[0] ? failure->reason : NULL;
 }
 
-/* Common run parameters (DESIGN §6). */
+/* Common run parameters (docs/design.md §6). */
 typedef struct {
   char      scene[64];
   char      coupling[16];

@@ -5,6 +5,8 @@
 /* Under -help, fsiopt's own option lines are held back from PETSc's listing (Begin) and
    printed at its end grouped by prefix, with their units in the scene's system (End). */
 PetscErrorCode HelpListingBegin(void);
+/* -help all (main.c, from the command line): PETSc's own lines follow fsiopt's */
+void           HelpListingSetPETSc(PetscBool all);
 PetscErrorCode HelpListingEnd(const char units[]);
 /* Around a run's set-up without -help: the options every object reads, with the values
    they take (given or default), for summary.json (OptionsCapturedGet: n pairs, in the

@@ -2,7 +2,7 @@
 #define FSIOPT_INTERFACE_H
 #include "fsiopt.h"
 
-/* The conforming fluid-structure interface (DESIGN §3, "a matrix view").
+/* The conforming fluid-structure interface (docs/design.md §3, "a matrix view").
 
    An interface vector holds one value per interface node and component, laid out on
    the parent communicator in the fluid's ownership and order (the fluid numbers the

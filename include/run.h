@@ -1,7 +1,7 @@
 #ifndef FSIOPT_RUN_H
 #define FSIOPT_RUN_H
 #include <petscsys.h>
-/* A run (DESIGN §6): set up from the options (scene, meshes, solvers, coupling, outputs),
+/* A run (docs/design.md §6): set up from the options (scene, meshes, solvers, coupling, outputs),
    advanced step by step to -t_final, reported in summary.json. A new scene, coupling
    method or output registers itself in its own module: nothing here changes. */
 typedef struct _p_Run *Run;

@@ -7,7 +7,7 @@
 #include "coupling.h"
 #include "step_retry.h"
 
-/* Everything summary.json reports (DESIGN §6). Negative values mean "does not apply"
+/* Everything summary.json reports (docs/design.md §6). Negative values mean "does not apply"
    and are written as null. */
 typedef struct {
   const RunParams *params;
@@ -18,6 +18,8 @@ typedef struct {
   PetscInt         coupling_iterations, inner_iterations, stalled_steps;
   PetscInt         forward_products, adjoint_products;
   PetscReal        work_factor, max_interface_jump;
+  PetscReal        max_convergence_measure; /* the method's own measure's largest final value */
+  const char      *convergence_measure;     /* what it is, with the tolerance (CouplingStats.measure) */
   PetscReal        worst_corner_ratio, worst_corner_time; /* moving fluid meshes (FluidGetMeshQuality) */
   PetscBool        converged, has_fluid, has_structure;
   PetscInt         steps_done;  /* fewer than params->steps when interrupted */

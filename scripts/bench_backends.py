@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Whole runs on both operator backends (issue 23): per case, fsiopt with -fem_backend petsc
+"""Whole runs on both operator backends: per case, fsiopt with -fem_backend petsc
 and then with -fem_backend ceed, back to back (never two runs at once: they are timed), and
 the ratios of their wall times (petsc / ceed) and peak resident memory (ceed / petsc), with
 the largest probe difference between them relative to each probe's largest value. Cases:
@@ -36,7 +36,7 @@ def main():
     mesh_dir = os.path.join(fr.ROOT, "out", "meshes")
     progress = fr.StudyProgress(len(cases) * len(BACKENDS) * args.repeat)
     rows, failed = [], []
-    md = ["# Whole runs on both operator backends (issue 23)", "",
+    md = ["# Whole runs on both operator backends (-fem_backend petsc, ceed)", "",
           "`%s`, one run at a time; the fastest of %d per backend." % (
               " ".join(["/usr/bin/python3", "scripts/bench_backends.py"] + sys.argv[1:]), args.repeat), "",
           "| case | steps | unknowns fluid / structure | petsc s | ceed s | speed-up | petsc MiB | ceed MiB | "

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""What the finite-element operators cost on each backend (issue 23): per case, a few time
+"""What the finite-element operators cost on each backend: per case, a few time
 steps of fsiopt with -log_view on -fem_backend petsc and then on -fem_backend ceed, back to
 back, and from each -log_view the calls and seconds of the fluid's and the structure's
 residuals and Jacobians in the Fluid and Structure stages: PETSc's DMPlex integration
@@ -32,8 +32,8 @@ OPERATORS = (("fluid residual", "Fluid", "fluid_dofs", "DMPlexResidualFE", "Flui
              ("structure Jacobian", "Structure", "structure_dofs", "DMPlexJacobianFE", "StructJacobian"))
 EVENTS = {e for op in OPERATORS for e in op[3:]} | {"FluidMatFreeMult"}
 # the same systems solved (one step of iterative refinement on the LU: a Richardson step with
-# the matrix-free product), the matrix-free products timed; the coupling's inner method the LU
-# runs' (a Krylov fluid's default is gmres since session 45)
+# the matrix-free product), the matrix-free products timed; the coupling's inner method set to
+# cgls (with a Krylov fluid, -coupling_inner would default to gmres)
 MATFREE = ["-fluid_matfree", "-fluid_ksp_type", "richardson", "-fluid_ksp_max_it", "2", "-fluid_ksp_norm_type", "none",
            "-coupling_inner", "cgls"]
 CASES = ["channel2d-r0", "channel2d-r1", "channel2d-r2", "tube3d-n1", "tube3d-n2", "turek-fsi3-n1", "turek-fsi3-n2"]
@@ -100,7 +100,7 @@ def main():
             runs[case, backend] = fr.Variant("%s-%s" % (case, backend), case, options,
                                              outputs=fr.OUTPUTS + ("stdout.log",))
     fr.run_all(list(runs.values()), args.bin, os.path.join(OUT, "runs"), jobs=1, force=args.force)
-    rows, md = [], ["# Finite-element operators on both backends (issue 23)", "",
+    rows, md = [], ["# Finite-element operators on both backends (-fem_backend petsc, ceed)", "",
                     "`%s`, one run at a time, %d steps each; ms per call, and us per unknown and call." % (
                         " ".join(["/usr/bin/python3", "scripts/bench_operators.py"] + sys.argv[1:]), args.steps),
                     "", "| case | unknowns | operator | calls petsc, ceed | petsc ms | ceed ms | petsc us/unknown | "

@@ -4,8 +4,14 @@
 The channel: fluid [0,6]x[0,1], elastic wall [0,6]x[1,1.1] on top, inlet pressure pulse,
 dt = 1e-4 to T = 0.1 (options/channel2d.yaml). Reproduces, from bin/fsiopt runs:
 
-  probes RUNDIR...  vertical displacement dy of the interface points (1.5,1), (3,1), (4.5,1)
-                    against time, one panel per point, one curve per run (Figs 3.2-3.5 style)
+  probes RUNDIR...  the probes of any scene's runs against time: the displacement columns
+                    of probes.csv (dx, dy, dz; --columns dx,dz selects), each labelled by its
+                    header as written (name, probe point, unit); one run: a panel per
+                    quantity, a curve per column; several runs: a panel per column, a curve
+                    per run. The y axes give the unit; the title the runs' scene
+                    (summary.json "scene", else the dir name). For channel2d: dx and dy of
+                    (1.5,1), (3,1), (4.5,1), Figs 3.2-3.5
+  (the studies below plot dy, the vertical displacement of the interface points)
   mesh              hy = 0.1, 0.05, 1/30: fluid 30x10, 30x20, 30x30 cells with a wall of
                     1, 2, 3 cells across (Fig 3.2)
   order             first-order against second-order (midpoint) wall (Fig 3.5)
@@ -41,10 +47,11 @@ numbers go into <figure>-runs.csv. A run that fails (non-zero exit) is reported 
 
 Examples (build first: make all; the full T = 0.1 runs take several minutes each):
   scripts/channel2d_figures.py probes out/channel2d
+  scripts/channel2d_figures.py probes out/tube3d --columns dx,dz
   scripts/channel2d_figures.py all --jobs 2
   scripts/channel2d_figures.py mesh --t-final 0.01 --out out/figures-short
   scripts/channel2d_figures.py pressure --t-final 0.01 --times 0.0025,0.005,0.0075 --out /tmp/pf"""
-import argparse, csv, hashlib, math, os, re, shlex, sys, textwrap
+import argparse, csv, hashlib, math, os, shlex, sys, textwrap
 
 import matplotlib
 matplotlib.use("Agg")
@@ -54,6 +61,7 @@ import numpy as np
 sys.dont_write_bytecode = True   # no scripts/__pycache__ next to the sources
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import fsiopt_runs as fr   # noqa: E402
+import fsiopt_tables as ft   # noqa: E402  (probes.csv headers, scenes, units)
 from channel2d_pressure import default_times, pressure_figure  # noqa: E402  (the pressure figure)
 
 ROOT = fr.ROOT
@@ -125,76 +133,112 @@ def study(args, which):
 
 
 # ---------------------------------------------------------------------------- probes
-def read_probes(run_dir):
-    """(t, {point name: dy}) from run_dir/probes.csv; point name like '1.5;1.'."""
+def probes_path(run_dir):
     path = os.path.join(run_dir, "probes.csv")
     if not os.path.isfile(path):
         extra = " (only probes.csv.partial: the run is unfinished or failed)" \
             if os.path.isfile(path + ".partial") else ""
         raise FileNotFoundError("%s: no such file%s" % (fr.rel(path), extra))
-    names, cols = fr.read_table(path)
-    if not names or names[0] != "t":
-        raise ValueError("%s: expected a first column t, got %r" % (fr.rel(path), names[:1]))
-    dy = {}
-    for name, col in zip(names, cols):
-        m = re.fullmatch(r"dy\((.*)\)", name)
-        if m:
-            dy[m.group(1)] = np.array(col)
-    if not dy:
-        raise ValueError("%s: no dy(...) columns" % fr.rel(path))
-    return np.array(cols[0]), dy
+    return path
 
 
-def point_title(point):
-    """'1.5;1.' -> '(1.5,1.0)'"""
-    try:
-        return "(%s)" % ",".join("%.1f" % float(x) for x in point.split(";"))
-    except ValueError:
-        return "(%s)" % point.replace(";", ",")
+def read_columns(run_dir):
+    """(t, [(name, unit, header, values)]) of run_dir/probes.csv: every column after t, its
+    name ('dz(0.5;0.;1.25)'), unit ('cm', None without one) and header exactly as written."""
+    path = probes_path(run_dir)
+    t, cols = ft.read_probe_columns(path)
+    return np.array(t), [(n, u, h, np.array(v)) for n, u, h, v in cols]
 
 
-def plot_probes(curves, title, png, csv_path):
-    """curves: [(label, run_dir)]; three stacked panels dy(t), one curve per run. Returns the
-    list of error messages of runs whose probes could not be read."""
+def read_probes(run_dir, kind="dy"):
+    """(t, {column header: values}) of the columns of one quantity (default dy, the vertical
+    displacement) of run_dir/probes.csv; the header as written, e.g. 'dy(1.5;1.) [cm]'."""
+    t, cols = read_columns(run_dir)
+    picked = {h: v for n, u, h, v in cols if ft.column_kind(n) == kind}
+    if not picked:
+        raise ValueError("%s: no %s(...) columns" % (fr.rel(probes_path(run_dir)), kind))
+    return t, picked
+
+
+def axis_label(kind, units):
+    """'dy [cm]' from a quantity and the units of its columns (several: all of them)."""
+    units = [u for u in dict.fromkeys(units) if u]
+    return "%s [%s]" % (kind, ", ".join(units)) if units else kind
+
+
+def plot_probes(curves, title, png, csv_path, columns=None):
+    """curves: [(label, run_dir)]. One run: one panel per quantity (dx, dy, dz, ...), one curve
+    per probes.csv column, the legend giving each column's header as written (name, probe
+    point, unit). Several runs: one panel per column, titled by its header as written, one
+    curve per run. The y axes name the quantity and its unit. columns: a filter as in
+    ft.select_columns ('dx,dz', a column's name or header; default: every displacement
+    column dx, dy, dz). Returns (whether a figure was written, the error messages of runs
+    whose probes could not be read and of filter entries that select nothing); a run that
+    lacks a column the others have is a note on stderr."""
     data, errors = [], []
     for label, run_dir in curves:
         try:
-            data.append((label, run_dir) + read_probes(run_dir))
+            data.append((label, run_dir) + read_columns(run_dir))
         except (OSError, ValueError) as e:
             errors.append("%s: %s" % (label, e))
     if not data:
-        return errors
-    points = []
-    for d in data:
-        points += [p for p in d[3] if p not in points]
-    fig, axes = plt.subplots(len(points), 1, sharex=True, figsize=(8, 2.6 * len(points) + 0.6), squeeze=False)
-    for ax, p in zip(axes[:, 0], points):
-        for label, _, t, dy in data:
-            if p in dy:
-                ax.plot(t, dy[p], label=label, lw=1.2)
-        ax.set_title(point_title(p))
-        ax.set_ylabel("dy (cm)")
+        return False, errors
+    available = []   # (name, header) over the runs, in file order
+    for _, _, _, cols in data:
+        available += [(n, h) for n, _, h, _ in cols if (n, h) not in available]
+    chosen, unused = ft.select_columns(available, columns)
+    for e in unused:
+        errors.append("--columns %s: no such column in %s (columns: %s)"
+                      % (e, ", ".join(fr.rel(d) for _, d, _, _ in data), ", ".join(h for _, h in available)))
+    if not chosen:
+        errors.append("no %s column to plot in %s" % ("selected" if columns else "displacement",
+                                                        ", ".join(fr.rel(d) for _, d, _, _ in data)))
+        return False, errors
+    for label, run_dir, _, cols in data:
+        have = {(n, h) for n, _, h, _ in cols}
+        missing = [h for n, h in chosen if (n, h) not in have]
+        if missing:
+            print("channel2d_figures: note: %s: %s has no column %s" % (label, fr.rel(run_dir), ", ".join(missing)),
+                  file=sys.stderr)
+    if len(data) == 1:   # panels: the quantities; curves: the columns
+        panels = [(None, [c for c in chosen if ft.column_kind(c[0]) == k])
+                  for k in dict.fromkeys(ft.column_kind(n) for n, _ in chosen)]
+    else:                # panels: the columns; curves: the runs
+        panels = [(c[1], [c]) for c in chosen]
+    fig, axes = plt.subplots(len(panels), 1, sharex=True, figsize=(8, 2.5 * len(panels) + 0.9), squeeze=False,
+                             layout="constrained")
+    for ax, (panel_title, panel_columns) in zip(axes[:, 0], panels):
+        units = []
+        for name, header in panel_columns:
+            for label, _, t, cols in data:
+                for n, u, h, v in cols:
+                    if (n, h) == (name, header):
+                        ax.plot(t, v, label=header if len(data) == 1 else label, lw=1.2)
+                        units.append(u)
+        if panel_title:
+            ax.set_title(panel_title, fontsize="medium")
+        ax.set_ylabel(axis_label(ft.column_kind(panel_columns[0][0]), units))
         ax.grid(True, alpha=0.3)
         ax.ticklabel_format(axis="y", style="sci", scilimits=(-2, 3))
-    axes[-1, 0].set_xlabel("t (s)")
-    axes[0, 0].legend(fontsize="small", loc="best")
+        ax.legend(fontsize="small", loc="best")
+    axes[-1, 0].set_xlabel("t [s]")
     fig.suptitle(textwrap.fill(title, 80), fontsize="medium")
-    fig.tight_layout()
     fig.savefig(png, dpi=130)
     plt.close(fig)
     with open(csv_path, "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["label", "run_dir", "t"] + ["dy(%s)" % p for p in points])
-        for label, run_dir, t, dy in data:
+        w.writerow(["label", "run_dir", "t"] + [h for _, h in chosen])
+        for label, run_dir, t, cols in data:
+            by = {(n, h): v for n, _, h, v in cols}
             for i in range(len(t)):
                 w.writerow([label, fr.rel(run_dir), "%.10g" % t[i]] +
-                           ["%.12e" % dy[p][i] if p in dy else "" for p in points])
+                           ["%.12e" % by[c][i] if c in by else "" for c in chosen])
     print("written: %s, %s" % (fr.rel(png), fr.rel(csv_path)))
-    return errors
+    return True, errors
 
 
 def peak_dy(run_dir):
-    """{point: (max dy, t at the max)}; {} when unreadable."""
+    """{dy column header: (max dy, t at the max)}; {} when unreadable."""
     try:
         t, dy = read_probes(run_dir)
     except (OSError, ValueError):
@@ -208,7 +252,7 @@ def write_study_markdown(path, title, labelled):
         points += [p for p in peak_dy(v.run_dir) if p not in points] if v.ok else []
     md = ["# channel2d: " + title, "",
           "| run | status | steps | GN its/step | inner its | work factor | max jump | stalled steps | wall s | "
-          + " | ".join("max dy %s (t)" % point_title(p) for p in points) + " |",
+          + " | ".join("max %s (t)" % fr.md_escape(p) for p in points) + " |",
           "|" + "---|" * (9 + len(points))]
     for label, v in labelled:
         s, peaks = v.summary or {}, peak_dy(v.run_dir) if v.ok else {}
@@ -236,7 +280,7 @@ def figure_for_study(args, which):
     write_study_markdown(base + ".md", "%s, T = %g" % (title, args.t_final), labelled)
     ok_curves = [(label, v.run_dir) for label, v in labelled if v.ok]
     errors = plot_probes(ok_curves, "channel2d, %s: vertical displacement of the interface (T = %g)"
-                         % (title, args.t_final), base + ".png", base + "-probes.csv") if ok_curves else []
+                         % (title, args.t_final), base + ".png", base + "-probes.csv", columns="dy")[1] if ok_curves else []
     print("written: %s, %s" % (fr.rel(base + "-runs.csv"), fr.rel(base + ".md")))
     failed = [(label, v) for label, v in labelled if not v.ok]
     for label, v in failed:
@@ -273,7 +317,7 @@ def time_grid(run_dir):
     s = fr.read_summary(run_dir)
     if all(k in s for k in ("t_start", "dt", "t_final")):
         return float(s["t_start"]), float(s["dt"]), float(s["t_final"])
-    t, _ = read_probes(run_dir)
+    t, _ = read_columns(run_dir)
     return float(t[0]), float(t[1] - t[0]), float(t[-1])
 
 
@@ -294,7 +338,8 @@ def write_table(run_dir, times, name, out):
     base = os.path.join(out, name)
     # jump per iteration, rows = iteration, columns = time
     max_it = max((rows[-1][0] for _, _, rows in cols), default=-1)
-    md = ["# channel2d: interface jump ||u - v_s||_{L2(Gamma_I)} per Gauss-Newton iteration", "",
+    scene = ft.run_scene(run_dir)
+    md = ["# %s: interface jump ||u - v_s||_{L2(Gamma_I)} per Gauss-Newton iteration" % scene, "",
           "run: `%s`; iteration 0 is the start of the step." % fr.rel(run_dir), ""]
     if cols:
         md += ["| iteration | " + " | ".join("t = %g (step %d)" % (t, n) for t, n, _ in cols) + " |",
@@ -347,7 +392,7 @@ def write_table(run_dir, times, name, out):
     b.set_ylabel("steps")
     b.set_title("average %.3f" % its.mean())
     b.xaxis.get_major_locator().set_params(integer=True)
-    fig.suptitle("channel2d: %s" % fr.rel(run_dir))
+    fig.suptitle("%s: %s" % (scene, fr.rel(run_dir)))
     fig.tight_layout()
     fig.savefig(base + ".png", dpi=130)
     plt.close(fig)
@@ -381,9 +426,12 @@ def cmd_probes(args):
         stem = "-".join(os.path.basename(os.path.normpath(d)) for d in args.rundirs)
         name = (stem if len(stem) <= 80 else "%d-runs" % len(args.rundirs)) + "-probes"
     base = os.path.join(args.out, name)
-    errors = plot_probes(list(zip(labels, args.rundirs)), args.title or "channel2d: vertical displacement of the interface",
-                         base + ".png", base + ".csv")
-    if len(errors) == len(args.rundirs):   # nothing plotted
+    scenes = list(dict.fromkeys(ft.run_scene(d) for d in args.rundirs))
+    title = args.title or ("%s: probes.csv columns %s" % (", ".join(scenes), args.columns) if args.columns
+                           else "%s: displacement at the probes" % ", ".join(scenes))
+    plotted, errors = plot_probes(list(zip(labels, args.rundirs)), title, base + ".png", base + ".csv",
+                                  columns=args.columns)
+    if not plotted:
         for e in errors:
             print("channel2d_figures: probes: %s" % e, file=sys.stderr)
         return False
@@ -494,11 +542,17 @@ def main():
     pres.add_argument("--cmap", default="turbo", help="pressure: matplotlib colour map (default turbo)")
     pres.add_argument("--no-mesh", dest="mesh", action="store_false", help="pressure: do not draw the fluid cells' edges")
     sub = ap.add_subparsers(dest="command", required=True)
-    p = sub.add_parser("probes", parents=[out], help="dy at the three interface points against time, one curve per run dir")
-    p.add_argument("rundirs", nargs="+", metavar="RUNDIR")
+    p = sub.add_parser("probes", parents=[out], help="any scene's displacement probes (dx, dy, dz; --columns "
+                       "selects) against time, labelled by their probes.csv headers, one curve per column or run")
+    p.add_argument("rundirs", nargs="+", metavar="RUNDIR", help="fsiopt output directories with probes.csv")
+    p.add_argument("--columns", "--probes", dest="columns", metavar="LIST",
+                   help="the probes.csv columns to plot, comma separated: a quantity (dx, dy, dz, drag, lift), a "
+                   "column's name (dy(1.5;1.)) or its whole header (default: every displacement column dx, dy, dz), "
+                   "e.g. --columns dx,dz")
     p.add_argument("--labels", nargs="+", help="legend labels, one per RUNDIR (default the dir names)")
     p.add_argument("--name", help="output name (default <dirname>-probes)")
-    p.add_argument("--title")
+    p.add_argument("--title", help="figure title (default: the scene of summary.json, else the dir name, and what is "
+                   "plotted)")
     p.set_defaults(func=cmd_probes)
     for name, text in (("mesh", "hy = 0.1, 0.05, 1/30 (Fig 3.2)"), ("order", "first- against second-order wall (Fig 3.5)"),
                        ("tikhonov", "Tikhonov weights (Fig 4.3)"),

@@ -12,6 +12,7 @@ import numpy as np  # noqa: E402
 sys.dont_write_bytecode = True
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import fsiopt_runs as fr  # noqa: E402
+import fsiopt_tables as ft  # noqa: E402  (the run's scene and units)
 
 
 def default_times(t_start, t_final):
@@ -46,6 +47,10 @@ def read_fields(run_dir, times):
         if not times:
             times = default_times(steps[0][1], steps[-1][1])
         topo = np.asarray(fluid["topology"][:], dtype=int)
+        dim = fluid["step_%05d/geometry" % steps[0][0]].shape[1]
+        if dim != 2:
+            raise ValueError("%s: %d-dimensional geometry, this figure draws 2-dimensional runs (tube3d: "
+                             "scripts/tube3d_figures.py)" % (fr.rel(path), dim))
         x0 = np.asarray(fluid["step_%05d/geometry" % steps[0][0]][:, :2], dtype=float)
         wall_topo = np.asarray(wall["topology"][:], dtype=int) if wall is not None else None
         snaps = []
@@ -79,6 +84,7 @@ def write_pressure(run_dir, times, name, out, scale=1.0, color_scale="shared", c
     from matplotlib.collections import LineCollection, PolyCollection
     from matplotlib.tri import Triangulation
     snaps, topo, wall_topo, written = read_fields(run_dir, times)
+    units, scene = ft.run_units(run_dir), ft.run_scene(run_dir)
     notes = ["t = %g is not written, drawn: the nearest written step %d at t = %g (%s has t = %s)"
              % (s["requested"], s["step"], s["time"], fr.rel(run_dir),
                 ", ".join("%g" % t for t in written[:12]) + (", ..." if len(written) > 12 else ""))
@@ -110,17 +116,17 @@ def write_pressure(run_dir, times, name, out, scale=1.0, color_scale="shared", c
         ax.set_xlim(lo[0] - pad, hi[0] + pad)
         ax.set_ylim(lo[1] - pad, hi[1] + pad)
         ax.set_aspect("equal")
-        ax.set_ylabel("Height (cm)")
+        ax.set_ylabel("Height (%s)" % units["length"])
         title = "t = %.4g s (step %d)" % (s["time"], s["step"])
         if abs(s["time"] - s["requested"]) > 1e-9:
             title += ", requested t = %g" % s["requested"]
         ax.set_title(title, fontsize="medium")
         if color_scale != "shared":
-            fig.colorbar(im, ax=ax, label="pressure (dyn/cm^2)", fraction=0.035, pad=0.015)
-    axes[-1, 0].set_xlabel("Length (cm)")
+            fig.colorbar(im, ax=ax, label="pressure (%s)" % units["pressure"], fraction=0.035, pad=0.015)
+    axes[-1, 0].set_xlabel("Length (%s)" % units["length"])
     base = os.path.join(out, name)
-    finish_pressure_figure(fig, axes, im, color_scale, "channel2d: fluid pressure on the deformed mesh", scale, run_dir,
-                           base + ".png")
+    finish_pressure_figure(fig, axes, im, color_scale, "%s: fluid pressure on the deformed mesh" % scene, scale, run_dir,
+                           base + ".png", units["pressure"])
     with open(base + ".csv", "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["requested_t", "t", "step", "p_min", "p_max", "x_p_max", "max_wall_displacement", "max_wall_dy",
@@ -141,11 +147,12 @@ def write_pressure(run_dir, times, name, out, scale=1.0, color_scale="shared", c
     return notes
 
 
-def finish_pressure_figure(fig, axes, im, color_scale, heading, scale, run_dir, png):
+def finish_pressure_figure(fig, axes, im, color_scale, heading, scale, run_dir, png, pressure_unit="dyn/cm$^2$"):
     """The shared colour bar (color_scale "shared"; per-panel bars are the caller's), the
     title, and the PNG of a column of pressure panels."""
     if color_scale == "shared":
-        fig.colorbar(im, ax=axes[:, 0].tolist(), label="pressure (dyn/cm$^2$)", fraction=0.035, pad=0.015, aspect=30)
+        fig.colorbar(im, ax=axes[:, 0].tolist(), label="pressure (%s)" % pressure_unit, fraction=0.035, pad=0.015,
+                     aspect=30)
     fig.suptitle("%s, wall in grey (dashed: at rest)\n%s colour scale, displacement %s; %s"
                  % (heading, "shared" if color_scale == "shared" else "per-panel",
                     "true size" if scale == 1 else "x %g" % scale, fr.rel(run_dir)), fontsize="medium")
@@ -164,3 +171,13 @@ def pressure_figure(args, run_dir, name, times):
     for n in notes:
         print("channel2d_figures: pressure: note: %s" % n, file=sys.stderr)
     return True
+
+
+if __name__ == "__main__":   # a module: --help (or no argument) prints what it is for
+    import argparse
+    _ap = argparse.ArgumentParser(
+        description=__doc__ + "\n\nA module, imported by scripts/channel2d_figures.py (its subcommands pressure "
+        "and all, which draw the figure) and by scripts/tube3d_figures.py. It takes no arguments and runs nothing by itself.",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    _ap.parse_args()
+    _ap.print_help()

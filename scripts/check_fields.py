@@ -15,6 +15,7 @@ points (the geometry), cells and attributes equal to the HDF5 datasets (1e-12). 
 readers come with Debian's python3-paraview; without them (--readers auto) that check is
 skipped and the summary says so; --readers require fails instead, off skips it.
 Otherwise prints a summary: times, grids, max |velocity|, the readers' verdict."""
+import argparse
 import math
 import os
 import re
@@ -30,6 +31,13 @@ TOLERANCE = 1e-12  # relative: the readers copy the doubles, nothing is computed
 def fail(message):
     print(f"check_fields: {message}", file=sys.stderr)
     sys.exit(1)
+
+
+class ArgumentParser(argparse.ArgumentParser):
+    """argparse with check_fields' one-line failure (exit 1) on a wrong command line."""
+
+    def error(self, message):
+        fail(f"{message} (usage: check_fields.py [--readers auto|require|off] OUTPUT_DIR)")
 
 
 def dataset(h5, item, where):
@@ -186,13 +194,15 @@ def check_reader(label, make, xdmf, series):
 
 
 def main():
-    args = sys.argv[1:]
-    mode = "auto"
-    if len(args) == 3 and args[0] == "--readers" and args[1] in ("auto", "require", "off"):
-        mode, args = args[1], args[2:]
-    if len(args) != 1:
-        fail("usage: check_fields.py [--readers auto|require|off] OUTPUT_DIR")
-    out = args[0]
+    ap = ArgumentParser(description=re.sub(r"\n\nusage: [^\n]*", "", __doc__),
+                        usage="%(prog)s [--readers auto|require|off] OUTPUT_DIR",
+                        formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("out", metavar="OUTPUT_DIR", help="an fsiopt -output_dir written with -write_fields")
+    ap.add_argument("--readers", choices=("auto", "require", "off"), default="auto",
+                    help="the ParaView readers' check: auto (run it when python3-paraview is installed, else skip "
+                    "it; default), require (fail without the readers), off (skip it)")
+    args = ap.parse_args()
+    mode, out = args.readers, args.out
     xdmf, h5name = os.path.join(out, "fields.xdmf"), os.path.join(out, "fields.h5")
     for path in (xdmf, h5name):
         if not os.path.isfile(path):

@@ -11,14 +11,15 @@ libraries carry no file and line (no debug information), ours do (bin/fsiopt is 
 -g), so "a frame with (file.c:line)" is how our code is recognised; errors and leaks that
 only touch Open MPI, HDF5 or PETSc internals are counted and shown, not failed on.
 
+Arguments: words; only the runs whose names contain one of them go (default: all runs;
+--list shows the names). Logs go to a new directory /tmp/fsiopt-memory-XXXX.
 Last line: 'N passed, M failed'; exit status non-zero on any failure. Takes a few minutes.
 """
-import os, re, sys, tempfile, time
+import argparse, os, re, sys, tempfile, time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from fsiopt_runs import ROOT, run_fsiopt  # noqa: E402  (the binary, its environment, the launch)
 
-WORK = tempfile.mkdtemp(prefix="fsiopt-memory-")
 CHANNEL = ["-options_file", "options/channel2d.yaml"]
 TUREK = ["-options_file", "options/turek-hron.yaml"]
 
@@ -84,11 +85,21 @@ def classify(block):
 
 
 def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("words", nargs="*", metavar="WORD", help="run only the runs whose names contain one of the words "
+                    "(default: all)")
+    ap.add_argument("--list", action="store_true", help="print the runs' names and exit")
+    args = ap.parse_args()
+    words = args.words
+    if args.list:
+        print("\n".join(name for name, _ in RUNS))
+        return 0
+    WORK = tempfile.mkdtemp(prefix="fsiopt-memory-")
     passed = failed = 0
     checkpoint = os.path.join(WORK, "run-3", "checkpoint.h5")
     t_all = time.time()
     for i, (name, args) in enumerate(RUNS):
-        if len(sys.argv) > 1 and not any(w in name for w in sys.argv[1:]):
+        if words and not any(w in name for w in words):
             continue  # arguments: only the runs whose names contain one of them
         out = os.path.join(WORK, "run-%d" % i)
         args = [checkpoint if a == "@checkpoint" else a for a in args]

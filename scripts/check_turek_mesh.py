@@ -14,6 +14,7 @@ Asserts, and exits non-zero with a one-line message otherwise:
 Prints cell and node counts, the smallest |area| and the smallest scaled Jacobian (the
 minimum over the four corners of sin of the corner angle: 1 for a rectangle) per file.
 """
+import argparse
 import sys
 
 import numpy as np
@@ -95,10 +96,15 @@ def has_point(nodes, pt):
 
 
 def main(argv):
-    if len(argv) != 3:
-        print(__doc__.split("\n\n")[1], file=sys.stderr)
-        return 2
-    fluid_path, flag_path = argv[1], argv[2]
+    ap = argparse.ArgumentParser(prog="check_turek_mesh.py", usage="%(prog)s FLUID.msh FLAG.msh",
+                                 description=__doc__.replace("\nUsage: check_turek_mesh.py FLUID.msh FLAG.msh\n", ""),
+                                 formatter_class=argparse.RawDescriptionHelpFormatter,
+                                 epilog="Example: scripts/check_turek_mesh.py meshes/turek-hron-fluid.msh "
+                                 "meshes/turek-hron-flag.msh")
+    ap.add_argument("fluid", metavar="FLUID.msh", help="the fluid mesh (gmsh msh 2.2 ASCII)")
+    ap.add_argument("flag", metavar="FLAG.msh", help="the flag (structure) mesh (gmsh msh 2.2 ASCII)")
+    args = ap.parse_args(argv[1:])
+    fluid_path, flag_path = args.fluid, args.flag
     data = {}
     for name, path, want in (("fluid", fluid_path, {1, 2, 3, 4, 5, 6}), ("flag", flag_path, {4, 6})):
         nodes, quads, faces = read_msh2(path)

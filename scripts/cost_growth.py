@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """How the cost of tube3d (or bend3d, --scene) grows with its unknowns: LU against the
-iterative solvers of options/solvers/ (issue 27), level by level, one run at a time.
+iterative solvers of options/solvers/, level by level, one run at a time.
 
 Every level n of --levels (default 1,2) runs with each solver of --solvers (default
 lu,iterative):

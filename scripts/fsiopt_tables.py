@@ -3,7 +3,7 @@
 repository root, printing from several threads, number formats, the runs' CSV and
 markdown tables and reports, run-time grids, field files and the gmsh meshes of other
 refinement levels. Only the standard library: no fsiopt run starts here."""
-import csv, hashlib, math, os, re, shlex, subprocess, sys, threading, time
+import csv, hashlib, json, math, os, re, shlex, subprocess, sys, threading, time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 _print_lock = threading.Lock()
@@ -85,6 +85,83 @@ def column_name(header):
     """A probes.csv header without its unit: 'dy(1.5;1.) [cm]' -> 'dy(1.5;1.)' (files
     written before the headers had units pass unchanged)."""
     return re.sub(r"\s*\[[^\]]*\]$", "", header.strip())
+
+
+def split_header(header):
+    """A probes.csv header as (name, unit): 'dz(0.5;0.;1.25) [cm]' -> ('dz(0.5;0.;1.25)', 'cm'),
+    'drag [N/m]' -> ('drag', 'N/m'); a header without a unit gives (header, None). The
+    name is the header's text as written: coordinates are never re-formatted."""
+    header = header.strip()
+    m = re.fullmatch(r"(.*?)\s*\[([^\]]*)\]", header)
+    return (m.group(1), m.group(2)) if m else (header, None)
+
+
+def column_kind(name):
+    """The quantity of a probes.csv column name: 'dy(1.5;1.)' -> 'dy', 'drag' -> 'drag'."""
+    return name.split("(", 1)[0]
+
+
+def is_displacement(name):
+    """True for a displacement probe column: dx(...), dy(...), dz(...)."""
+    return re.fullmatch(r"d[xyz]\(.*\)", name) is not None
+
+
+def read_probe_columns(path, growing=False):
+    """probes.csv (or its .partial, growing = True) as (t, [(name, unit, header, values)]):
+    the columns after t in file order, each with its name and unit split from the header
+    (unit None when the header has none) and the header exactly as written."""
+    with open(path, newline="") as f:
+        text = f.read()
+    if growing and text and not text.endswith("\n"):
+        text = text[:text.rfind("\n") + 1]
+    rows = list(csv.reader(text.splitlines()))
+    if not rows:
+        raise ValueError("%s is empty" % path)
+    headers = [h.strip() for h in rows[0]]
+    if not headers or split_header(headers[0])[0] != "t":
+        raise ValueError("%s: expected a first column t, got %r" % (path, headers[:1]))
+    data = [[float(x) for x in r] for r in rows[1:] if r]
+    if any(len(r) != len(headers) for r in data):
+        raise ValueError("%s: a row does not have the %d columns of the header" % (path, len(headers)))
+    cols = [[r[i] for r in data] for i in range(len(headers))]
+    return cols[0], [split_header(h) + (h, cols[i + 1]) for i, h in enumerate(headers[1:])]
+
+
+def select_columns(names, spec):
+    """The names a filter such as 'dx,dz' selects, in the order of names. A filter entry
+    selects a column by its quantity (dx), its name (dy(1.5;1.)) or its whole header
+    (dy(1.5;1.) [cm]); names are (name, header) pairs. spec None or empty: every
+    displacement column (dx, dy, dz). Returns (selected, the entries that select nothing)."""
+    entries = [e.strip() for e in (spec or "").split(",") if e.strip()]
+    if not entries:
+        return [n for n in names if is_displacement(n[0])], []
+    hit = lambda e, n: e in (n[0], n[1], column_kind(n[0]))  # noqa: E731
+    return [n for n in names if any(hit(e, n) for e in entries)], [e for e in entries if not any(hit(e, n) for n in names)]
+
+
+def run_scene(run_dir):
+    """The scene of a run: summary.json's "scene", else the run directory's name."""
+    try:
+        with open(os.path.join(run_dir, "summary.json")) as f:
+            scene = json.load(f).get("scene")
+    except (OSError, ValueError, AttributeError):
+        scene = None
+    return scene if isinstance(scene, str) and scene else os.path.basename(os.path.normpath(os.path.abspath(run_dir)))
+
+
+# how the figures name lengths and pressures in the unit systems summary.json's "units" names
+UNIT_NAMES = {"cgs": {"length": "cm", "pressure": "dyn/cm$^2$"}, "SI": {"length": "m", "pressure": "Pa"}}
+
+
+def run_units(run_dir, default="cgs"):
+    """{"length": ..., "pressure": ...} of a run's unit system (summary.json "units"; default
+    when the summary or the key is missing or names another system)."""
+    try:
+        with open(os.path.join(run_dir, "summary.json")) as f:
+            units = json.load(f).get("units")
+    except (OSError, ValueError, AttributeError):
+        units = None
+    return UNIT_NAMES.get(units, UNIT_NAMES[default])
 
 
 def read_table(path, growing=False):
@@ -251,3 +328,13 @@ def write_csv(path, rows, fields, float_format="%.6g"):
         w.writeheader()
         for r in rows:
             w.writerow({k: (float_format % v if isinstance(v, float) else v) for k, v in r.items()})
+
+
+if __name__ == "__main__":   # a module: --help (or no argument) prints what it is for
+    import argparse
+    _ap = argparse.ArgumentParser(
+        description=__doc__ + "\n\nA module, imported by the scripts through scripts/fsiopt_runs.py, "
+        "which re-exports it. It takes no arguments and runs nothing by itself.",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    _ap.parse_args()
+    _ap.print_help()

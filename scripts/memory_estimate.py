@@ -17,8 +17,8 @@ CHANNEL = ["-options_file", "options/channel2d.yaml", "-t_final", "0.0002"]
 FSI3 = ["-options_file", "options/turek-hron.yaml", "-turek_case", "fsi3", "-dt", "0.0005", "-t_final", "0.001"]
 TUBE = ["-options_file", "options/tube3d.yaml", "-t_final", "0.0001"]
 # every subproblem by a Krylov method: cost_growth.py's solver files (options/solvers/)
-# cgls, the inner method the README's table was measured with (an iterative fluid's default is
-# gmres since session 45)
+# cgls, the inner method docs/options.md's memory table was measured with (with an iterative fluid,
+# -coupling_inner defaults to gmres)
 ITERATIVE = SOLVERS["iterative"] + ["-coupling_inner", "cgls"]
 TUBE_ITERATIVE = SOLVERS["iterative-ilu"] + ["-coupling_inner", "gmres"]
 CASES = [

@@ -54,6 +54,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import channel2d_figures as C   # noqa: E402
 import channel2d_pressure as P   # noqa: E402  (the pressure figure's frame)
 import fsiopt_runs as fr   # noqa: E402
+import fsiopt_tables as ft   # noqa: E402  (the run's scene and units)
 
 ROOT = fr.ROOT
 OPTIONS_FILE = "options/tube3d.yaml"
@@ -257,6 +258,7 @@ def label_of(s):
 
 
 def plot_wave(snaps, waves, run_dir, png, axis_exact):
+    units, scene = ft.run_units(run_dir), ft.run_scene(run_dir)
     fig, (a, b) = plt.subplots(2, 1, sharex=True, figsize=(9, 7.5))
     colours = plt.cm.viridis(np.linspace(0.0, 0.9, max(len(snaps), 1)))
     for s, w, c in zip(snaps, waves, colours):
@@ -265,17 +267,17 @@ def plot_wave(snaps, waves, run_dir, png, axis_exact):
         b.plot(w["z_axis"], w["p_axis"], "o-", color=c, lw=1.5, ms=3, label=label_of(s))
     a.axhline(0, color="k", lw=0.5)
     b.axhline(0, color="k", lw=0.5)
-    a.set_ylabel("radial displacement (cm)")
+    a.set_ylabel("radial displacement (%s)" % units["length"])
     a.set_title("(a) wall on the interface r = 0.5: mean over the angle (band: min..max)", fontsize="medium")
-    b.set_ylabel("pressure (dyn/cm$^2$)")
+    b.set_ylabel("pressure (%s)" % units["pressure"])
     b.set_title("(b) fluid pressure on the axis%s" % ("" if axis_exact else " (the vertices nearest to it)"),
                 fontsize="medium")
-    b.set_xlabel("z (cm, at rest)")
+    b.set_xlabel("z (%s, at rest)" % units["length"])
     for ax in (a, b):
         ax.grid(True, alpha=0.3)
         ax.ticklabel_format(axis="y", style="sci", scilimits=(-2, 3))
         ax.legend(fontsize="small", loc="best")
-    fig.suptitle(textwrap.fill("tube3d: the pressure wave (inlet z = 0); %s" % fr.rel(run_dir), 90), fontsize="medium")
+    fig.suptitle(textwrap.fill("%s: the pressure wave (inlet z = 0); %s" % (scene, fr.rel(run_dir)), 90), fontsize="medium")
     fig.tight_layout()
     fig.savefig(png, dpi=130)
     plt.close(fig)
@@ -285,6 +287,7 @@ def plot_snapshots(snaps, topo, wall_topo, x_ref, wall_ref, tol, run_dir, png, s
     """Fig 6.4 style: the cut y = 0 per time, (z, x) plane, pressure colours, wall in grey."""
     from matplotlib.collections import LineCollection, PolyCollection
     from matplotlib.tri import Triangulation
+    units, scene = ft.run_units(run_dir), ft.run_scene(run_dir)
     quads, fluid_on = plane_cut(topo, x_ref, tol)
     wquads, wall_on = plane_cut(wall_topo, wall_ref, tol)
     if not len(fluid_on):
@@ -326,12 +329,13 @@ def plot_snapshots(snaps, topo, wall_topo, x_ref, wall_ref, tol, run_dir, png, s
         ax.set_xlim(lo[0] - pad, hi[0] + pad)
         ax.set_ylim(lo[1] - pad, hi[1] + pad)
         ax.set_aspect("equal")
-        ax.set_ylabel("x (cm)")
+        ax.set_ylabel("x (%s)" % units["length"])
         ax.set_title("%s (step %d)" % (label_of(s), s["step"]), fontsize="medium")
         if color_scale != "shared":
-            fig.colorbar(im, ax=ax, label="pressure (dyn/cm$^2$)", fraction=0.03, pad=0.015)
-    axes[-1, 0].set_xlabel("z (cm)")
-    P.finish_pressure_figure(fig, axes, im, color_scale, "tube3d: fluid pressure on the cut y = 0", scale, run_dir, png)
+            fig.colorbar(im, ax=ax, label="pressure (%s)" % units["pressure"], fraction=0.03, pad=0.015)
+    axes[-1, 0].set_xlabel("z (%s)" % units["length"])
+    P.finish_pressure_figure(fig, axes, im, color_scale, "%s: fluid pressure on the cut y = 0" % scene, scale, run_dir,
+                             png, units["pressure"])
 
 
 def write_wave_csv(path, snaps, waves, tol):

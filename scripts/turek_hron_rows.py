@@ -176,3 +176,13 @@ def status_cell(v, row):
     elif cover:   # a killed part left no count
         text += "; stalled steps known only for %s" % cover[len(" of "):]
     return text
+
+
+if __name__ == "__main__":   # a module: --help (or no argument) prints what it is for
+    import argparse
+    _ap = argparse.ArgumentParser(
+        description=__doc__ + "\n\nA module, imported by scripts/turek_hron_table.py, which prints "
+        "the table. It takes no arguments and runs nothing by itself.",
+        formatter_class=argparse.RawDescriptionHelpFormatter)
+    _ap.parse_args()
+    _ap.print_help()

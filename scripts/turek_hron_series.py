@@ -34,11 +34,20 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import fsiopt_runs as fr  # noqa: E402
+import fsiopt_tables as ft  # noqa: E402  (the units in probes.csv's header)
 
 # probes.csv column -> how the tables and plots name it
 LABELS = {"dx(0.6;0.2)": "ux(A)", "dy(0.6;0.2)": "uy(A)", "drag": "drag", "lift": "lift"}
 ORDER = ["dy(0.6;0.2)", "dx(0.6;0.2)", "drag", "lift"]
 TOL = 1e-9   # window bounds on a grid of steps
+UNITS = {"dx(0.6;0.2)": "m", "dy(0.6;0.2)": "m", "drag": "N/m", "lift": "N/m"}   # headers without units
+
+
+def header_units(path):
+    """{column name: unit} of the columns of a probes file whose header gives one."""
+    with open(path, newline="") as f:
+        header = next(csv.reader(f), [])
+    return {n: u for n, u in map(ft.split_header, header) if u}
 
 
 class InputError(Exception):
@@ -155,7 +164,9 @@ def plot(args):
     import matplotlib.pyplot as plt
     runs = [read_run(r) for r in args.runs]
     columns = [c for c in ORDER if any(c in r[3] for r in runs)]
-    units = {"dx(0.6;0.2)": "m", "dy(0.6;0.2)": "m", "drag": "N/m", "lift": "N/m"}
+    units = dict(UNITS)   # the scene's (SI); a header's own unit wins
+    for _, found, _, _ in runs:
+        units.update(header_units(found))
     fig, axes = plt.subplots(len(columns), 1, figsize=(9, 2.4 * len(columns)), sharex=True, squeeze=False)
     for ax, c in zip(axes[:, 0], columns):
         for label, found, t, values in runs:

@@ -36,7 +36,7 @@ src/scenes/turek_hron.c) unless changed here:
 
 Run times: csm1, csm2, cfd1 and short checks take seconds to a minute a run on n = 1, 2; the periodic
 cases run thousands of steps, and the periodic FSI cases (fsi2, fsi3) take hours already on
-the coarse level n = 1 (measured times: see README). --jobs J runs J runs at a time (one core
+the coarse level n = 1 (measured times: docs/turek-hron.md). --jobs J runs J runs at a time (one core
 each); the default 1 gives undisturbed wall times.
 
 Checkpoints and resuming (the long runs):

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""What the cylinder's polygon costs in the Turek-Hron benchmarks (issue 26, item 4).
+"""What the cylinder's polygon costs in the Turek-Hron benchmarks.
 
 The fluid mesh's cells are straight between the cylinder's nodes, so the wetted cylinder is
 the polygon inscribed in its circle r = 0.05 and encloses less than its area. For every

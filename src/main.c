@@ -14,7 +14,7 @@
 #include "interrupt.h"
 
 static const char
-  help[] = "fsiopt: fluid-structure interaction by optimization-based decoupling.\n"
+  usage[] = "fsiopt: fluid-structure interaction by optimization-based decoupling.\n"
            "  fsiopt -options_file options/<scene>.yaml [options]   or   fsiopt -scene <name> [options]\n"
            "Meshes: -fluid_dm_plex_* and -structure_dm_plex_* (box meshes, or gmsh files with *_dm_plex_filename).\n"
            "Solvers: -fluid_snes_*, -fluid_ksp_*, -fluid_pc_*, -structure_snes_*, ...\n\n";
@@ -73,11 +73,44 @@ static int CheckOptionsFiles(int argc, char **argv)
   return 1;
 }
 
+/* -help [all] on the command line, taken out of it: PETSc would print its banner and its
+   general options during PetscInitialize, before fsiopt's, and a reader that stops early
+   (fsiopt -help | head) could meet PETSc's signal handler there. Returns 0 (none), 1
+   (fsiopt's options) or 2 (and PETSc's). "-help intro" stays PETSc's. */
+static int TakeHelp(int *argc, char **argv)
+{
+  int mode = 0, out = 1;
+
+  for (int i = 1; i < *argc; ++i) {
+    if (!strcmp(argv[i], "-help") || !strcmp(argv[i], "--help")) {
+      const char *value = i + 1 < *argc ? argv[i + 1] : NULL;
+      if (value && !strcmp(value, "intro")) return 0;
+      mode = 1;
+      if (value && (!strcmp(value, "all") || !strcmp(value, "petsc"))) {
+        mode = 2;
+        ++i;
+      }
+      continue;
+    }
+    argv[out++] = argv[i];
+  }
+  if (mode) {
+    *argc       = out;
+    argv[*argc] = NULL;
+  }
+  return mode;
+}
+
 int main(int argc, char **argv)
 {
   PetscErrorCode ierr;
+  int            help;
 
   if (CheckOptionsFiles(argc, argv)) return 1;
+  help = TakeHelp(&argc, argv);
+  /* the listing's reader may go away: its writes then fail quietly, and the set-up, which
+     runs no step, ends as usual */
+  if (help) signal(SIGPIPE, SIG_IGN);
   /* PT-Scotch's threads split a mesh differently from run to run; a checkpoint's vectors,
      stored in the partition's ordering, need the same split at the restart (mesh.c) */
   setenv("SCOTCH_PTHREAD_NUMBER", "1", 1);
@@ -85,14 +118,16 @@ int main(int argc, char **argv)
      prints its own line on a failed write, and its shared-file-pointer component leaves
      semaphores behind when a writing run is killed */
   setenv("OMPI_MCA_io", "^ompio", 0);
-  ierr = PetscInitialize(&argc, &argv, NULL, help);
+  ierr = PetscInitialize(&argc, &argv, NULL, usage);
   if (ierr) return 1;
-  /* a reader that stops reading (fsiopt -help | head) ends the run quietly, as it ends any
-     Unix tool, instead of PETSc's signal banner */
-  signal(SIGPIPE, SIG_DFL);
+  if (help) {
+    if (PetscOptionsSetValue(NULL, "-help", NULL)) return 1;
+    HelpListingSetPETSc(help == 2 ? PETSC_TRUE : PETSC_FALSE);
+  }
   /* a stop during the set-up ends it with one line (PETSc's own handler would catch SIGHUP
      with its banner, and SIGTERM and SIGINT would kill the run without a word) */
   if (InterruptInstall()) return 1;
+  if (help) signal(SIGPIPE, SIG_IGN);
   MPI_Comm_dup(PETSC_COMM_WORLD, &error_comm);
   ierr = ErrorReportingPush();
   if (!ierr) ierr = RunMain();

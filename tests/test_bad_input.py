@@ -60,10 +60,10 @@ def test_bad_input_numbers():
         ("zero coupling tolerance", ["-scene", "mms-stokes", "-coupling_tol", "0"], "-coupling_tol"),
         ("negative relative coupling tolerance", ["-scene", "mms-stokes", "-coupling_tol_relative", "-1"], "-coupling_tol_relative"),
         ("Newton-Krylov with a Tikhonov term", ["-scene", "mms-stokes", "-coupling_inner", "gmres", "-coupling_tikhonov", "1e-3"], "-coupling_inner"),
-        ("chord step without an explicit Jacobian", ["-scene", "mms-stokes", "-coupling_inner", "chord"], "-coupling_inner"),
+        ("chord step without an explicit Jacobian", ["-scene", "mms-stokes", "-coupling_inner", "chord", "-coupling_explicit_jacobian", "0"], "-coupling_inner"),
         ("unknown inner solver", ["-scene", "mms-stokes", "-coupling_inner", "cg"], "-coupling_inner"),
-        ("recurrence fitted to too few controls", CHANNEL + ["-coupling_extrapolation_recurrence", "4"], "-coupling_extrapolation_recurrence"),
-        ("start correction without an explicit Jacobian", ["-scene", "mms-stokes", "-coupling_start_correction"], "-coupling_start_correction"),
+        ("recurrence fitted to too few controls", CHANNEL + ["-coupling_extrapolation_points", "6", "-coupling_extrapolation_recurrence", "4"], "-coupling_extrapolation_recurrence"),
+        ("start correction without an explicit Jacobian", ["-scene", "mms-stokes", "-coupling_start_correction", "-coupling_explicit_jacobian", "0"], "-coupling_start_correction"),
         ("sliding IMVJ window of zero steps", CHANNEL + ["-coupling", "iqnimvj", "-coupling_imvj_restart_mode", "slide"], "-coupling_imvj_restart"),
         ("negative SVD truncation", CHANNEL + ["-coupling", "iqnimvj", "-coupling_imvj_restart_mode", "svd", "-coupling_imvj_svd_truncation", "-1"], "-coupling_imvj_svd_truncation"),
         ("zero-step LS reuse", CHANNEL + ["-coupling", "iqnimvj", "-coupling_imvj_restart_mode", "ls", "-coupling_imvj_ls_reuse", "0"], "-coupling_imvj_ls_reuse"),
@@ -278,8 +278,41 @@ def test_help_lists_options():
     groups = own_section(text)
     fluid = " ".join(groups.get("fluid_", []))
     assert "-fluid_density" in fluid and "[kg/m^3]" in fluid and "[Pa s]" in fluid, "turek-hron's fluid_ group: %s" % fluid[:300]
-    assert not [l for g, lines in groups.items() if g != "the run (no prefix)" for l in lines if not l.startswith("  -" + g)], \
-        "an option outside its group: %s" % groups
+    assert not [l for g, lines in groups.items() if g != "the run (no prefix)" and not g.startswith("checks")
+                for l in lines if not l.startswith("  -" + g)], "an option outside its group: %s" % groups
     channel = own_section(help_text(["-options_file", "options/channel2d.yaml"]))
     assert "[g/cm^3]" in " ".join(channel.get("structure_", [])), "channel2d's structure_ group: %s" % channel.get("structure_")
     return "3 scenes' -help, no files left; fsiopt's options in %d groups with SI and cgs units" % len(groups)
+
+
+@test("-help: fsiopt's options first, grouped, the checks apart; PETSc's only under -help all; -help | head -1 exits 0 in 50 runs")
+def test_help_order_and_pipe():
+    text = help_text(["-options_file", "options/channel2d.yaml"])
+    lines = text.splitlines()
+    assert lines[0].startswith("fsiopt: fluid-structure interaction"), "first line: %r" % lines[0]
+    assert "Petsc Release Version" not in text and "  -fluid_ksp_type <" not in text, "-help prints PETSc's listing"
+    assert "-help all" in lines[-2] or "-help all" in lines[-1], "-help does not say how to see PETSc's: %s" % lines[-2:]
+    groups = own_section(text)
+    checks = [g for g in groups if g.startswith("checks")]
+    assert checks and all("test" in l or "check" in l for l in groups[checks[0]]), "checks group: %s" % checks
+    for g, options in groups.items():
+        if not g.startswith("checks"):
+            assert not [l for l in options if "_test_" in l.split()[0] or "backend_check" in l.split()[0]], \
+                "a check among %s's options: %s" % (g, options)
+    full = help_text(["-help", "all", "-options_file", "options/channel2d.yaml"])
+    own_at, petsc_at = full.find("fsiopt's options, by prefix"), full.find("  -fluid_ksp_type <")
+    assert 0 <= own_at < petsc_at, "-help all: fsiopt's options at %d, PETSc's -fluid_ksp_type at %d" % (own_at, petsc_at)
+    env = fr.fsiopt_env()
+    bad = []
+    for i in range(50):
+        p = subprocess.run("%s -help -scene mms-fluid | head -1" % fr.FSIOPT, shell=True, cwd=ROOT, env=env,
+                           capture_output=True, text=True, executable="/bin/bash",
+                           timeout=120)
+        p2 = subprocess.run(["/bin/bash", "-c", "set -o pipefail; %s -help -scene mms-fluid | head -1 >/dev/null; "
+                             "echo ${PIPESTATUS[0]}" % fr.FSIOPT], cwd=ROOT, env=env, capture_output=True, text=True,
+                            timeout=120) if i % 10 == 0 else None
+        status = p2.stdout.strip() if p2 else "0"
+        if p.returncode != 0 or p.stderr.strip() or not p.stdout.startswith("fsiopt:") or status != "0":
+            bad.append((i, p.returncode, status, p.stderr.strip()[:200]))
+    assert not bad, "-help | head -1: %d of 50 not quiet: %s" % (len(bad), bad[:3])
+    return "%d own groups (checks apart) before PETSc's; 50 of 50 -help | head -1 quiet, fsiopt's exit 0" % len(groups)

@@ -1,4 +1,4 @@
-"""Strict inputs (issue 22): options nothing reads, on the command line and as YAML keys,
+"""Strict inputs: options nothing reads, on the command line and as YAML keys,
 stop the run before its first step with one line naming them and the nearest known
 option, and leave no outputs; -options_allow_unused lets them through with a warning; an
 option fsiopt reads in another set-up is a warning."""

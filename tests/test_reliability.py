@@ -682,7 +682,7 @@ def test_restart_change_dt():
         "(backward Euler), %.2f (BDF2)" % (orders[1], orders[2])
 
 
-@test("summary.json has every DESIGN key", quick=True)
+@test("summary.json has every key of docs/outputs.md", quick=True)
 def test_summary_keys():
     s = solve(FLUID_SPACE)
     keys = ["scene", "coupling", "optimizer", "dim", "steps", "dt", "t_final", "wall_time_s", "fluid_solves",

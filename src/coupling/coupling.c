@@ -73,7 +73,7 @@ PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, cons
   degree = 1;
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_extrapolation",
                               "each step starts from the control extrapolated from the last K+1 steps by a polynomial "
-                              "of degree K (0: the last control, seed Remark 3.4)",
+                              "of degree K (0: the last control, Kuberry 2015 Remark 3.4)",
                               0, FSIOPT_EXTRAPOLATION_MAX, &degree));
   points = degree + 1;
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_extrapolation_points",
@@ -135,7 +135,7 @@ static PetscErrorCode CheckProblemFailure(Coupling C, PetscInt step, const char 
 
 PetscErrorCode CouplingStep(Coupling C, PetscInt step)
 {
-  CouplingIterations it = {0, 0, 0, PETSC_FALSE};
+  CouplingIterations it = {0, 0, 0, -1, PETSC_FALSE};
   PetscBool          failed;
 
   PetscFunctionBeginUser;
@@ -163,8 +163,9 @@ PetscErrorCode CouplingStep(Coupling C, PetscInt step)
                           " iterations (%s) at interface jump %.3e\n",
                           step, it.iterations, label, (double)it.jump));
   }
-  C->stats.max_jump  = PetscMax(C->stats.max_jump, it.jump);
-  C->stats.last_jump = it.jump;
+  C->stats.max_jump    = PetscMax(C->stats.max_jump, it.jump);
+  C->stats.last_jump   = it.jump;
+  C->stats.max_measure = PetscMax(C->stats.max_measure, it.measure < 0 ? it.jump : it.measure);
   PetscFunctionReturn(0);
 }
 
@@ -220,7 +221,9 @@ PetscErrorCode CouplingIsRestartable(Coupling C, PetscBool *restartable)
 PetscErrorCode CouplingGetStats(Coupling C, CouplingStats *stats)
 {
   PetscFunctionBeginUser;
-  *stats = C->stats;
+  *stats         = C->stats;
+  stats->measure = C->measure;
+  stats->setting = C->setting;
   PetscCall(CouplingProblemGetProductCounts(C->problem, &stats->forward_products, &stats->adjoint_products));
   PetscFunctionReturn(0);
 }

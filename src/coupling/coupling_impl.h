@@ -25,6 +25,7 @@ typedef struct {
   PetscInt  iterations;       /* this step's coupling iterations (a failed attempt's too) */
   PetscInt  linearized_pairs; /* of which solved the linearized and adjoint problems */
   PetscReal jump;             /* the step's final interface jump, for the run's largest */
+  PetscReal measure;          /* the final value of what the method's tolerance bounds (C->measure) */
   PetscBool stalled;          /* stopped short of the tolerance without failing */
 } CouplingIterations;
 
@@ -39,6 +40,8 @@ struct _p_Coupling {
   PetscReal       dt;
   PetscInt        max_it;
   StepFailure     failure; /* of the step in progress */
+  char            measure[128]; /* what the method's tolerance bounds, for the closing lines */
+  char            setting[160]; /* how the method iterates, for the first line (chosen by regime) */
   struct {
     PetscErrorCode (*setup)(Coupling); /* the method's options and solvers, after the common ones */
     /* iterate one step to convergence from C->x, after CouplingProblemBeginStep and

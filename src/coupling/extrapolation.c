@@ -165,10 +165,8 @@ PetscErrorCode ExtrapolationCheckpoint(Extrapolation *e, Checkpoint cp, const ch
   PetscFunctionBeginUser;
   PetscCall(PetscSNPrintf(key, sizeof(key), "past_%ss", name));
   PetscCall(CheckpointInt(cp, key, &e->npast, load));
-  PetscCheck(e->npast <= e->points, PETSC_COMM_WORLD, PETSC_ERR_FILE_UNEXPECTED,
-             "option -restart: the checkpoint keeps %" PetscInt_FMT
-             " past %ss, -coupling_extrapolation_points is %" PetscInt_FMT,
-             e->npast, name, e->points);
+  /* a restart that fits fewer points (-restart_change coupling) starts from the newest */
+  if (load) e->npast = PetscMin(e->npast, e->points);
   for (PetscInt i = 0; i < e->npast; ++i) {
     PetscCall(PetscSNPrintf(key, sizeof(key), "past_%s_%" PetscInt_FMT, name, i));
     PetscCall(CheckpointVec(cp, key, e->past[i], load));

@@ -63,7 +63,7 @@ static PetscErrorCode ObjectiveAndGradient(Tao tao, Vec x, PetscReal *f, Vec g, 
   PetscFunctionReturn(0);
 }
 
-/* Stops on the interface jump (DESIGN §3): converged below -coupling_tol; stalled when the
+/* Stops on the interface jump (docs/design.md §3): converged below -coupling_tol; stalled when the
    objective has not improved by 1 % over -coupling_stall_its iterations; failed past
    -coupling_max_it. */
 PetscErrorCode OptTestIteration(Coupling C, PetscInt its, PetscReal f, PetscInt inner_total, OptVerdict *verdict)
@@ -230,6 +230,40 @@ static const char *OptOptimizer(Coupling C)
   return type;
 }
 
+/* What the first line and the closing lines say of the method: the inner solver the regime
+   chose, with J0's schedule, and the measure the tolerance bounds. */
+static PetscErrorCode OptDescribe(Coupling C, PetscBool fluid_krylov)
+{
+  Opt  *opt = (Opt *)C->data;
+  char  j0[64] = "", extras[64] = "";
+  const char *how;
+
+  PetscFunctionBeginUser;
+  if (opt->rebuild_every > 0)
+    PetscCall(PetscSNPrintf(j0, sizeof(j0), "%s J0 every %" PetscInt_FMT " steps",
+                            opt->inner_type == OPT_INNER_CHORD ? "on" : "preconditioned by", opt->rebuild_every));
+  else PetscCall(PetscStrncpy(j0, opt->inner_type == OPT_INNER_CGLS ? "" : "unpreconditioned", sizeof(j0)));
+  if (opt->secants > 0 || opt->start_correction)
+    PetscCall(PetscSNPrintf(extras, sizeof(extras), "%s%s", opt->secants > 0 ? ", secant updates" : "",
+                            opt->start_correction ? ", corrected start" : ""));
+  switch (opt->inner_type) {
+  case OPT_INNER_CHORD: how = "chord"; break;
+  case OPT_INNER_GMRES: how = "Newton-GMRES"; break;
+  case OPT_INNER_BICGSTAB: how = "Newton-BiCGStab"; break;
+  default: how = "Gauss-Newton CGLS";
+  }
+  PetscCall(PetscSNPrintf(C->setting, sizeof(C->setting), "opt (%s%s%s%s; %s fluid)", how, j0[0] ? " " : "", j0,
+                          extras, fluid_krylov ? "iterative" : "factored"));
+  if (opt->tol_relative > 0)
+    PetscCall(PetscSNPrintf(C->measure, sizeof(C->measure),
+                            "interface jump ||u - v_s||_L2(Gamma_I) (-coupling_tol %g, -coupling_tol_relative %g)",
+                            (double)opt->tol, (double)opt->tol_relative));
+  else
+    PetscCall(PetscSNPrintf(C->measure, sizeof(C->measure), "interface jump ||u - v_s||_L2(Gamma_I) (-coupling_tol %g)",
+                            (double)opt->tol));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode OptDestroy(Coupling C)
 {
   Opt *opt = (Opt *)C->data;
@@ -249,7 +283,7 @@ static PetscErrorCode OptDestroy(Coupling C)
 static PetscErrorCode OptSetUp(Coupling C)
 {
   Opt      *opt = (Opt *)C->data;
-  PetscBool isbrgn, given;
+  PetscBool isbrgn, given, fluid_krylov;
   char      ls_type[64];
 
   PetscFunctionBeginUser;
@@ -258,11 +292,11 @@ static PetscErrorCode OptSetUp(Coupling C)
   opt->krylov_jump_fraction = 0.5;
   /* tube3d, iterative solvers, 2 steps: 0.01 halves the fluid's Krylov iterations (2842 ->
      1460) at the same Gauss-Newton and GMRES iterations; 0.1 gains little more and moves
-     the probes by 4e-5 relative (docs/solvers.md). With LU it changes nothing. */
+     the probes by 4e-5 relative (docs/coupling-and-solvers.md). With LU it changes nothing. */
   opt->inexact_products  = 0.01;
   /* tube3d levels 1-3 with the iterative-ilu files: the step that lands within the tolerance
      needs products about ten times as accurate as the others to make LU's iterations
-     (docs/solvers.md, session 42) */
+     (docs/coupling-and-solvers.md) */
   opt->inexact_products_last = 0.001;
   opt->chord_contraction = 0.5;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Optimization-based coupling", "coupling");
@@ -273,29 +307,47 @@ static PetscErrorCode OptSetUp(Coupling C)
                            "and, when positive, below this times ||v_s||_{L2(Gamma_I)} (the tighter of the two: "
                            "a relative accuracy while the wall barely moves)",
                            &opt->tol_relative));
+  PetscCall(CouplingProblemFluidSolverIsKrylov(C->problem, &fluid_krylov));
+  /* with the fluid factored, J0's columns are triangular solves in blocks of 32 (tube3d level
+     1: 1024 controls, 32 block solves); with a fluid whose solves iterate each column is a
+     Krylov solve, and GMRES on J itself is the measured faster way */
+  opt->rebuild_every = fluid_krylov ? 0 : 50;
+  PetscCall(
+    OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian",
+                      "build the explicit Jacobian J0 (the chord steps' matrix, the Krylov methods' preconditioner) "
+                      "every K steps, and when a step contracts the jump by less than -coupling_chord_contraction "
+                      "(0: none, Kuberry 2015's plain CGLS); default 50 with a factored fluid, 0 with an iterative one",
+                      0, 1000000, &opt->rebuild_every));
   {
-    /* With an iterative fluid solver only gmres and bicgstab tie the products' Krylov
-       tolerances to the coupling's (the relaxed products below); cgls solves each product
-       to the solvers' own tolerances, 9x slower on tube3d level 1 with the iterative-ilu
-       files (21.4 s against 2.4 s, three steps, docs/solvers.md). */
-    PetscBool fluid_krylov;
+    /* The default is the fastest inner solver measured at the scene's accuracy
+       (docs/coupling-and-solvers.md): with the fluid factored and an explicit J0 in hand,
+       chord steps (channel2d's pulse 2.4x, tube3d 3.5x faster than cgls); with a fluid whose
+       linear solves iterate, gmres, the only one that ties the products' Krylov tolerances to
+       the coupling's (cgls was 9x slower on tube3d level 1); else gmres on J itself (tube3d
+       without J0: 2.8x faster than cgls). cgls (TAO Gauss-Newton) stays the seed's method. */
     PetscInt  inner;
-    PetscCall(CouplingProblemFluidSolverIsKrylov(C->problem, &fluid_krylov));
-    inner = fluid_krylov ? OPT_INNER_GMRES : OPT_INNER_CGLS;
+    PetscBool tao_given;
+    /* a TAO optimizer or a Tikhonov term asks for the least-squares problem: TAO's own */
+    PetscCall(PetscOptionsHasName(NULL, NULL, "-tao_type", &tao_given));
+    PetscCall(CouplingProblemGetTikhonov(C->problem, &opt->tikhonov));
+    inner = tao_given || opt->tikhonov > 0 ? OPT_INNER_CGLS
+          : !fluid_krylov && opt->rebuild_every > 0 ? OPT_INNER_CHORD
+                                                    : OPT_INNER_GMRES;
     PetscCall(PetscOptionsEList("-coupling_inner",
                                 "the step of an iteration: cgls (TAO Gauss-Newton, CG on J^T J), or Newton on the "
                                 "square system J h = -F by gmres or bicgstab (right-preconditioned by the explicit J0, "
-                                "no adjoint solve), or chord (h = -J0^-1 F, no linearized solve); default cgls, gmres "
-                                "where the fluid's linear solves iterate",
+                                "no adjoint solve), or chord (h = -J0^-1 F, no linearized solve); default chord with a "
+                                "factored fluid and an explicit J0, gmres otherwise, cgls with -tao_type or "
+                                "-coupling_tikhonov",
                                 NULL, OptInnerNames, 4, OptInnerNames[inner], &inner, NULL));
     opt->inner_type = (OptInner)inner;
   }
-  opt->rebuild_every = 0;
-  PetscCall(
-    OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian",
-                      "Precondition the inner Krylov method with the LU of an explicitly built J, rebuilt every "
-                      "K steps (0: no preconditioner, the seed's plain CGLS)",
-                      0, 1000000, &opt->rebuild_every));
+  /* With J0 in hand a Newton mode corrects it by secant updates and corrects the start by
+     it: fsi3's swing 1.10x and channel2d's pulse 1.34x faster than without (docs/coupling-and-solvers.md) */
+  if (opt->inner_type != OPT_INNER_CGLS && opt->rebuild_every > 0) {
+    opt->secants          = 20;
+    opt->start_correction = PETSC_TRUE;
+  }
   opt->build_block = 32;
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian_block",
                               "build that J from products J [e_j ...] of at most this many columns (all blocks of one "
@@ -365,10 +417,10 @@ static PetscErrorCode OptSetUp(Coupling C)
   /* below it the optimizer stops, so no Jacobian is needed there; a relative tolerance moves */
   PetscCall(CouplingProblemSetConvergedJump(C->problem, opt->tol_relative > 0 ? 0.0 : opt->tol));
   PetscCall(PetscMalloc1(C->max_it + 1, &opt->objectives));
-  PetscCall(CouplingProblemGetTikhonov(C->problem, &opt->tikhonov));
   PetscCall(VecDuplicate(C->x, &opt->F));
   PetscCall(VecDuplicate(C->x, &opt->correction));
   PetscCall(CouplingProblemCreateJacobian(C->problem, &opt->J));
+  PetscCall(OptDescribe(C, fluid_krylov));
   if (opt->inner_type != OPT_INNER_CGLS) {
     PetscCall(OptNewtonKrylovSetUp(C));
     PetscFunctionReturn(0);

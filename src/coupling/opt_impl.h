@@ -71,7 +71,7 @@ typedef struct {
 
 /* F(x), called in the optimizer's stage */
 PetscErrorCode OptResidual(Coupling, Vec x, Vec F);
-/* The stopping test of an iteration (DESIGN §3): writes its history row, counts its inner
+/* The stopping test of an iteration (docs/design.md §3): writes its history row, counts its inner
    iterations (the solver's running total `inner_total`) and decides. */
 PetscErrorCode OptTestIteration(Coupling, PetscInt its, PetscReal objective, PetscInt inner_total, OptVerdict *);
 

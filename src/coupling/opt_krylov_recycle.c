@@ -10,7 +10,7 @@
    moves), the product's loads are that much larger than its result, so the relaxed
    products' tolerance (-coupling_inexact_products) is tightened by the same factor. Without
    that, tube3d level 3 broke down from its third step (13 Gauss-Newton iterations instead of
-   3); with exact products it did not (docs/solvers.md). The columns are fixed for a solve
+   3); with exact products it did not (docs/coupling-and-solvers.md). The columns are fixed for a solve
    (GMRES needs a fixed preconditioner) and forgotten after a checkpoint file, in the run
    that writes it and in the run that restarts from it, and after a change of dt. */
 #include "opt_impl.h"

@@ -1,4 +1,4 @@
-/* The partitioned baselines (issue 5): Dirichlet-Neumann fixed-point iterations
+/* The partitioned baselines: Dirichlet-Neumann fixed-point iterations
    u_{k+1} = update(u_k, S(u_k), r_k), r_k = S(u_k) - u_k, S one sweep, the update an
    acceleration (acceleration.h: dn, aitken, iqnils, iqnimvj). The iterate u is the interface
    traction (structure under the traction, fluid with the structure's interface velocity,
@@ -25,6 +25,7 @@ typedef struct {
   Vec           v;              /* the velocity iterate */
   Extrapolation v_start;        /* its start from the last converged values */
   Vec           sweep, r;       /* S(u_k), r_k */
+  PetscReal     ratio;          /* ||r_k|| / ||S(u_k)|| of the last iteration tested */
 } Partitioned;
 
 /* The convergence and divergence tests of iteration k: true when the step ends there. */
@@ -40,7 +41,8 @@ static PetscErrorCode PartitionedTest(Coupling C, PetscInt step, PetscInt k, Pet
   /* history: the objective column holds 1/2 ||r||^2, the jump column ||r|| (traction or velocity) */
   PetscCall(HistoryAppend(C->history, step, C->dt, k, 0.5 * rnorm * rnorm, rnorm, 0));
   if (k == 0) *first = rnorm;
-  *done = PETSC_TRUE;
+  pt->ratio = xnorm > 0 ? rnorm / xnorm : (rnorm > 0 ? PETSC_INFINITY : 0);
+  *done     = PETSC_TRUE;
   if (rnorm <= PetscMax(pt->rtol * xnorm, pt->atol)) PetscFunctionReturn(0);
   if (PetscIsInfOrNanReal(rnorm) || (k > pt->acc->model_its && rnorm > 1e3 * *first))
     PetscCall(StepFailureSet(&C->failure,
@@ -87,6 +89,7 @@ static PetscErrorCode PartitionedIterate(Coupling C, PetscInt step, CouplingIter
     PetscCall(PetscLogStagePop());
   }
   it->iterations = k + 1; /* sweeps */
+  it->measure    = pt->ratio;
   if (StepFailed(&C->failure)) PetscFunctionReturn(0);
   PetscCall(CouplingProblemSweepJump(C->problem, &it->jump));
   if (pt->relax_velocity) PetscCall(ExtrapolationRecord(&pt->v_start, pt->v));
@@ -147,7 +150,7 @@ static PetscErrorCode PartitionedSetUp(Coupling C)
   PetscCall(
     OptionsPositiveReal(PetscOptionsObject, "-coupling_omega",
                         "relaxation: fixed for dn (default 1, unrelaxed), the first step of aitken, iqnils and iqnimvj "
-                        "(default 0.05, the seed's)",
+                        "(default 0.05, Kuberry 2015's)",
                         &pt->acc->omega));
   PetscCall(
     OptionsPositiveReal(PetscOptionsObject, "-coupling_rtol",
@@ -158,11 +161,16 @@ static PetscErrorCode PartitionedSetUp(Coupling C)
                                    "tolerances while the traction is tiny",
                                    &pt->atol));
   PetscCall(PetscOptionsBool("-coupling_relax_velocity",
-                             "iterate on the interface velocity (fluid first, the structure's velocity relaxed: the "
-                             "seed's arrangement) instead of the traction",
+                             "iterate on the interface velocity (fluid first, the structure's velocity relaxed: "
+                             "Kuberry 2015's arrangement) instead of the traction",
                              NULL, pt->relax_velocity, &pt->relax_velocity, NULL));
   PetscOptionsEnd();
   PetscCall(CouplingProblemCheckSweepable(C->problem)); /* after the options: a bad value is named first */
+  PetscCall(PetscSNPrintf(C->measure, sizeof(C->measure),
+                          "final relative %s change ||r||/||S(u)|| (-coupling_rtol %g, or ||r|| <= -coupling_atol %g)",
+                          pt->relax_velocity ? "velocity" : "traction", (double)pt->rtol, (double)pt->atol));
+  PetscCall(PetscSNPrintf(C->setting, sizeof(C->setting), "%s on the interface %s", C->method,
+                          pt->relax_velocity ? "velocity" : "traction"));
   pt->u = C->x;
   if (pt->relax_velocity) {
     PetscCall(CouplingProblemCreateInterfaceVector(C->problem, &pt->v));

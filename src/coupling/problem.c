@@ -112,12 +112,12 @@ PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure struc
   P->extrapolate_mesh        = PETSC_TRUE;
   PetscOptionsBegin(comm, NULL, "Coupling problem options", "coupling");
   PetscCall(PetscOptionsEnum("-coupling_control",
-                             "What the control replaces: the fluid traction (seed ch. 3, 6) or the traction minus the "
-                             "convective boundary flux 1/2 rho ((u-z).n) u (seed ch. 4, 5)",
+                             "What the control replaces: the fluid traction (Kuberry 2015 ch. 3, 6) or the traction minus the "
+                             "convective boundary flux 1/2 rho ((u-z).n) u (Kuberry 2015 ch. 4, 5)",
                              NULL, ControlVariants, (PetscEnum)P->variant, (PetscEnum *)&P->variant, NULL));
   PetscCall(PetscOptionsEnum("-coupling_velocity",
-                             "Structure velocity matched on the interface: the scheme's own (seed ch. 3, 6) or (eta^n "
-                             "- eta^{n-1})/dt (seed ch. 4, 5)",
+                             "Structure velocity matched on the interface: the scheme's own (Kuberry 2015 ch. 3, 6) or (eta^n "
+                             "- eta^{n-1})/dt (Kuberry 2015 ch. 4, 5)",
                              NULL, VelocityMeasures, (PetscEnum)P->measure, (PetscEnum *)&P->measure, NULL));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_jacobian_lag",
                               "refactor the fluid Jacobian at every K-th Gauss-Newton iteration (1: exact "
@@ -135,7 +135,7 @@ PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure struc
                              NULL, P->predict, &P->predict, NULL));
   PetscCall(PetscOptionsEnum("-coupling_domain",
                              "Fluid domain of an evaluation of F(g): the structure's displacement of the previous "
-                             "Gauss-Newton iteration (seed Algorithm 3.3: fluid and structure solve at the same time) "
+                             "Gauss-Newton iteration (Kuberry 2015 Algorithm 3.3: fluid and structure solve at the same time) "
                              "or of this one (the structure solves first, then the mesh moves, then the fluid solves)",
                              NULL, DomainUpdates, (PetscEnum)P->domain, (PetscEnum *)&P->domain, NULL));
   PetscCall(PetscOptionsBool("-coupling_mesh_extrapolate",

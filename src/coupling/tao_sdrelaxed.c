@@ -1,4 +1,4 @@
-/* TAO type "sdrelaxed": the seed's relaxed steepest descent (Algorithm 4.11),
+/* TAO type "sdrelaxed": the relaxed steepest descent of Kuberry 2015 (Algorithm 4.11),
      g_{k+1} = (1 - alpha) g_k - (alpha/delta) (adjoint trace)  =  g_k - (alpha/delta) grad J_delta(g_k),
    a fixed step alpha/delta along the negative gradient of the Tikhonov-regularized
    objective. Convergence for small alpha is the seed's Theorem 5.3. */
@@ -60,7 +60,7 @@ static PetscErrorCode TaoSetFromOptions_RelaxedSD(Tao tao, PetscOptionItems *Pet
   TaoRelaxedSD *sd = (TaoRelaxedSD *)tao->data;
 
   PetscFunctionBeginUser;
-  PetscOptionsHeadBegin(PetscOptionsObject, "Relaxed steepest descent (seed Algorithm 4.11)");
+  PetscOptionsHeadBegin(PetscOptionsObject, "Relaxed steepest descent (Kuberry 2015 Algorithm 4.11)");
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-tao_sdrelaxed_alpha",
                                 "relaxation alpha: the step is alpha/delta along the negative gradient", &sd->alpha));
   PetscOptionsHeadEnd();

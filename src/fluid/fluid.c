@@ -461,8 +461,14 @@ PetscErrorCode FluidCheckpoint(Fluid f, Checkpoint cp, PetscBool load)
   PetscCall(CheckpointPopGroup(cp));
   /* state_before is u^{n-2} (backward Euler keeps no count) */
   if (load && f->time_order == 1) f->steps_at_dt = 1;
-  /* chord factors from before it are not in the checkpoint */
+  /* chord factors from before it are not in the checkpoint, nor are the partitioned
+     methods' Dirichlet solver and factors, whose lag counts Newton iterations from the
+     solver's creation: both sides of a restart make them anew at the next sweep */
   if (f->chord && CheckpointResynchronizes(cp, load)) PetscCall(SNESSetLagJacobian(f->snes, -2));
+  if (CheckpointResynchronizes(cp, load) && f->snes_dirichlet) {
+    PetscCall(FluidDirichletDestroy(f));
+    f->dirichlet_step = -1;
+  }
   PetscFunctionReturn(0);
 }
 

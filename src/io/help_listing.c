@@ -1,6 +1,7 @@
 /* -help: PETSc prints each object's options as the object reads them, so fsiopt's own are
-   scattered between the solvers'. Their lines are held back and printed at the end grouped
-   by prefix, with the unit each value has in the scene's system. */
+   scattered between the solvers'. Their lines are held back and printed first, grouped by
+   prefix, with the unit each value has in the scene's system, the checks of internals apart;
+   PETSc's own listing follows under -help all and is left out under -help. */
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -39,6 +40,34 @@ static PetscErrorCode (*petsc_help_printf)(MPI_Comm, const char[], ...) = NULL;
 static char    *held[MAX_HELD], pending_header[256], partial[4096];
 static int      n_held = 0;
 static MPI_Comm help_comm;
+/* -help all: PETSc's lines, kept in order to follow fsiopt's */
+static PetscBool list_petsc = PETSC_FALSE;
+static char     *petsc_text = NULL;
+static size_t    petsc_len = 0, petsc_size = 0;
+
+void HelpListingSetPETSc(PetscBool all)
+{
+  list_petsc = all;
+}
+
+static PetscErrorCode KeepPETScLine(const char line[])
+{
+  const size_t n = strlen(line);
+
+  PetscFunctionBeginUser;
+  if (!list_petsc) PetscFunctionReturn(0);
+  if (petsc_len + n + 1 > petsc_size) {
+    char *grown;
+    petsc_size = 2 * (petsc_size + n + 1);
+    PetscCall(PetscMalloc1(petsc_size, &grown));
+    if (petsc_text) PetscCall(PetscMemcpy(grown, petsc_text, petsc_len + 1));
+    PetscCall(PetscFree(petsc_text));
+    petsc_text = grown;
+  }
+  PetscCall(PetscMemcpy(petsc_text + petsc_len, line, n + 1));
+  petsc_len += n;
+  PetscFunctionReturn(0);
+}
 
 static PetscBool IsOwn(const char line[])
 {
@@ -46,7 +75,7 @@ static PetscBool IsOwn(const char line[])
   int  n = 0;
 
   if (strncmp(line, "  -", 3)) return PETSC_FALSE;
-  while (line[2 + n] && line[2 + n] != ' ' && line[2 + n] != '\n' && n < 255) {
+  while (line[2 + n] && line[2 + n] != ' ' && line[2 + n] != ':' && line[2 + n] != '\n' && n < 255) {
     name[n] = line[2 + n];
     ++n;
   }
@@ -127,9 +156,9 @@ static PetscErrorCode Line(const char line[])
   } else if (pending_header[0] && line[0] != ' ' && strlen(line) > 1 && line[strlen(line) - 2] == ':') {
     PetscCall(PetscStrlcat(pending_header, line, sizeof(pending_header)));
   } else {
-    if (pending_header[0]) PetscCall(petsc_help_printf(help_comm, "%s", pending_header));
+    if (pending_header[0]) PetscCall(KeepPETScLine(pending_header));
     pending_header[0] = 0;
-    PetscCall(petsc_help_printf(help_comm, "%s", line));
+    PetscCall(KeepPETScLine(line));
   }
   PetscFunctionReturn(0);
 }
@@ -156,75 +185,6 @@ static PetscErrorCode Collect(MPI_Comm comm, const char format[], ...)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode HelpListingBegin(void)
-{
-  PetscFunctionBeginUser;
-  if (!OptionsHelpRequested() || petsc_help_printf) PetscFunctionReturn(0);
-  petsc_help_printf = PetscHelpPrintf;
-  PetscHelpPrintf   = Collect;
-  help_comm         = PETSC_COMM_WORLD;
-  PetscFunctionReturn(0);
-}
-
-/* the prefixes of the groups, in the order printed; an option under none is the run's */
-static const char *const groups[] = {"",         "fluid_", "structure_", "coupling_", "tao_", "mesh_", "checkpoint_",
-                                     "channel_", "tube_",  "turek_",     "mms_",      NULL};
-
-static PetscBool InGroup(const char line[], const char group[])
-{
-  if (group[0]) return !strncmp(line + 3, group, strlen(group)) ? PETSC_TRUE : PETSC_FALSE;
-  for (const char *const *g = groups + 1; *g; ++g)
-    if (!strncmp(line + 3, *g, strlen(*g))) return PETSC_FALSE;
-  return PETSC_TRUE;
-}
-
-PetscErrorCode HelpListingEnd(const char units[])
-{
-  PetscFunctionBeginUser;
-  if (!petsc_help_printf) PetscFunctionReturn(0);
-  if (partial[0]) PetscCall(Line(partial));
-  PetscHelpPrintf   = petsc_help_printf;
-  petsc_help_printf = NULL;
-  if (!n_held) PetscFunctionReturn(0);
-  if (!units) units = "nondimensional";
-  PetscCall(PetscHelpPrintf(help_comm,
-                            "----------------------------------------\nfsiopt's options, by prefix (values in %s%s):\n",
-                            units, strcmp(units, "nondimensional") ? " units" : " form"));
-  for (const char *const *g = groups; *g; ++g) {
-    PetscBool any = PETSC_FALSE;
-    for (int j = 0; j < n_held; ++j) {
-      char       *line = held[j], *tail;
-      const char *unit = NULL;
-      if (!InGroup(line, *g)) continue;
-      if (!any) PetscCall(PetscHelpPrintf(help_comm, " %s\n", (*g)[0] ? *g : "the run (no prefix)"));
-      any = PETSC_TRUE;
-      for (size_t k = 0; k < sizeof(dimensional) / sizeof(dimensional[0]); ++k)
-        if (!strncmp(line + 2, dimensional[k].name, strlen(dimensional[k].name)) &&
-            line[2 + strlen(dimensional[k].name)] == ' ')
-          unit = UnitName(units, dimensional[k].dimension);
-      if ((tail = strstr(line, " (None)\n"))) *tail = 0; /* PETSc names a manual page here; ours have none */
-      else if ((tail = strrchr(line, '\n'))) *tail = 0;
-      if (unit && strlen(line) > strlen(unit) && !strcmp(line + strlen(line) - strlen(unit), unit))
-        unit = NULL; /* the text ends with it */
-      PetscCall(PetscHelpPrintf(help_comm, "%s%s%s%s\n", line, unit ? " [" : "", unit ? unit : "", unit ? "]" : ""));
-    }
-  }
-  for (int i = 0; i < n_held; ++i) PetscCall(PetscFree(held[i]));
-  n_held = 0;
-  PetscFunctionReturn(0);
-}
-
-static PetscErrorCode ForgetCaptured(void)
-{
-  PetscFunctionBeginUser;
-  for (PetscInt i = 0; i < n_captured; ++i) {
-    PetscCall(PetscFree(captured_name[i]));
-    PetscCall(PetscFree(captured_value[i]));
-  }
-  n_captured = 0;
-  PetscFunctionReturn(0);
-}
-
 /* PETSc prints the choices of a type (PetscFunctionListPrintTypes) with fprintf to the C
    library's stdout, not through PetscHelpPrintf: glibc lets stdout be reassigned, so those
    lines go to memory during the capture while PETSc's PETSC_STDOUT (PetscPrintf) still
@@ -242,15 +202,140 @@ void OptionsCaptureAbandon(void)
   real_stdout = NULL;
 }
 
-PetscErrorCode OptionsCaptureBegin(void)
+static PetscErrorCode DivertStdout(void)
 {
   PetscFunctionBeginUser;
-  if (OptionsHelpRequested() || petsc_help_printf) PetscFunctionReturn(0);
   fflush(stdout);
   PetscCheck(type_lines = open_memstream(&type_text, &type_len), PETSC_COMM_SELF, PETSC_ERR_MEM,
              "cannot open a memory stream");
   real_stdout = stdout;
   stdout      = type_lines;
+  PetscFunctionReturn(0);
+}
+
+/* after the listing: what objects still print at their destruction (-log_view's viewers) */
+static PetscErrorCode Discard(MPI_Comm comm, const char format[], ...)
+{
+  (void)comm;
+  (void)format;
+  return 0;
+}
+
+PetscErrorCode HelpListingBegin(void)
+{
+  PetscFunctionBeginUser;
+  if (!OptionsHelpRequested() || petsc_help_printf) PetscFunctionReturn(0);
+  petsc_help_printf = PetscHelpPrintf;
+  PetscHelpPrintf   = Collect;
+  help_comm         = PETSC_COMM_WORLD;
+  PetscCall(DivertStdout());
+  PetscFunctionReturn(0);
+}
+
+/* the prefixes of the groups, in the order printed; an option under none is the run's; the
+   checks of internals (TESTING) last */
+#define TESTING "checks"
+static const char *const groups[] = {"",     "fluid_",      "structure_", "coupling_", "tao_", "mesh_",
+                                     "checkpoint_", "channel_", "tube_", "turek_", "mms_", TESTING, NULL};
+
+/* a check of the code's internals or a fault injection: derivative tests, backend and rank
+   comparisons, signals sent by the run to itself */
+static PetscBool IsCheck(const char line[])
+{
+  char name[128];
+  int  n = 0;
+
+  while (line[2 + n] && line[2 + n] != ' ' && line[2 + n] != ':' && n < 127) {
+    name[n] = line[2 + n];
+    ++n;
+  }
+  name[n] = 0;
+  return (strstr(name, "_test_") || (strstr(name, "check") && !strstr(name, "checkpoint"))) ? PETSC_TRUE : PETSC_FALSE;
+}
+
+static PetscBool InGroup(const char line[], const char group[])
+{
+  if (!strcmp(group, TESTING)) return IsCheck(line);
+  if (IsCheck(line)) return PETSC_FALSE;
+  if (group[0]) return !strncmp(line + 3, group, strlen(group)) ? PETSC_TRUE : PETSC_FALSE;
+  for (const char *const *g = groups + 1; *g; ++g)
+    if (!strncmp(line + 3, *g, strlen(*g))) return PETSC_FALSE;
+  return PETSC_TRUE;
+}
+
+static const char *GroupTitle(const char group[])
+{
+  if (!group[0]) return "the run (no prefix)";
+  if (!strcmp(group, TESTING)) return "checks of the code and fault injection (for testing, not for production runs)";
+  return group;
+}
+
+PetscErrorCode HelpListingEnd(const char units[])
+{
+  PetscFunctionBeginUser;
+  if (!petsc_help_printf) PetscFunctionReturn(0);
+  if (partial[0]) PetscCall(Line(partial));
+  fflush(type_lines);
+  if (type_text) PetscCall(KeepPETScLine(type_text)); /* the types' choices, printed to stdout */
+  OptionsCaptureAbandon();
+  PetscHelpPrintf   = petsc_help_printf;
+  petsc_help_printf = NULL;
+  PetscCall(PetscHelpPrintf(help_comm, "fsiopt: fluid-structure interaction by optimization-based decoupling.\n"
+                                       "  fsiopt -options_file options/<scene>.yaml [options]   or   fsiopt -scene "
+                                       "<name> [options]\n"));
+  if (!units) units = "nondimensional";
+  if (n_held)
+    PetscCall(PetscHelpPrintf(help_comm, "fsiopt's options, by prefix, -name <value>: what it is [unit] (values in %s%s):\n",
+                              units, strcmp(units, "nondimensional") ? " units" : " form"));
+  for (const char *const *g = groups; *g; ++g) {
+    PetscBool any = PETSC_FALSE;
+    for (int j = 0; j < n_held; ++j) {
+      char       *line = held[j], *tail;
+      const char *unit = NULL;
+      if (!InGroup(line, *g)) continue;
+      if (!any) PetscCall(PetscHelpPrintf(help_comm, " %s\n", GroupTitle(*g)));
+      any = PETSC_TRUE;
+      for (size_t k = 0; k < sizeof(dimensional) / sizeof(dimensional[0]); ++k)
+        if (!strncmp(line + 2, dimensional[k].name, strlen(dimensional[k].name)) &&
+            line[2 + strlen(dimensional[k].name)] == ' ')
+          unit = UnitName(units, dimensional[k].dimension);
+      if ((tail = strstr(line, " (None)\n"))) *tail = 0; /* PETSc names a manual page here; ours have none */
+      else if ((tail = strrchr(line, '\n'))) *tail = 0;
+      if (unit && strlen(line) > strlen(unit) && !strcmp(line + strlen(line) - strlen(unit), unit))
+        unit = NULL; /* the text ends with it */
+      PetscCall(PetscHelpPrintf(help_comm, "%s%s%s%s\n", line, unit ? " [" : "", unit ? unit : "", unit ? "]" : ""));
+    }
+  }
+  for (int i = 0; i < n_held; ++i) PetscCall(PetscFree(held[i]));
+  n_held = 0;
+  if (list_petsc) {
+    PetscCall(PetscHelpPrintf(help_comm, "PETSc's options of the objects this set-up made:\n"));
+    if (petsc_text) PetscCall(PetscHelpPrintf(help_comm, "%s", petsc_text));
+  } else
+    PetscCall(PetscHelpPrintf(help_comm, "PETSc's options of the solvers, meshes and viewers this set-up made "
+                                         "(-fluid_ksp_type, -structure_pc_type, ...): -help all\n"));
+  PetscCall(PetscFree(petsc_text));
+  petsc_len = petsc_size = 0;
+  if (!list_petsc) PetscHelpPrintf = Discard;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode ForgetCaptured(void)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < n_captured; ++i) {
+    PetscCall(PetscFree(captured_name[i]));
+    PetscCall(PetscFree(captured_value[i]));
+  }
+  n_captured = 0;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode OptionsCaptureBegin(void)
+{
+  PetscFunctionBeginUser;
+  if (OptionsHelpRequested() || petsc_help_printf) PetscFunctionReturn(0);
+  PetscCall(DivertStdout());
   /* PETSc objects print the options they read, with the values they took, only under
      -help: set it for the set-up, and keep what they print instead of printing it */
   PetscCall(PetscOptionsSetValue(NULL, "-help", NULL));

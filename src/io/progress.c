@@ -50,7 +50,7 @@ PetscErrorCode ProgressStart(Progress p, const RunParams *params, PetscInt first
 {
   PetscInt    dofs[2] = {fluid_dofs, structure_dofs};
   PetscMPIInt size;
-  char        sides[128] = "", layout[64] = "";
+  char        sides[320] = "", layout[64] = "";
 
   PetscFunctionBeginUser;
   p->params     = params;

@@ -334,6 +334,8 @@ PetscErrorCode SummaryGather(RunSummary *s, PetscBool has_fluid, PetscBool has_s
     s->forward_products    = stats.forward_products;
     s->adjoint_products    = stats.adjoint_products;
     s->max_interface_jump  = stats.max_jump;
+    s->max_convergence_measure = stats.max_measure;
+    s->convergence_measure     = stats.measure;
     s->stalled_steps       = stats.stalled_steps;
     /* seed eq. 6.5: a forward run with the traction known needs one fluid solve per step */
     s->work_factor = (PetscReal)(fluid_solves + 2 * stats.linearized_pairs) /

@@ -1,4 +1,4 @@
-/* Harmonic or linear-elastic extension of the interface displacement (DESIGN §2). The
+/* Harmonic or linear-elastic extension of the interface displacement (docs/design.md §2). The
    operator A lives on the reference mesh and never changes: it is assembled once on all
    dofs, and each extension is one solve with the factored free block,
      A_ff d_f = -A_fb d_b,

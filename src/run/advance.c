@@ -73,9 +73,14 @@ PetscErrorCode RunAdvance(Run run)
   PetscCall(InterruptInstall());
   s->steps_done = run->params.steps;
   s->first_step = run->first_step;
-  if (run->first_step <= run->params.steps)
+  if (run->first_step <= run->params.steps) {
+    CouplingStats stats = {0};
+    if (run->coupling) PetscCall(CouplingGetStats(run->coupling, &stats));
     PetscCall(ProgressStart(run->progress, &run->params, run->first_step, s->fluid_dofs, s->structure_dofs,
-                            run->coupled ? run->params.coupling : NULL, s->structure_ranks));
+                            run->coupled ? (stats.setting && stats.setting[0] ? stats.setting : run->params.coupling)
+                                         : NULL,
+                            s->structure_ranks));
+  }
   for (PetscInt step = run->first_step; step <= run->params.steps; ++step) {
     PetscCall(StepRetryAdvance(run->retry, step, &run->failure));
     {

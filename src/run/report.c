@@ -3,22 +3,59 @@
 #include "run_impl.h"
 #include "logging.h"
 
+/* The values a case is run for: every probe column when there are a few (a Turek-Hron
+   case's displacement of A, drag and lift), else the forces on the body; final values, or
+   mean +- amplitude over the quantities' window when they swing. */
+static PetscErrorCode PrintQuantities(const QuantityTable *q)
+{
+  PetscBool any = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < q->n; ++i) {
+    const char *name = q->name[i];
+    PetscBool   force, drag, lift;
+
+    PetscCall(PetscStrbeginswith(name, "drag", &drag));
+    PetscCall(PetscStrbeginswith(name, "lift", &lift));
+    PetscCall(PetscStrbeginswith(name, "force", &force));
+    if (q->n > 4 && !(drag || lift || force)) continue;
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%s %s ", any ? "," : "\nfsiopt:", name));
+    if (q->amplitude[i] > 0 && q->frequency[i] > 0)
+      PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%.6g +- %.4g (mean +- amplitude over the last %g)",
+                            (double)q->mean[i], (double)q->amplitude[i], (double)q->window));
+    else PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%.6g", (double)q->final[i]));
+    any = PETSC_TRUE;
+  }
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode PrintClosingLines(Run run)
 {
   const RunSummary *s     = &run->summary;
   const PetscInt    steps = PetscMax(s->steps_done - run->first_step + 1, 1);
 
   PetscFunctionBeginUser;
-  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fsiopt: scene %s, %" PetscInt_FMT " steps to t = %g:", run->params.scene,
-                        run->params.steps, (double)run->params.t_final));
+  if (s->steps_done < run->params.steps)
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD,
+                          "fsiopt: scene %s, stopped after step %" PetscInt_FMT " of %" PetscInt_FMT
+                          " (t = %g of %g, %s):",
+                          run->params.scene, s->steps_done, run->params.steps,
+                          (double)(run->params.t_start + s->steps_done * run->params.dt), (double)run->params.t_final,
+                          s->interrupted ? s->interrupted : "a step failed"));
+  else
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "fsiopt: scene %s, %" PetscInt_FMT " steps to t = %g:", run->params.scene,
+                          run->params.steps, (double)run->params.t_final));
   for (PetscInt i = 0; i < s->errors.n; ++i)
     PetscCall(PetscPrintf(PETSC_COMM_WORLD, " %s %.3e", s->errors.name[i], (double)s->errors.value[i]));
-  if (run->coupling)
-    PetscCall(PetscPrintf(PETSC_COMM_WORLD,
-                          "\nfsiopt: %" PetscInt_FMT " coupling iterations (%.2f per step), %" PetscInt_FMT
-                          " inner, max interface jump %.3e, work factor %.2f",
-                          s->coupling_iterations, (double)s->coupling_iterations / steps, s->inner_iterations,
-                          (double)s->max_interface_jump, (double)s->work_factor));
+  if (run->coupling) {
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\nfsiopt: %" PetscInt_FMT " coupling iterations (%.2f per step), ",
+                          s->coupling_iterations, (double)s->coupling_iterations / steps));
+    if (s->inner_iterations) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%" PetscInt_FMT " inner, ", s->inner_iterations));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "work factor %.2f", (double)s->work_factor));
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\nfsiopt: tolerance on the %s; the largest a step ended with: %.3e",
+                          s->convergence_measure, (double)s->max_convergence_measure));
+  }
+  PetscCall(PrintQuantities(&s->quantities));
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "\nfsiopt: outputs in %s/\n", run->params.output_dir));
   PetscFunctionReturn(0);
 }

@@ -55,7 +55,7 @@ static PetscErrorCode RunParamsSetFromOptions(RunParams *p)
    On the current domain, every scene's default, a split lets the two sides' linearized
    solves overlap but not their nonlinear ones, and a structure rank with less than its
    share of work idles: on 2 ranks tube3d level 1 ran 24.3 s split and 22.2 s shared
-   (docs/iterations.md). */
+   (docs/coupling-and-solvers.md). */
 static PetscErrorCode SizedStructureRanks(Run run, PetscMPIInt size, PetscInt *K)
 {
   Fluid      fluid;

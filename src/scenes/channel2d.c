@@ -3,7 +3,7 @@
    b(t) = (A (1 - cos(2 pi t / T_b)), 0) for t <= T_b (A = 1e3 dyn/cm^2, T_b = 0.025 s),
    the outlet x = 6 is traction-free, the bottom is a no-slip wall, the wall's ends are
    clamped and its top is traction-free. cgs units; rho = 1, mu = 0.035, rho_s = 1.1,
-   E = 3e6, nu_s = 0.3 (our reading of the numbers the seed's text lost, DESIGN §4).
+   E = 3e6, nu_s = 0.3 (our reading of the numbers the seed's text lost, docs/design.md §4).
    The fluid mesh follows the wall (harmonic extension, fixed on the other three sides).
    The scene's defaults are the seed's run, dt = 1e-4 to T = 0.1 with the linear wall
    (options/channel2d.yaml), and the solver settings that every run of it shares (the St.
@@ -43,7 +43,7 @@ PetscErrorCode SceneCreate_Channel2D(Scene *scene)
   PetscFunctionBeginUser;
   scene->dim   = 2;
   scene->units = "cgs";
-  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene channel2d: the seed's haemodynamic channel", "scene");
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene channel2d: the haemodynamic channel of Kuberry 2015", "scene");
   PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-channel_inlet_amplitude",
                                    "amplitude A of the inlet traction pulse A (1 - cos(2 pi t/T)), dyn/cm^2",
                                    &amplitude));
@@ -68,26 +68,25 @@ PetscErrorCode SceneCreate_Channel2D(Scene *scene)
   PetscCall(OptionsSetDefault("-t_final", "0.1"));
   /* the linear wall's first-order scheme; channel2d-svk.yaml: the midpoint one */
   PetscCall(OptionsSetDefault("-structure_time_order", "1"));
-  /* Gauss-Newton (-coupling opt with its TAO brgn, the defaults) on the interface traction,
-     to the seed's tolerance on ||u - v_s||_{L2(Gamma_I)} (about 4e-6 of its size at the peak) */
+  /* -coupling opt on the interface traction (with its regime's inner solver: chord steps on
+     an explicit J0 with the fluid factored), to the seed's tolerance on ||u - v_s||_{L2(Gamma_I)}
+     (about 4e-6 of its size at the peak); the fluid is refactored every 10th iteration */
   PetscCall(OptionsSetDefault("-coupling_tol", "1e-4"));
-  /* refactor the fluid every 10th Gauss-Newton iteration; the inner CG is preconditioned with
-     an explicit Jacobian rebuilt every 50 steps */
   PetscCall(OptionsSetDefault("-coupling_jacobian_lag", "10"));
-  PetscCall(OptionsSetDefault("-coupling_explicit_jacobian", "50"));
-  /* inexact Gauss-Newton: the inner CG stops at 1e-4 of its start. The same Gauss-Newton
-     iterations as at 1e-10, with half the CG iterations (first 300 steps) */
+  /* with -coupling_inner cgls: inexact Gauss-Newton, the inner CG stops at 1e-4 of its start.
+     The same Gauss-Newton iterations as at 1e-10, with half the CG iterations (first 300 steps) */
   PetscCall(OptionsSetDefault("-tao_brgn_subsolver_tao_bnk_ksp_rtol", "1e-4"));
   /* the structure solves first and the fluid runs on the mesh of this very iterate: with the
      seed's lagged domain (-coupling_domain lagged) the first Gauss-Newton step of every time
      step is spent on the domain's own move (1.9 instead of 1.0 iterations per step) */
   PetscCall(OptionsSetDefault("-coupling_domain", "current"));
   /* each step starts from the control extrapolated by the quadratic fitted (least squares) to
-     the last six: the fit damps the error of controls accepted at the tolerance, which the
-     quadratic through three amplifies threefold. 38 % of the steps then meet the tolerance
-     with no Gauss-Newton iteration (20 % with the quadratic through three) */
+     the last twelve, or by the linear recurrence of order 6 fitted to them where that predicted
+     the last control better: the fit damps the error of controls accepted at the tolerance,
+     which the quadratic through three amplifies threefold */
   PetscCall(OptionsSetDefault("-coupling_extrapolation", "2"));
-  PetscCall(OptionsSetDefault("-coupling_extrapolation_points", "6"));
+  PetscCall(OptionsSetDefault("-coupling_extrapolation_points", "12"));
+  PetscCall(OptionsSetDefault("-coupling_extrapolation_recurrence", "6"));
   /* the fluid's Newton solves stop at 1e-7 of the first residual and at 1e-8 of the
      right-hand side: the predicted starts of later iterations are close */
   PetscCall(OptionsSetDefault("-fluid_snes_rtol", "1e-7"));

@@ -1,7 +1,7 @@
 /* The pressure pulse into an elastic tube, shared by tube3d (straight) and bend3d (curved
    axis): an overpressure P on the inlet for a while, a traction-free outlet, the wall's
    ends clamped and its outside traction-free; cgs units, blood-like fluid and an arterial
-   wall (seed §6.5, DESIGN §4). The fluid mesh follows the wall, its inlet and outlet
+   wall (seed §6.5, docs/design.md §4). The fluid mesh follows the wall, its inlet and outlet
    discs staying put. Face sets (the .geo files): fluid 4 inlet, 2 outlet, 3 interface;
    wall 1 interface, 3 outside, 4 and 2 its ends. */
 #include "scene.h"

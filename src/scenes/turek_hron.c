@@ -1,4 +1,4 @@
-/* Scene turek-hron: the benchmarks of Turek & Hron (2006), DESIGN §4. SI units.
+/* Scene turek-hron: the benchmarks of Turek & Hron (2006), docs/design.md §4. SI units.
    Channel [0, 2.5] x [0, 0.41] around a rigid cylinder (centre (0.2, 0.2), radius 0.05)
    with an elastic flag [x0, 0.6] x [0.19, 0.21] attached to it (meshes/turek-hron-*.geo).
    Parabolic inflow 1.5 U y (H - y)/(H/2)^2 ramped by (1 - cos(pi t/2))/2 for t < 2,
@@ -50,7 +50,7 @@ typedef struct {
   PetscBool   biharmonic_mesh;       /* our default: the biharmonic extension */
 } TurekCase;
 
-/* The published parameters (DESIGN §4). Steady cases: the static flag (csm1, csm2) in one
+/* The published parameters (docs/design.md §4). Steady cases: the static flag (csm1, csm2) in one
    step, the steady fluid (cfd1, cfd2) as a continuation along the inflow ramp, fsi1 by time
    stepping with the dissipative first-order wall until nothing moves. Periodic cases: the
    midpoint wall (energy-conserving), the BDF2 fluid, the window spanning several periods. cfd2 is steady
@@ -128,7 +128,7 @@ static PetscErrorCode MeshMotionDefaults(const TurekCase *c)
   PetscFunctionReturn(0);
 }
 
-/* The solvers of every case: the fluid's Newton tolerances, and Gauss-Newton on the
+/* The solvers of every case: the fluid's Newton tolerances, and the coupling on the
    interface traction as in channel2d; a case without fluid or coupling reads none of them. */
 static PetscErrorCode SolverDefaults(void)
 {
@@ -137,7 +137,6 @@ static PetscErrorCode SolverDefaults(void)
   PetscCall(OptionsSetDefault("-fluid_rhs_rtol", "1e-9"));
   PetscCall(OptionsSetDefault("-coupling_tol", "1e-7"));
   PetscCall(OptionsSetDefault("-coupling_jacobian_lag", "10"));
-  PetscCall(OptionsSetDefault("-coupling_explicit_jacobian", "50"));
   /* and after a Gauss-Newton iteration whose CG needed more than 10 iterations: a swinging
      flag moves J away from the explicit one (fsi3 from t = 5, 20 steps: 1.2x faster, 213
      instead of 1101 CG iterations) */
@@ -145,7 +144,8 @@ static PetscErrorCode SolverDefaults(void)
   PetscCall(OptionsSetDefault("-tao_brgn_subsolver_tao_bnk_ksp_rtol", "1e-4"));
   PetscCall(OptionsSetDefault("-coupling_domain", "current"));
   PetscCall(OptionsSetDefault("-coupling_extrapolation", "2"));
-  PetscCall(OptionsSetDefault("-coupling_extrapolation_points", "6"));
+  PetscCall(OptionsSetDefault("-coupling_extrapolation_points", "12"));
+  PetscCall(OptionsSetDefault("-coupling_extrapolation_recurrence", "6"));
   PetscFunctionReturn(0);
 }
 

@@ -58,7 +58,7 @@ PetscErrorCode StructureSetFromOptions(Structure s)
                              NULL, s->initial_projection, &s->initial_projection, NULL));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-structure_time_order",
                               "0: static (no inertia: each step is the equilibrium under the data of its time), 1: "
-                              "first order (seed eq. 2.42), 2: midpoint (seed eqs. 2.40-2.41)",
+                              "first order (Kuberry 2015 eq. 2.42), 2: midpoint (Kuberry 2015 eqs. 2.40-2.41)",
                               0, 2, &s->time_order));
   PetscOptionsEnd();
   s->mu     = s->youngs_modulus / (2.0 * (1.0 + s->poisson_ratio));
