@@ -14,7 +14,7 @@ import os, sys
 sys.dont_write_bytecode = True   # no tests/__pycache__
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import harness  # noqa: E402
-import test_solvers, test_coupling, test_moving_meshes, test_fields, test_scenes, test_reliability, test_bad_input, test_options, test_operators, test_defaults  # noqa: E402,F401  (they register their tests)
+import test_solvers, test_coupling, test_moving_meshes, test_fields, test_scenes, test_reliability, test_bad_input, test_options, test_operators, test_defaults, test_partitioned  # noqa: E402,F401  (they register their tests)
 
 if __name__ == "__main__":
     sys.exit(harness.main(sys.argv[1:]))

@@ -321,10 +321,10 @@ static PetscErrorCode OptSetUp(Coupling C)
   {
     /* The default is the fastest inner solver measured at the scene's accuracy
        (docs/coupling-and-solvers.md): with the fluid factored and an explicit J0 in hand,
-       chord steps (channel2d's pulse 2.4x, tube3d 3.5x faster than cgls); with a fluid whose
-       linear solves iterate, gmres, the only one that ties the products' Krylov tolerances to
-       the coupling's (cgls was 9x slower on tube3d level 1); else gmres on J itself (tube3d
-       without J0: 2.8x faster than cgls). cgls (TAO Gauss-Newton) stays the seed's method. */
+       chord steps (with the fitted start: channel2d's pulse 1.6x, tube3d 3.9x, fsi3's swing 2.2x
+       faster than cgls); with a fluid whose linear solves iterate, gmres, the only one that ties
+       the products' Krylov tolerances to the coupling's (cgls was 9x slower on tube3d level 1).
+       cgls (TAO Gauss-Newton) is Kuberry 2015's method. */
     PetscInt  inner;
     PetscBool tao_given;
     /* a TAO optimizer or a Tikhonov term asks for the least-squares problem: TAO's own */
@@ -342,8 +342,8 @@ static PetscErrorCode OptSetUp(Coupling C)
                                 NULL, OptInnerNames, 4, OptInnerNames[inner], &inner, NULL));
     opt->inner_type = (OptInner)inner;
   }
-  /* With J0 in hand a Newton mode corrects it by secant updates and corrects the start by
-     it: fsi3's swing 1.10x and channel2d's pulse 1.34x faster than without (docs/coupling-and-solvers.md) */
+  /* With J0 in hand a Newton mode corrects it by secant updates and corrects the start by it:
+     tube3d 6 % faster, channel2d's work factor 1.51 instead of 1.68 (docs/coupling-and-solvers.md) */
   if (opt->inner_type != OPT_INNER_CGLS && opt->rebuild_every > 0) {
     opt->secants          = 20;
     opt->start_correction = PETSC_TRUE;

@@ -98,9 +98,9 @@ PetscErrorCode FluidSetUpDirichlet(Fluid f, IS rows)
      tighter solve than the state alone (relative to the first residual of each solve) */
   PetscCall(SNESSetTolerances(f->snes_dirichlet, f->atol, 1e-10, PETSC_DEFAULT, 50, PETSC_DEFAULT));
   /* the factors kept across steps, refreshed every 20th Newton iteration, as the
-     traction-controlled fluid keeps its own: iqnimvj 1.26x faster on fsi3's swing at the same
-     probe error, 1.31x on channel2d's pulse (docs/coupling-and-solvers.md); -2: a
-     factorization every step */
+     traction-controlled fluid keeps its own: iqnimvj 1.26x faster on channel2d's pulse, and at
+     each -coupling_rtol on fsi3's swing 16-24 % faster at about the same probe error
+     (docs/coupling-and-solvers.md); -2: a factorization every step */
   PetscCall(OptionsSetDefault("-fluid_dirichlet_snes_lag_jacobian", "20"));
   PetscCall(SNESSetFromOptions(f->snes_dirichlet));
   PetscCall(SNESGetLagJacobian(f->snes_dirichlet, &f->dirichlet_lag));
