@@ -174,10 +174,5 @@ def pressure_figure(args, run_dir, name, times):
 
 
 if __name__ == "__main__":   # a module: --help (or no argument) prints what it is for
-    import argparse
-    _ap = argparse.ArgumentParser(
-        description=__doc__ + "\n\nA module, imported by scripts/channel2d_figures.py (its subcommands pressure "
-        "and all, which draw the figure) and by scripts/tube3d_figures.py. It takes no arguments and runs nothing by itself.",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
-    _ap.parse_args()
-    _ap.print_help()
+    from fsiopt_tables import module_help
+    module_help(__doc__, "scripts/channel2d_figures.py (its subcommands pressure and all, which draw the figure) and by scripts/tube3d_figures.py")

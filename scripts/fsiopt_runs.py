@@ -635,10 +635,5 @@ def run_all(variants, fsiopt, runs_dir, jobs=1, force=False, retries=2, oversubs
 
 
 if __name__ == "__main__":   # a module: --help (or no argument) prints what it is for
-    import argparse
-    _ap = argparse.ArgumentParser(
-        description=__doc__ + "\n\nA module, imported by the study, benchmark and check scripts "
-        "under scripts/. It takes no arguments and runs nothing by itself.",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
-    _ap.parse_args()
-    _ap.print_help()
+    from fsiopt_tables import module_help
+    module_help(__doc__, "the study, benchmark and check scripts under scripts/")

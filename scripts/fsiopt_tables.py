@@ -106,10 +106,9 @@ def is_displacement(name):
     return re.fullmatch(r"d[xyz]\(.*\)", name) is not None
 
 
-def read_probe_columns(path, growing=False):
-    """probes.csv (or its .partial, growing = True) as (t, [(name, unit, header, values)]):
-    the columns after t in file order, each with its name and unit split from the header
-    (unit None when the header has none) and the header exactly as written."""
+def read_rows(path, growing=False):
+    """A CSV's rows (the header first), at least one. growing: the file is still being written
+    (fsiopt's *.partial), so a last line without its newline is half written and left out."""
     with open(path, newline="") as f:
         text = f.read()
     if growing and text and not text.endswith("\n"):
@@ -117,6 +116,24 @@ def read_probe_columns(path, growing=False):
     rows = list(csv.reader(text.splitlines()))
     if not rows:
         raise ValueError("%s is empty" % path)
+    return rows
+
+
+def module_help(doc, used_by):
+    """--help of a module under scripts/ run as a script: what it is for, who imports it."""
+    import argparse
+    ap = argparse.ArgumentParser(description=doc + "\n\nA module, imported by %s. It takes no arguments and "
+                                 "runs nothing by itself." % used_by,
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.parse_args()
+    ap.print_help()
+
+
+def read_probe_columns(path, growing=False):
+    """probes.csv (or its .partial, growing = True) as (t, [(name, unit, header, values)]):
+    the columns after t in file order, each with its name and unit split from the header
+    (unit None when the header has none) and the header exactly as written."""
+    rows = read_rows(path, growing)
     headers = [h.strip() for h in rows[0]]
     if not headers or split_header(headers[0])[0] != "t":
         raise ValueError("%s: expected a first column t, got %r" % (path, headers[:1]))
@@ -139,13 +156,18 @@ def select_columns(names, spec):
     return [n for n in names if any(hit(e, n) for e in entries)], [e for e in entries if not any(hit(e, n) for n in names)]
 
 
-def run_scene(run_dir):
-    """The scene of a run: summary.json's "scene", else the run directory's name."""
+def summary_key(run_dir, key):
+    """summary.json's value of key in a run directory; None without the file or the key."""
     try:
         with open(os.path.join(run_dir, "summary.json")) as f:
-            scene = json.load(f).get("scene")
+            return json.load(f).get(key)
     except (OSError, ValueError, AttributeError):
-        scene = None
+        return None
+
+
+def run_scene(run_dir):
+    """The scene of a run: summary.json's "scene", else the run directory's name."""
+    scene = summary_key(run_dir, "scene")
     return scene if isinstance(scene, str) and scene else os.path.basename(os.path.normpath(os.path.abspath(run_dir)))
 
 
@@ -156,25 +178,15 @@ UNIT_NAMES = {"cgs": {"length": "cm", "pressure": "dyn/cm$^2$"}, "SI": {"length"
 def run_units(run_dir, default="cgs"):
     """{"length": ..., "pressure": ...} of a run's unit system (summary.json "units"; default
     when the summary or the key is missing or names another system)."""
-    try:
-        with open(os.path.join(run_dir, "summary.json")) as f:
-            units = json.load(f).get("units")
-    except (OSError, ValueError, AttributeError):
-        units = None
-    return UNIT_NAMES.get(units, UNIT_NAMES[default])
+    units = summary_key(run_dir, "units")
+    return UNIT_NAMES.get(units if isinstance(units, str) else None, UNIT_NAMES[default])
 
 
 def read_table(path, growing=False):
     """A CSV with a header row of names and numeric rows: (names, list of float columns).
     growing: the file is still being written (fsiopt's *.partial), so a last line without
     its newline is half written and left out."""
-    with open(path, newline="") as f:
-        text = f.read()
-    if growing and text and not text.endswith("\n"):
-        text = text[:text.rfind("\n") + 1]
-    rows = list(csv.reader(text.splitlines()))
-    if not rows:
-        raise ValueError("%s is empty" % path)
+    rows = read_rows(path, growing)
     names = [column_name(n) for n in rows[0]]
     data = [[float(x) for x in r] for r in rows[1:] if r]
     cols = [[r[i] for r in data] for i in range(len(names))]
@@ -331,10 +343,4 @@ def write_csv(path, rows, fields, float_format="%.6g"):
 
 
 if __name__ == "__main__":   # a module: --help (or no argument) prints what it is for
-    import argparse
-    _ap = argparse.ArgumentParser(
-        description=__doc__ + "\n\nA module, imported by the scripts through scripts/fsiopt_runs.py, "
-        "which re-exports it. It takes no arguments and runs nothing by itself.",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
-    _ap.parse_args()
-    _ap.print_help()
+    module_help(__doc__, "the scripts through scripts/fsiopt_runs.py, which re-exports it")

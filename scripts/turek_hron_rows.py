@@ -179,10 +179,5 @@ def status_cell(v, row):
 
 
 if __name__ == "__main__":   # a module: --help (or no argument) prints what it is for
-    import argparse
-    _ap = argparse.ArgumentParser(
-        description=__doc__ + "\n\nA module, imported by scripts/turek_hron_table.py, which prints "
-        "the table. It takes no arguments and runs nothing by itself.",
-        formatter_class=argparse.RawDescriptionHelpFormatter)
-    _ap.parse_args()
-    _ap.print_help()
+    from fsiopt_tables import module_help
+    module_help(__doc__, "scripts/turek_hron_table.py, which prints the table")
