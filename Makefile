@@ -26,7 +26,7 @@ OBJ  := $(SRC:%.c=build/%.o) build/known_options.o build/version.o
 GEO  := $(wildcard meshes/*.geo)
 MSH  := $(GEO:.geo=.msh) meshes/tube3d-fluid-tets.msh meshes/tube3d-wall-tets.msh
 
-.PHONY: all deps run test test-quick check-memory format clean bend3d-meshes FORCE
+.PHONY: all deps run test test-quick check-memory format clean clean-meshes bend3d-meshes FORCE
 
 all: bin/fsiopt $(MSH)
 
@@ -78,30 +78,27 @@ build/version.o: build/version.c
 
 FORCE:
 
-meshes/%.msh: meshes/%.geo
-	gmsh -2 -format msh22 -v 2 -o $@ $< >/dev/null
+# Every mesh from a .geo, one rule: NAME.msh from NAME.geo, and its variants NAME-tets.msh
+# (-setnumber simplex 1: tetrahedra) and NAME-nK.msh (-setnumber n K: level K) when there is
+# no .geo of that name. The .geo's first line gives the dimension: `// gmsh -2` or `// gmsh -3`.
+GEOINC := $(wildcard meshes/*.geoinc)
+mesh_variant = $(if $(wildcard meshes/$(1).geo),,$(shell echo '$(1)' | sed -nE 's/-(tets|n[0-9]+)$$//p'))
+mesh_geo = meshes/$(or $(call mesh_variant,$(1)),$(1)).geo
+mesh_options = $(if $(call mesh_variant,$(1)),$(shell echo '$(1)' | sed -nE 's/.*-tets$$/-setnumber simplex 1/p; s/.*-n([0-9]+)$$/-setnumber n \1/p'))
+mesh_flags = $(if $(call mesh_options,$*),$(call mesh_options,$*) )
 
-# the tube's volumes: hexahedra from the shared cross-section (the more specific rule wins)
-meshes/tube3d-%.msh: meshes/tube3d-%.geo meshes/tube3d-section.geoinc
-	gmsh -3 -format msh22 -v 2 -o $@ $< >/dev/null
+.SECONDEXPANSION:
+meshes/%.msh: $$(call mesh_geo,$$*) $(GEOINC)
+	@dim=$$(sed -nE '1s,^// gmsh -([23])( .*)?$$,\1,p' $<); \
+	  test -n "$$dim" || { echo "$<: the first line must be // gmsh -2 or // gmsh -3" >&2; exit 1; }; \
+	  echo "gmsh -$$dim -format msh22 -v 2 $(mesh_flags)-o $@ $<"; \
+	  gmsh -$$dim -format msh22 -v 2 $(mesh_flags)-o $@ $< >/dev/null
 
-# and the same tube in tetrahedra
-meshes/tube3d-%-tets.msh: meshes/tube3d-%.geo meshes/tube3d-section.geoinc
-	gmsh -3 -format msh22 -v 2 -setnumber simplex 1 -o $@ $< >/dev/null
-
-# the bent tube: the same cross-section swept along a curved axis, tetrahedra
-meshes/bend3d-%.msh: meshes/bend3d-%.geo meshes/bend3d.geoinc meshes/tube3d-section.geoinc
-	gmsh -3 -format msh22 -v 2 -o $@ $< >/dev/null
-
-# and its finer levels (not built by `all`): make bend3d-meshes
-meshes/bend3d-%-n2.msh: meshes/bend3d-%.geo meshes/bend3d.geoinc meshes/tube3d-section.geoinc
-	gmsh -3 -format msh22 -v 2 -setnumber n 2 -o $@ $< >/dev/null
-meshes/bend3d-%-n3.msh: meshes/bend3d-%.geo meshes/bend3d.geoinc meshes/tube3d-section.geoinc
-	gmsh -3 -format msh22 -v 2 -setnumber n 3 -o $@ $< >/dev/null
+# the bent tube's finer levels (not built by `all`)
 bend3d-meshes: $(foreach n,2 3,meshes/bend3d-fluid-n$(n).msh meshes/bend3d-wall-n$(n).msh)
 
-meshes/turek-hron-%.msh: meshes/turek-hron-%.geo meshes/turek-hron.geoinc
-	gmsh -2 -format msh22 -v 2 -o $@ $< >/dev/null
+clean-meshes:
+	rm -f meshes/*.msh
 
 # the seed's haemodynamic channel, 1000 steps; then its probe plot
 run: deps

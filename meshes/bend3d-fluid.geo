@@ -1,3 +1,4 @@
+// gmsh -3
 // Fluid of the bent tube (bend3d.geoinc): the disc r <= 0.5 swept along the curved axis.
 // Face sets: 4 inlet z = 0, 2 outlet x = Rb + Lo, 3 lateral r = 0.5 (the interface).
 // Volume 1.

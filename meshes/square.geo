@@ -1,3 +1,4 @@
+// gmsh -2
 // Unit square [0,1]^2, unstructured triangles for (P2,P1) runs.
 // Physical curves follow the box-mesh face sets: 1 bottom, 2 right, 3 top, 4 left.
 h = 0.25;

@@ -1,3 +1,4 @@
+// gmsh -3
 // Fluid of the 3D pressure-wave tube: cylinder r <= 0.5, z in [0, 5], hexahedra only
 // (tetrahedra with -setnumber simplex 1).
 // Face sets: 4 inlet z = 0, 2 outlet z = 5, 3 lateral r = 0.5 (the interface; the wall

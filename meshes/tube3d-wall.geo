@@ -1,3 +1,4 @@
+// gmsh -3
 // Wall of the 3D pressure-wave tube: annulus 0.5 <= r <= 0.6, z in [0, 5], hexahedra only
 // (tetrahedra with -setnumber simplex 1).
 // Face sets: 1 inner r = 0.5 (the interface; same nodes as tube3d-fluid.geo's set 3),

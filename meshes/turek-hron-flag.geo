@@ -1,3 +1,4 @@
+// gmsh -2
 // Elastic flag of the Turek-Hron FSI benchmark: x in [x0, 0.6], y in [0.19, 0.21] with
 // x0 = 0.2 + sqrt(0.05^2 - 0.01^2) (turek-hron.geoinc); a structured quad grid,
 // 2r cells across and 30r along, r = 2^(n-1). Face sets: 4 clamped left side x = x0,

@@ -1,3 +1,4 @@
+// gmsh -2
 // Fluid of the Turek-Hron FSI benchmark: channel [0,2.5]x[0,0.41] minus the cylinder
 // (centre (0.2,0.2), radius 0.05) and the flag (turek-hron.geoinc); unstructured quads
 // only, graded from the body to the outlet.

@@ -1,3 +1,4 @@
+// gmsh -2
 // Structure block [0,1]x[1,1.5] (the manufactured-solution wall), unstructured
 // triangles for P2 runs. Physical curves: 1 bottom (interface), 2 right, 3 top, 4 left.
 h = 0.25;
