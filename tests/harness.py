@@ -1,7 +1,7 @@
 """The test suite's shared harness: registration (@test(title, quick=...)), the runs of
 fsiopt (scripts/fsiopt_runs.run_fsiopt), rates, probe files, the scenes' option lists,
 the result counting and the WORK directory. The tests live in tests/test_*.py, one file
-per area; tests/run_tests.py imports them and calls main()."""
+per area; tests/run_tests.py imports them all and calls main()."""
 import csv, math, os, shutil, sys, tempfile, time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -127,10 +127,10 @@ def same_file(a, b):
 
 
 def selected(argv):
-    """(tests to run, quick): --quick keeps the fast tier; the other arguments keep the
-    tests whose title or function name contains one of them (all without)."""
+    """(tests to run, quick): --quick keeps the fast tier; the other arguments (but --list)
+    keep the tests whose title or function name contains one of them (all without)."""
     quick = "--quick" in argv
-    words = [a for a in argv if a != "--quick"]
+    words = [a for a in argv if a not in ("--quick", "--list")]
     chosen = [(t, fn, q) for t, fn, q in TESTS if (q or not quick) and
               (not words or any(w in t or w in fn.__name__ for w in words))]
     return chosen, quick
@@ -138,9 +138,16 @@ def selected(argv):
 
 def main(argv):
     """Runs the selected tests, one line each; last line 'N passed, M failed'; the exit
-    status (1 on any failure)."""
+    status (1 on any failure). With --list: one line per selected test (its file, its
+    function, quick or not, its title), nothing run."""
     t0, passed, failed = time.time(), 0, 0
     chosen, quick = selected(argv)
+    if "--list" in argv:
+        for title, fn, q in chosen:
+            print("%-20s %-52s %-5s %s" % (fn.__module__, fn.__name__, "quick" if q else "", title))
+        print("%d tests%s" % (len(chosen), " (quick tier)" if quick else ""))
+        shutil.rmtree(WORK, ignore_errors=True)
+        return 0
     for title, fn, _ in chosen:
         t1 = time.time()
         try:
