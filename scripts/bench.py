@@ -43,8 +43,7 @@ methods many times that):
   scripts/bench.py --t-final 0.001 --out /tmp/b1
   scripts/bench.py --methods "opt,aitken,iqnils,iqnils:-coupling_iqn_reuse 0" --t-final 0.01
   scripts/bench.py --work-precision --t-final 0.0005 --methods opt,iqnils --out /tmp/b2"""
-import argparse, csv, hashlib, json, math, os, re, shlex, sys, time
-from concurrent.futures import ThreadPoolExecutor
+import argparse, csv, hashlib, math, os, re, shlex, sys
 
 import matplotlib
 matplotlib.use("Agg")
@@ -54,12 +53,12 @@ import numpy as np
 sys.dont_write_bytecode = True   # no scripts/__pycache__ next to the sources
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import fsiopt_runs as fr   # noqa: E402
-from fsiopt_runs import (ROOT, error_line, execute, extra_tag, floats, fmt_num, ints, md_escape,   # noqa: E402
-                         read_json, rel, say)
+from fsiopt_runs import ROOT, extra_tag, floats, fmt_num, ints, md_escape, rel, say   # noqa: E402
+from fsiopt_logview import parse_event_count   # noqa: E402
+from bench_runs import Run, run_all   # noqa: E402  (the runs: re-use, retries, status.json, -log_view)
 
 FSIOPT = fr.FSIOPT
 OPTIONS_FILE = "options/channel2d.yaml"
-OUTPUTS = ("summary.json", "probes.csv", "history.csv", "stdout.log")
 STAGES = ["Main Stage", "Setup", "Fluid", "Structure", "MeshMotion", "Output", "Optimizer", "Sensitivity", "Adjoint"]
 DEFAULT_METHODS = "opt,dn:-coupling_omega 0.05,aitken,iqnils"
 REFERENCE_OPTIONS = ["-coupling", "opt", "-coupling_tol", "1e-7", "-fluid_snes_rtol", "1e-10", "-fluid_rhs_rtol", "1e-12"]
@@ -100,146 +99,6 @@ def parse_methods(text):
     if len({m.slug for m in methods}) != len(methods):
         raise ValueError("--methods: a method is listed twice")
     return methods
-
-
-# ---------------------------------------------------------------------------- runs
-class Run:
-    """One fsiopt run: name (= run directory name), label, options (without -output_dir and
-    -log_view, which are added). After run(): status ok | failed | timeout, reused, error,
-    elapsed_s, summary, stages {stage: seconds}."""
-
-    def __init__(self, name, label, options, **params):
-        self.name, self.label, self.options, self.params = name, label, list(options), params
-        self.run_dir = None
-        self.status = "pending"
-        self.reused = False
-        self.error = ""
-        self.elapsed_s = float("nan")
-        self.attempts = 0
-        self.summary = {}
-        self.stages = {}
-        self.cmdline = ""
-
-    def command(self, fsiopt, runs_dir):
-        self.run_dir = os.path.join(runs_dir, self.name)
-        return [rel(fsiopt)] + self.options + ["-log_view", "-output_dir", rel(self.run_dir)]
-
-    @property
-    def ok(self):
-        return self.status == "ok"
-
-    @property
-    def wall(self):
-        """fsiopt's own wall time when it finished, else the time until it stopped."""
-        return self.summary.get("wall_time_s", self.elapsed_s) if self.ok else self.elapsed_s
-
-    def status_text(self):
-        return self.status + (" (re-used)" if self.reused else "")
-
-
-def read_stages(run_dir):
-    try:
-        with open(os.path.join(run_dir, "stdout.log")) as f:
-            return fr.parse_stages(f.read())
-    except OSError:
-        return {}
-
-
-def _reuse(r, cmdline, timeout, rerun_failed):
-    """True when the run directory holds a result of this very command line we may re-use."""
-    d = r.run_dir
-    try:
-        with open(os.path.join(d, "cmd.txt")) as f:
-            recorded = f.read().strip()
-    except OSError:
-        recorded = None
-    if recorded == cmdline and all(os.path.isfile(os.path.join(d, o)) for o in OUTPUTS):
-        s = read_json(os.path.join(d, "summary.json"))
-        if s:
-            r.status, r.summary, r.error = "ok", s, ""
-            r.elapsed_s = read_json(os.path.join(d, "status.json")).get("elapsed_s", s.get("wall_time_s", float("nan")))
-            return True
-    st = read_json(os.path.join(d, "status.json"))
-    if rerun_failed or st.get("cmdline") != cmdline:
-        return False
-    if st.get("status") == "failed" and st.get("final") or \
-            st.get("status") == "timeout" and (not timeout or st.get("timeout_s", 0) >= timeout):
-        r.status, r.error, r.elapsed_s = st["status"], st.get("error", ""), st.get("elapsed_s", float("nan"))
-        return True
-    return False
-
-
-def run_one(r, fsiopt, runs_dir, timeout=None, force=False, rerun_failed=False, retries=1, wait_s=5.0, env=None):
-    """Run (or re-use) one run; sets its status, error, summary, stages, elapsed_s."""
-    cmd = r.command(fsiopt, runs_dir)
-    cmdline = r.cmdline = shlex.join(cmd)
-    if not force and _reuse(r, cmdline, timeout, rerun_failed):
-        r.reused, r.stages = True, read_stages(r.run_dir)
-        say("  %-40s re-used (%s)%s" % (r.name, r.status, ": " + r.error if r.error else ""))
-        return r
-    os.makedirs(r.run_dir, exist_ok=True)
-    for name in ("cmd.txt", "status.json", "stderr.log") + OUTPUTS:
-        try:
-            os.remove(os.path.join(r.run_dir, name))
-        except FileNotFoundError:
-            pass
-    say("  %-40s running: %s" % (r.name, cmdline))
-    final = False
-    for attempt in range(1, retries + 2):
-        r.attempts = attempt
-        returncode, stdout, stderr, r.elapsed_s, timed_out = execute(cmd, r.run_dir, env, timeout)
-        r.stages = fr.parse_stages(stdout)
-        if returncode == 0 and all(os.path.isfile(os.path.join(r.run_dir, o)) for o in OUTPUTS):
-            r.status, r.error = "ok", ""
-            r.summary = read_json(os.path.join(r.run_dir, "summary.json"))
-            with open(os.path.join(r.run_dir, "cmd.txt"), "w") as f:
-                f.write(cmdline + "\n")
-            break
-        if timed_out:
-            r.status, r.error, final = "timeout", "timeout after %g s" % timeout, True
-        else:
-            if returncode is None:
-                msg = stderr
-            elif returncode == 0:
-                msg = "exit status 0 but outputs missing in %s" % rel(r.run_dir)
-            else:
-                msg, final = error_line(stderr, returncode)
-            r.status, r.error = "failed", msg
-        if final or attempt > retries:
-            break
-        say("  %-40s died (%s); retrying in %g s" % (r.name, r.error, wait_s), err=True)
-        time.sleep(wait_s)
-    with open(os.path.join(r.run_dir, "status.json"), "w") as f:
-        try:   # for the record only: re-use goes by the command line, not by the binary
-            built = time.strftime("%Y-%m-%dT%H:%M:%S", time.localtime(os.path.getmtime(fsiopt)))
-        except OSError:
-            built = ""
-        json.dump({"status": r.status, "final": final, "error": r.error, "elapsed_s": r.elapsed_s,
-                   "timeout_s": timeout or 0, "attempts": r.attempts, "cmdline": cmdline, "binary_mtime": built},
-                  f, indent=1)
-    if r.ok:
-        say("  %-40s done in %.1f s" % (r.name, r.elapsed_s))
-    else:
-        say("  %-40s %s after %.1f s: %s" % (r.name, r.status.upper(), r.elapsed_s, r.error), err=True)
-    return r
-
-
-def run_all(runs, fsiopt, runs_dir, jobs=1, timeout=None, force=False, rerun_failed=False, retries=1):
-    """Run the runs, jobs at a time (duplicates by name once); returns the unique runs."""
-    unique = list({r.name: r for r in runs}.values())
-    env = fr.fsiopt_env(jobs=jobs)   # one thread per run when jobs > 1
-    say("%d run(s) in %s, %d at a time%s" % (len(unique), rel(runs_dir), jobs,
-                                             ", timeout %g s each" % timeout if timeout else ""))
-    progress = fr.StudyProgress(len(unique))
-
-    def one(r):
-        progress.begin(r.name)
-        run_one(r, fsiopt, runs_dir, timeout, force, rerun_failed, retries, env=env)
-        progress.end(r.reused)
-
-    with ThreadPoolExecutor(max_workers=max(1, jobs)) as pool:
-        list(pool.map(one, unique))
-    return unique
 
 
 # ---------------------------------------------------------------------------- probes
@@ -323,7 +182,7 @@ def bench_row(label, r, ref):
            "probe_error": "", "fluid_residuals": "", "run_dir": rel(r.run_dir) if r.run_dir else "", "command": r.cmdline}
     if r.ok and r.run_dir and os.path.isfile(os.path.join(r.run_dir, "stdout.log")):
         with open(os.path.join(r.run_dir, "stdout.log"), errors="replace") as f:
-            count = fr.parse_event_count(f.read(), "FluidResidual")
+            count = parse_event_count(f.read(), "FluidResidual")
         row["fluid_residuals"] = count if count is not None else ""
     e = probe_error(r, ref)
     if not math.isnan(e):

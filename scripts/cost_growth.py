@@ -49,6 +49,7 @@ import bench as B   # noqa: E402
 import tube3d_table as T   # noqa: E402
 import fsiopt_runs as fr   # noqa: E402
 from fsiopt_runs import ROOT, rel, say   # noqa: E402
+from fsiopt_logview import parse_stage_event_table, parse_stages   # noqa: E402
 
 SOLVERS = {
     "lu": [],
@@ -109,8 +110,8 @@ def kernel_costs(run_dir, row, np):
             text = f.read()
     except (OSError, TypeError):
         text = ""
-    table = fr.parse_stage_event_table(text)
-    stages = fr.parse_stages(text)
+    table = parse_stage_event_table(text)
+    stages = parse_stages(text)
 
     def total(stage, event):
         """(count, seconds) of event in stage, or over all stages; a stage's own time for a stage's name"""

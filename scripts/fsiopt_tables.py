@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """The text side of the study scripts (scripts/fsiopt_runs.py re-exports it): the
-repository root, printing from several threads, number formats, the runs' CSV and
-markdown tables and reports, run-time grids, field files and the gmsh meshes of other
-refinement levels. Only the standard library: no fsiopt run starts here."""
+repository root, printing from several threads, number formats, a run directory's JSON
+files (summary.json), the runs' CSV and markdown tables and reports, run-time grids, field
+files and the gmsh meshes of other refinement levels. Only the standard library: no
+fsiopt run starts here."""
 import csv, hashlib, json, math, os, re, shlex, subprocess, sys, threading, time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -163,6 +164,37 @@ def summary_key(run_dir, key):
             return json.load(f).get(key)
     except (OSError, ValueError, AttributeError):
         return None
+
+
+def read_json(path):
+    """A JSON file's content; {} when it is missing or unreadable."""
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except (OSError, ValueError):
+        return {}
+
+
+def read_summary(run_dir):
+    """A run directory's summary.json; {} without one."""
+    return read_json(os.path.join(run_dir, "summary.json"))
+
+
+def write_json(path, obj):
+    """obj as JSON to path (written to path.tmp, then renamed)."""
+    with open(path + ".tmp", "w") as f:
+        json.dump(obj, f, indent=1)
+        f.write("\n")
+    os.replace(path + ".tmp", path)
+
+
+def remove_files(run_dir, names):
+    """The files `names` of run_dir removed, those that exist."""
+    for name in names:
+        try:
+            os.remove(os.path.join(run_dir, name))
+        except FileNotFoundError:
+            pass
 
 
 def run_scene(run_dir):

@@ -58,6 +58,7 @@ import numpy as np
 sys.dont_write_bytecode = True   # no scripts/__pycache__ next to the sources
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import bench as B   # noqa: E402
+import bench_runs   # noqa: E402  (bench.py's runs)
 import fsiopt_runs as fr   # noqa: E402
 
 ROOT = B.ROOT
@@ -198,7 +199,7 @@ def developed_runs(args, extra):
         opts = ["-options_file", args.options_file, "-structure_density", "%g" % (ratio * args.fluid_density),
                 "-dt", B.fmt_num(dt), "-t_final", B.fmt_num(t0), "-checkpoint_every", str(steps)]
         name = "developed-%s-rho%g-T%g-dt%g%s" % (m.slug, ratio, t0, dt, B.extra_tag(extra))
-        runs[ratio] = B.Run(name, "developed state, rho_s/rho_f %g" % ratio, opts + m.coupling_options() + extra,
+        runs[ratio] = bench_runs.Run(name, "developed state, rho_s/rho_f %g" % ratio, opts + m.coupling_options() + extra,
                             ratio=ratio, dt=dt)
     return runs
 
@@ -226,7 +227,7 @@ def cell_runs(args, methods, extra, developed):
                     opts += ["-restart", B.rel(start), "-restart_change_dt", "-restart_change", "coupling,structure_density"]
                 name = "%s-rho%g-dt%g-n%d%s%s" % (m.slug, ratio, dt, args.steps, "-t%g" % t0 if start else "",
                                                   B.extra_tag(extra + relative_options(m, args)))
-                grid[m.slug, ratio, dt] = B.Run(name, "%s, rho_s/rho_f %g, dt %g" % (m.spec, ratio, dt),
+                grid[m.slug, ratio, dt] = bench_runs.Run(name, "%s, rho_s/rho_f %g, dt %g" % (m.spec, ratio, dt),
                                                 opts + relative_options(m, args) + m.coupling_options() + extra,
                                                 ratio=ratio, dt=dt, t0=t0, developed=developed.get(ratio))
     return grid
@@ -322,7 +323,7 @@ def main():
     extra = shlex.split(args.extra)
     developed = developed_runs(args, extra)
     if developed:
-        B.run_all(list(developed.values()), args.bin, args.runs_dir, args.jobs, 0, args.force, args.rerun_failed,
+        bench_runs.run_all(list(developed.values()), args.bin, args.runs_dir, args.jobs, 0, args.force, args.rerun_failed,
                   args.retries)
         bad = [r for r in developed.values() if not r.ok]
         if bad:
@@ -331,7 +332,7 @@ def main():
     grid = cell_runs(args, methods, extra, developed)
     # the heavy walls (few sweeps) first, the light ones (slow or failing partitioned runs) last
     order = sorted(grid.values(), key=lambda r: (-r.params["ratio"], -r.params["dt"]))
-    B.run_all(order, args.bin, args.runs_dir, args.jobs, args.timeout, args.force, args.rerun_failed, args.retries)
+    bench_runs.run_all(order, args.bin, args.runs_dir, args.jobs, args.timeout, args.force, args.rerun_failed, args.retries)
 
     os.makedirs(args.out, exist_ok=True)
     rows = []

@@ -56,6 +56,7 @@ import bench as B   # noqa: E402
 import tube3d_table as T   # noqa: E402
 import fsiopt_runs as fr   # noqa: E402
 from fsiopt_runs import ROOT, number, rel, say   # noqa: E402
+from fsiopt_logview import parse_stage_events   # noqa: E402
 
 DEFAULT_LAYOUTS = "1:0,2:1,2:0"
 
@@ -110,7 +111,7 @@ def overlap_ideal(r, lagged):
     the fluid. None when the log is unreadable."""
     try:
         with open(os.path.join(r.run_dir, "stdout.log")) as f:
-            events = fr.parse_stage_events(f.read())
+            events = parse_stage_events(f.read())
     except (OSError, TypeError):
         return None
     fluid = sum(events.get(st, {}).get("FluidLinSolve", 0.0) for st in PRODUCT_STAGES)

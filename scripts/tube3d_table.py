@@ -46,6 +46,7 @@ import argparse, math, os, re, shlex, sys
 sys.dont_write_bytecode = True   # no scripts/__pycache__ next to the sources
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import bench as B   # noqa: E402
+import bench_runs   # noqa: E402  (bench.py's runs)
 import fsiopt_runs as fr   # noqa: E402
 from fsiopt_runs import ROOT, rel, say   # noqa: E402
 
@@ -177,7 +178,7 @@ def run_runs(runs, fsiopt, runs_dir, force=False, retries=2):
         fr.run_all(todo, fsiopt, runs_dir, jobs=1, force=force, retries=retries, oversubscribe=False)
     for r in runs:
         if r.run_dir and (r.ok or os.path.isfile(os.path.join(r.run_dir, "stdout.log"))):
-            r.stages = B.read_stages(r.run_dir)
+            r.stages = bench_runs.read_stages(r.run_dir)
         error = layout_error(r) if r.ok else ""
         if error:
             say("  %-28s FAILED: %s" % (r.name, error), err=True)

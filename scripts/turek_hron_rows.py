@@ -53,7 +53,7 @@ def result_row(v):
         val = s.get(k, "")
         row[k] = "" if val is None else val
     row["converged"] = str(s["converged"]).lower() if "converged" in s else ""
-    # a resumed run: the sums over its parts where they can be made (fsiopt_runs.run_totals)
+    # a resumed run: the sums over its parts where they can be made (fsiopt_resume.run_totals)
     t = v.totals if v.ok else {}
     first, last = s.get("first_step", 1), s.get("steps_done", s.get("steps"))
     row["parts"] = t.get("parts", 1) if s else ""

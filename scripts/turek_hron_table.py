@@ -105,6 +105,7 @@ sys.dont_write_bytecode = True   # no scripts/__pycache__ next to the sources
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import fsiopt_runs as fr   # noqa: E402
 from fsiopt_runs import ROOT, extra_tag, fmt_num, ints, md_escape, number, rel, say   # noqa: E402
+from fsiopt_resume import PENDING   # noqa: E402  (an unfinished run's command line)
 from turek_hron_rows import (CASES, DASH, MESH_OPTION, PARTS, QUANTITIES, STATS,  # noqa: E402,F401  (the table's rows)
     change, change_cell, duration, g, gn_cell, result_row, status_cell, unknowns_cell, value_cell, wall_cell, window_cell)
 
@@ -188,7 +189,7 @@ def forget_if_older(v, runs_dir):
     """A run older than a mesh it reads is run again: its cmd.txt goes; an unfinished run
     started before a mesh was made is not resumed: its cmd.pending goes (and with it the
     use of its checkpoint)."""
-    for name, what in (("cmd.txt", "will run again"), (fr.PENDING, "its checkpoint will not be used")):
+    for name, what in (("cmd.txt", "will run again"), (PENDING, "its checkpoint will not be used")):
         path = os.path.join(runs_dir, v.name, name)
         try:
             t = os.path.getmtime(path)

@@ -29,6 +29,7 @@ import argparse, json, os, re, statistics, sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import fsiopt_runs as fr   # noqa: E402
+from fsiopt_logview import parse_stages   # noqa: E402
 
 ROOT = fr.ROOT
 COMPARISONS = {  # (log stage, variants with the default first)
@@ -62,7 +63,7 @@ def run(args, out, stage_name):
     if p.returncode != 0 and not (summary and summary["failure"]):
         err = (p.stderr or "").strip()
         sys.exit("variant_cost: fsiopt failed: %s" % (err.splitlines()[-1] if err else "exit %s" % p.returncode))
-    stage = fr.parse_stages(p.stdout).get(stage_name)
+    stage = parse_stages(p.stdout).get(stage_name)
     if stage is None:
         sys.exit("variant_cost: no %s stage in -log_view's output" % stage_name)
     rows = [line.split(",") for line in open(os.path.join(out, "probes.csv")).read().split("\n")[1:] if line]

@@ -9,6 +9,7 @@ sys.path.insert(0, os.path.join(ROOT, "scripts"))
 sys.dont_write_bytecode = True   # no __pycache__ next to the sources
 import fsiopt_runs as fr  # noqa: E402  (the one module that launches fsiopt)
 from fsiopt_runs import FSIOPT, probes_difference  # noqa: E402,F401
+from fsiopt_resume import checkpoint_step  # noqa: E402,F401  (the step a checkpoint ends)
 
 WORK = tempfile.mkdtemp(prefix="fsiopt-tests-")
 TIMEOUT = 600     # s: a hang guard for every run, not a measure of speed
@@ -53,6 +54,15 @@ def solve(args, nproc=1, out=None):
     if rc != 0 or summary is None:
         raise AssertionError("run failed (%s): %s" % (" ".join(args), (err or stdout).strip()[-300:]))
     return summary
+
+
+def interrupted(name, step, nproc=1, extra=()):
+    """channel2d sending itself the signal `name` after step `step` (-interrupt_test_step):
+    (returncode, stderr, outputs dir)."""
+    out = os.path.join(WORK, "signal-%s-%d" % (name, nproc))
+    rc, _, err, _ = run(CHANNEL + list(extra) + ["-interrupt_test_step", str(step), "-interrupt_test_signal", name],
+                        nproc=nproc, out=out)
+    return rc, err, out
 
 
 def fail_text(rc, stdout, err):
