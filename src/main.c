@@ -9,7 +9,7 @@
 #include "run.h"
 #include "checkpoint.h"
 #include "options.h"
-#include "output.h"
+#include "output_files.h"
 #include "help.h"
 #include "interrupt.h"
 

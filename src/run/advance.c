@@ -5,7 +5,7 @@
 #include "checkpoint.h"
 #include "logging.h"
 #include "interrupt.h"
-#include "output.h"
+#include "output_files.h"
 #include "options.h"
 #include "rank_sync.h"
 

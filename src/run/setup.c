@@ -2,7 +2,7 @@
    the coupling, the outputs, a restart; and the run's destruction. */
 #include <time.h>
 #include "run_impl.h"
-#include "output.h"
+#include "output_files.h"
 #include "help.h"
 #include "fem_ceed.h"
 #include "options.h"

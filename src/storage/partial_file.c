@@ -1,4 +1,4 @@
-#include "output.h"
+#include "output_files.h"
 #include "options.h"
 #include <errno.h>
 #include <libgen.h>

@@ -1,5 +1,5 @@
-#ifndef FSIOPT_OUTPUTS_H
-#define FSIOPT_OUTPUTS_H
+#ifndef FSIOPT_STEP_OUTPUTS_H
+#define FSIOPT_STEP_OUTPUTS_H
 #include "fsiopt.h"
 #include "scene.h"
 #include "fluid.h"

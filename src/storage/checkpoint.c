@@ -2,7 +2,7 @@
    in it is each module's (FluidCheckpoint, StructureCheckpoint, CouplingCheckpoint,
    ProbesCheckpoint). */
 #include "checkpoint.h"
-#include "output.h"
+#include "output_files.h"
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>

@@ -1,6 +1,6 @@
 #include "probes.h"
 #include "units.h"
-#include "output.h"
+#include "output_files.h"
 #include "options.h"
 #include "checkpoint.h"
 

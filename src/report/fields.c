@@ -5,7 +5,7 @@
 #include "fields_impl.h"
 #include "fem.h"
 #include "options.h"
-#include "output.h"
+#include "output_files.h"
 
 /* Concatenates every rank's n values on the root, in rank order. */
 static PetscErrorCode GatherOnRoot(MPI_Comm comm, PetscInt n, MPI_Datatype type, const void *send, void **recv,

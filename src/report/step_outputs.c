@@ -1,5 +1,5 @@
-/* The per-step outputs of a run (outputs.h): probes.csv and the fields. */
-#include "outputs.h"
+/* The per-step outputs of a run (step_outputs.h): probes.csv and the fields. */
+#include "step_outputs.h"
 #include "fields.h"
 #include "logging.h"
 
