@@ -1,3 +1,5 @@
+/* fsiopt's PETSc log stages and events (logging.h), registered once at start-up, so that
+   -log_view splits a run by physics and by task. */
 #include "logging.h"
 
 PetscLogStage FSIOPT_STAGE_SETUP, FSIOPT_STAGE_FLUID, FSIOPT_STAGE_STRUCTURE, FSIOPT_STAGE_OUTPUT,

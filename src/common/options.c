@@ -1,3 +1,6 @@
+/* Options as fsiopt reads them (options.h): range-checked values, scene defaults the user
+   overrides, readable files, the check of options nothing read, and one-line error
+   reporting in place of PETSc's traceback. */
 #include <ctype.h>
 #include "options.h"
 #include "option_pairs.h"

@@ -1,3 +1,6 @@
+/* A subdomain's mesh (mesh.h): a box or a gmsh file read, checked (dimension, face sets,
+   inverted cells, memory), refined and distributed; and a signature of its partition for
+   checkpoints. */
 #include "mesh.h"
 #include "options.h"
 #include "logging.h"

@@ -1,3 +1,6 @@
+/* -write_fields (fields.h): the fluid's and the structure's fields gathered on rank 0 in
+   each grid's global vertex order, written to fields.h5 every few steps, and fields.xdmf,
+   which ParaView opens, written when the run completes. */
 #include <errno.h>
 #include <time.h>
 #include <hdf5.h>

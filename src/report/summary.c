@@ -1,3 +1,5 @@
+/* summary.json (summary.h): the counts, errors, quantities and options of a run,
+   gathered from the solvers and the coupling onto rank 0 and written there atomically. */
 #include <errno.h>
 #include <string.h>
 #include <unistd.h>

@@ -1,3 +1,5 @@
+/* The registry of scenes by name (scene.h) and the helpers scenes share: a context for
+   their parameters, default meshes, the clamped wall and the manufactured solutions' boxes. */
 #include "scene.h"
 #include "fem.h"
 #include "options.h"
