@@ -8,6 +8,7 @@
 #include "fields_impl.h"
 #include "fem.h"
 #include "options.h"
+#include "error_reporting.h"
 #include "output_files.h"
 
 /* Concatenates every rank's n values on the root, in rank order. */

@@ -6,6 +6,7 @@
 #include <sys/stat.h>
 #include "fields_impl.h"
 #include "options.h"
+#include "error_reporting.h"
 #include "output_files.h"
 
 PetscErrorCode FieldWriterCheckpoint(FieldWriter w, Checkpoint cp, PetscBool load)

@@ -5,6 +5,7 @@
 #include <unistd.h>
 #include "summary.h"
 #include "options.h"
+#include "error_reporting.h"
 #include "memory_estimate.h"
 #include "option_pairs.h"
 #include "output_files.h"
@@ -94,7 +95,7 @@ static PetscErrorCode WriteOptions(FILE *fp)
   PetscCall(PetscNew(&given));
   PetscCall(PetscOptionsGetAll(NULL, &all));
   OptionPairsParse(all, given);
-  PetscCall(OptionsCapturedGet(&n, &names, &values));
+  PetscCall(HelpListingGetCapturedOptions(&n, &names, &values));
   fprintf(fp, "  \"options\": {");
   for (PetscInt i = 0; i < n; ++i) {
     const PetscInt g = FindGiven(given, names[i]);

@@ -104,7 +104,7 @@ PetscErrorCode RunReport(Run run)
   PetscCall(
     SummaryGather(s, run->scene.has_fluid, run->scene.has_structure, run->fluid, run->structure, run->coupling));
   if (run->coupling) PetscCall(CouplingFinish(run->coupling)); /* history.csv under its final name */
-  PetscCall(OutputsFinish(run->outputs, &s->quantities));
+  PetscCall(StepOutputsFinish(run->outputs, &s->quantities));
   PetscCall(PetscTime(&end));
   s->params      = &run->params;
   s->units       = run->scene.units;

@@ -26,7 +26,7 @@ struct _p_Run {
   Interface           itf;
   CouplingProblem     problem;
   Coupling            coupling;
-  Outputs             outputs;
+  StepOutputs         outputs;
   StepRetry           retry;
   Progress            progress;
   RunCheckpointParams checkpoint;
