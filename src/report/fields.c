@@ -355,33 +355,6 @@ PetscErrorCode FieldWriterCreate(MPI_Comm comm, const RunParams *params, Fluid f
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FieldWriterOpen(FieldWriter w)
-{
-  PetscBool ok = PETSC_TRUE;
-
-  PetscFunctionBeginUser;
-  if (!w || w->opened) PetscFunctionReturn(0);
-  if (w->restarting) PetscCall(FieldsRestartOpen(w));
-  else {
-    if (!w->rank) {
-      FILE *fp;
-
-      PetscCall(OutputMakeDirectories(w->dir));
-      /* HDF5's own failure is a multi-line trace: test the path first */
-      fp = fopen(w->partial, "w");
-      ok = fp ? PETSC_TRUE : PETSC_FALSE;
-      if (fp) fclose(fp);
-    }
-    PetscCallMPI(MPI_Bcast(&ok, 1, MPIU_BOOL, 0, w->comm));
-    PetscCheck(ok, w->comm, PETSC_ERR_FILE_OPEN, "option -write_fields: cannot create %s", w->partial);
-    if (!w->rank) PetscCall(PetscViewerHDF5Open(PETSC_COMM_SELF, w->partial, FILE_MODE_WRITE, &w->viewer));
-    PetscCall(OutputRegisterSetUpFile(w->partial));
-    if (!w->rank) PetscCall(FieldsWriteHeader(w, w->viewer));
-  }
-  w->opened = PETSC_TRUE;
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode FieldWriterWrite(FieldWriter w, PetscInt step)
 {
   PetscFunctionBeginUser;
