@@ -9,11 +9,11 @@ PetscErrorCode HelpListingBegin(void);
 void           HelpListingSetPETSc(PetscBool all);
 PetscErrorCode HelpListingEnd(const char units[]);
 /* Around a run's set-up without -help: the options every object reads, with the values
-   they take (given or default), for summary.json (OptionsCapturedGet: n pairs, in the
-   order read; names with their dash). */
-PetscErrorCode OptionsCaptureBegin(void);
-PetscErrorCode OptionsCaptureEnd(void);
+   they take (given or default), for summary.json (HelpListingGetCapturedOptions: n pairs,
+   in the order read; names with their dash). */
+PetscErrorCode HelpListingCaptureBegin(void);
+PetscErrorCode HelpListingCaptureEnd(void);
 /* main's error path (no PETSc call): stdout as it was */
-void           OptionsCaptureAbandon(void);
-PetscErrorCode OptionsCapturedGet(PetscInt *n, char *const **names, char *const **values);
+void           HelpListingCaptureAbandon(void);
+PetscErrorCode HelpListingGetCapturedOptions(PetscInt *n, char *const **names, char *const **values);
 #endif

@@ -1,6 +1,6 @@
 #ifndef FSIOPT_HISTORY_H
 #define FSIOPT_HISTORY_H
-#include "output.h"
+#include "output_files.h"
 
 /* history.csv: one row per coupling iteration (the layout of the seed's Table 3.1) with the
    step's dt, a PartialFile until the run completes. An attempt of a step that failed ends

@@ -26,26 +26,15 @@ PetscErrorCode OptionsCheckValuesGiven(MPI_Comm);
 /* Whether the user asked for -help (the answer of the first call: a run's set-up sets -help
    for a while to learn the options in effect, help.h). */
 PetscBool OptionsHelpRequested(void);
-/* Fails with a one-line message when a file cannot be read. FileProblem (usable before
+/* Fails with a one-line message when a file cannot be read. OptionsFileProblem (usable before
    PetscInitialize) returns 0 when the file is a readable, non-empty regular file. */
-int            FileProblem(const char path[]);
-const char    *FileProblemText(int problem);
-PetscErrorCode CheckReadableFile(MPI_Comm, const char opt[], const char path[]);
+int            OptionsFileProblem(const char path[]);
+const char    *OptionsFileProblemText(int problem);
+PetscErrorCode OptionsCheckReadableFile(MPI_Comm, const char opt[], const char path[]);
 
 /* Before PetscInitialize, which reads them: every options file of the run (petscrc files,
    PETSC_OPTIONS, -options_file, and the files they include) is a readable text file, valid
    YAML with a mapping at the top or PETSc's -name value lines, and includes no file that
    includes it. Returns 0, or 1 with one line in message naming the file and the line. */
 int OptionsFilesCheck(int argc, char **argv, char message[], size_t len);
-
-/* One-line error reporting instead of PETSc's traceback banner. */
-PetscErrorCode ErrorReportingPush(void);
-const char    *ErrorReportingFirstMessage(void);
-/* the communicator the first error was raised on */
-MPI_Comm ErrorReportingFirstComm(void);
-/* Drops the recorded message, so that a caller can replace a library's message by its own. */
-PetscErrorCode ErrorReportingForget(void);
-/* After work only some ranks of comm did (ierr there, 0 elsewhere): collective; every rank
-   returns the error of the lowest rank that failed, with its message. */
-PetscErrorCode ErrorReportingAgree(MPI_Comm comm, PetscErrorCode ierr);
 #endif

@@ -5,7 +5,6 @@
 #include "fluid.h"
 #include "structure.h"
 #include "coupling.h"
-#include "step_retry.h"
 
 /* Everything summary.json reports (docs/design.md §6). Negative values mean "does not apply"
    and are written as null. */
@@ -38,10 +37,9 @@ typedef struct {
 } RunSummary;
 
 /* Fills the counts, errors, ranks and quantities of coupling and solvers (collective; fluid,
-   structure, coupling may be NULL where the scene or the rank has none). s->failure and
-   s->steps_done, s->first_step are the time loop's. */
-PetscErrorCode SummaryGather(RunSummary *s, PetscBool has_fluid, PetscBool has_structure, Fluid, Structure, Coupling,
-                             StepRetry);
+   structure, coupling may be NULL where the scene or the rank has none). s->failure,
+   s->steps_done, s->first_step and the retry counts are the time loop's. */
+PetscErrorCode SummaryGather(RunSummary *s, PetscBool has_fluid, PetscBool has_structure, Fluid, Structure, Coupling);
 /* Writes <dir>/summary.json atomically (a temporary file renamed into place). */
 PetscErrorCode SummaryWrite(MPI_Comm, const char dir[], const RunSummary *);
 #endif

@@ -14,7 +14,7 @@ probes.csv covers the whole run.
         (max - min)/2 from the window before: how a periodic state is approached. Markdown.
   quantities RUN... [--from T0] [--to T1]
         over [T0, T1] (default: the whole series, or up to its end) the quantities as
-        summary.json reports them (src/io/quantities.c): the mean (max + min)/2, the
+        summary.json reports them (src/report/quantities.c): the mean (max + min)/2, the
         amplitude (max - min)/2, and the frequency of the upward crossings of the mean ("-"
         for a steady signal or fewer than two crossings). With one window for every run,
         runs on different levels compare on the same stretch of time. Markdown.
@@ -76,7 +76,7 @@ def read_run(spec):
 
 
 def analyze(t, v):
-    """mean, amplitude, frequency (None: steady or too few crossings), as src/io/quantities.c."""
+    """mean, amplitude, frequency (None: steady or too few crossings), as src/report/quantities.c."""
     lo, hi = float(v.min()), float(v.max())
     mean, amplitude = 0.5 * (hi + lo), 0.5 * (hi - lo)
     if amplitude <= 1e-5 * max(abs(hi), abs(lo)):

@@ -9,7 +9,8 @@
 #include "run.h"
 #include "checkpoint.h"
 #include "options.h"
-#include "output.h"
+#include "error_reporting.h"
+#include "output_files.h"
 #include "help.h"
 #include "interrupt.h"
 
@@ -136,7 +137,7 @@ int main(int argc, char **argv)
     PetscBool   every_rank = PETSC_TRUE;
     MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
     MPI_Comm_size(PETSC_COMM_WORLD, &size);
-    OptionsCaptureAbandon();
+    HelpListingCaptureAbandon();
     if (size > 1 && !collective_stop) every_rank = EveryRankStopped(error_comm);
     OutputRemoveSetUpFiles();
     if (every_rank) OutputLockRelease();

@@ -1,4 +1,4 @@
-"""The fields of -write_fields (src/io/fields.c): what ParaView's XDMF readers make of
+"""The fields of -write_fields (src/report/fields.c): what ParaView's XDMF readers make of
 them (scripts/check_fields.py), the mesh velocity on moving meshes, and a restart that
 continues the fields file of the run it restarts."""
 import importlib.util, os, re, shutil, subprocess, sys

@@ -1,3 +1,6 @@
+/* The finite-element pieces the fluid and the structure share (fem.h): fields and their
+   boundaries, boundary terms and loads on a given state, residuals, SNES set-ups with
+   counted Jacobians, geometry caches cleared after a mesh moves, error norms. */
 #include <petsc/private/petscimpl.h> /* PetscObjectStateGet */
 #include "fem.h"
 #include "options.h"

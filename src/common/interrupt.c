@@ -1,3 +1,6 @@
+/* Signals a run answers between steps (interrupt.h): SIGINT, SIGTERM, SIGHUP and a closed
+   pipe end it after the step in progress, SIGUSR1 asks for a checkpoint; and the
+   -interrupt_test_* options that raise them at a given step for the tests. */
 #include <signal.h>
 #include "interrupt.h"
 

@@ -1,3 +1,5 @@
+/* fsiopt's PETSc log stages and events (logging.h), registered once at start-up, so that
+   -log_view splits a run by physics and by task. */
 #include "logging.h"
 
 PetscLogStage FSIOPT_STAGE_SETUP, FSIOPT_STAGE_FLUID, FSIOPT_STAGE_STRUCTURE, FSIOPT_STAGE_OUTPUT,
@@ -8,7 +10,7 @@ PetscLogEvent FSIOPT_EVENT_MESH, FSIOPT_EVENT_FLUID_SOLVE, FSIOPT_EVENT_STRUCTUR
   FSIOPT_EVENT_FLUID_RESIDUAL, FSIOPT_EVENT_FLUID_JACOBIAN, FSIOPT_EVENT_STRUCTURE_RESIDUAL,
   FSIOPT_EVENT_STRUCTURE_JACOBIAN, FSIOPT_EVENT_FLUID_MATFREE, FSIOPT_EVENT_FLUID_LINEAR, FSIOPT_EVENT_STRUCTURE_LINEAR;
 
-PetscErrorCode FsioptLogRegister(void)
+PetscErrorCode LoggingRegister(void)
 {
   PetscClassId classid;
 

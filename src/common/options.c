@@ -1,8 +1,8 @@
+/* Options as fsiopt reads them (options.h): range-checked values, scene defaults the user
+   overrides, readable files, and the check of options nothing read. */
 #include <ctype.h>
 #include "options.h"
-#include "option_pairs.h"
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 
@@ -91,7 +91,7 @@ PetscErrorCode OptionsSetDefault(const char opt[], const char value[])
   PetscFunctionReturn(0);
 }
 
-int FileProblem(const char path[])
+int OptionsFileProblem(const char path[])
 {
   struct stat st;
   FILE       *fp;
@@ -103,7 +103,7 @@ int FileProblem(const char path[])
   return st.st_size > 0 ? 0 : 3;
 }
 
-const char *FileProblemText(int problem)
+const char *OptionsFileProblemText(int problem)
 {
   switch (problem) {
   case 1:
@@ -117,126 +117,13 @@ const char *FileProblemText(int problem)
   }
 }
 
-PetscErrorCode CheckReadableFile(MPI_Comm comm, const char opt[], const char path[])
+PetscErrorCode OptionsCheckReadableFile(MPI_Comm comm, const char opt[], const char path[])
 {
-  const int problem = FileProblem(path);
+  const int problem = OptionsFileProblem(path);
 
   PetscFunctionBeginUser;
-  PetscCheck(!problem, comm, PETSC_ERR_FILE_OPEN, "option %s %s: %s", opt, path, FileProblemText(problem));
+  PetscCheck(!problem, comm, PETSC_ERR_FILE_OPEN, "option %s %s: %s", opt, path, OptionsFileProblemText(problem));
   PetscFunctionReturn(0);
-}
-
-/* The first message of an error is the one that names the cause; PetscCall repeats it up the stack. */
-static char     first_message[1024];
-static MPI_Comm first_comm = MPI_COMM_NULL;
-
-/* PETSc's reading of a value names the value, not the option: "Input string water has no
-   numeric value". The options whose value it is, from the database. */
-static PetscBool NameTheOption(const char *mess, char out[], size_t len)
-{
-  static const struct {
-    const char *before, *after, *expected;
-  } forms[] = {
-    {"Input string ",           " has no numeric value", "a number"               },
-    {"Input string ",           " has no integer value", "an integer (no . in it)"},
-    {"Unknown logical value: ", "",                      "true or false"          },
-  };
-  for (size_t f = 0; f < sizeof(forms) / sizeof(*forms); ++f) {
-    const size_t nb = strlen(forms[f].before);
-    const char  *value, *end;
-    char        *all = NULL, names[512] = "";
-    OptionPairs *pairs;
-    size_t       nv;
-
-    if (strncmp(mess, forms[f].before, nb)) continue;
-    value = mess + nb;
-    end   = forms[f].after[0] ? strstr(value, forms[f].after) : value + strlen(value);
-    if (!end) continue;
-    nv = (size_t)(end - value);
-    if (PetscOptionsGetAll(NULL, &all) || !(pairs = (OptionPairs *)calloc(1, sizeof(*pairs)))) {
-      PetscFree(all);
-      return PETSC_FALSE;
-    }
-    OptionPairsParse(all, pairs);
-    for (PetscInt i = 0; i < pairs->n; ++i) {
-      /* a list is read item by item: "0.1,0.2" holds "0.1" */
-      const char *v     = pairs->value[i];
-      PetscBool   holds = pairs->value_len[i] == nv && !strncmp(v, value, nv) ? PETSC_TRUE : PETSC_FALSE;
-      for (const char *c = v; !holds && c < v + pairs->value_len[i]; ++c)
-        if ((c == v || c[-1] == ',') && !strncmp(c, value, nv) && (c + nv == v + pairs->value_len[i] || c[nv] == ','))
-          holds = PETSC_TRUE;
-      if (holds && strlen(names) + pairs->name_len[i] + 6 < sizeof(names)) {
-        if (names[0]) strcat(names, " or ");
-        strncat(names, pairs->name[i], pairs->name_len[i]);
-      }
-    }
-    free(pairs);
-    PetscFree(all);
-    if (!names[0]) return PETSC_FALSE;
-    snprintf(out, len, "option %s: expected %s, got '%.*s'", names, forms[f].expected, (int)nv, value);
-    return PETSC_TRUE;
-  }
-  return PETSC_FALSE;
-}
-
-static PetscErrorCode RecordFirstMessage(MPI_Comm comm, int line, const char *func, const char *file, PetscErrorCode n,
-                                         PetscErrorType p, const char *mess, void *ctx)
-{
-  (void)ctx;
-  if (p == PETSC_ERROR_INITIAL && !first_message[0]) {
-    /* our own checks name the option or file; an error raised inside PETSc says where.
-       Ours are compiled as src/... (the Makefile's paths); Debian's PETSc as ./src/... */
-    const PetscBool ours = file && strncmp(file, "src/", 4) == 0 ? PETSC_TRUE : PETSC_FALSE;
-    first_comm           = comm;
-    if (mess && mess[0] && ours) PetscSNPrintf(first_message, sizeof(first_message), "%s", mess);
-    else if (!(mess && NameTheOption(mess, first_message, sizeof(first_message))))
-      PetscSNPrintf(first_message, sizeof(first_message), "%s (PETSc error %d in %s() at %s:%d)",
-                    mess && mess[0] ? mess : "PETSc error", (int)n, func, file, line);
-  }
-  return n;
-}
-
-MPI_Comm ErrorReportingFirstComm(void)
-{
-  return first_comm;
-}
-
-PetscErrorCode ErrorReportingForget(void)
-{
-  first_message[0] = 0;
-  first_comm       = MPI_COMM_NULL;
-  return 0;
-}
-
-PetscErrorCode ErrorReportingAgree(MPI_Comm comm, PetscErrorCode ierr)
-{
-  PetscMPIInt rank, size, mine, first;
-  int         code = (int)ierr;
-  char        message[sizeof(first_message)];
-
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCallMPI(MPI_Comm_size(comm, &size));
-  mine = ierr ? rank : size;
-  PetscCallMPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm));
-  if (first == size) PetscFunctionReturn(0);
-  PetscCall(PetscStrncpy(message, ErrorReportingFirstMessage(), sizeof(message)));
-  PetscCallMPI(MPI_Bcast(message, (PetscMPIInt)sizeof(message), MPI_CHAR, first, comm));
-  PetscCallMPI(MPI_Bcast(&code, 1, MPI_INT, first, comm));
-  PetscCall(ErrorReportingForget());
-  SETERRQ(comm, (PetscErrorCode)code, "%s", message);
-}
-
-PetscErrorCode ErrorReportingPush(void)
-{
-  PetscFunctionBeginUser;
-  PetscCall(PetscPushErrorHandler(RecordFirstMessage, NULL));
-  PetscFunctionReturn(0);
-}
-
-const char *ErrorReportingFirstMessage(void)
-{
-  return first_message[0] ? first_message : "unknown error";
 }
 
 /* Options OptionsSetDefault put in the database because the user had not: a set-up that

@@ -70,12 +70,12 @@ static int BinaryLine(const unsigned char *text, size_t n)
 
 static int ReadFile(Check *check, const char path[], const char origin[], char **text, size_t *n)
 {
-  const int problem = FileProblem(path);
+  const int problem = OptionsFileProblem(path);
   FILE     *fp;
   long      size;
 
-  if (problem) return Fail(check, "%s %s: %s", origin, path, FileProblemText(problem));
-  if (!(fp = fopen(path, "rb"))) return Fail(check, "%s %s: %s", origin, path, FileProblemText(1));
+  if (problem) return Fail(check, "%s %s: %s", origin, path, OptionsFileProblemText(problem));
+  if (!(fp = fopen(path, "rb"))) return Fail(check, "%s %s: %s", origin, path, OptionsFileProblemText(1));
   fseek(fp, 0, SEEK_END);
   size = ftell(fp);
   fseek(fp, 0, SEEK_SET);

@@ -1,3 +1,5 @@
+/* -check_rank_sync (rank_sync.h): whether every rank of a communicator created the same
+   PETSc objects, so that a cache filled on some ranks only is named where it happens. */
 #include "rank_sync.h"
 
 static PetscBool checked = PETSC_FALSE, enabled = PETSC_FALSE;

@@ -1,3 +1,5 @@
+/* Why a solve inside a time step failed (StepFailure, fsiopt.h), recorded so that the
+   time loop can retry the step with a smaller dt. */
 #include <stdarg.h>
 #include "fsiopt.h"
 

@@ -15,7 +15,7 @@ PetscErrorCode CouplingProblemInterfaceDisplacement(CouplingProblem P, Vec all)
 }
 
 /* q = M P^T W^{-1/2} x: the interface load of a scaled control, on all interface nodes. */
-PetscErrorCode ControlToLoad(CouplingProblem P, Vec x, Vec q)
+PetscErrorCode CouplingProblemControlToLoad(CouplingProblem P, Vec x, Vec q)
 {
   PetscFunctionBeginUser;
   PetscCall(VecPointwiseDivide(P->g, x, P->weight_sqrt));
@@ -26,10 +26,10 @@ PetscErrorCode ControlToLoad(CouplingProblem P, Vec x, Vec q)
 
 /* structure_vec = B_s g for the scaled control x (the structure solves R_s = -B_s g);
    all_q keeps the interface load M P^T g. */
-PetscErrorCode StructureLoad(CouplingProblem P, Vec x)
+PetscErrorCode CouplingProblemStructureLoad(CouplingProblem P, Vec x)
 {
   PetscFunctionBeginUser;
-  PetscCall(ControlToLoad(P, x, P->all_q));
+  PetscCall(CouplingProblemControlToLoad(P, x, P->all_q));
   if (P->structure) PetscCall(VecZeroEntries(P->structure_vec));
   PetscCall(InterfaceStructureSpread(P->itf, P->all_q, P->structure ? P->structure_vec : NULL));
   PetscFunctionReturn(0);
@@ -49,7 +49,7 @@ static PetscErrorCode ControlMassMult(Mat A, Vec x, Vec y)
 
 /* g = (P M P^T)^{-1} b: the control whose load on the control rows is b. CG on the
    (small, well-conditioned) interface mass, kept for the run. */
-PetscErrorCode ControlMassSolve(CouplingProblem P, Vec b, Vec g)
+PetscErrorCode CouplingProblemControlMassSolve(CouplingProblem P, Vec b, Vec g)
 {
   PetscFunctionBeginUser;
   if (!P->control_mass_ksp) {
@@ -83,7 +83,7 @@ static PetscErrorCode TractionToControl(CouplingProblem P, Vec traction_all, Vec
   PetscCall(VecDuplicate(g, &b));
   PetscCall(MatMult(P->mass, traction_all, P->all_b));
   PetscCall(InterfaceRestrict(P->itf, P->all_b, b));
-  PetscCall(ControlMassSolve(P, b, g));
+  PetscCall(CouplingProblemControlMassSolve(P, b, g));
   PetscCall(VecDestroy(&b));
   PetscFunctionReturn(0);
 }
@@ -98,7 +98,7 @@ PetscErrorCode CouplingProblemInitialControl(CouplingProblem P, PetscReal t0, Ve
     PetscCall(VecPointwiseMult(x, x, P->weight_sqrt));
   }
   /* the midpoint structure averages the traction of this and the previous step */
-  PetscCall(StructureLoad(P, x));
+  PetscCall(CouplingProblemStructureLoad(P, x));
   if (P->structure) PetscCall(StructureSetInitialLoad(P->structure, P->structure_vec));
   PetscFunctionReturn(0);
 }

@@ -27,8 +27,8 @@ PetscErrorCode CouplingProblemTestAdjoint(CouplingProblem P, Vec x)
   /* the identity of the Jacobian the run itself takes at x (its lag counts this update
      once, and the run's own request at the same x returns), so that the check does not
      change the run; a fresh one only when the run would take none (a start already converged) */
-  PetscCall(UpdateJacobian(P, x, PETSC_FALSE));
-  if (!P->jacobian_valid) PetscCall(UpdateJacobian(P, x, PETSC_TRUE));
+  PetscCall(CouplingProblemUpdateJacobian(P, x));
+  if (!P->jacobian_valid) PetscCall(CouplingProblemRefreshJacobian(P, x));
   PetscCall(VecDuplicate(x, &h));
   PetscCall(VecDuplicate(x, &rho));
   PetscCall(VecDuplicate(x, &Jh));
@@ -80,7 +80,7 @@ PetscErrorCode CouplingProblemTestTaylor(CouplingProblem P, Vec x)
   PetscCall(VecNorm(h, NORM_2, &hnorm));
   PetscCall(VecNorm(x, NORM_2, &xnorm));
   PetscCall(VecScale(h, PetscMax(xnorm, 1.0) / hnorm));
-  PetscCall(UpdateJacobian(P, x, PETSC_TRUE));
+  PetscCall(CouplingProblemRefreshJacobian(P, x));
   PetscCall(CouplingProblemResidual(P, x, F0));
   PetscCall(CouplingProblemJacobianMult(P, h, Jh));
   for (PetscInt k = 0; k < n; ++k, t *= 0.5) {
@@ -99,7 +99,7 @@ PetscErrorCode CouplingProblemTestTaylor(CouplingProblem P, Vec x)
                             (double)remainder));
     previous = remainder;
   }
-  PetscCall(EnsureState(P, x));
+  PetscCall(CouplingProblemEnsureState(P, x));
   PetscCall(VecDestroy(&h));
   PetscCall(VecDestroy(&F0));
   PetscCall(VecDestroy(&Jh));

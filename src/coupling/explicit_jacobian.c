@@ -1,3 +1,6 @@
+/* The explicitly built Jacobian J0 of the coupling residual, one sensitivity product per
+   control, as a preconditioner (explicit_jacobian.h): its dense LU, rebuilt on request,
+   with Broyden secant corrections in between. */
 #include "explicit_jacobian.h"
 
 struct _p_ExplicitJacobian {

@@ -18,7 +18,7 @@ static const char *const VelocityMeasures[] = {"scheme", "difference", "Structur
 /* A subproblem's failure, made known on every rank (the fluid's and the structure's may
    be different ones) with the reason of the first failing rank; failed may be NULL.
    Collective. */
-PetscErrorCode CollectFailure(CouplingProblem P, PetscBool *failed)
+PetscErrorCode CouplingProblemCollectFailure(CouplingProblem P, PetscBool *failed)
 {
   const char *reason = NULL;
   PetscMPIInt rank, size, mine, first;
@@ -328,7 +328,7 @@ PetscErrorCode CouplingProblemBeginStep(CouplingProblem P, PetscInt step)
   }
   P->spacing_changed = PETSC_FALSE;
   if (P->structure) PetscCall(StructureBeginStep(P->structure));
-  PetscCall(CollectFailure(P, NULL));
+  PetscCall(CouplingProblemCollectFailure(P, NULL));
   PetscCall(VecZeroEntries(P->datum_load));
   if (P->variant == CONTROL_CONVECTIVE && P->fluid_data.convective_interface_datum) {
     PetscReal t = 0;
@@ -344,8 +344,8 @@ PetscErrorCode CouplingProblemEndStep(CouplingProblem P, Vec x)
 {
   PetscFunctionBeginUser;
   if (!P->swept) {
-    PetscCall(EnsureState(P, x));
-    if (P->domain == DOMAIN_LAGGED && !StepFailed(&P->failure)) PetscCall(MoveMesh(P));
+    PetscCall(CouplingProblemEnsureState(P, x));
+    if (P->domain == DOMAIN_LAGGED && !StepFailed(&P->failure)) PetscCall(CouplingProblemMoveMesh(P));
   }
   if (StepFailed(&P->failure)) PetscFunctionReturn(0);
   if (P->structure) PetscCall(StructureEndStep(P->structure));

@@ -49,22 +49,18 @@ struct _p_CouplingProblem {
 };
 
 /* problem.c */
-PetscErrorCode CollectFailure(CouplingProblem, PetscBool *failed);
+PetscErrorCode CouplingProblemCollectFailure(CouplingProblem, PetscBool *failed);
 
-/* control_maps.c: they overwrite the work vectors all_a and g (ControlToLoad, StructureLoad)
-   or all_b (ControlMassSolve) */
-PetscErrorCode ControlToLoad(CouplingProblem, Vec x, Vec q);
-PetscErrorCode StructureLoad(CouplingProblem, Vec x);
-PetscErrorCode ControlMassSolve(CouplingProblem, Vec b, Vec g);
+/* control_maps.c: the first two overwrite the work vectors all_a and g, the third all_b */
+PetscErrorCode CouplingProblemControlToLoad(CouplingProblem, Vec x, Vec q);
+PetscErrorCode CouplingProblemStructureLoad(CouplingProblem, Vec x);
+PetscErrorCode CouplingProblemControlMassSolve(CouplingProblem, Vec b, Vec g);
 
 /* residual.c */
-PetscErrorCode Jump(CouplingProblem, PetscReal structure_scale, Vec r, PetscReal *l2);
-PetscErrorCode MoveMesh(CouplingProblem);
+PetscErrorCode CouplingProblemStateJump(CouplingProblem, PetscReal structure_scale, Vec r, PetscReal *l2);
+PetscErrorCode CouplingProblemMoveMesh(CouplingProblem);
 /* the structure under its load structure_vec; structure_local its interface velocity */
-PetscErrorCode SolveStructure(CouplingProblem);
+PetscErrorCode CouplingProblemSolveStructure(CouplingProblem);
 /* the state of the control x (a residual evaluation unless it is the one in hand) */
-PetscErrorCode EnsureState(CouplingProblem, Vec x);
-/* force: the fluid's factors of x even where the jump has converged or the lag would keep
-   older ones */
-PetscErrorCode UpdateJacobian(CouplingProblem, Vec x, PetscBool force);
+PetscErrorCode CouplingProblemEnsureState(CouplingProblem, Vec x);
 #endif

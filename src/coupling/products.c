@@ -34,7 +34,7 @@ static PetscErrorCode TraceResponses(CouplingProblem P, Vec out)
     PetscCall(DMGlobalToLocal(dm, P->structure_sol, INSERT_VALUES, P->structure_local));
   }
   /* the structure responds to -B_s h with -delta eta; the jump carries -c delta eta */
-  PetscCall(Jump(P, -P->velocity_coefficient, out, NULL));
+  PetscCall(CouplingProblemStateJump(P, -P->velocity_coefficient, out, NULL));
   PetscFunctionReturn(0);
 }
 
@@ -60,7 +60,7 @@ PetscErrorCode CouplingProblemJacobianMult(CouplingProblem P, Vec h, Vec y)
   P->forward_products++;
   PetscCall(PetscLogStagePush(FSIOPT_STAGE_SENSITIVITY));
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_SENSITIVITY, 0, 0, 0, 0));
-  PetscCall(ControlToLoad(P, h, P->all_q));
+  PetscCall(CouplingProblemControlToLoad(P, h, P->all_q));
   PetscCall(SolveAndTrace(P, PETSC_FALSE, y));
   PetscCall(VecPointwiseMult(y, y, P->weight_sqrt));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_SENSITIVITY, 0, 0, 0, 0));
@@ -152,7 +152,7 @@ PetscErrorCode CouplingProblemJacobianMultBlock(CouplingProblem P, Mat H, Mat Y)
   for (PetscInt j = 0; j < columns; ++j) {
     Vec h;
     PetscCall(MatDenseGetColumnVecRead(H, j, &h));
-    PetscCall(ControlToLoad(P, h, P->all_q));
+    PetscCall(CouplingProblemControlToLoad(P, h, P->all_q));
     PetscCall(MatDenseRestoreColumnVecRead(H, j, &h));
     PetscCall(SpreadLoad(P));
     if (P->structure) PetscCall(CopyToColumn(P->structure_vec, P->structure_rhs_block, j));

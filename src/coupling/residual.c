@@ -7,7 +7,7 @@
 #include "logging.h"
 
 /* r = P (T_f fluid_local - T_s structure_local), the jump at the control nodes; and its L2 norm */
-PetscErrorCode Jump(CouplingProblem P, PetscReal structure_scale, Vec r, PetscReal *l2)
+PetscErrorCode CouplingProblemStateJump(CouplingProblem P, PetscReal structure_scale, Vec r, PetscReal *l2)
 {
   PetscFunctionBeginUser;
   PetscCall(InterfaceFluidTrace(P->itf, P->fluid_local, P->all_a));
@@ -26,7 +26,7 @@ PetscErrorCode Jump(CouplingProblem P, PetscReal structure_scale, Vec r, PetscRe
 
 /* The fluid domain follows the structure's interface displacement: the one of the last
    evaluation (lagged, seed Algorithm 3.3) or of this one (current). Collective. */
-PetscErrorCode MoveMesh(CouplingProblem P)
+PetscErrorCode CouplingProblemMoveMesh(CouplingProblem P)
 {
   PetscFunctionBeginUser;
   if (!P->moving) PetscFunctionReturn(0);
@@ -41,11 +41,11 @@ PetscErrorCode MoveMesh(CouplingProblem P)
     PetscCall(FluidSetMeshDisplacement(P->fluid, P->mesh_displacement));
     PetscCall(PetscLogStagePop());
   }
-  PetscCall(CollectFailure(P, NULL));
+  PetscCall(CouplingProblemCollectFailure(P, NULL));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SolveStructure(CouplingProblem P)
+PetscErrorCode CouplingProblemSolveStructure(CouplingProblem P)
 {
   PetscFunctionBeginUser;
   if (!P->structure) PetscFunctionReturn(0);
@@ -76,7 +76,7 @@ PetscErrorCode CouplingProblemResidual(CouplingProblem P, Vec x, Vec F)
     /* u(x) ~ u(x_last) + du/dg (x - x_last): then the chord iterations start within
        O(|x - x_last|^2) of the solution and the state-relative tolerance ends them early */
     PetscCall(VecWAXPY(P->control_change, -1.0, P->state_x, x));
-    PetscCall(ControlToLoad(P, P->control_change, P->all_q));
+    PetscCall(CouplingProblemControlToLoad(P, P->control_change, P->all_q));
     if (P->fluid) {
       Vec state;
       PetscCall(VecZeroEntries(P->fluid_vec));
@@ -88,7 +88,7 @@ PetscErrorCode CouplingProblemResidual(CouplingProblem P, Vec x, Vec F)
       PetscCall(VecAXPY(state, 1.0, P->fluid_sol));
     }
   }
-  PetscCall(StructureLoad(P, x));
+  PetscCall(CouplingProblemStructureLoad(P, x));
   PetscCall(VecAXPY(P->all_q, 1.0, P->datum_load));
   if (P->fluid) {
     PetscCall(VecZeroEntries(P->fluid_vec));
@@ -97,9 +97,9 @@ PetscErrorCode CouplingProblemResidual(CouplingProblem P, Vec x, Vec F)
   /* On separate ranks these two run at the same time on a lagged domain; on the current
      one the fluid waits for the structure's displacement. */
   if (P->domain == DOMAIN_CURRENT) {
-    PetscCall(SolveStructure(P));
-    PetscCall(CollectFailure(P, &failed));
-    if (!failed) PetscCall(MoveMesh(P));
+    PetscCall(CouplingProblemSolveStructure(P));
+    PetscCall(CouplingProblemCollectFailure(P, &failed));
+    if (!failed) PetscCall(CouplingProblemMoveMesh(P));
     if (StepFailed(&P->failure)) {
       PetscCall(VecZeroEntries(F));
       PetscFunctionReturn(0);
@@ -113,13 +113,13 @@ PetscErrorCode CouplingProblemResidual(CouplingProblem P, Vec x, Vec F)
     PetscCall(FluidGlobalToLocal(P->fluid, state, P->fluid_local));
     PetscCall(PetscLogStagePop());
   }
-  if (P->domain == DOMAIN_LAGGED) PetscCall(SolveStructure(P));
-  PetscCall(CollectFailure(P, &failed));
+  if (P->domain == DOMAIN_LAGGED) PetscCall(CouplingProblemSolveStructure(P));
+  PetscCall(CouplingProblemCollectFailure(P, &failed));
   if (failed) {
     PetscCall(VecZeroEntries(F));
     PetscFunctionReturn(0);
   }
-  PetscCall(Jump(P, 1.0, P->r, &P->state_jump));
+  PetscCall(CouplingProblemStateJump(P, 1.0, P->r, &P->state_jump));
   PetscCall(VecPointwiseMult(F, P->r, P->weight_sqrt));
   PetscCall(VecCopy(x, P->state_x));
   PetscCall(VecCopy(F, P->state_F));
@@ -127,7 +127,7 @@ PetscErrorCode CouplingProblemResidual(CouplingProblem P, Vec x, Vec F)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode EnsureState(CouplingProblem P, Vec x)
+PetscErrorCode CouplingProblemEnsureState(CouplingProblem P, Vec x)
 {
   PetscFunctionBeginUser;
   PetscCall(CouplingProblemResidual(P, x, P->r));
@@ -137,7 +137,7 @@ PetscErrorCode EnsureState(CouplingProblem P, Vec x)
 PetscErrorCode CouplingProblemJump(CouplingProblem P, Vec x, PetscReal *jump)
 {
   PetscFunctionBeginUser;
-  PetscCall(EnsureState(P, x));
+  PetscCall(CouplingProblemEnsureState(P, x));
   *jump = P->state_jump;
   PetscFunctionReturn(0);
 }
@@ -148,7 +148,7 @@ PetscErrorCode CouplingProblemInterfaceVelocity(CouplingProblem P, Vec x, PetscR
   PetscScalar dot;
 
   PetscFunctionBeginUser;
-  PetscCall(EnsureState(P, x));
+  PetscCall(CouplingProblemEnsureState(P, x));
   /* from the structure's state: structure_local is the products' work vector once they ran at x */
   if (P->structure) {
     DM  dm;
@@ -173,18 +173,20 @@ PetscErrorCode CouplingProblemSetConvergedJump(CouplingProblem P, PetscReal jump
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode UpdateJacobian(CouplingProblem P, Vec x, PetscBool force)
+/* force: the fluid's factors of x even where the jump has converged or the lag would keep
+   older ones */
+static PetscErrorCode UpdateJacobian(CouplingProblem P, Vec x, PetscBool force)
 {
   PetscBool same = PETSC_FALSE;
 
   PetscFunctionBeginUser;
-  PetscCall(EnsureState(P, x));
+  PetscCall(CouplingProblemEnsureState(P, x));
   if (StepFailed(&P->failure)) PetscFunctionReturn(0);
   /* TAO asks for the gradient at every new point, also at the one its stopping test will
      accept: there the factors in hand serve (the gradient is only reported), and the
      next step's chord iterations start from them. */
   if (!force && P->state_jump <= P->converged_jump) PetscFunctionReturn(0);
-  if (P->domain == DOMAIN_LAGGED) PetscCall(MoveMesh(P));
+  if (P->domain == DOMAIN_LAGGED) PetscCall(CouplingProblemMoveMesh(P));
   if (StepFailed(&P->failure)) PetscFunctionReturn(0);
   if (P->jacobian_valid) PetscCall(VecEqual(x, P->jacobian_x, &same));
   if (same && (!force || P->jacobian_fresh)) PetscFunctionReturn(0);

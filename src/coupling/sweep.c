@@ -39,8 +39,8 @@ static PetscErrorCode SweepBegin(CouplingProblem P)
 static PetscErrorCode StructureUnderControl(CouplingProblem P, Vec x, Vec v_s)
 {
   PetscFunctionBeginUser;
-  PetscCall(StructureLoad(P, x));
-  PetscCall(SolveStructure(P));
+  PetscCall(CouplingProblemStructureLoad(P, x));
+  PetscCall(CouplingProblemSolveStructure(P));
   PetscCall(InterfaceStructureTrace(P->itf, P->structure ? P->structure_local : NULL, v_s));
   PetscFunctionReturn(0);
 }
@@ -62,7 +62,7 @@ static PetscErrorCode FluidUnderVelocity(CouplingProblem P, Vec v, Vec x)
   }
   PetscCall(InterfaceFluidGather(P->itf, P->fluid ? P->fluid_sol : NULL, P->all_a));
   PetscCall(InterfaceRestrict(P->itf, P->all_a, P->r));
-  PetscCall(ControlMassSolve(P, P->r, x));
+  PetscCall(CouplingProblemControlMassSolve(P, P->r, x));
   PetscCall(VecPointwiseMult(x, x, P->weight_sqrt));
   PetscFunctionReturn(0);
 }
@@ -74,10 +74,10 @@ PetscErrorCode CouplingProblemSweep(CouplingProblem P, Vec x, Vec x_new)
   PetscFunctionBeginUser;
   PetscCall(SweepBegin(P));
   PetscCall(StructureUnderControl(P, x, P->all_b));
-  PetscCall(CollectFailure(P, &failed));
-  if (!failed) PetscCall(MoveMesh(P));
+  PetscCall(CouplingProblemCollectFailure(P, &failed));
+  if (!failed) PetscCall(CouplingProblemMoveMesh(P));
   if (!StepFailed(&P->failure)) PetscCall(FluidUnderVelocity(P, P->all_b, x_new));
-  PetscCall(CollectFailure(P, &failed));
+  PetscCall(CouplingProblemCollectFailure(P, &failed));
   PetscFunctionReturn(0);
 }
 
@@ -87,11 +87,11 @@ PetscErrorCode CouplingProblemSweepVelocity(CouplingProblem P, Vec v, Vec x, Vec
 
   PetscFunctionBeginUser;
   PetscCall(SweepBegin(P));
-  PetscCall(MoveMesh(P)); /* the wall of the last structure solve: the domain lags one sweep */
+  PetscCall(CouplingProblemMoveMesh(P)); /* the wall of the last structure solve: the domain lags one sweep */
   if (!StepFailed(&P->failure)) PetscCall(FluidUnderVelocity(P, v, x));
-  PetscCall(CollectFailure(P, &failed));
+  PetscCall(CouplingProblemCollectFailure(P, &failed));
   if (!failed) PetscCall(StructureUnderControl(P, x, v_new));
-  PetscCall(CollectFailure(P, &failed));
+  PetscCall(CouplingProblemCollectFailure(P, &failed));
   PetscFunctionReturn(0);
 }
 
@@ -106,6 +106,6 @@ PetscErrorCode CouplingProblemSweepJump(CouplingProblem P, PetscReal *jump)
 {
   PetscFunctionBeginUser;
   PetscCheck(P->swept, P->comm, PETSC_ERR_ORDER, "no sweep to measure");
-  PetscCall(Jump(P, 1.0, P->r, jump));
+  PetscCall(CouplingProblemStateJump(P, 1.0, P->r, jump));
   PetscFunctionReturn(0);
 }

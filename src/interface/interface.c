@@ -197,8 +197,8 @@ PetscErrorCode InterfaceCreate(MPI_Comm comm, DM fluid, PetscInt fluid_face, DM 
                              "vanish), or auto (row sums where all are positive, else the scaled diagonal)",
                              NULL, InterfaceLumpings, (PetscEnum)lumping, (PetscEnum *)&lumping, NULL));
   PetscOptionsEnd();
-  if (fluid) PetscCall(SideCollect(fluid, fluid_face, "fluid", &itf->fluid));
-  if (structure) PetscCall(SideCollect(structure, structure_face, "structure", &itf->structure));
+  if (fluid) PetscCall(InterfaceSideCollect(fluid, fluid_face, "fluid", &itf->fluid));
+  if (structure) PetscCall(InterfaceSideCollect(structure, structure_face, "structure", &itf->structure));
 
   PetscCall(VecCreateMPI(comm, itf->fluid.n * dim, PETSC_DETERMINE, &itf->all));
   PetscCall(VecSetBlockSize(itf->all, dim));
@@ -230,8 +230,8 @@ PetscErrorCode InterfaceDestroy(Interface *interface)
 
   PetscFunctionBeginUser;
   if (!itf) PetscFunctionReturn(0);
-  PetscCall(SideDestroy(&itf->fluid));
-  PetscCall(SideDestroy(&itf->structure));
+  PetscCall(InterfaceSideDestroy(&itf->fluid));
+  PetscCall(InterfaceSideDestroy(&itf->structure));
   PetscCall(PetscFree(itf->control));
   PetscCall(VecDestroy(&itf->all));
   PetscCall(VecDestroy(&itf->structure_all));

@@ -25,9 +25,9 @@ struct _p_Interface {
   Vec        lumped_control;
 };
 
-PetscErrorCode SideDestroy(Side *);
+PetscErrorCode InterfaceSideDestroy(Side *);
 /* the nodes of face set `face` this rank owns, in increasing point number (name: the side, for messages) */
-PetscErrorCode SideCollect(DM, PetscInt face, const char name[], Side *);
+PetscErrorCode InterfaceSideCollect(DM, PetscInt face, const char name[], Side *);
 /* pairs every fluid node with the structure node at its coordinates (within rtol of the
    interface's size), or stops naming the first that has none */
 PetscErrorCode InterfaceMatch(Interface, PetscReal rtol, PetscInt fluid_face, PetscInt structure_face);

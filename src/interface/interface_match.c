@@ -3,7 +3,7 @@
    meet is named with its first unmatched node. */
 #include "interface_impl.h"
 
-PetscErrorCode SideDestroy(Side *s)
+PetscErrorCode InterfaceSideDestroy(Side *s)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscFree4(s->point, s->coords, s->local, s->global));
@@ -40,7 +40,7 @@ static PetscErrorCode PointCentre(DM dm, PetscInt p, PetscInt dim, PetscReal x[]
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SideCollect(DM dm, PetscInt face, const char name[], Side *side)
+PetscErrorCode InterfaceSideCollect(DM dm, PetscInt face, const char name[], Side *side)
 {
   DMLabel         label;
   IS              faces = NULL;

@@ -67,7 +67,7 @@ static int Check(const char path[], int dim, char why[], size_t len)
   Node  *nodes = NULL;
 
   why[0] = 0;
-  if (!fp) return 0; /* CheckReadableFile reports it */
+  if (!fp) return 0; /* OptionsCheckReadableFile reports it */
   /* PETSc's reader crashes on a file that is not gmsh's at all */
   if (!Seek(fp, "$MeshFormat") || fscanf(fp, "%lf %d %d", &version, &binary, &datasize) != 3) {
     snprintf(why, len, "not a gmsh mesh (no readable $MeshFormat section)");

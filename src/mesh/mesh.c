@@ -1,5 +1,9 @@
+/* A subdomain's mesh (mesh.h): a box or a gmsh file read, checked (dimension, face sets,
+   inverted cells, memory), refined and distributed; and a signature of its partition for
+   checkpoints. */
 #include "mesh.h"
 #include "options.h"
+#include "error_reporting.h"
 #include "logging.h"
 #include <stdio.h>
 #include <string.h>
@@ -109,7 +113,7 @@ static PetscErrorCode LoadChecked(MPI_Comm comm, const char prefix[], PetscInt d
   filename[0] = 0;
   PetscCall(PetscSNPrintf(option, sizeof(option), "-%sdm_plex_filename", prefix));
   PetscCall(PetscOptionsGetString(NULL, NULL, option, filename, PETSC_MAX_PATH_LEN, &from_file));
-  if (from_file) PetscCall(CheckReadableFile(comm, option, filename));
+  if (from_file) PetscCall(OptionsCheckReadableFile(comm, option, filename));
   if (from_file) {
     size_t len;
     PetscCall(PetscStrlen(filename, &len));

@@ -5,7 +5,7 @@
 #include "checkpoint.h"
 #include "logging.h"
 #include "interrupt.h"
-#include "output.h"
+#include "output_files.h"
 #include "options.h"
 #include "rank_sync.h"
 
@@ -18,8 +18,8 @@ static PetscErrorCode WriteCheckpoint(Run run, PetscInt step)
   int            cause;
 
   PetscFunctionBeginUser;
-  PetscCall(OutputsGetProbes(run->outputs, &probes));
-  PetscCall(OutputsGetFields(run->outputs, &fields));
+  PetscCall(StepOutputsGetProbes(run->outputs, &probes));
+  PetscCall(StepOutputsGetFields(run->outputs, &fields));
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CHECKPOINT, 0, 0, 0, 0));
   /* a write that fails (a full disk, a quota, an I/O error) stops the run with one line; the
      last complete checkpoint stays and no temporary is left */
@@ -102,7 +102,7 @@ PetscErrorCode RunAdvance(Run run)
       s->failure    = run->failure;
       break;
     }
-    PetscCall(OutputsRecord(run->outputs, step));
+    PetscCall(StepOutputsRecord(run->outputs, step));
     {
       char when[64];
       PetscCall(PetscSNPrintf(when, sizeof(when), "step %" PetscInt_FMT, step));

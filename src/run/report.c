@@ -91,14 +91,20 @@ static PetscErrorCode SetStopReason(Run run)
 PetscErrorCode RunReport(Run run)
 {
   RunSummary    *s = &run->summary;
+  StepRetryStats retry;
   PetscLogDouble end;
 
   PetscFunctionBeginUser;
   if (run->help) PetscFunctionReturn(0);
   PetscCall(PetscLogStagePush(FSIOPT_STAGE_OUTPUT));
-  PetscCall(SummaryGather(s, run->scene.has_fluid, run->scene.has_structure, run->fluid, run->structure, run->coupling,
-                          run->retry));
-  PetscCall(OutputsFinish(run->outputs, &s->quantities));
+  PetscCall(StepRetryGetStats(run->retry, &retry));
+  s->retried_steps   = retry.retried_steps;
+  s->failed_attempts = retry.failed_attempts;
+  s->smallest_dt     = retry.smallest_dt;
+  PetscCall(
+    SummaryGather(s, run->scene.has_fluid, run->scene.has_structure, run->fluid, run->structure, run->coupling));
+  if (run->coupling) PetscCall(CouplingFinish(run->coupling)); /* history.csv under its final name */
+  PetscCall(StepOutputsFinish(run->outputs, &s->quantities));
   PetscCall(PetscTime(&end));
   s->params      = &run->params;
   s->units       = run->scene.units;

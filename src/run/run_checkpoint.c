@@ -11,8 +11,8 @@
 #include "options.h"
 #include "mesh.h"
 
-/* The files a run writes in its -output_dir (outputs.c, history.c, summary.c, fields.c,
-   output_lock.c), each also as NAME.partial or NAME.tmp while it is written. */
+/* The files a run writes in its -output_dir (step_outputs.c, history.c, summary.c, fields.c,
+   output_dir.c), each also as NAME.partial or NAME.tmp while it is written. */
 static const char *const output_files[] = {"probes.csv",  "history.csv",       "summary.json", "fields.h5",
                                            "fields.xdmf", "force_surface.csv", ".fsiopt.lock", NULL};
 

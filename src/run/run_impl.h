@@ -7,7 +7,7 @@
 #include "structure.h"
 #include "interface.h"
 #include "coupling.h"
-#include "outputs.h"
+#include "step_outputs.h"
 #include "summary.h"
 #include "run_checkpoint.h"
 #include "step_retry.h"
@@ -26,7 +26,7 @@ struct _p_Run {
   Interface           itf;
   CouplingProblem     problem;
   Coupling            coupling;
-  Outputs             outputs;
+  StepOutputs         outputs;
   StepRetry           retry;
   Progress            progress;
   RunCheckpointParams checkpoint;

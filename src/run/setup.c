@@ -2,7 +2,7 @@
    the coupling, the outputs, a restart; and the run's destruction. */
 #include <time.h>
 #include "run_impl.h"
-#include "output.h"
+#include "output_files.h"
 #include "help.h"
 #include "fem_ceed.h"
 #include "options.h"
@@ -200,8 +200,8 @@ static PetscErrorCode CheckpointOrStart(Run run)
 
   PetscFunctionBeginUser;
   if (run->coupling) PetscCall(CouplingIsRestartable(run->coupling, &restartable));
-  PetscCall(OutputsGetProbes(run->outputs, &probes));
-  PetscCall(OutputsGetFields(run->outputs, &fields));
+  PetscCall(StepOutputsGetProbes(run->outputs, &probes));
+  PetscCall(StepOutputsGetFields(run->outputs, &fields));
   PetscCall(RunCheckpointSetFromOptions(&run->params, separate ? run->summary.structure_ranks : 0, restartable,
                                         &run->checkpoint));
   restart = run->checkpoint.restarting && !run->help;
@@ -213,8 +213,8 @@ static PetscErrorCode CheckpointOrStart(Run run)
                             &run->summary, run->fluid, run->structure, run->coupling, probes, fields, run->retry));
     run->first_step = restart_step + 1;
   }
-  PetscCall(OutputsOpen(run->outputs));
-  if (!restart) PetscCall(OutputsRecord(run->outputs, 0));
+  PetscCall(StepOutputsOpen(run->outputs));
+  if (!restart) PetscCall(StepOutputsRecord(run->outputs, 0));
   PetscFunctionReturn(0);
 }
 
@@ -256,13 +256,13 @@ PetscErrorCode RunCreate(Run *created)
   PetscCall(PetscTime(&run->start));
   PetscCall(RecordStart(&run->summary));
   run->stop_code = PETSC_ERR_NOT_CONVERGED;
-  PetscCall(FsioptLogRegister());
+  PetscCall(LoggingRegister());
   PetscCall(SceneRegisterAll());
   PetscCall(CouplingRegisterAll());
   PetscCall(OptionsCheckValuesGiven(PETSC_COMM_WORLD));
   run->help = OptionsHelpRequested();
   PetscCall(HelpListingBegin());
-  PetscCall(OptionsCaptureBegin());
+  PetscCall(HelpListingCaptureBegin());
   PetscCall(PetscOptionsGetString(NULL, NULL, "-scene", run->params.scene, sizeof(run->params.scene), &scene_given));
   if (!scene_given) {
     char names[256];
@@ -301,8 +301,8 @@ PetscErrorCode RunCreate(Run *created)
                              run->params.dt, &run->coupling));
     PetscCall(PetscLogEventEnd(FSIOPT_EVENT_INTERFACE, 0, 0, 0, 0));
   }
-  PetscCall(OutputsCreate(&run->params, &run->scene, run->summary.dim, run->fluid, run->structure, run->itf,
-                          run->problem, &run->outputs));
+  PetscCall(StepOutputsCreate(&run->params, &run->scene, run->summary.dim, run->fluid, run->structure, run->itf,
+                              run->problem, &run->outputs));
   PetscCall(StepRetryCreate(&run->params, run->fluid, run->structure, run->coupling, &run->retry));
   PetscCall(CheckCeedSpaces(run));
   PetscCall(ProgressCreate(PETSC_COMM_WORLD, &run->progress));
@@ -313,7 +313,7 @@ PetscErrorCode RunCreate(Run *created)
   PetscCall(DMDestroy(&fluid_mesh));
   PetscCall(DMDestroy(&structure_mesh));
   PetscCall(PetscLogStagePop());
-  PetscCall(OptionsCaptureEnd());
+  PetscCall(HelpListingCaptureEnd());
   if (!run->help) PetscCall(OptionsCheckUnused(PETSC_COMM_WORLD, PETSC_FALSE));
   if (run->help) {
     /* every object has read its options by now: the listing is complete */
@@ -341,7 +341,7 @@ PetscErrorCode RunDestroy(Run *destroyed)
   PetscCall(StepRetryDestroy(&run->retry));
   PetscCall(ProgressDestroy(&run->progress));
   PetscCall(CouplingDestroy(&run->coupling));
-  PetscCall(OutputsDestroy(&run->outputs));
+  PetscCall(StepOutputsDestroy(&run->outputs));
   PetscCall(CouplingProblemDestroy(&run->problem));
   PetscCall(InterfaceDestroy(&run->itf));
   PetscCall(FluidDestroy(&run->fluid));

@@ -1,3 +1,5 @@
+/* The registry of scenes by name (scene.h) and the helpers scenes share: a context for
+   their parameters, default meshes, the clamped wall and the manufactured solutions' boxes. */
 #include "scene.h"
 #include "fem.h"
 #include "options.h"
@@ -85,7 +87,7 @@ PetscErrorCode SceneSetDefaultMesh(const char option[], const char name[])
   PetscFunctionBeginUser;
   PetscCall(PetscSNPrintf(path, sizeof(path), "meshes/%s", name));
   /* from the repository root as the tests and scripts run; from elsewhere, the build's meshes */
-  if (FileProblem(path)) PetscCall(PetscSNPrintf(path, sizeof(path), "%s/meshes/%s", FSIOPT_ROOT, name));
+  if (OptionsFileProblem(path)) PetscCall(PetscSNPrintf(path, sizeof(path), "%s/meshes/%s", FSIOPT_ROOT, name));
   PetscCall(OptionsSetDefault(option, path));
   PetscFunctionReturn(0);
 }

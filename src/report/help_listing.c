@@ -193,7 +193,7 @@ static FILE  *real_stdout = NULL, *type_lines = NULL;
 static char  *type_text = NULL;
 static size_t type_len  = 0;
 
-void OptionsCaptureAbandon(void)
+void HelpListingCaptureAbandon(void)
 {
   if (!real_stdout) return;
   fclose(type_lines);
@@ -277,7 +277,7 @@ PetscErrorCode HelpListingEnd(const char units[])
   if (partial[0]) PetscCall(Line(partial));
   fflush(type_lines);
   if (type_text) PetscCall(KeepPETScLine(type_text)); /* the types' choices, printed to stdout */
-  OptionsCaptureAbandon();
+  HelpListingCaptureAbandon();
   PetscHelpPrintf   = petsc_help_printf;
   petsc_help_printf = NULL;
   PetscCall(PetscHelpPrintf(help_comm, "fsiopt: fluid-structure interaction by optimization-based decoupling.\n"
@@ -331,7 +331,7 @@ static PetscErrorCode ForgetCaptured(void)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode OptionsCaptureBegin(void)
+PetscErrorCode HelpListingCaptureBegin(void)
 {
   PetscFunctionBeginUser;
   if (OptionsHelpRequested() || petsc_help_printf) PetscFunctionReturn(0);
@@ -384,7 +384,7 @@ static PetscErrorCode GatherOnFirstRank(MPI_Comm comm)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode OptionsCaptureEnd(void)
+PetscErrorCode HelpListingCaptureEnd(void)
 {
   PetscFunctionBeginUser;
   if (!capturing) PetscFunctionReturn(0);
@@ -395,7 +395,7 @@ PetscErrorCode OptionsCaptureEnd(void)
     if (next) *next++ = 0;
     PetscCall(CaptureLine(line));
   }
-  OptionsCaptureAbandon();
+  HelpListingCaptureAbandon();
   partial[0]        = 0;
   PetscHelpPrintf   = petsc_help_printf;
   petsc_help_printf = NULL;
@@ -405,7 +405,7 @@ PetscErrorCode OptionsCaptureEnd(void)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode OptionsCapturedGet(PetscInt *n, char *const **names, char *const **values)
+PetscErrorCode HelpListingGetCapturedOptions(PetscInt *n, char *const **names, char *const **values)
 {
   PetscFunctionBeginUser;
   *n      = n_captured;

@@ -1,13 +1,54 @@
-/* The output directory's owner (output.h): a lock file <output_dir>/.fsiopt.lock with the
-   pid, host and start time of the run that writes there. Two runs writing into one
-   directory would interleave and overwrite each other's files. */
-#include "output.h"
+/* The output directory (output_files.h): made with its parents, and owned by one run through
+   a lock file <output_dir>/.fsiopt.lock with the pid, host and start time of the run that
+   writes there. Two runs writing into one directory would interleave and overwrite each
+   other's files. */
+#include "output_files.h"
 #include <errno.h>
 #include <fcntl.h>
 #include <signal.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
+
+int OutputMakeDirectoriesWhy(const char dir[], char why[], size_t len)
+{
+  char        path[PETSC_MAX_PATH_LEN];
+  struct stat st;
+
+  why[0] = 0;
+  (void)snprintf(path, sizeof(path), "%s", dir);
+  for (char *c = path + 1;; ++c) {
+    const char at = *c;
+    if (at && at != '/') continue;
+    *c = 0;
+    /* an existing directory may be read-only above the one we write in */
+    if (mkdir(path, 0777) && errno != EEXIST) {
+      (void)snprintf(why, len, "option -output_dir %s: cannot create %s (%s)", dir, path, strerror(errno));
+      return 1;
+    }
+    if (stat(path, &st) || !S_ISDIR(st.st_mode)) {
+      (void)snprintf(why, len, "option -output_dir %s: %s is not a directory", dir, path);
+      return 1;
+    }
+    *c = at;
+    if (!at) break;
+  }
+  if (access(path, W_OK | X_OK)) {
+    (void)snprintf(why, len, "option -output_dir %s: cannot write there (%s)", dir, strerror(errno));
+    return 1;
+  }
+  return 0;
+}
+
+PetscErrorCode OutputMakeDirectories(const char dir[])
+{
+  char why[2 * PETSC_MAX_PATH_LEN + 128];
+
+  PetscFunctionBeginUser;
+  PetscCheck(!OutputMakeDirectoriesWhy(dir, why, sizeof(why)), PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "%s", why);
+  PetscFunctionReturn(0);
+}
 
 static char lock_path[PETSC_MAX_PATH_LEN];
 static char created_dir[PETSC_MAX_PATH_LEN]; /* made for this run: removed again if left empty */

@@ -1,4 +1,7 @@
-#include "output.h"
+/* Files that become final only when the run completes (output_files.h): a CSV written as
+   NAME.partial and renamed, the set-up's files removed when the set-up is refused, the
+   text of a write error, and the flag that an HDF5 write failed. */
+#include "output_files.h"
 #include "options.h"
 #include <errno.h>
 #include <libgen.h>

@@ -1,3 +1,5 @@
+/* The unit of a quantity in a scene's system of units (units.h), for -help and the
+   headers of probes.csv. */
 #include <string.h>
 #include "units.h"
 

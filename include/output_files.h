@@ -1,8 +1,10 @@
-#ifndef FSIOPT_OUTPUT_H
-#define FSIOPT_OUTPUT_H
+#ifndef FSIOPT_OUTPUT_FILES_H
+#define FSIOPT_OUTPUT_FILES_H
 #include <stdio.h>
 #include <petscsys.h>
 
+/* The run's output directory and the files written into it (src/storage/output_dir.c,
+   partial_file.c). The directory, made with its parents: */
 PetscErrorCode OutputMakeDirectories(const char dir[]);
 /* the same without raising: 0, or 1 with one line in why naming -output_dir */
 int OutputMakeDirectoriesWhy(const char dir[], char why[], size_t len);

@@ -1,6 +1,9 @@
+/* probes.csv (probes.h): the displacement at the scene's probe points and the scalar
+   columns its caller computes, one row per step; rank 0 keeps the series for the
+   quantities of summary.json and saves it in checkpoints. */
 #include "probes.h"
 #include "units.h"
-#include "output.h"
+#include "output_files.h"
 #include "options.h"
 #include "checkpoint.h"
 

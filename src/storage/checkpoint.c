@@ -2,13 +2,14 @@
    in it is each module's (FluidCheckpoint, StructureCheckpoint, CouplingCheckpoint,
    ProbesCheckpoint). */
 #include "checkpoint.h"
-#include "output.h"
+#include "output_files.h"
 #include <stdio.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <sys/statvfs.h>
 #include <unistd.h>
 #include "options.h"
+#include "error_reporting.h"
 
 typedef struct {
   char      name[128]; /* group/name */
@@ -374,7 +375,7 @@ PetscErrorCode CheckpointOpen(MPI_Comm comm, const char path[], PetscBool load, 
 
   PetscFunctionBeginUser;
   if (load) {
-    PetscCall(CheckReadableFile(comm, "-restart", path));
+    PetscCall(OptionsCheckReadableFile(comm, "-restart", path));
     {
       PetscErrorCode ierr;
       /* HDF5 would print its own diagnostic stack for a file that is not HDF5 */

@@ -1,7 +1,7 @@
 #ifndef FSIOPT_FIELDS_IMPL_H
 #define FSIOPT_FIELDS_IMPL_H
 /* The field writer's state, shared by fields.c (set-up, steps, XDMF) and
-   fields_restart.c (checkpoints, a restart's continuation of the fields file). */
+   fields_restart.c (the file opened, checkpoints, a restart's continuation of the file). */
 #include "fields.h"
 #include "checkpoint.h"
 #include <petscviewerhdf5.h>
@@ -43,6 +43,4 @@ struct _p_FieldWriter {
 void FieldsDataset(const Part *, PetscInt k, const char **name, PetscInt *columns);
 /* root: /origin and each grid's topology into a new file */
 PetscErrorCode FieldsWriteHeader(FieldWriter, PetscViewer);
-/* FieldWriterOpen's restart: the new file from the fields of the continued run (fields_restart.c) */
-PetscErrorCode FieldsRestartOpen(FieldWriter);
 #endif

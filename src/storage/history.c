@@ -1,3 +1,5 @@
+/* history.csv (history.h): one row per coupling iteration, and one per failed attempt of
+   a step, written through a PartialFile. */
 #include "history.h"
 
 struct _p_History {

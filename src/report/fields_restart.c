@@ -1,12 +1,14 @@
-/* The fields across a restart (fields.h). A checkpoint records the steps the run's fields
-   file holds, where the file is and which run wrote it. The restarted run's file starts as
-   a copy of those steps from that file, so a step the interrupted run wrote after its last
-   checkpoint is dropped and written once, by the restarted run; the copy is built under a
-   temporary name and renamed, so a second interruption while it is built loses nothing. */
+/* The fields file opened (fields.h): new, or continued across a restart. A checkpoint
+   records the steps the run's fields file holds, where the file is and which run wrote it.
+   The restarted run's file starts as a copy of those steps from that file, so a step the
+   interrupted run wrote after its last checkpoint is dropped and written once, by the
+   restarted run; the copy is built under a temporary name and renamed, so a second
+   interruption while it is built loses nothing. */
 #include <sys/stat.h>
 #include "fields_impl.h"
 #include "options.h"
-#include "output.h"
+#include "error_reporting.h"
+#include "output_files.h"
 
 PetscErrorCode FieldWriterCheckpoint(FieldWriter w, Checkpoint cp, PetscBool load)
 {
@@ -218,7 +220,8 @@ static PetscErrorCode BuildOnRoot(FieldWriter w, char source[], size_t len, Sour
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FieldsRestartOpen(FieldWriter w)
+/* FieldWriterOpen's restart: the new file from the fields of the continued run */
+static PetscErrorCode RestartOpen(FieldWriter w)
 {
   char         source[PETSC_MAX_PATH_LEN] = "";
   SourceStatus status                     = SOURCE_OK;
@@ -246,5 +249,32 @@ PetscErrorCode FieldsRestartOpen(FieldWriter w)
              "option -write_fields: cannot write %s/fields.h5.restart.partial or rename it to %s", w->dir, w->partial);
   /* the steps from here on go after the copied ones */
   if (!w->rank) PetscCall(PetscViewerHDF5Open(PETSC_COMM_SELF, w->partial, FILE_MODE_APPEND, &w->viewer));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FieldWriterOpen(FieldWriter w)
+{
+  PetscBool ok = PETSC_TRUE;
+
+  PetscFunctionBeginUser;
+  if (!w || w->opened) PetscFunctionReturn(0);
+  if (w->restarting) PetscCall(RestartOpen(w));
+  else {
+    if (!w->rank) {
+      FILE *fp;
+
+      PetscCall(OutputMakeDirectories(w->dir));
+      /* HDF5's own failure is a multi-line trace: test the path first */
+      fp = fopen(w->partial, "w");
+      ok = fp ? PETSC_TRUE : PETSC_FALSE;
+      if (fp) fclose(fp);
+    }
+    PetscCallMPI(MPI_Bcast(&ok, 1, MPIU_BOOL, 0, w->comm));
+    PetscCheck(ok, w->comm, PETSC_ERR_FILE_OPEN, "option -write_fields: cannot create %s", w->partial);
+    if (!w->rank) PetscCall(PetscViewerHDF5Open(PETSC_COMM_SELF, w->partial, FILE_MODE_WRITE, &w->viewer));
+    PetscCall(OutputRegisterSetUpFile(w->partial));
+    if (!w->rank) PetscCall(FieldsWriteHeader(w, w->viewer));
+  }
+  w->opened = PETSC_TRUE;
   PetscFunctionReturn(0);
 }

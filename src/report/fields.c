@@ -1,3 +1,6 @@
+/* -write_fields (fields.h): the fluid's and the structure's fields gathered on rank 0 in
+   each grid's global vertex order, written to fields.h5 every few steps, and fields.xdmf,
+   which ParaView opens, written when the run completes. */
 #include <errno.h>
 #include <time.h>
 #include <hdf5.h>
@@ -5,7 +8,8 @@
 #include "fields_impl.h"
 #include "fem.h"
 #include "options.h"
-#include "output.h"
+#include "error_reporting.h"
+#include "output_files.h"
 
 /* Concatenates every rank's n values on the root, in rank order. */
 static PetscErrorCode GatherOnRoot(MPI_Comm comm, PetscInt n, MPI_Datatype type, const void *send, void **recv,
@@ -348,33 +352,6 @@ PetscErrorCode FieldWriterCreate(MPI_Comm comm, const RunParams *params, Fluid f
     PetscCall(SourcesGet(w, p, PETSC_FALSE, &src));
     PetscCall(PartSetUp(w, &w->part[p], &src));
   }
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode FieldWriterOpen(FieldWriter w)
-{
-  PetscBool ok = PETSC_TRUE;
-
-  PetscFunctionBeginUser;
-  if (!w || w->opened) PetscFunctionReturn(0);
-  if (w->restarting) PetscCall(FieldsRestartOpen(w));
-  else {
-    if (!w->rank) {
-      FILE *fp;
-
-      PetscCall(OutputMakeDirectories(w->dir));
-      /* HDF5's own failure is a multi-line trace: test the path first */
-      fp = fopen(w->partial, "w");
-      ok = fp ? PETSC_TRUE : PETSC_FALSE;
-      if (fp) fclose(fp);
-    }
-    PetscCallMPI(MPI_Bcast(&ok, 1, MPIU_BOOL, 0, w->comm));
-    PetscCheck(ok, w->comm, PETSC_ERR_FILE_OPEN, "option -write_fields: cannot create %s", w->partial);
-    if (!w->rank) PetscCall(PetscViewerHDF5Open(PETSC_COMM_SELF, w->partial, FILE_MODE_WRITE, &w->viewer));
-    PetscCall(OutputRegisterSetUpFile(w->partial));
-    if (!w->rank) PetscCall(FieldsWriteHeader(w, w->viewer));
-  }
-  w->opened = PETSC_TRUE;
   PetscFunctionReturn(0);
 }
 

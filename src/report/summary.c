@@ -1,26 +1,19 @@
+/* summary.json (summary.h): the counts, errors, quantities and options of a run,
+   gathered from the solvers and the coupling onto rank 0 and written there atomically. */
 #include <errno.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <unistd.h>
 #include "summary.h"
 #include "options.h"
+#include "error_reporting.h"
 #include "memory_estimate.h"
 #include "option_pairs.h"
-#include "output.h"
+#include "output_files.h"
 #include "logging.h"
 #include "help.h"
 
 extern const char fsiopt_version[]; /* build/version.c, made by make: git describe of the build */
 #include <stdio.h>
-
-PetscErrorCode ErrorTableAdd(ErrorTable *table, const char name[], PetscReal value)
-{
-  PetscFunctionBeginUser;
-  PetscCheck(table->n < FSIOPT_MAX_ERRORS, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "too many error norms");
-  PetscCall(PetscStrncpy(table->name[table->n], name, sizeof(table->name[0])));
-  table->value[table->n++] = value;
-  PetscFunctionReturn(0);
-}
 
 static void WriteStringOrNull(FILE *fp, const char key[], const char *value)
 {
@@ -102,7 +95,7 @@ static PetscErrorCode WriteOptions(FILE *fp)
   PetscCall(PetscNew(&given));
   PetscCall(PetscOptionsGetAll(NULL, &all));
   OptionPairsParse(all, given);
-  PetscCall(OptionsCapturedGet(&n, &names, &values));
+  PetscCall(HelpListingGetCapturedOptions(&n, &names, &values));
   fprintf(fp, "  \"options\": {");
   for (PetscInt i = 0; i < n; ++i) {
     const PetscInt g = FindGiven(given, names[i]);
@@ -122,45 +115,6 @@ static PetscErrorCode WriteOptions(FILE *fp)
   fprintf(fp, "}\n");
   PetscCall(PetscFree(all));
   PetscCall(PetscFree(given));
-  PetscFunctionReturn(0);
-}
-
-int OutputMakeDirectoriesWhy(const char dir[], char why[], size_t len)
-{
-  char        path[PETSC_MAX_PATH_LEN];
-  struct stat st;
-
-  why[0] = 0;
-  (void)snprintf(path, sizeof(path), "%s", dir);
-  for (char *c = path + 1;; ++c) {
-    const char at = *c;
-    if (at && at != '/') continue;
-    *c = 0;
-    /* an existing directory may be read-only above the one we write in */
-    if (mkdir(path, 0777) && errno != EEXIST) {
-      (void)snprintf(why, len, "option -output_dir %s: cannot create %s (%s)", dir, path, strerror(errno));
-      return 1;
-    }
-    if (stat(path, &st) || !S_ISDIR(st.st_mode)) {
-      (void)snprintf(why, len, "option -output_dir %s: %s is not a directory", dir, path);
-      return 1;
-    }
-    *c = at;
-    if (!at) break;
-  }
-  if (access(path, W_OK | X_OK)) {
-    (void)snprintf(why, len, "option -output_dir %s: cannot write there (%s)", dir, strerror(errno));
-    return 1;
-  }
-  return 0;
-}
-
-PetscErrorCode OutputMakeDirectories(const char dir[])
-{
-  char why[2 * PETSC_MAX_PATH_LEN + 128];
-
-  PetscFunctionBeginUser;
-  PetscCheck(!OutputMakeDirectoriesWhy(dir, why, sizeof(why)), PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "%s", why);
   PetscFunctionReturn(0);
 }
 
@@ -308,15 +262,9 @@ static PetscErrorCode GatherSolvers(RunSummary *s, PetscBool has_structure, Flui
 }
 
 PetscErrorCode SummaryGather(RunSummary *s, PetscBool has_fluid, PetscBool has_structure, Fluid fluid,
-                             Structure structure, Coupling coupling, StepRetry retry)
+                             Structure structure, Coupling coupling)
 {
-  StepRetryStats retry_stats;
-
   PetscFunctionBeginUser;
-  PetscCall(StepRetryGetStats(retry, &retry_stats));
-  s->retried_steps   = retry_stats.retried_steps;
-  s->failed_attempts = retry_stats.failed_attempts;
-  s->smallest_dt     = retry_stats.smallest_dt;
   PetscCall(GatherSolvers(s, has_structure, fluid, structure));
   PetscCall(MemoryEstimateGetTotals(&s->memory_estimate, &s->peak_memory));
   s->work_factor        = -1;
@@ -325,7 +273,6 @@ PetscErrorCode SummaryGather(RunSummary *s, PetscBool has_fluid, PetscBool has_s
     CouplingStats stats;
     PetscInt      fluid_solves = s->fluid.nonlinear_solves;
 
-    PetscCall(CouplingFinish(coupling));
     PetscCall(CouplingGetStats(coupling, &stats));
     PetscCall(CouplingGetOptimizer(coupling, &s->optimizer));
     PetscCall(ShareWithAll(&fluid_solves, sizeof(fluid_solves), 0));

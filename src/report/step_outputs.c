@@ -1,9 +1,9 @@
-/* The per-step outputs of a run (outputs.h): probes.csv and the fields. */
-#include "outputs.h"
+/* The per-step outputs of a run (step_outputs.h): probes.csv and the fields. */
+#include "step_outputs.h"
 #include "fields.h"
 #include "logging.h"
 
-struct _p_Outputs {
+struct _p_StepOutputs {
   const RunParams *params;
   const Scene     *scene;
   Fluid            fluid;
@@ -17,7 +17,7 @@ struct _p_Outputs {
 
 /* probes.csv: the displacement at the scene's probe points (on the interface of a coupled
    run, in the structure of a structure alone) and the force on the fluid's body faces. */
-static PetscErrorCode ProbesSetUp(Outputs out, PetscInt dim, Interface itf)
+static PetscErrorCode ProbesSetUp(StepOutputs out, PetscInt dim, Interface itf)
 {
   const char  *force_names[] = {"drag", "lift", "force_z"};
   const Scene *scene         = out->scene;
@@ -44,7 +44,7 @@ static PetscErrorCode ProbesSetUp(Outputs out, PetscInt dim, Interface itf)
 /* force_surface.csv: the body force as the boundary integral of sigma n, beside probes.csv's
    volume-weighted one. A check, not restored on restart: its series starts at the run's
    first step. */
-static PetscErrorCode SurfaceForceSetUp(Outputs out, PetscInt dim)
+static PetscErrorCode SurfaceForceSetUp(StepOutputs out, PetscInt dim)
 {
   const char  *names[] = {"drag_surface", "lift_surface", "force_z_surface"};
   const Scene *scene   = out->scene;
@@ -68,10 +68,10 @@ static PetscErrorCode SurfaceForceSetUp(Outputs out, PetscInt dim)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode OutputsCreate(const RunParams *params, const Scene *scene, PetscInt dim, Fluid fluid,
-                             Structure structure, Interface itf, CouplingProblem problem, Outputs *outputs)
+PetscErrorCode StepOutputsCreate(const RunParams *params, const Scene *scene, PetscInt dim, Fluid fluid,
+                                 Structure structure, Interface itf, CouplingProblem problem, StepOutputs *outputs)
 {
-  Outputs out;
+  StepOutputs out;
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&out));
@@ -87,7 +87,7 @@ PetscErrorCode OutputsCreate(const RunParams *params, const Scene *scene, PetscI
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode RecordProbes(Outputs out, PetscReal t)
+static PetscErrorCode RecordProbes(StepOutputs out, PetscReal t)
 {
   PetscReal force[3] = {0, 0, 0};
 
@@ -107,7 +107,7 @@ static PetscErrorCode RecordProbes(Outputs out, PetscReal t)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode OutputsRecord(Outputs out, PetscInt step)
+PetscErrorCode StepOutputsRecord(StepOutputs out, PetscInt step)
 {
   PetscFunctionBeginUser;
   PetscCall(RecordProbes(out, out->params->t_start + step * out->params->dt));
@@ -115,28 +115,28 @@ PetscErrorCode OutputsRecord(Outputs out, PetscInt step)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode OutputsGetProbes(Outputs out, Probes *probes)
+PetscErrorCode StepOutputsGetProbes(StepOutputs out, Probes *probes)
 {
   PetscFunctionBeginUser;
   *probes = out->probes;
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode OutputsGetFields(Outputs out, FieldWriter *fields)
+PetscErrorCode StepOutputsGetFields(StepOutputs out, FieldWriter *fields)
 {
   PetscFunctionBeginUser;
   *fields = out->fields;
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode OutputsOpen(Outputs out)
+PetscErrorCode StepOutputsOpen(StepOutputs out)
 {
   PetscFunctionBeginUser;
   PetscCall(FieldWriterOpen(out->fields));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode OutputsFinish(Outputs out, QuantityTable *quantities)
+PetscErrorCode StepOutputsFinish(StepOutputs out, QuantityTable *quantities)
 {
   PetscFunctionBeginUser;
   quantities->n = 0;
@@ -152,9 +152,9 @@ PetscErrorCode OutputsFinish(Outputs out, QuantityTable *quantities)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode OutputsDestroy(Outputs *outputs)
+PetscErrorCode StepOutputsDestroy(StepOutputs *outputs)
 {
-  Outputs out = *outputs;
+  StepOutputs out = *outputs;
 
   PetscFunctionBeginUser;
   if (!out) PetscFunctionReturn(0);
