@@ -16,15 +16,15 @@ PetscErrorCode FluidCreate(MPI_Comm comm, Fluid *fluid)
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&f));
-  f->comm               = comm;
-  f->model              = FLUID_NAVIER_STOKES;
-  f->rho                = 1.0;
-  f->mu                 = 1.0;
-  f->velocity_degree    = 2;
-  f->rhs_rtol           = 1e-13;
-  f->extrapolate        = PETSC_TRUE;
-  f->time_order         = 1;
-  f->pressure_degree    = 1;
+  f->comm            = comm;
+  f->model           = FLUID_NAVIER_STOKES;
+  f->rho             = 1.0;
+  f->mu              = 1.0;
+  f->velocity_degree = 2;
+  f->rhs_rtol        = 1e-13;
+  f->extrapolate     = PETSC_TRUE;
+  f->time_order      = 1;
+  f->pressure_degree = 1;
   PetscCall(FluidDirichletCreate(&f->dirichlet));
   *fluid = f;
   PetscFunctionReturn(0);
@@ -122,8 +122,8 @@ PetscErrorCode FluidSetTimeStep(Fluid f, PetscReal dt)
 {
   PetscFunctionBeginUser;
   if (dt == f->dt) PetscFunctionReturn(0);
-  f->dt             = dt;
-  f->steps_at_dt    = 0;
+  f->dt          = dt;
+  f->steps_at_dt = 0;
   PetscCall(FluidDirichletRefactor(f->dirichlet));
   PetscCall(FluidSetPressureStabilization(f));
   PetscCall(FluidJacobianIsStale(f));
@@ -188,7 +188,8 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
     if (f->initial_projection) {
       PetscCheck(data->exact_gradient[0], f->comm, PETSC_ERR_ARG_WRONG,
                  "option -fluid_initial_projection: the scene has no exact velocity gradient to project");
-      /* PETSc's integration solves it; on a moving mesh through the fluid's callbacks */
+      /* PETSc's integration solves it; on a moving mesh the fluid's SNES callbacks serve it, on a
+         PETSc operator of its own (no step yet: no old-domain mass) */
       if (f->moving) PetscCall(FluidOperatorCreate(f, "petsc", FLUID_OPERATOR_PROJECTION, &f->op));
       PetscCall(FluidProjectExact(f));
       PetscCall(FluidOperatorDestroy(&f->op));
@@ -243,7 +244,7 @@ PetscErrorCode FluidBeginStep(Fluid f, PetscInt step)
   f->time += f->dt;
   f->step = step;
   if (f->moving && f->data.mesh_displacement) PetscCall(FluidALEFollowScene(f));
-  /* on a moving mesh the mass acts through the old domains' matrices (fluid_ale.c) */
+  /* on a moving mesh the mass acts through the old domains' mass (fluid_ale.c) */
   PetscCall(FluidSetConstants(f, f->moving || f->steady ? 0.0 : f->mass_coefficient, 1.0, 1.0));
   PetscFunctionReturn(0);
 }

@@ -18,6 +18,20 @@
 #include "fem.h"
 #include "checkpoint.h"
 
+struct _n_FluidALE {
+  DM        dm_aux; /* the mesh velocity z, Q1 */
+  Vec       z_local;
+  Vec       coordinates_reference, displacement, displacement_old; /* coordinate layout */
+  Vec       displacement_previous;                                 /* BDF2: d^{n-2} */
+  PetscInt *corners, ncorners; /* per cell corner: cell, its vertex's and its dim edge neighbours' coordinate offsets */
+  PetscReal corner_ratio;      /* the smallest corner area (volume) / its reference one, present mesh */
+  PetscReal worst_corner_ratio, worst_corner_time; /* the smallest over the meshes steps ended on, and its time */
+  PetscBool corner_ratio_of_step;                  /* corner_ratio is of a mesh a step of this run moved to */
+  DM        dm_all;      /* the same fields and volume terms without constraints, on the old domain during a step */
+  Vec       history_all; /* the history on all rows of dm_all (global) */
+  Vec       all_local;
+};
+
 /* Copies vertex values between the coordinate layout and a Q1 field's local layout. */
 static PetscErrorCode CopyVertexValues(DM dm, Vec from, PetscBool from_coordinate_layout, DM dm_field, Vec to,
                                        PetscReal scale)
@@ -47,20 +61,6 @@ static PetscErrorCode CopyVertexValues(DM dm, Vec from, PetscBool from_coordinat
   PetscCall(VecRestoreArrayRead(from, &a));
   PetscFunctionReturn(0);
 }
-
-struct _n_FluidALE {
-  DM        dm_aux; /* the mesh velocity z, Q1 */
-  Vec       z_local;
-  Vec       coordinates_reference, displacement, displacement_old; /* coordinate layout */
-  Vec       displacement_previous;                                 /* BDF2: d^{n-2} */
-  PetscInt *corners, ncorners; /* per cell corner: cell, its vertex's and its dim edge neighbours' coordinate offsets */
-  PetscReal corner_ratio;      /* the smallest corner area (volume) / its reference one, present mesh */
-  PetscReal worst_corner_ratio, worst_corner_time; /* the smallest over the meshes steps ended on, and its time */
-  PetscBool corner_ratio_of_step;                  /* corner_ratio is of a mesh a step of this run moved to */
-  DM        dm_all;      /* the same fields and volume terms without constraints, on the old domain during a step */
-  Vec       history_all; /* the history on all rows of dm_all (global) */
-  Vec       all_local;
-};
 
 PetscErrorCode FluidALEGetAll(Fluid f, DM *dm_all, Vec *history_all)
 {
