@@ -17,7 +17,7 @@ PetscErrorCode FEMAddBoundaries(DM dm, PetscInt field, const PhysicsData *data, 
 /* The natural-boundary terms of dm's weak form at the local state xlocal, added into flocal
    (residual, may be NULL) and into A (Jacobian, before its final assembly; may be NULL), by
    PETSc's integration on their faces only. The tractions' part is kept in `cache` and
-   recomputed only when dm's constants or coordinates change. */
+   recomputed only when dm's constants or coordinates change (cache may be NULL without flocal). */
 typedef struct {
   Vec              values; /* local */
   PetscInt         nconstants;

@@ -18,12 +18,14 @@
   } while (0)
 
 /* -fem_backend: the operators by libCEED (the default) or PETSc's pointwise integration (the reference);
-   -fem_backend_check: compare the two (check may be NULL) */
+   -fem_backend_check: compare the two (check may be NULL); GetName: the backend's name, by
+   which the solvers choose their operators */
 typedef enum {
   FEM_BACKEND_PETSC,
   FEM_BACKEND_CEED
 } FEMBackend;
 PetscErrorCode FEMBackendGet(FEMBackend *, PetscBool *check);
+PetscErrorCode FEMBackendGetName(const char **name, PetscBool *check);
 
 /* The run's Ceed, of the backend -ceed (default /cpu/self/opt/blocked); made on first use. */
 PetscErrorCode FEMCeedGet(Ceed *);
@@ -141,18 +143,20 @@ PetscErrorCode FEMCeedElasticityCreateMatrix(FEMCeedElasticity, Mat *);
 PetscErrorCode FEMCeedElasticityJacobian(FEMCeedElasticity, Vec xlocal, Mat);
 PetscErrorCode FEMCeedElasticityDestroy(FEMCeedElasticity *);
 
-/* -fem_backend_check, shared by the solvers: a solver's residual on either backend (ceed),
-   R(x) into the global F at a local state with its boundary values, and both Jacobians at
-   such a state in matrices of their own (the solver's keep their values and factors). */
+/* -fem_backend_check, shared by the solvers: two operators of a solver, PETSc's (the
+   reference) and another backend's, each giving R(x) into the global F at a local state with
+   its boundary values and its Jacobian at such a state in a new matrix of its own (the
+   solver's keep their values and factors); the titles name them in messages. */
 typedef struct {
   DM dm;
-  PetscErrorCode (*residual)(void *ctx, PetscBool ceed, Vec xlocal, Vec F);
-  PetscErrorCode (*jacobians)(void *ctx, Vec xlocal, Mat *petsc, Mat *ceed);
-  void *ctx;
+  PetscErrorCode (*residual)(void *op, Vec xlocal, Vec F);
+  PetscErrorCode (*jacobian)(void *op, Vec xlocal, Mat *A);
+  void       *reference, *tested;
+  const char *reference_title, *tested_title;
 } FEMBackendPair;
 #define FEM_BACKEND_CHECK_STEPS 3
 #define FEM_BACKEND_CHECK_TOL   1e-12
-/* both backends at the global state x (the step's start) and at a random state of entries in
+/* both operators at the global state x (the step's start) and at a random state of entries in
    [-amplitude, amplitude]: one line naming `what` and the step, and an error above the tolerance */
 PetscErrorCode FEMBackendCheckStep(const FEMBackendPair *, const char what[], PetscInt step, Vec x,
                                    PetscReal amplitude);

@@ -172,43 +172,44 @@ PetscErrorCode FEMCeedCheckSpaces(DM dm, const char name[], PetscReal tol)
   PetscFunctionReturn(0);
 }
 
-/* both backends at the global state x: the residuals' difference relative to R(0) (the
+/* both operators at the global state x: the residuals' difference relative to R(0) (the
    data) plus ||J||_F ||x|| / sqrt(N), the root mean square of a row's bound of the state's
    part before the assembly cancels it (near an equilibrium R(x) itself is mostly
    round-off); the Jacobians' in the Frobenius norm */
 static PetscErrorCode CompareAt(const FEMBackendPair *pair, Vec x, PetscReal *residual, PetscReal *jacobian)
 {
-  Vec       xlocal, zero, F_petsc, F_ceed, F_zero;
-  Mat       J_petsc, J_ceed;
+  Vec       xlocal, zero, F_reference, F_tested, F_zero;
+  Mat       J_reference, J_tested;
   PetscReal data, jnorm, xnorm, scale;
   PetscInt  N;
 
   PetscFunctionBeginUser;
   PetscCall(DMGetLocalVector(pair->dm, &xlocal));
-  PetscCall(VecDuplicate(x, &F_petsc));
-  PetscCall(VecDuplicate(x, &F_ceed));
+  PetscCall(VecDuplicate(x, &F_reference));
+  PetscCall(VecDuplicate(x, &F_tested));
   PetscCall(VecDuplicate(x, &F_zero));
   PetscCall(VecDuplicate(x, &zero));
   PetscCall(VecZeroEntries(zero));
   PetscCall(FEMGlobalToLocal(pair->dm, zero, xlocal));
-  PetscCall(pair->residual(pair->ctx, PETSC_FALSE, xlocal, F_zero));
+  PetscCall(pair->residual(pair->reference, xlocal, F_zero));
   PetscCall(FEMGlobalToLocal(pair->dm, x, xlocal));
-  PetscCall(pair->residual(pair->ctx, PETSC_FALSE, xlocal, F_petsc));
-  PetscCall(pair->residual(pair->ctx, PETSC_TRUE, xlocal, F_ceed));
-  PetscCall(pair->jacobians(pair->ctx, xlocal, &J_petsc, &J_ceed));
-  PetscCall(VecAXPY(F_ceed, -1.0, F_petsc));
-  PetscCall(VecNorm(F_ceed, NORM_2, residual));
+  PetscCall(pair->residual(pair->reference, xlocal, F_reference));
+  PetscCall(pair->residual(pair->tested, xlocal, F_tested));
+  PetscCall(pair->jacobian(pair->reference, xlocal, &J_reference));
+  PetscCall(pair->jacobian(pair->tested, xlocal, &J_tested));
+  PetscCall(VecAXPY(F_tested, -1.0, F_reference));
+  PetscCall(VecNorm(F_tested, NORM_2, residual));
   PetscCall(VecNorm(F_zero, NORM_2, &data));
-  PetscCall(MatNorm(J_petsc, NORM_FROBENIUS, &jnorm));
+  PetscCall(MatNorm(J_reference, NORM_FROBENIUS, &jnorm));
   PetscCall(VecNorm(xlocal, NORM_2, &xnorm));
   PetscCall(VecGetSize(x, &N));
   scale = data + jnorm * xnorm / PetscSqrtReal((PetscReal)N);
   if (scale > 0) *residual /= scale; /* else both are zero */
-  PetscCall(FEMCeedMatDifference(J_ceed, J_petsc, jacobian));
-  PetscCall(MatDestroy(&J_petsc));
-  PetscCall(MatDestroy(&J_ceed));
-  PetscCall(VecDestroy(&F_petsc));
-  PetscCall(VecDestroy(&F_ceed));
+  PetscCall(FEMCeedMatDifference(J_tested, J_reference, jacobian));
+  PetscCall(MatDestroy(&J_reference));
+  PetscCall(MatDestroy(&J_tested));
+  PetscCall(VecDestroy(&F_reference));
+  PetscCall(VecDestroy(&F_tested));
   PetscCall(VecDestroy(&F_zero));
   PetscCall(VecDestroy(&zero));
   PetscCall(DMRestoreLocalVector(pair->dm, &xlocal));
@@ -234,14 +235,15 @@ PetscErrorCode FEMBackendCheckStep(const FEMBackendPair *pair, const char what[]
   PetscCall(VecDestroy(&random_state));
   PetscCall(PetscPrintf(comm,
                         "fsiopt: backend check: step %" PetscInt_FMT
-                        ": %s residual %.2e (the step's start) %.2e (a random state), Jacobian %.2e %.2e, libCEED "
-                        "relative to PETSc\n",
+                        ": %s residual %.2e (the step's start) %.2e (a random state), Jacobian %.2e %.2e, %s "
+                        "relative to %s\n",
                         step, what, (double)residual[0], (double)residual[1], (double)jacobian[0],
-                        (double)jacobian[1]));
+                        (double)jacobian[1], pair->tested_title, pair->reference_title));
   for (PetscInt i = 0; i < 2; ++i)
     PetscCheck(residual[i] <= FEM_BACKEND_CHECK_TOL && jacobian[i] <= FEM_BACKEND_CHECK_TOL, comm, PETSC_ERR_PLIB,
                "option -fem_backend_check: at step %" PetscInt_FMT
-               " the %s's libCEED operators differ from PETSc's by %.2e (residual), %.2e (Jacobian), more than %g",
-               step, what, (double)residual[i], (double)jacobian[i], FEM_BACKEND_CHECK_TOL);
+               " the %s's %s operators differ from %s's by %.2e (residual), %.2e (Jacobian), more than %g",
+               step, what, pair->tested_title, pair->reference_title, (double)residual[i], (double)jacobian[i],
+               FEM_BACKEND_CHECK_TOL);
   PetscFunctionReturn(0);
 }

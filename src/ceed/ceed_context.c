@@ -42,6 +42,16 @@ PetscErrorCode FEMBackendGet(FEMBackend *backend, PetscBool *check)
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode FEMBackendGetName(const char **name, PetscBool *check)
+{
+  FEMBackend backend = FEM_BACKEND_CEED;
+
+  PetscFunctionBeginUser;
+  PetscCall(FEMBackendGet(&backend, check));
+  *name = FEMBackends[backend];
+  PetscFunctionReturn(0);
+}
+
 static Ceed run_ceed = NULL;
 
 static PetscErrorCode DestroyCeed(void)

@@ -1,6 +1,7 @@
-/* The finite-element pieces the fluid and the structure share (fem.h): fields and their
-   boundaries, boundary terms and loads on a given state, residuals, SNES set-ups with
-   counted Jacobians, geometry caches cleared after a mesh moves, error norms. */
+/* The finite-element pieces the fluid, the structure and the mesh motion share (fem.h):
+   fields, boundary data and terms, the scenes' volume loads, residuals at a given state, the
+   subproblems' SNES with counted Jacobians, geometry invalidation after a mesh move, error
+   norms. */
 #include <petsc/private/petscimpl.h> /* PetscObjectStateGet */
 #include "fem.h"
 #include "options.h"

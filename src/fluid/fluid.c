@@ -5,7 +5,7 @@
 #include "options.h"
 #include "logging.h"
 #include "checkpoint.h"
-
+#include "fem_ceed.h" /* FEMBackendGet */
 #include "fluid_impl.h"
 
 static const char *const FluidModels[] = {"stokes", "navier-stokes", "FluidModel", "FLUID_", NULL};
@@ -16,18 +16,17 @@ PetscErrorCode FluidCreate(MPI_Comm comm, Fluid *fluid)
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&f));
-  f->comm               = comm;
-  f->model              = FLUID_NAVIER_STOKES;
-  f->rho                = 1.0;
-  f->mu                 = 1.0;
-  f->velocity_degree    = 2;
-  f->rhs_rtol           = 1e-13;
-  f->extrapolate        = PETSC_TRUE;
-  f->time_order         = 1;
-  f->pressure_degree    = 1;
-  f->corner_ratio       = PETSC_MAX_REAL;
-  f->worst_corner_ratio = PETSC_MAX_REAL;
-  *fluid                = f;
+  f->comm            = comm;
+  f->model           = FLUID_NAVIER_STOKES;
+  f->rho             = 1.0;
+  f->mu              = 1.0;
+  f->velocity_degree = 2;
+  f->rhs_rtol        = 1e-13;
+  f->extrapolate     = PETSC_TRUE;
+  f->time_order      = 1;
+  f->pressure_degree = 1;
+  PetscCall(FluidDirichletCreate(&f->dirichlet));
+  *fluid = f;
   PetscFunctionReturn(0);
 }
 
@@ -83,7 +82,7 @@ PetscErrorCode FluidSetFromOptions(Fluid f)
   PetscCall(PetscOptionsBool("-fluid_matfree",
                              "The solver's operator is libCEED's matrix-free Jacobian, preconditioned by the "
                              "assembled one: for Krylov solvers (-fluid_ksp_type gmres); -fem_backend ceed only",
-                             NULL, f->matfree, &f->matfree, NULL));
+                             NULL, f->use_matfree, &f->use_matfree, NULL));
   PetscOptionsEnd();
   PetscCall(FEMBackendGet(NULL, NULL)); /* read with the fluid's options, for -help */
   PetscCheck(f->pressure_degree < f->velocity_degree ||
@@ -123,9 +122,9 @@ PetscErrorCode FluidSetTimeStep(Fluid f, PetscReal dt)
 {
   PetscFunctionBeginUser;
   if (dt == f->dt) PetscFunctionReturn(0);
-  f->dt             = dt;
-  f->steps_at_dt    = 0;
-  f->dirichlet_step = -1;
+  f->dt          = dt;
+  f->steps_at_dt = 0;
+  PetscCall(FluidDirichletRefactor(f->dirichlet));
   PetscCall(FluidSetPressureStabilization(f));
   PetscCall(FluidJacobianIsStale(f));
   PetscFunctionReturn(0);
@@ -180,16 +179,8 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
   PetscCheck(f->time_order == 1 || !f->steady, f->comm, PETSC_ERR_ARG_INCOMP,
              "option -fluid_time_order 2: a steady fluid (-fluid_steady) has no time derivative; expected 1");
   if (f->time_order == 2) PetscCall(DMCreateLocalVector(f->dm, &f->xlocal_previous));
-  if (f->moving) PetscCall(FluidALESetUp(f));
-  if (f->moving && data->mesh_displacement) {
-    /* the domain of t0, on which the initial state lives (else the first step's mesh
-       velocity carries the whole of d(t0)) */
-    PetscCall(FluidPrescribedDisplacement(f, data->mesh_displacement, t0, f->displacement_old));
-    PetscCall(FluidSetMeshDisplacement(f, f->displacement_old));
-    PetscCheck(!StepFailed(&f->failure), f->comm, PETSC_ERR_ARG_OUTOFRANGE, "the scene's mesh motion at t0 = %g: %s",
-               (double)t0, f->failure.reason);
-  }
-  PetscCall(FluidForcesSetUp(f));
+  if (f->moving) PetscCall(FluidALECreate(f, &f->ale));
+  PetscCall(FluidForcesCreate(f, &f->forces));
   if (data->exact[0] && data->exact[1]) {
     FieldFn exact[2] = {data->exact[0], data->exact[1]};
     void   *ctxs[2]  = {data->ctx, data->ctx};
@@ -197,14 +188,18 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
     if (f->initial_projection) {
       PetscCheck(data->exact_gradient[0], f->comm, PETSC_ERR_ARG_WRONG,
                  "option -fluid_initial_projection: the scene has no exact velocity gradient to project");
+      /* PETSc's integration solves it; on a moving mesh the fluid's SNES callbacks serve it, on a
+         PETSc operator of its own (no step yet: no old-domain mass) */
+      if (f->moving) PetscCall(FluidOperatorCreate(f, "petsc", FLUID_OPERATOR_PROJECTION, &f->op));
       PetscCall(FluidProjectExact(f));
+      PetscCall(FluidOperatorDestroy(&f->op));
     }
   } else {
     PetscCheck(!f->initial_projection, f->comm, PETSC_ERR_ARG_WRONG,
                "option -fluid_initial_projection: the scene has no exact solution to project");
     PetscCall(VecZeroEntries(f->x));
   }
-  PetscCall(FluidBackendSetUp(f)); /* after the projection, which PETSc's integration solves */
+  PetscCall(FluidOperatorsSetUp(f)); /* after the projection, which PETSc's integration solves */
   PetscFunctionReturn(0);
 }
 
@@ -236,7 +231,7 @@ PetscErrorCode FluidBeginStep(Fluid f, PetscInt step)
         f->xlocal_old      = h;
       } else if (f->time_order == 2) PetscCall(VecCopy(f->xlocal_old, f->xlocal_previous));
       PetscCall(FluidSetConstants(f, mass, 0.0, 0.0));
-      PetscCall(FluidOperatorResidual(f, f->xlocal_old, PETSC_FALSE, f->history));
+      PetscCall(FluidOperatorResidual(f->op, f->xlocal_old, PETSC_FALSE, f->history));
     }
   }
   if (f->extrapolate && f->model == FLUID_NAVIER_STOKES) {
@@ -248,14 +243,8 @@ PetscErrorCode FluidBeginStep(Fluid f, PetscInt step)
   }
   f->time += f->dt;
   f->step = step;
-  if (f->moving && f->data.mesh_displacement) {
-    Vec d;
-    PetscCall(VecDuplicate(f->displacement, &d));
-    PetscCall(FluidPrescribedDisplacement(f, f->data.mesh_displacement, f->time, d));
-    PetscCall(FluidSetMeshDisplacement(f, d));
-    PetscCall(VecDestroy(&d));
-  }
-  /* on a moving mesh the mass acts through the old domains' matrices (fluid_ale.c) */
+  if (f->moving && f->data.mesh_displacement) PetscCall(FluidALEFollowScene(f));
+  /* on a moving mesh the mass acts through the old domains' mass (fluid_ale.c) */
   PetscCall(FluidSetConstants(f, f->moving || f->steady ? 0.0 : f->mass_coefficient, 1.0, 1.0));
   PetscFunctionReturn(0);
 }
@@ -343,7 +332,7 @@ PetscErrorCode FluidSolve(Fluid f, Vec load, PetscInt step)
     PetscCall(SNESSetTolerances(f->snes, PetscMax(f->atol, PetscMax(f->rhs_rtol, 1e-13) * rhs_norm), PETSC_DEFAULT,
                                 PETSC_DEFAULT, PETSC_DEFAULT, PETSC_DEFAULT));
   }
-  PetscCall(FluidBackendCheck(f));
+  PetscCall(FluidOperatorsCheck(f));
   PetscCall(FluidNonlinearSolve(f, f->snes, f->rhs, f->chord, step, ""));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_FLUID_SOLVE, 0, 0, 0, 0));
   PetscFunctionReturn(0);
@@ -361,9 +350,9 @@ PetscErrorCode FluidUpdateJacobian(Fluid f, PetscBool reuse_preconditioner)
 {
   PetscFunctionBeginUser;
   if (f->model == FLUID_STOKES) PetscFunctionReturn(0); /* constant: factored once */
-  f->operator_only = reuse_preconditioner && f->matfree ? PETSC_TRUE : PETSC_FALSE;
+  PetscCall(FluidMatFreeSetOperatorOnly(f->matfree, reuse_preconditioner));
   PetscCall(FEMUpdateJacobian(f->snes, f->x, reuse_preconditioner));
-  f->operator_only = PETSC_FALSE;
+  PetscCall(FluidMatFreeSetOperatorOnly(f->matfree, PETSC_FALSE));
   PetscFunctionReturn(0);
 }
 
@@ -431,18 +420,7 @@ PetscErrorCode FluidCheckpoint(Fluid f, Checkpoint cp, PetscBool load)
   }
   PetscCall(CheckpointVec(cp, "state", f->x, load));
   PetscCall(CheckpointVec(cp, "state_before", f->x_before, load));
-  if (f->moving) {
-    DM cdm;
-    PetscCall(DMGetCoordinateDM(f->dm, &cdm));
-    PetscCall(CheckpointLocalVec(cp, "mesh_displacement", cdm, f->displacement, load));
-    /* BDF2's older domain; the mesh velocity of the step is not needed: the next step sets its own */
-    if (bdf2_state) PetscCall(CheckpointLocalVec(cp, "mesh_displacement_before", cdm, f->displacement_old, load));
-    if (load) {
-      if (!bdf2_state) PetscCall(VecCopy(f->displacement, f->displacement_old));
-      PetscCall(FluidSetMeshDisplacement(f, f->displacement));
-      f->corner_ratio_of_step = PETSC_FALSE; /* a restart's start, or a retried step's, counted already */
-    }
-  }
+  if (f->moving) PetscCall(FluidALECheckpoint(f, cp, load, bdf2_state));
   if (bdf2_state) {
     PetscCall(CheckpointInt(cp, "steps_at_dt", &f->steps_at_dt, load));
     if (CheckpointIsFile(cp)) {
@@ -465,10 +443,7 @@ PetscErrorCode FluidCheckpoint(Fluid f, Checkpoint cp, PetscBool load)
      methods' Dirichlet solver and factors, whose lag counts Newton iterations from the
      solver's creation: both sides of a restart make them anew at the next sweep */
   if (f->chord && CheckpointResynchronizes(cp, load)) PetscCall(SNESSetLagJacobian(f->snes, -2));
-  if (CheckpointResynchronizes(cp, load) && f->snes_dirichlet) {
-    PetscCall(FluidDirichletDestroy(f));
-    f->dirichlet_step = -1;
-  }
+  if (CheckpointResynchronizes(cp, load)) PetscCall(FluidDirichletReset(f->dirichlet));
   PetscFunctionReturn(0);
 }
 
@@ -539,10 +514,10 @@ PetscErrorCode FluidDestroy(Fluid *fluid)
   PetscCall(VecDestroy(&f->rhs));
   PetscCall(VecDestroy(&f->x_start));
   PetscCall(VecDestroy(&f->x_before));
-  PetscCall(FluidALEDestroy(f));
-  PetscCall(FluidBackendDestroy(f));
-  PetscCall(FluidForcesDestroy(f));
-  PetscCall(FluidDirichletDestroy(f));
+  PetscCall(FluidOperatorsDestroy(f));
+  PetscCall(FluidALEDestroy(&f->ale));
+  PetscCall(FluidForcesDestroy(&f->forces));
+  PetscCall(FluidDirichletDestroy(&f->dirichlet));
   PetscCall(VecDestroy(&f->xlocal_old));
   PetscCall(VecDestroy(&f->xlocal_work));
   PetscCall(VecDestroy(&f->xlocal_previous));

@@ -6,8 +6,8 @@
    M(Omega^{n-1})] u^n (Reynolds transport for mesh-bound basis functions), which leaves
      rho/dt M(Omega^{n-1}) (u^n - u^{n-1}) + rho (((u^n - z) . grad) u^n, v)_{Omega^n} + ...
    and satisfies the discrete geometric conservation law: a uniform flow stays uniform on
-   any mesh motion. M(Omega^{n-1}) is a matrix assembled once per step on a copy of the
-   DM kept on the previous domain.
+   any mesh motion. M(Omega^{n-1}) is formed once per step by the fluid's operators
+   (fluid_operator.h) on a copy of the DM kept on the previous domain.
    BDF2 (-fluid_time_order 2) applies the same idea to d/dt (M u) - (dM/dt) u with both
    derivatives by the BDF2 formula:
      rho/(2 dt) [3 M^n u^n - 4 M^{n-1} u^{n-1} + M^{n-2} u^{n-2} - (3 M^n - 4 M^{n-1} + M^{n-2}) u^n]
@@ -16,6 +16,21 @@
    d^{n-2})/(2 dt). */
 #include "fluid_impl.h"
 #include "fem.h"
+#include "checkpoint.h"
+
+struct _n_FluidALE {
+  DM        dm_aux; /* the mesh velocity z, Q1 */
+  Vec       z_local;
+  Vec       coordinates_reference, displacement, displacement_old; /* coordinate layout */
+  Vec       displacement_previous;                                 /* BDF2: d^{n-2} */
+  PetscInt *corners, ncorners; /* per cell corner: cell, its vertex's and its dim edge neighbours' coordinate offsets */
+  PetscReal corner_ratio;      /* the smallest corner area (volume) / its reference one, present mesh */
+  PetscReal worst_corner_ratio, worst_corner_time; /* the smallest over the meshes steps ended on, and its time */
+  PetscBool corner_ratio_of_step;                  /* corner_ratio is of a mesh a step of this run moved to */
+  DM        dm_all;      /* the same fields and volume terms without constraints, on the old domain during a step */
+  Vec       history_all; /* the history on all rows of dm_all (global) */
+  Vec       all_local;
+};
 
 /* Copies vertex values between the coordinate layout and a Q1 field's local layout. */
 static PetscErrorCode CopyVertexValues(DM dm, Vec from, PetscBool from_coordinate_layout, DM dm_field, Vec to,
@@ -47,146 +62,99 @@ static PetscErrorCode CopyVertexValues(DM dm, Vec from, PetscBool from_coordinat
   PetscFunctionReturn(0);
 }
 
-/* coefficient M on dm_all's present coordinates, every dof, once per step (FluidALEBeginStep). Assembled here rather than through
-   DMPlexSNESComputeJacobianFEM, whose generic element loop (every component pair of the
-   vector basis, with the g1..g3 slots) costs as much as the full Navier-Stokes Jacobian:
-   the mass needs only sum_q w_q |J_q| phi_i . phi_j on the velocity block. */
-static PetscErrorCode AssembleMass(Fluid f, Mat target, PetscReal coefficient)
+PetscErrorCode FluidALEGetAll(Fluid f, DM *dm_all, Vec *history_all)
 {
-  PetscDS          ds;
-  PetscFE          fe;
-  PetscQuadrature  quad;
-  PetscTabulation  T;
-  const PetscReal *weights;
-  PetscReal       *v, *J, *invJ, *detJ;
-  PetscScalar     *element;
-  PetscInt         dim, Nq, Nb, Nc, totDim, cStart, cEnd;
-
   PetscFunctionBeginUser;
-  PetscCall(DMGetDimension(f->dm_all, &dim));
-  PetscCall(DMGetDS(f->dm_all, &ds));
-  PetscCall(PetscDSGetTotalDimension(ds, &totDim));
-  PetscCall(PetscDSGetDiscretization(ds, 0, (PetscObject *)&fe));
-  PetscCall(PetscFEGetQuadrature(fe, &quad));
-  PetscCall(PetscQuadratureGetData(quad, NULL, NULL, &Nq, NULL, &weights));
-  PetscCall(PetscFEGetDimension(fe, &Nb));
-  PetscCall(PetscFEGetNumComponents(fe, &Nc));
-  PetscCall(PetscFEGetCellTabulation(fe, 0, &T));
-  PetscCall(
-    PetscMalloc5(Nq * dim, &v, Nq * dim * dim, &J, Nq * dim * dim, &invJ, Nq, &detJ, totDim * totDim, &element));
-  PetscCall(DMPlexGetHeightStratum(f->dm_all, 0, &cStart, &cEnd));
-  PetscCall(MatZeroEntries(target));
-  for (PetscInt cell = cStart; cell < cEnd; ++cell) {
-    PetscCall(DMPlexComputeCellGeometryFEM(f->dm_all, cell, quad, v, J, invJ, detJ));
-    PetscCall(PetscArrayzero(element, totDim * totDim));
-    for (PetscInt q = 0; q < Nq; ++q) {
-      const PetscReal *phi = &T->T[0][q * Nb * Nc];
-      const PetscReal  wq  = coefficient * weights[q] * detJ[q];
-      for (PetscInt i = 0; i < Nb; ++i)
-        for (PetscInt j = 0; j < Nb; ++j) {
-          PetscReal dot = 0;
-          for (PetscInt c = 0; c < Nc; ++c) dot += phi[i * Nc + c] * phi[j * Nc + c];
-          element[i * totDim + j] += wq * dot;
-        }
-    }
-    PetscCall(DMPlexMatSetClosure(f->dm_all, NULL, NULL, target, cell, element, ADD_VALUES));
-  }
-  PetscCall(MatAssemblyBegin(target, MAT_FINAL_ASSEMBLY));
-  PetscCall(MatAssemblyEnd(target, MAT_FINAL_ASSEMBLY));
-  PetscCall(PetscFree5(v, J, invJ, detJ, element));
+  if (dm_all) *dm_all = f->ale->dm_all;
+  if (history_all) *history_all = f->ale->history_all;
   PetscFunctionReturn(0);
 }
 
-/* out = the free rows of a global vector of dm_all */
-static PetscErrorCode FreeRows(Fluid f, Vec all, Vec out)
+PetscErrorCode FluidALEFreeRows(Fluid f, Vec all, Vec out)
 {
+  FluidALE ale = f->ale;
+
   PetscFunctionBeginUser;
-  PetscCall(DMGlobalToLocal(f->dm_all, all, INSERT_VALUES, f->all_local));
+  PetscCall(DMGlobalToLocal(ale->dm_all, all, INSERT_VALUES, ale->all_local));
   PetscCall(VecZeroEntries(out));
-  PetscCall(DMLocalToGlobal(f->dm, f->all_local, INSERT_VALUES, out));
+  PetscCall(DMLocalToGlobal(f->dm, ale->all_local, INSERT_VALUES, out));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FluidOldMassMultAll(Fluid f, Vec xlocal, Vec yall, PetscBool add)
+/* The scene's closed-form motion d(X, t) at the reference vertices, with the scene's context. */
+static PetscErrorCode PrescribedDisplacement(Fluid f, FieldFn motion, PetscReal t, Vec displacement)
 {
+  FluidALE           ale = f->ale;
+  PetscInt           n, dim;
+  const PetscScalar *X;
+  PetscScalar       *d;
+
   PetscFunctionBeginUser;
-  if (f->backend_ceed) {
-    Vec ylocal;
-    PetscCall(DMGetLocalVector(f->dm_all, &ylocal));
-    PetscCall(FEMCeedFluidMassApply(f->ceed, xlocal, ylocal));
-    if (!add) PetscCall(VecZeroEntries(yall));
-    PetscCall(DMLocalToGlobal(f->dm_all, ylocal, ADD_VALUES, yall));
-    PetscCall(DMRestoreLocalVector(f->dm_all, &ylocal));
-    PetscFunctionReturn(0);
+  PetscCall(DMGetDimension(f->dm, &dim));
+  PetscCall(VecGetLocalSize(ale->coordinates_reference, &n));
+  PetscCall(VecGetArrayRead(ale->coordinates_reference, &X));
+  PetscCall(VecGetArray(displacement, &d));
+  for (PetscInt i = 0; i < n; i += dim) {
+    PetscReal x[3];
+    for (PetscInt k = 0; k < dim; ++k) x[k] = PetscRealPart(X[i + k]);
+    PetscCall(motion(dim, t, x, dim, &d[i], f->data.ctx));
   }
-  if (!f->mass_old_all) { /* before the backend is set up (an initial projection): no step, no mass */
-    if (!add) PetscCall(VecZeroEntries(yall));
-    PetscFunctionReturn(0);
-  }
-  PetscCall(DMLocalToGlobal(f->dm_all, xlocal, INSERT_VALUES, f->all_x));
-  if (add) PetscCall(MatMultAdd(f->mass_old_all, f->all_x, yall, yall));
-  else PetscCall(MatMult(f->mass_old_all, f->all_x, yall));
+  PetscCall(VecRestoreArray(displacement, &d));
+  PetscCall(VecRestoreArrayRead(ale->coordinates_reference, &X));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FluidOldMassMult(Fluid f, Vec xlocal, Vec out)
+/* The mesh velocity's field and the copy of the DM without constraints on which the old
+   domains' mass acts on every dof, boundary values included; then the fluid's SNES
+   evaluates through its operators, which add that mass. The mesh starts where the scene's
+   motion puts it at the fluid's time. */
+PetscErrorCode FluidALECreate(Fluid f, FluidALE *ale_out)
 {
-  PetscFunctionBeginUser;
-  PetscCall(FluidOldMassMultAll(f, xlocal, f->all_y, PETSC_FALSE));
-  PetscCall(FreeRows(f, f->all_y, out));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode FluidALESetUp(Fluid f)
-{
+  FluidALE    ale;
   PetscObject velocity;
   Vec         coordinates;
-  FEMBackend  backend;
-  PetscBool   check;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscNew(&ale));
+  *ale_out                = ale;
+  ale->corner_ratio       = PETSC_MAX_REAL;
+  ale->worst_corner_ratio = PETSC_MAX_REAL;
   PetscCall(DMGetField(f->dm, 0, NULL, &velocity));
   /* the mesh velocity: vertex values, as the (affine) coordinates */
-  PetscCall(DMClone(f->dm, &f->dm_aux));
-  PetscCall(FEMCreateField(f->dm_aux, 0, "mesh_velocity", -1, 1, (PetscFE)velocity));
-  PetscCall(DMCreateDS(f->dm_aux));
-  PetscCall(DMCreateLocalVector(f->dm_aux, &f->z_local));
-  PetscCall(VecZeroEntries(f->z_local));
-  PetscCall(DMSetAuxiliaryVec(f->dm, NULL, 0, 0, f->z_local));
+  PetscCall(DMClone(f->dm, &ale->dm_aux));
+  PetscCall(FEMCreateField(ale->dm_aux, 0, "mesh_velocity", -1, 1, (PetscFE)velocity));
+  PetscCall(DMCreateDS(ale->dm_aux));
+  PetscCall(DMCreateLocalVector(ale->dm_aux, &ale->z_local));
+  PetscCall(VecZeroEntries(ale->z_local));
+  PetscCall(DMSetAuxiliaryVec(f->dm, NULL, 0, 0, ale->z_local));
   PetscCall(DMGetCoordinatesLocalSetUp(f->dm));
   PetscCall(DMGetCoordinatesLocal(f->dm, &coordinates));
-  PetscCall(VecDuplicate(coordinates, &f->coordinates_reference));
-  PetscCall(VecCopy(coordinates, f->coordinates_reference));
-  PetscCall(VecDuplicate(coordinates, &f->displacement));
-  PetscCall(VecDuplicate(coordinates, &f->displacement_old));
-  PetscCall(VecZeroEntries(f->displacement));
-  PetscCall(VecZeroEntries(f->displacement_old));
-  /* the old-domain mass on every dof, boundary values included, on a copy of the DM
-     without constraints; elements of its own: PETSc 3.18 caches cell geometry by
-     quadrature on the cell IS that clones share, and this copy lives on the previous domain */
-  PetscCall(DMClone(f->dm, &f->dm_all));
-  PetscCall(FluidSetVolumeWeakForm(f, f->dm_all, NULL));
-  PetscCall(DMSetAuxiliaryVec(f->dm_all, NULL, 0, 0, f->z_local)); /* for the body force's convection */
-  PetscCall(DMCreateGlobalVector(f->dm_all, &f->all_x));
-  PetscCall(VecDuplicate(f->all_x, &f->all_y));
-  PetscCall(DMCreateLocalVector(f->dm_all, &f->all_local));
-  PetscCall(VecDuplicate(f->all_x, &f->history_all));
-  PetscCall(DMCreateGlobalVector(f->dm, &f->work));
-  PetscCall(SNESSetFunction(f->snes, NULL, FluidSNESResidual, f));
-  PetscCall(SNESSetJacobian(f->snes, NULL, NULL, FluidSNESJacobian, f));
+  PetscCall(VecDuplicate(coordinates, &ale->coordinates_reference));
+  PetscCall(VecCopy(coordinates, ale->coordinates_reference));
+  PetscCall(VecDuplicate(coordinates, &ale->displacement));
+  PetscCall(VecDuplicate(coordinates, &ale->displacement_old));
+  PetscCall(VecZeroEntries(ale->displacement));
+  PetscCall(VecZeroEntries(ale->displacement_old));
+  /* elements of its own: PETSc 3.18 caches cell geometry by quadrature on the cell IS that
+     clones share, and this copy lives on the previous domain */
+  PetscCall(DMClone(f->dm, &ale->dm_all));
+  PetscCall(FluidSetVolumeWeakForm(f, ale->dm_all, NULL));
+  PetscCall(DMSetAuxiliaryVec(ale->dm_all, NULL, 0, 0, ale->z_local)); /* for the body force's convection */
+  PetscCall(DMCreateGlobalVector(ale->dm_all, &ale->history_all));
+  PetscCall(DMCreateLocalVector(ale->dm_all, &ale->all_local));
+  PetscCall(FluidSNESUseOperator(f));
   if (f->time_order == 2) {
-    PetscCall(VecDuplicate(coordinates, &f->displacement_previous));
-    PetscCall(VecZeroEntries(f->displacement_previous));
+    PetscCall(VecDuplicate(coordinates, &ale->displacement_previous));
+    PetscCall(VecZeroEntries(ale->displacement_previous));
   }
-  /* the old domains' mass matrices of PETSc's backend (libCEED's keeps weights per point) */
-  PetscCall(FEMBackendGet(&backend, &check));
-  if (backend == FEM_BACKEND_CEED && !check) PetscFunctionReturn(0);
-  PetscCall(DMCreateMatrix(f->dm_all, &f->mass_old_all));
-  PetscCall(MatAssemblyBegin(f->mass_old_all, MAT_FINAL_ASSEMBLY));
-  PetscCall(MatAssemblyEnd(f->mass_old_all, MAT_FINAL_ASSEMBLY));
-  if (f->time_order == 2) PetscCall(MatDuplicate(f->mass_old_all, MAT_DO_NOT_COPY_VALUES, &f->mass_older_all));
-  PetscCall(FEMFreeDofs(f->dm, f->dm_all, &f->free_in_all));
-  PetscCall(MatCreateSubMatrix(f->mass_old_all, f->free_in_all, f->free_in_all, MAT_INITIAL_MATRIX, &f->mass_old));
+  if (f->data.mesh_displacement) {
+    /* the domain of t0, on which the initial state lives (else the first step's mesh
+       velocity carries the whole of d(t0)) */
+    PetscCall(PrescribedDisplacement(f, f->data.mesh_displacement, f->time, ale->displacement_old));
+    PetscCall(FluidSetMeshDisplacement(f, ale->displacement_old));
+    PetscCheck(!StepFailed(&f->failure), f->comm, PETSC_ERR_ARG_OUTOFRANGE, "the scene's mesh motion at t0 = %g: %s",
+               (double)f->time, f->failure.reason);
+  }
   PetscFunctionReturn(0);
 }
 
@@ -196,10 +164,13 @@ PetscErrorCode FluidALESetUp(Fluid f)
 /* the mesh a step of this run ended on into the run's worst (not the start of a restart) */
 static PetscErrorCode FoldCornerRatio(Fluid f)
 {
+  FluidALE ale = f->ale;
+
   PetscFunctionBeginUser;
-  if (f->corner_ratio_of_step && f->corner_ratio >= SMALLEST_CORNER_RATIO && f->corner_ratio < f->worst_corner_ratio) {
-    f->worst_corner_ratio = f->corner_ratio;
-    f->worst_corner_time  = f->time;
+  if (ale->corner_ratio_of_step && ale->corner_ratio >= SMALLEST_CORNER_RATIO &&
+      ale->corner_ratio < ale->worst_corner_ratio) {
+    ale->worst_corner_ratio = ale->corner_ratio;
+    ale->worst_corner_time  = f->time;
   }
   PetscFunctionReturn(0);
 }
@@ -209,19 +180,22 @@ PetscErrorCode FluidGetMeshQuality(Fluid f, PetscReal *worst_ratio, PetscReal *t
   PetscFunctionBeginUser;
   *worst_ratio = -1;
   *time        = -1;
+  if (!f->ale) PetscFunctionReturn(0); /* fixed */
   PetscCall(FoldCornerRatio(f));
-  if (f->worst_corner_ratio == PETSC_MAX_REAL) PetscFunctionReturn(0); /* fixed, or no step */
-  *worst_ratio = f->worst_corner_ratio;
-  *time        = f->worst_corner_time;
+  if (f->ale->worst_corner_ratio == PETSC_MAX_REAL) PetscFunctionReturn(0); /* no step */
+  *worst_ratio = f->ale->worst_corner_ratio;
+  *time        = f->ale->worst_corner_time;
   PetscFunctionReturn(0);
 }
 
-/* Before the time and the mesh move on: the old-domain mass, the history term (rho/dt
-   M(Omega^{n-1}) u^{n-1}, or BDF2's 2 rho/dt M(Omega^{n-1}) u^{n-1} - 1/2 rho/dt
-   M(Omega^{n-2}) u^{n-2}), and the displacements the mesh velocity needs. The
-   displacements are kept, not the matrices: a checkpoint restores them. */
+/* Before the time and the mesh move on: the old-domain mass of the fluid's operators (the
+   solver's and the check's), the history term (rho/dt M(Omega^{n-1}) u^{n-1}, or BDF2's
+   2 rho/dt M(Omega^{n-1}) u^{n-1} - 1/2 rho/dt M(Omega^{n-2}) u^{n-2}) by the solver's, and
+   the displacements the mesh velocity needs. The displacements are kept, not the mass: a
+   checkpoint restores them. */
 PetscErrorCode FluidALEBeginStep(Fluid f)
 {
+  FluidALE        ale  = f->ale;
   const PetscBool bdf2 = FluidStepIsBDF2(f);
   Vec             coordinates;
   const PetscReal coefficient = f->rho / f->dt, old_coefficient = bdf2 ? 2.0 * coefficient : coefficient;
@@ -229,51 +203,29 @@ PetscErrorCode FluidALEBeginStep(Fluid f)
 
   PetscFunctionBeginUser;
   PetscCall(FoldCornerRatio(f));
-  f->corner_ratio_of_step = PETSC_TRUE; /* the step moves the mesh */
+  ale->corner_ratio_of_step = PETSC_TRUE; /* the step moves the mesh */
   PetscCall(DMGetCoordinatesLocal(f->dm, &coordinates));
   if (bdf2) {
     Vec older;
     PetscCall(VecDuplicate(coordinates, &older));
-    PetscCall(VecWAXPY(older, 1.0, f->coordinates_reference, f->displacement_old));
-    PetscCall(DMSetCoordinatesLocal(f->dm_all, older));
+    PetscCall(VecWAXPY(older, 1.0, ale->coordinates_reference, ale->displacement_old));
+    PetscCall(DMSetCoordinatesLocal(ale->dm_all, older));
     PetscCall(VecDestroy(&older));
-    PetscCall(FEMInvalidateGeometry(f->dm_all));
-    if (f->mass_older_all) PetscCall(AssembleMass(f, f->mass_older_all, older_coefficient));
-    if (f->ceed) PetscCall(FEMCeedFluidMassDomain(f->ceed, f->dm_all, 1));
+    PetscCall(FEMInvalidateGeometry(ale->dm_all));
+    PetscCall(FluidOperatorOldDomain(f->op, 1, older_coefficient));
+    PetscCall(FluidOperatorOldDomain(f->check, 1, older_coefficient));
   }
-  PetscCall(DMSetCoordinatesLocal(f->dm_all, coordinates));
-  PetscCall(FEMInvalidateGeometry(f->dm_all));
-  if (f->mass_old_all) { /* PETSc's matrices (also kept beside libCEED's for -fem_backend_check) */
-    PetscCall(AssembleMass(f, f->mass_old_all, old_coefficient));
-    if (!f->backend_ceed) {
-      PetscCall(DMLocalToGlobal(f->dm_all, f->xlocal_old, INSERT_VALUES, f->all_x));
-      PetscCall(MatMult(f->mass_old_all, f->all_x, f->history_all));
-      if (bdf2) {
-        PetscCall(DMLocalToGlobal(f->dm_all, f->xlocal_previous, INSERT_VALUES, f->all_x));
-        PetscCall(MatMult(f->mass_older_all, f->all_x, f->all_y));
-        PetscCall(VecAXPY(f->history_all, -1.0, f->all_y));
-      }
-    }
-    if (bdf2) PetscCall(MatAXPY(f->mass_old_all, -1.0, f->mass_older_all, SAME_NONZERO_PATTERN));
-    PetscCall(MatCreateSubMatrix(f->mass_old_all, f->free_in_all, f->free_in_all, MAT_REUSE_MATRIX, &f->mass_old));
-  }
-  if (f->ceed) { /* libCEED's weights: the history's parts, then their sum for the step */
-    PetscCall(FEMCeedFluidMassDomain(f->ceed, f->dm_all, 0));
-    if (f->backend_ceed) {
-      PetscCall(FEMCeedFluidMassWeights(f->ceed, old_coefficient, 0.0));
-      PetscCall(FluidOldMassMultAll(f, f->xlocal_old, f->history_all, PETSC_FALSE));
-      if (bdf2) {
-        PetscCall(FEMCeedFluidMassWeights(f->ceed, 0.0, -older_coefficient));
-        PetscCall(FluidOldMassMultAll(f, f->xlocal_previous, f->history_all, PETSC_TRUE));
-      }
-    }
-    PetscCall(FEMCeedFluidMassWeights(f->ceed, old_coefficient, bdf2 ? -older_coefficient : 0.0));
-  }
-  PetscCall(FreeRows(f, f->history_all, f->history));
-  if (bdf2) PetscCall(VecCopy(f->displacement_old, f->displacement_previous));
+  PetscCall(DMSetCoordinatesLocal(ale->dm_all, coordinates));
+  PetscCall(FEMInvalidateGeometry(ale->dm_all));
+  PetscCall(FluidOperatorOldDomain(f->op, 0, old_coefficient));
+  PetscCall(FluidOperatorOldDomain(f->check, 0, old_coefficient));
+  PetscCall(FluidOperatorOldMassStep(f->op, bdf2, f->xlocal_old, f->xlocal_previous, ale->history_all));
+  PetscCall(FluidOperatorOldMassStep(f->check, bdf2, f->xlocal_old, f->xlocal_previous, NULL));
+  PetscCall(FluidALEFreeRows(f, ale->history_all, f->history));
+  if (bdf2) PetscCall(VecCopy(ale->displacement_old, ale->displacement_previous));
   if (f->time_order == 2) PetscCall(VecCopy(f->xlocal_old, f->xlocal_previous));
-  PetscCall(VecCopy(f->displacement, f->displacement_old));
-  PetscCall(VecZeroEntries(f->z_local));
+  PetscCall(VecCopy(ale->displacement, ale->displacement_old));
+  PetscCall(VecZeroEntries(ale->z_local));
   PetscFunctionReturn(0);
 }
 
@@ -283,6 +235,7 @@ PetscErrorCode FluidALEBeginStep(Fluid f)
    out). Found once; the mesh's topology never changes. */
 static PetscErrorCode CellCornersSetUp(Fluid f)
 {
+  FluidALE     ale = f->ale;
   PetscSection section;
   PetscInt     cStart, cEnd, vStart, vEnd, eStart, eEnd, dim, n = 0;
 
@@ -292,7 +245,7 @@ static PetscErrorCode CellCornersSetUp(Fluid f)
   PetscCall(DMPlexGetHeightStratum(f->dm, 0, &cStart, &cEnd));
   PetscCall(DMPlexGetDepthStratum(f->dm, 0, &vStart, &vEnd));
   PetscCall(DMPlexGetDepthStratum(f->dm, 1, &eStart, &eEnd));
-  PetscCall(PetscMalloc1((cEnd - cStart) * 8 * 5, &f->corners)); /* at most 8 corners a cell */
+  PetscCall(PetscMalloc1((cEnd - cStart) * 8 * 5, &ale->corners)); /* at most 8 corners a cell */
   for (PetscInt c = cStart; c < cEnd; ++c) {
     PetscInt *closure = NULL, nclosure, verts[8], edges[12][2], nv = 0, ne = 0;
 
@@ -310,7 +263,7 @@ static PetscErrorCode CellCornersSetUp(Fluid f)
     }
     PetscCall(DMPlexRestoreTransitiveClosure(f->dm, c, PETSC_TRUE, &nclosure, &closure));
     for (PetscInt i = 0; i < nv; ++i) {
-      PetscInt *corner = &f->corners[n * 5], k = 0;
+      PetscInt *corner = &ale->corners[n * 5], k = 0;
       corner[0] = c;
       PetscCall(PetscSectionGetOffset(section, verts[i], &corner[1]));
       for (PetscInt e = 0; e < ne; ++e) {
@@ -321,7 +274,7 @@ static PetscErrorCode CellCornersSetUp(Fluid f)
       if (k == dim) ++n;
     }
   }
-  f->ncorners = n;
+  ale->ncorners = n;
   PetscFunctionReturn(0);
 }
 
@@ -341,17 +294,18 @@ static PetscReal CornerVolume(PetscInt dim, const PetscScalar *x, const PetscInt
    area (volume): otherwise the step fails, naming the cell, and the mesh stays as it was. */
 static PetscErrorCode CheckCells(Fluid f, Vec coordinates)
 {
+  FluidALE           ale = f->ale;
   PetscInt           dim, bad = -1;
   PetscReal          worst = PETSC_MAX_REAL, where[4] = {-1, 0, 0, 0};
   const PetscScalar *X, *x;
 
   PetscFunctionBeginUser;
   PetscCall(DMGetDimension(f->dm, &dim));
-  if (!f->corners) PetscCall(CellCornersSetUp(f));
-  PetscCall(VecGetArrayRead(f->coordinates_reference, &X));
+  if (!ale->corners) PetscCall(CellCornersSetUp(f));
+  PetscCall(VecGetArrayRead(ale->coordinates_reference, &X));
   PetscCall(VecGetArrayRead(coordinates, &x));
-  for (PetscInt i = 0; i < f->ncorners; ++i) {
-    const PetscInt *corner = &f->corners[i * 5];
+  for (PetscInt i = 0; i < ale->ncorners; ++i) {
+    const PetscInt *corner = &ale->corners[i * 5];
     const PetscReal ratio  = CornerVolume(dim, x, corner) / CornerVolume(dim, X, corner);
     if (ratio < worst) {
       worst = ratio;
@@ -359,12 +313,12 @@ static PetscErrorCode CheckCells(Fluid f, Vec coordinates)
     }
   }
   if (bad >= 0) {
-    where[0] = (PetscReal)f->corners[bad * 5];
-    for (PetscInt d = 0; d < dim; ++d) where[1 + d] = PetscRealPart(x[f->corners[bad * 5 + 1] + d]);
+    where[0] = (PetscReal)ale->corners[bad * 5];
+    for (PetscInt d = 0; d < dim; ++d) where[1 + d] = PetscRealPart(x[ale->corners[bad * 5 + 1] + d]);
   }
   PetscCall(VecRestoreArrayRead(coordinates, &x));
-  PetscCall(VecRestoreArrayRead(f->coordinates_reference, &X));
-  PetscCallMPI(MPI_Allreduce(&worst, &f->corner_ratio, 1, MPIU_REAL, MPIU_MIN, f->comm));
+  PetscCall(VecRestoreArrayRead(ale->coordinates_reference, &X));
+  PetscCallMPI(MPI_Allreduce(&worst, &ale->corner_ratio, 1, MPIU_REAL, MPIU_MIN, f->comm));
   {
     PetscMPIInt rank, first, size, mine;
     PetscCallMPI(MPI_Comm_rank(f->comm, &rank));
@@ -386,29 +340,30 @@ static PetscErrorCode CheckCells(Fluid f, Vec coordinates)
 
 PetscErrorCode FluidSetMeshDisplacement(Fluid f, Vec displacement)
 {
-  Vec coordinates, z_coordinate_layout;
+  FluidALE ale = f->ale;
+  Vec      coordinates, z_coordinate_layout;
 
   PetscFunctionBeginUser;
-  PetscCheck(f->moving, f->comm, PETSC_ERR_ORDER,
+  PetscCheck(ale, f->comm, PETSC_ERR_ORDER,
              "fluid: the mesh of this fluid does not move (FluidEnableMeshMotion before FluidSetUp)");
-  PetscCall(VecDuplicate(f->coordinates_reference, &coordinates));
-  PetscCall(VecWAXPY(coordinates, 1.0, f->coordinates_reference, displacement));
+  PetscCall(VecDuplicate(ale->coordinates_reference, &coordinates));
+  PetscCall(VecWAXPY(coordinates, 1.0, ale->coordinates_reference, displacement));
   PetscCall(CheckCells(f, coordinates));
   if (StepFailed(&f->failure)) {
     PetscCall(VecDestroy(&coordinates));
     PetscFunctionReturn(0);
   }
-  PetscCall(VecCopy(displacement, f->displacement));
+  PetscCall(VecCopy(displacement, ale->displacement));
   PetscCall(DMSetCoordinatesLocal(f->dm, coordinates));
   PetscCall(FEMInvalidateGeometry(f->dm));
   PetscCall(VecDestroy(&coordinates));
   PetscCall(VecDuplicate(displacement, &z_coordinate_layout));
-  PetscCall(VecWAXPY(z_coordinate_layout, -1.0, f->displacement_old, displacement));
+  PetscCall(VecWAXPY(z_coordinate_layout, -1.0, ale->displacement_old, displacement));
   if (FluidStepIsBDF2(f)) { /* 3/2 (d^n - d^{n-1}) - 1/2 (d^{n-1} - d^{n-2}) */
     PetscCall(VecScale(z_coordinate_layout, 1.5));
-    PetscCall(VecAXPBYPCZ(z_coordinate_layout, -0.5, 0.5, 1.0, f->displacement_old, f->displacement_previous));
+    PetscCall(VecAXPBYPCZ(z_coordinate_layout, -0.5, 0.5, 1.0, ale->displacement_old, ale->displacement_previous));
   }
-  PetscCall(CopyVertexValues(f->dm, z_coordinate_layout, PETSC_TRUE, f->dm_aux, f->z_local, 1.0 / f->dt));
+  PetscCall(CopyVertexValues(f->dm, z_coordinate_layout, PETSC_TRUE, ale->dm_aux, ale->z_local, 1.0 / f->dt));
   PetscCall(VecDestroy(&z_coordinate_layout));
   PetscFunctionReturn(0);
 }
@@ -416,59 +371,65 @@ PetscErrorCode FluidSetMeshDisplacement(Fluid f, Vec displacement)
 PetscErrorCode FluidGetMeshDisplacement(Fluid f, Vec *displacement)
 {
   PetscFunctionBeginUser;
-  *displacement = f->displacement;
+  *displacement = f->ale ? f->ale->displacement : NULL;
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode FluidGetMeshVelocity(Fluid f, DM *dm, Vec *local)
 {
   PetscFunctionBeginUser;
-  *dm    = f->moving ? f->dm_aux : NULL;
-  *local = f->moving ? f->z_local : NULL;
+  *dm    = f->ale ? f->ale->dm_aux : NULL;
+  *local = f->ale ? f->ale->z_local : NULL;
   PetscFunctionReturn(0);
 }
 
-/* The scene's closed-form motion d(X, t) at the reference vertices, with the scene's context. */
-PetscErrorCode FluidPrescribedDisplacement(Fluid f, FieldFn motion, PetscReal t, Vec displacement)
+PetscErrorCode FluidALEFollowScene(Fluid f)
 {
-  PetscInt           n, dim;
-  const PetscScalar *X;
-  PetscScalar       *d;
+  Vec d;
 
   PetscFunctionBeginUser;
-  PetscCall(DMGetDimension(f->dm, &dim));
-  PetscCall(VecGetLocalSize(f->coordinates_reference, &n));
-  PetscCall(VecGetArrayRead(f->coordinates_reference, &X));
-  PetscCall(VecGetArray(displacement, &d));
-  for (PetscInt i = 0; i < n; i += dim) {
-    PetscReal x[3];
-    for (PetscInt k = 0; k < dim; ++k) x[k] = PetscRealPart(X[i + k]);
-    PetscCall(motion(dim, t, x, dim, &d[i], f->data.ctx));
+  PetscCall(VecDuplicate(f->ale->displacement, &d));
+  PetscCall(PrescribedDisplacement(f, f->data.mesh_displacement, f->time, d));
+  PetscCall(FluidSetMeshDisplacement(f, d));
+  PetscCall(VecDestroy(&d));
+  PetscFunctionReturn(0);
+}
+
+/* The displacements of the present mesh and, BDF2, of the one before it (the mesh velocity
+   is not needed: the next step sets its own); loaded, the mesh moves there */
+PetscErrorCode FluidALECheckpoint(Fluid f, Checkpoint cp, PetscBool load, PetscBool bdf2_state)
+{
+  FluidALE ale = f->ale;
+  DM       cdm;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetCoordinateDM(f->dm, &cdm));
+  PetscCall(CheckpointLocalVec(cp, "mesh_displacement", cdm, ale->displacement, load));
+  if (bdf2_state) PetscCall(CheckpointLocalVec(cp, "mesh_displacement_before", cdm, ale->displacement_old, load));
+  if (load) {
+    if (!bdf2_state) PetscCall(VecCopy(ale->displacement, ale->displacement_old));
+    PetscCall(FluidSetMeshDisplacement(f, ale->displacement));
+    ale->corner_ratio_of_step = PETSC_FALSE; /* a restart's start, or a retried step's, counted already */
   }
-  PetscCall(VecRestoreArray(displacement, &d));
-  PetscCall(VecRestoreArrayRead(f->coordinates_reference, &X));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FluidALEDestroy(Fluid f)
+PetscErrorCode FluidALEDestroy(FluidALE *ale_out)
 {
+  FluidALE ale = *ale_out;
+
   PetscFunctionBeginUser;
-  PetscCall(VecDestroy(&f->z_local));
-  PetscCall(VecDestroy(&f->coordinates_reference));
-  PetscCall(PetscFree(f->corners));
-  PetscCall(VecDestroy(&f->displacement));
-  PetscCall(VecDestroy(&f->displacement_old));
-  PetscCall(VecDestroy(&f->displacement_previous));
-  PetscCall(MatDestroy(&f->mass_old));
-  PetscCall(MatDestroy(&f->mass_older_all));
-  PetscCall(VecDestroy(&f->history_all));
-  PetscCall(ISDestroy(&f->free_in_all));
-  PetscCall(MatDestroy(&f->mass_old_all));
-  PetscCall(VecDestroy(&f->all_x));
-  PetscCall(VecDestroy(&f->all_y));
-  PetscCall(VecDestroy(&f->all_local));
-  PetscCall(DMDestroy(&f->dm_all));
-  PetscCall(VecDestroy(&f->work));
-  PetscCall(DMDestroy(&f->dm_aux));
+  if (!ale) PetscFunctionReturn(0);
+  PetscCall(VecDestroy(&ale->z_local));
+  PetscCall(VecDestroy(&ale->coordinates_reference));
+  PetscCall(PetscFree(ale->corners));
+  PetscCall(VecDestroy(&ale->displacement));
+  PetscCall(VecDestroy(&ale->displacement_old));
+  PetscCall(VecDestroy(&ale->displacement_previous));
+  PetscCall(VecDestroy(&ale->history_all));
+  PetscCall(VecDestroy(&ale->all_local));
+  PetscCall(DMDestroy(&ale->dm_all));
+  PetscCall(DMDestroy(&ale->dm_aux));
+  PetscCall(PetscFree(*ale_out));
   PetscFunctionReturn(0);
 }

@@ -8,10 +8,19 @@
    evaluated there only: on dm_force, a copy of the fluid's DM whose fields live on those
    cells and carry no boundary conditions (the body's rows are constrained in the fluid's
    own DM). On a moving mesh it is evaluated on every cell of dm_all, the ALE's copy without
-   constraints: PETSc 3.18 caches a region's cell geometry on an index set we cannot reach
-   to invalidate when the mesh moves. */
+   constraints, by the fluid's operator: PETSc 3.18 caches a region's cell geometry on an
+   index set we cannot reach to invalidate when the mesh moves. */
 #include "fluid_impl.h"
 #include "fem.h"
+
+struct _n_FluidForces {
+  DM       dm_force;                  /* fixed meshes: the fields on the cells that touch the body */
+  Vec      force_x, force_residual;   /* its local vectors */
+  PetscInt n_force_copy, *force_copy; /* per point: its offset in dm_force, in dm, its dofs */
+  PetscInt n_force_rows, *force_rows; /* the body's velocity nodes (first component): in dm_force's local
+                                         array; on a moving mesh the owned ones in dm_all's global array */
+  Vec      all;                       /* moving meshes: the volume residual on dm_all's global rows */
+};
 
 PetscErrorCode FluidBodyFaces(Fluid f, IS *faces)
 {
@@ -99,32 +108,39 @@ static PetscErrorCode VelocityRows(PetscInt nbody, const PetscInt body[], PetscI
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FluidForcesSetUp(Fluid f)
+PetscErrorCode FluidForcesCreate(Fluid f, FluidForces *forces)
 {
+  FluidForces  fo;
   DMLabel      band;
   PetscSection local, local_force;
   PetscInt     dim, nbody = 0, *body = NULL, cStart, cEnd, pStart, pEnd;
 
   PetscFunctionBeginUser;
+  *forces = NULL;
   if (!f->data.n_force_faces) PetscFunctionReturn(0);
+  PetscCall(PetscNew(&fo));
+  *forces = fo;
   PetscCall(DMGetDimension(f->dm, &dim));
   PetscCall(BodyPoints(f, &nbody, &body));
   if (f->moving) {
     PetscSection global_all;
     PetscInt     rstart;
+    DM           dm_all;
 
     /* the owned body nodes in dm_all's global array */
-    PetscCall(DMGetGlobalSection(f->dm_all, &global_all));
-    PetscCall(DMGetLocalSection(f->dm_all, &local));
-    PetscCall(VecGetOwnershipRange(f->all_y, &rstart, NULL));
-    PetscCall(VelocityRows(nbody, body, dim, local, global_all, rstart, &f->n_force_rows, &f->force_rows));
+    PetscCall(FluidALEGetAll(f, &dm_all, NULL));
+    PetscCall(DMCreateGlobalVector(dm_all, &fo->all));
+    PetscCall(DMGetGlobalSection(dm_all, &global_all));
+    PetscCall(DMGetLocalSection(dm_all, &local));
+    PetscCall(VecGetOwnershipRange(fo->all, &rstart, NULL));
+    PetscCall(VelocityRows(nbody, body, dim, local, global_all, rstart, &fo->n_force_rows, &fo->force_rows));
     PetscCall(PetscFree(body));
     PetscFunctionReturn(0);
   }
   /* the band: every cell with a body point in its closure */
-  PetscCall(DMClone(f->dm, &f->dm_force));
-  PetscCall(DMCreateLabel(f->dm_force, "force_band"));
-  PetscCall(DMGetLabel(f->dm_force, "force_band", &band));
+  PetscCall(DMClone(f->dm, &fo->dm_force));
+  PetscCall(DMCreateLabel(fo->dm_force, "force_band"));
+  PetscCall(DMGetLabel(fo->dm_force, "force_band", &band));
   PetscCall(DMPlexGetHeightStratum(f->dm, 0, &cStart, &cEnd));
   for (PetscInt i = 0; i < nbody; ++i) {
     PetscInt *star = NULL, nstar;
@@ -134,15 +150,15 @@ PetscErrorCode FluidForcesSetUp(Fluid f)
     PetscCall(DMPlexRestoreTransitiveClosure(f->dm, body[i], PETSC_FALSE, &nstar, &star));
   }
   /* fields on a label live on its points: the cells' closures too */
-  PetscCall(DMPlexLabelComplete(f->dm_force, band));
-  PetscCall(FluidSetVolumeWeakForm(f, f->dm_force, band));
-  PetscCall(DMCreateLocalVector(f->dm_force, &f->force_x));
-  PetscCall(VecDuplicate(f->force_x, &f->force_residual));
+  PetscCall(DMPlexLabelComplete(fo->dm_force, band));
+  PetscCall(FluidSetVolumeWeakForm(f, fo->dm_force, band));
+  PetscCall(DMCreateLocalVector(fo->dm_force, &fo->force_x));
+  PetscCall(VecDuplicate(fo->force_x, &fo->force_residual));
   /* the band's dofs in the fluid's local layout: per point the same dofs in the same order */
   PetscCall(DMGetLocalSection(f->dm, &local));
-  PetscCall(DMGetLocalSection(f->dm_force, &local_force));
+  PetscCall(DMGetLocalSection(fo->dm_force, &local_force));
   PetscCall(PetscSectionGetChart(local_force, &pStart, &pEnd));
-  PetscCall(PetscMalloc1(3 * (pEnd - pStart), &f->force_copy));
+  PetscCall(PetscMalloc1(3 * (pEnd - pStart), &fo->force_copy));
   for (PetscInt p = pStart; p < pEnd; ++p) {
     PetscInt ndof, off_force, off, ndof_fluid;
     PetscCall(PetscSectionGetDof(local_force, p, &ndof));
@@ -154,14 +170,14 @@ PetscErrorCode FluidForcesSetUp(Fluid f)
                "fluid forces: point %" PetscInt_FMT " has %" PetscInt_FMT " dofs in the band, %" PetscInt_FMT
                " in the fluid",
                p, ndof, ndof_fluid);
-    f->force_copy[3 * f->n_force_copy]     = off_force;
-    f->force_copy[3 * f->n_force_copy + 1] = off;
-    f->force_copy[3 * f->n_force_copy + 2] = ndof;
-    f->n_force_copy++;
+    fo->force_copy[3 * fo->n_force_copy]     = off_force;
+    fo->force_copy[3 * fo->n_force_copy + 1] = off;
+    fo->force_copy[3 * fo->n_force_copy + 2] = ndof;
+    fo->n_force_copy++;
   }
   /* the body's velocity nodes: every local copy in the band (each rank adds its own cells'
      contributions) */
-  PetscCall(VelocityRows(nbody, body, dim, local_force, local_force, 0, &f->n_force_rows, &f->force_rows));
+  PetscCall(VelocityRows(nbody, body, dim, local_force, local_force, 0, &fo->n_force_rows, &fo->force_rows));
   PetscCall(PetscFree(body));
   PetscFunctionReturn(0);
 }
@@ -193,6 +209,7 @@ static PetscErrorCode SetConstants(Fluid f, DM dm, PetscReal mass, PetscReal op,
 /* The band's residual at the fluid's local state xlocal, summed over the body's rows. */
 static PetscErrorCode BandSum(Fluid f, Vec xlocal, PetscReal sum[3])
 {
+  FluidForces        fo = f->forces;
   const PetscScalar *x, *r;
   PetscScalar       *xb;
   PetscInt           dim;
@@ -200,23 +217,23 @@ static PetscErrorCode BandSum(Fluid f, Vec xlocal, PetscReal sum[3])
   PetscFunctionBeginUser;
   PetscCall(DMGetDimension(f->dm, &dim));
   PetscCall(VecGetArrayRead(xlocal, &x));
-  PetscCall(VecGetArray(f->force_x, &xb));
-  for (PetscInt i = 0; i < f->n_force_copy; ++i)
-    PetscCall(PetscArraycpy(&xb[f->force_copy[3 * i]], &x[f->force_copy[3 * i + 1]], f->force_copy[3 * i + 2]));
-  PetscCall(VecRestoreArray(f->force_x, &xb));
+  PetscCall(VecGetArray(fo->force_x, &xb));
+  for (PetscInt i = 0; i < fo->n_force_copy; ++i)
+    PetscCall(PetscArraycpy(&xb[fo->force_copy[3 * i]], &x[fo->force_copy[3 * i + 1]], fo->force_copy[3 * i + 2]));
+  PetscCall(VecRestoreArray(fo->force_x, &xb));
   PetscCall(VecRestoreArrayRead(xlocal, &x));
-  PetscCall(VecZeroEntries(f->force_residual));
+  PetscCall(VecZeroEntries(fo->force_residual));
   {
     /* PETSc integrates the band on the ranks with band cells only and would create the
        coordinate field there alone (-check_rank_sync; FEMFacesMakeSharedObjects) */
     DMField coordinates;
-    PetscCall(DMGetCoordinateField(f->dm_force, &coordinates));
+    PetscCall(DMGetCoordinateField(fo->dm_force, &coordinates));
   }
-  PetscCall(DMPlexSNESComputeResidualFEM(f->dm_force, f->force_x, f->force_residual, NULL));
-  PetscCall(VecGetArrayRead(f->force_residual, &r));
-  for (PetscInt i = 0; i < f->n_force_rows; ++i)
-    for (PetscInt c = 0; c < dim; ++c) sum[c] += PetscRealPart(r[f->force_rows[i] + c]);
-  PetscCall(VecRestoreArrayRead(f->force_residual, &r));
+  PetscCall(DMPlexSNESComputeResidualFEM(fo->dm_force, fo->force_x, fo->force_residual, NULL));
+  PetscCall(VecGetArrayRead(fo->force_residual, &r));
+  for (PetscInt i = 0; i < fo->n_force_rows; ++i)
+    for (PetscInt c = 0; c < dim; ++c) sum[c] += PetscRealPart(r[fo->force_rows[i] + c]);
+  PetscCall(VecRestoreArrayRead(fo->force_residual, &r));
   PetscFunctionReturn(0);
 }
 
@@ -225,36 +242,37 @@ static PetscErrorCode BandSum(Fluid f, Vec xlocal, PetscReal sum[3])
    backward Euler; fluid_ale.c), summed over the owned body rows. */
 static PetscErrorCode MovingSum(Fluid f, PetscReal sum[3])
 {
+  FluidForces        fo = f->forces;
   const PetscScalar *r;
-  Vec                coordinates;
+  Vec                coordinates, history_all;
   PetscInt           dim;
+  DM                 dm_all;
 
   PetscFunctionBeginUser;
   PetscCall(DMGetDimension(f->dm, &dim));
+  PetscCall(FluidALEGetAll(f, &dm_all, &history_all));
   PetscCall(DMGetCoordinatesLocal(f->dm, &coordinates));
-  PetscCall(DMSetCoordinatesLocal(f->dm_all, coordinates)); /* the next step puts back the old ones */
-  PetscCall(FEMInvalidateGeometry(f->dm_all));
-  if (f->backend_ceed) PetscCall(FluidVolumeResidualAll(f, f->xlocal_work, f->step > 0, f->all_y));
-  else {
-    PetscCall(FEMResidual(f->dm_all, f->xlocal_work, f->all_y));
-    if (f->step > 0) PetscCall(FluidOldMassMultAll(f, f->xlocal_work, f->all_y, PETSC_TRUE));
-  }
-  if (f->step > 0) PetscCall(VecAXPY(f->all_y, -1.0, f->history_all));
-  PetscCall(VecGetArrayRead(f->all_y, &r));
-  for (PetscInt i = 0; i < f->n_force_rows; ++i)
-    for (PetscInt c = 0; c < dim; ++c) sum[c] += PetscRealPart(r[f->force_rows[i] + c]);
-  PetscCall(VecRestoreArrayRead(f->all_y, &r));
+  PetscCall(DMSetCoordinatesLocal(dm_all, coordinates)); /* the next step puts back the old ones */
+  PetscCall(FEMInvalidateGeometry(dm_all));
+  PetscCall(FluidOperatorResidualAll(f->op, f->xlocal_work, f->step > 0, fo->all));
+  if (f->step > 0) PetscCall(VecAXPY(fo->all, -1.0, history_all));
+  PetscCall(VecGetArrayRead(fo->all, &r));
+  for (PetscInt i = 0; i < fo->n_force_rows; ++i)
+    for (PetscInt c = 0; c < dim; ++c) sum[c] += PetscRealPart(r[fo->force_rows[i] + c]);
+  PetscCall(VecRestoreArrayRead(fo->all, &r));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode FluidBodyForce(Fluid f, PetscReal force[3])
 {
   PetscReal now[3] = {0, 0, 0}, before[3] = {0, 0, 0};
-  DM        dm = f->moving ? f->dm_all : f->dm_force;
+  DM        dm;
 
   PetscFunctionBeginUser;
   PetscCheck(f->data.n_force_faces, f->comm, PETSC_ERR_ARG_WRONGSTATE,
              "the scene names no body faces for a fluid force");
+  if (f->moving) PetscCall(FluidALEGetAll(f, &dm, NULL));
+  else dm = f->forces->dm_force;
   PetscCall(FluidGlobalToLocal(f, f->x, f->xlocal_work));
   /* the initial state has no time derivative to go with it: its force is the steady one */
   PetscCall(SetConstants(f, dm, f->step == 0 ? 0.0 : -1, -1, -1));
@@ -272,13 +290,18 @@ PetscErrorCode FluidBodyForce(Fluid f, PetscReal force[3])
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FluidForcesDestroy(Fluid f)
+PetscErrorCode FluidForcesDestroy(FluidForces *forces)
 {
+  FluidForces fo = *forces;
+
   PetscFunctionBeginUser;
-  PetscCall(PetscFree(f->force_copy));
-  PetscCall(PetscFree(f->force_rows));
-  PetscCall(VecDestroy(&f->force_x));
-  PetscCall(VecDestroy(&f->force_residual));
-  PetscCall(DMDestroy(&f->dm_force));
+  if (!fo) PetscFunctionReturn(0);
+  PetscCall(PetscFree(fo->force_copy));
+  PetscCall(PetscFree(fo->force_rows));
+  PetscCall(VecDestroy(&fo->force_x));
+  PetscCall(VecDestroy(&fo->force_residual));
+  PetscCall(VecDestroy(&fo->all));
+  PetscCall(DMDestroy(&fo->dm_force));
+  PetscCall(PetscFree(*forces));
   PetscFunctionReturn(0);
 }

@@ -1,13 +1,19 @@
 #ifndef FSIOPT_FLUID_IMPL_H
 #define FSIOPT_FLUID_IMPL_H
 #include "fluid.h"
-#include "fem_ceed.h"
 #include "fem.h"
+#include "fluid_operator.h"
 
 typedef enum {
   FLUID_STOKES,
   FLUID_NAVIER_STOKES
 } FluidModel;
+
+/* The parts of the fluid that one file owns, each with its create and destroy there */
+typedef struct _n_FluidALE       *FluidALE;       /* moving meshes (fluid_ale.c) */
+typedef struct _n_FluidForces    *FluidForces;    /* the force on a body (fluid_forces.c) */
+typedef struct _n_FluidDirichlet *FluidDirichlet; /* the interface velocity prescribed (fluid_dirichlet.c) */
+typedef struct _n_FluidMatFree   *FluidMatFree;   /* -fluid_matfree (fluid_matfree.c) */
 
 struct _p_Fluid {
   MPI_Comm   comm;
@@ -24,6 +30,7 @@ struct _p_Fluid {
   Vec        history;    /* rho/dt M(Omega^{n-1}) u^{n-1} (BDF2 on a moving mesh: fluid_ale.c) */
   Vec        rhs, x_start;
   Vec        x_before; /* u^{n-2} while a step starts, for the extrapolated first guess */
+  Vec        xlocal_work;
   PetscBool  extrapolate;
   PetscInt   time_order;        /* 1: backward Euler, 2: BDF2 */
   PetscInt   steps_at_dt;       /* steps taken since dt last changed: BDF2 and the extrapolated start need one */
@@ -39,110 +46,80 @@ struct _p_Fluid {
   PetscBool  initial_projection;
   PetscBool  backflow, backflow_faces_given;
   PetscInt   n_backflow_faces, backflow_faces[FSIOPT_MAX_BOUNDARIES];
-  PetscReal  atol;     /* the user's (or our default) absolute residual tolerance */
-  PetscReal  rhs_rtol; /* and one relative to the right-hand side */
+  PetscReal  atol;            /* the user's (or our default) absolute residual tolerance */
+  PetscReal  rhs_rtol;        /* and one relative to the right-hand side */
   PetscReal  newton_ksp_rtol; /* the Krylov tolerance of the Newton steps (0: the solver's own) */
-  /* moving meshes (fluid_ale.c) */
-  PetscBool moving;
-  DM        dm_aux; /* the mesh velocity z, Q1 */
-  Vec       z_local;
-  Vec       coordinates_reference, displacement, displacement_old; /* coordinate layout */
-  Vec       displacement_previous;                                 /* BDF2: d^{n-2} */
-  PetscInt *corners, ncorners; /* per cell corner: cell, its vertex's and its dim edge neighbours' coordinate offsets */
-  PetscReal corner_ratio;      /* the smallest corner area (volume) / its reference one, present mesh */
-  PetscReal worst_corner_ratio, worst_corner_time; /* the smallest over the meshes steps ended on, and its time */
-  PetscBool corner_ratio_of_step;                  /* corner_ratio is of a mesh a step of this run moved to */
-  DM        dm_all; /* the same fields and volume terms without constraints (fluid_forces.c) */
-  Mat       mass_old,
-    mass_old_all; /* rho/dt M(Omega^{n-1}), BDF2 rho/dt (2 M(Omega^{n-1}) - 1/2 M(Omega^{n-2})): free rows, all rows */
-  Mat mass_older_all; /* BDF2: 1/2 rho/dt M(Omega^{n-2}) */
-  Vec history_all;    /* the history on all rows of dm_all (global) */
-  IS  free_in_all;
-  Vec all_x, all_y, all_local, xlocal_work, work;
-  /* the force on a body (fluid_forces.c) */
-  DM       dm_force;                  /* the fields on the cells that touch the body */
-  Vec      force_x, force_residual;   /* its local vectors */
-  PetscInt n_force_copy, *force_copy; /* per point: its offset in dm_force, in dm, its dofs */
-  PetscInt n_force_rows, *force_rows; /* the body's velocity nodes (first component): in dm_force's
-                                                    local array; on a moving mesh the owned ones in dm_all's global array */
-  /* the interface velocity prescribed (fluid_dirichlet.c) */
-  SNES         snes_dirichlet;
-  Mat          dirichlet_jacobian;
-  Vec          dirichlet_rhs;
-  PetscInt     n_dirichlet_rows, *dirichlet_rows; /* local offsets of the interface rows */
-  IS           dirichlet_rows_global;
-  PetscScalar *dirichlet_residual; /* R(x) on them at the last evaluation */
-  PetscInt     dirichlet_step;
-  PetscInt     dirichlet_lag; /* -fluid_dirichlet_snes_lag_jacobian K > 0: factors kept across steps */
-  /* the operators on the libCEED backend (fluid_backend.c) */
-  PetscBool        backend_ceed;                    /* the solver's operators are libCEED's */
-  FEMCeedFluid     ceed;                            /* NULL on the PETSc backend without -fem_backend_check */
-  Mat              ceed_jacobian;                   /* of its COO pattern: the solver's matrix on the libCEED backend */
-  DM               dm_loads;                        /* the scene's volume loads alone, NULL without */
-  FEMDirichletValues dirichlet_values; /* kept per time and boundary position (libCEED's backend) */
-  FEMTractionCache tractions; /* the scene's traction terms of a time and mesh */
-  PetscBool        matfree;   /* -fluid_matfree (fluid_matfree.c) */
-  PetscInt         matfree_checked_step;
-  Mat              matfree_jacobian; /* the SNES's operator; ceed_jacobian its preconditioner */
-  PetscBool        operator_only;    /* the next Jacobian moves matfree_jacobian's state only */
-  Mat              boundary_jacobian;
-  PetscBool        check_backends;
-  PetscInt         backend_checked_step;
-  PhysicsData      data;
-  DirichletDatum   datums[FSIOPT_MAX_BOUNDARIES];
-  SolverCounts     counts;
-  StepFailure      failure; /* of the step in progress */
+  PetscBool  moving;          /* the mesh moves (fluid_ale.c) */
+  PetscBool  use_matfree;     /* -fluid_matfree */
+  /* the operators (fluid_operator.c): the solver's, and with -fem_backend_check the other
+     backend's beside it */
+  FluidOperator  op, check;
+  FluidALE       ale;       /* NULL on a fixed mesh */
+  FluidForces    forces;    /* NULL without body faces */
+  FluidDirichlet dirichlet; /* its solver made when a Dirichlet-Neumann coupling asks */
+  FluidMatFree   matfree;   /* NULL without -fluid_matfree */
+  PhysicsData    data;
+  DirichletDatum datums[FSIOPT_MAX_BOUNDARIES];
+  SolverCounts   counts;
+  StepFailure    failure; /* of the step in progress */
 };
 
 PetscErrorCode FluidSetConstants(Fluid, PetscReal mass, PetscReal op, PetscReal load);
 PetscErrorCode FluidSetVolumeWeakForm(Fluid, DM, DMLabel region);
-
-/* fluid_forces.c */
-/* the faces of the scene's body (its force_faces) on this rank, sorted, each once */
-PetscErrorCode FluidBodyFaces(Fluid, IS *faces);
-PetscErrorCode FluidForcesSetUp(Fluid);
-PetscErrorCode FluidForcesDestroy(Fluid);
-
 PetscErrorCode FluidNonlinearSolve(Fluid, SNES, Vec rhs, PetscBool chord, PetscInt step, const char what[]);
-PetscErrorCode FluidDirichletDestroy(Fluid);
 
-/* fluid_backend.c: R(x) into the global F, and its Jacobian, on the chosen backend, with
-   the old domains' mass term when old_mass (moving meshes); x a local state with its
-   boundary values */
-PetscErrorCode FluidOperatorResidual(Fluid, Vec xlocal, PetscBool old_mass, Vec F);
-PetscErrorCode FluidOperatorJacobian(Fluid, Vec xlocal, PetscBool old_mass, Mat J, Mat P);
-/* libCEED's backend, moving meshes: the volume terms alone (with the old domains' mass term
-   when old_mass) on every row of dm_all, for the body force */
-PetscErrorCode FluidVolumeResidualAll(Fluid, Vec xlocal, PetscBool old_mass, Vec yall);
-PetscErrorCode FluidBackendSetUp(Fluid);
-/* libCEED's backend: the volume blocks and PETSc's boundary terms at xlocal into A, a matrix
-   of the libCEED pattern (FEMCeedFluidCreateMatrix) */
-PetscErrorCode FluidCeedAssemble(Fluid, Vec xlocal, PetscBool old_mass, Mat A);
-/* the SNES callbacks of the operators (on a moving mesh with the old domains' mass); PETSc's
-   backend on a fixed mesh keeps DMPlex's own */
+/* fluid_operator.c: the solver's operator from -fem_backend (and the check's), after the
+   initial projection; -fem_backend_check at the start of the first steps */
+PetscErrorCode FluidOperatorsSetUp(Fluid);
+PetscErrorCode FluidOperatorsCheck(Fluid);
+PetscErrorCode FluidOperatorsDestroy(Fluid);
+/* the fluid's SNES evaluates through f->op (FluidSNESResidual, FluidSNESJacobian) instead of
+   DMPlex's own callbacks: on moving meshes and on libCEED's backend */
+PetscErrorCode FluidSNESUseOperator(Fluid);
 PetscErrorCode FluidSNESResidual(SNES, Vec x, Vec F, void *);
 PetscErrorCode FluidSNESJacobian(SNES, Vec x, Mat J, Mat P, void *);
-PetscErrorCode FluidBackendCheck(Fluid);
-/* fluid_matfree.c: the shell operator and its boundary matrix (SetUp after the backend's);
-   Update at each of the solver's Jacobians (with -fem_backend_check: compared with it) */
-PetscErrorCode FluidMatFreeSetUp(Fluid);
-PetscErrorCode FluidMatFreeUpdate(Fluid, Vec xlocal, PetscBool old_mass);
-PetscErrorCode FluidMatFreeDestroy(Fluid);
-PetscErrorCode FluidBackendDestroy(Fluid);
+
 /* fluid_ale.c */
-PetscErrorCode FluidPrescribedDisplacement(Fluid, FieldFn motion, PetscReal t, Vec displacement);
-PetscErrorCode FluidALESetUp(Fluid);
+PetscErrorCode FluidALECreate(Fluid, FluidALE *); /* with the scene's motion at the fluid's time */
+PetscErrorCode FluidALEDestroy(FluidALE *);
 PetscErrorCode FluidALEBeginStep(Fluid);
-/* the step's old-domain mass times the local state x: on dm_all's global rows (y = or y +=),
-   or on the free rows */
-PetscErrorCode FluidOldMassMultAll(Fluid, Vec xlocal, Vec yall, PetscBool add);
-PetscErrorCode FluidOldMassMult(Fluid, Vec xlocal, Vec out);
+PetscErrorCode FluidALEFollowScene(Fluid); /* the scene's closed-form motion at the fluid's time */
+PetscErrorCode FluidALECheckpoint(Fluid, Checkpoint, PetscBool load, PetscBool bdf2_state);
+/* the copy of the DM without constraints (the fields and volume terms on every row; during a
+   step on the old domain), and the step's history term on it */
+PetscErrorCode FluidALEGetAll(Fluid, DM *dm_all, Vec *history_all);
+/* out = the free rows of a global vector of that copy */
+PetscErrorCode FluidALEFreeRows(Fluid, Vec all, Vec out);
 /* the step in progress (counted in steps_at_dt) is BDF2: not the first at its dt */
 static inline PetscBool FluidStepIsBDF2(Fluid f)
 {
   return f->time_order == 2 && f->steps_at_dt > 1 ? PETSC_TRUE : PETSC_FALSE;
 }
-PetscErrorCode FluidALEDestroy(Fluid);
+
+/* fluid_forces.c: the faces of the scene's body (its force_faces) on this rank, sorted, each once */
+PetscErrorCode FluidBodyFaces(Fluid, IS *faces);
+PetscErrorCode FluidForcesCreate(Fluid, FluidForces *);
+PetscErrorCode FluidForcesDestroy(FluidForces *);
+
+/* fluid_dirichlet.c: created with the fluid, its solver by FluidSetUpDirichlet; Refactor:
+   the next solve factors anew (a change of dt); Reset: the solver goes, made anew at the
+   next sweep (a restart) */
+PetscErrorCode FluidDirichletCreate(FluidDirichlet *);
+PetscErrorCode FluidDirichletRefactor(FluidDirichlet);
+PetscErrorCode FluidDirichletReset(FluidDirichlet);
+PetscErrorCode FluidDirichletDestroy(FluidDirichlet *);
+
+/* fluid_matfree.c: the shell operator of the solver's SNES, preconditioned by the assembled
+   matrix the solver's operator set (after FluidOperatorsSetUp made it). The SNES's Jacobian
+   moves its state (FluidMatFreeUpdate; with -fem_backend_check compared with the assembled
+   one); with OperatorOnly set (FluidUpdateJacobian reusing the preconditioner) only that. */
+PetscErrorCode FluidMatFreeCreate(Fluid, FluidMatFree *);
+PetscBool      FluidMatFreeIsOperator(FluidMatFree, Mat J);
+PetscErrorCode FluidMatFreeSetOperatorOnly(FluidMatFree, PetscBool);
+PetscBool      FluidMatFreeOperatorOnly(FluidMatFree, Mat J);
+PetscErrorCode FluidMatFreeUpdate(Fluid, Vec xlocal, PetscBool old_mass);
+PetscErrorCode FluidMatFreeDestroy(FluidMatFree *);
+
 /* fluid_weak_form.c */
 PetscErrorCode FluidSetConstantsFull(Fluid, PetscReal mass, PetscReal op, PetscReal load, PetscReal convection,
                                      PetscReal projection);

@@ -1,11 +1,21 @@
 /* -fluid_matfree: the fluid's Jacobian as a matrix-free operator, for Krylov solvers
    (-fluid_ksp_type gmres, ...) preconditioned by the assembled matrix. The volume terms are
-   libCEED's operators applied at the state of the last Jacobian (ceed_fluid.c); the boundary
-   terms (backflow, the interface's convective term), which live on a few faces, are a
-   sparse matrix of their own, assembled with each Jacobian. Its transpose, for the adjoint
-   solves, changes only the velocity-velocity block. With the default direct solver
-   (preonly and LU) the operator is never applied and the run is unchanged. */
+   the solver's operator's product at the state of the last Jacobian (fluid_operator.h; the
+   libCEED backend has one, ceed_fluid_matfree.c); the boundary terms (backflow, the
+   interface's convective term), which live on a few faces, are a sparse matrix of their own,
+   assembled with each Jacobian. Its transpose, for the adjoint solves, changes only the
+   velocity-velocity block. With the default direct solver (preonly and LU) the operator is
+   never applied and the run is unchanged. */
 #include "fluid_impl.h"
+#include "fem_ceed.h"
+
+struct _n_FluidMatFree {
+  Mat       shell;             /* the SNES's operator */
+  Mat       assembled;         /* its preconditioning matrix, the operator's Jacobian */
+  Mat       boundary_jacobian; /* the boundary terms at the state */
+  PetscBool operator_only;     /* the next Jacobian moves the shell's state only */
+  PetscInt  checked_step;      /* -fem_backend_check */
+};
 
 static PetscErrorCode Apply(Mat A, Vec x, Vec y, PetscBool transpose)
 {
@@ -19,13 +29,13 @@ static PetscErrorCode Apply(Mat A, Vec x, Vec y, PetscBool transpose)
   /* the constrained entries, which the global vector does not hold, stay zero */
   PetscCall(VecZeroEntries(xlocal));
   PetscCall(DMGlobalToLocal(f->dm, x, INSERT_VALUES, xlocal));
-  PetscCall(FEMCeedFluidJacobianApply(f->ceed, transpose, xlocal, ylocal));
+  PetscCall(FluidOperatorProduct(f->op, transpose, xlocal, ylocal));
   PetscCall(VecZeroEntries(y));
   PetscCall(DMLocalToGlobal(f->dm, ylocal, ADD_VALUES, y));
   PetscCall(DMRestoreLocalVector(f->dm, &xlocal));
   PetscCall(DMRestoreLocalVector(f->dm, &ylocal));
-  if (transpose) PetscCall(MatMultTransposeAdd(f->boundary_jacobian, x, y, y));
-  else PetscCall(MatMultAdd(f->boundary_jacobian, x, y, y));
+  if (transpose) PetscCall(MatMultTransposeAdd(f->matfree->boundary_jacobian, x, y, y));
+  else PetscCall(MatMultAdd(f->matfree->boundary_jacobian, x, y, y));
   PetscFunctionReturn(0);
 }
 
@@ -43,40 +53,63 @@ static PetscErrorCode MultTranspose(Mat A, Vec x, Vec y)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FluidMatFreeSetUp(Fluid f)
+PetscErrorCode FluidMatFreeCreate(Fluid f, FluidMatFree *matfree)
 {
-  PetscInt m, n, M, N;
+  FluidMatFree mf;
+  PetscInt     m, n, M, N;
 
   PetscFunctionBeginUser;
-  if (!f->matfree) PetscFunctionReturn(0);
-  PetscCall(MatGetLocalSize(f->ceed_jacobian, &m, &n));
-  PetscCall(MatGetSize(f->ceed_jacobian, &M, &N));
-  PetscCall(MatCreateShell(f->comm, m, n, M, N, f, &f->matfree_jacobian));
-  PetscCall(MatShellSetOperation(f->matfree_jacobian, MATOP_MULT, (void (*)(void))Mult));
-  PetscCall(MatShellSetOperation(f->matfree_jacobian, MATOP_MULT_TRANSPOSE, (void (*)(void))MultTranspose));
-  PetscCall(PetscObjectSetName((PetscObject)f->matfree_jacobian, "fluid Jacobian (libCEED, matrix-free)"));
+  PetscCall(PetscNew(&mf));
+  *matfree = mf;
+  PetscCall(SNESGetJacobian(f->snes, NULL, &mf->assembled, NULL, NULL));
+  PetscCall(MatGetLocalSize(mf->assembled, &m, &n));
+  PetscCall(MatGetSize(mf->assembled, &M, &N));
+  PetscCall(MatCreateShell(f->comm, m, n, M, N, f, &mf->shell));
+  PetscCall(MatShellSetOperation(mf->shell, MATOP_MULT, (void (*)(void))Mult));
+  PetscCall(MatShellSetOperation(mf->shell, MATOP_MULT_TRANSPOSE, (void (*)(void))MultTranspose));
+  PetscCall(PetscObjectSetName((PetscObject)mf->shell, "fluid Jacobian (libCEED, matrix-free)"));
   /* the boundary terms' pattern is found at their first assembly and kept */
-  PetscCall(MatCreate(f->comm, &f->boundary_jacobian));
-  PetscCall(MatSetSizes(f->boundary_jacobian, m, n, M, N));
-  PetscCall(MatSetType(f->boundary_jacobian, MATAIJ));
-  PetscCall(MatSeqAIJSetPreallocation(f->boundary_jacobian, 0, NULL));
-  PetscCall(MatMPIAIJSetPreallocation(f->boundary_jacobian, 0, NULL, 0, NULL));
-  PetscCall(MatSetOption(f->boundary_jacobian, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
-  PetscCall(MatAssemblyBegin(f->boundary_jacobian, MAT_FINAL_ASSEMBLY));
-  PetscCall(MatAssemblyEnd(f->boundary_jacobian, MAT_FINAL_ASSEMBLY));
-  PetscCall(SNESSetJacobian(f->snes, f->matfree_jacobian, f->ceed_jacobian, FluidSNESJacobian, f));
+  PetscCall(MatCreate(f->comm, &mf->boundary_jacobian));
+  PetscCall(MatSetSizes(mf->boundary_jacobian, m, n, M, N));
+  PetscCall(MatSetType(mf->boundary_jacobian, MATAIJ));
+  PetscCall(MatSeqAIJSetPreallocation(mf->boundary_jacobian, 0, NULL));
+  PetscCall(MatMPIAIJSetPreallocation(mf->boundary_jacobian, 0, NULL, 0, NULL));
+  PetscCall(MatSetOption(mf->boundary_jacobian, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
+  PetscCall(MatAssemblyBegin(mf->boundary_jacobian, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(mf->boundary_jacobian, MAT_FINAL_ASSEMBLY));
+  PetscCall(SNESSetJacobian(f->snes, mf->shell, mf->assembled, FluidSNESJacobian, f));
   PetscFunctionReturn(0);
 }
 
-/* the operator's state: the libCEED linearization and the boundary terms' matrix */
-static PetscErrorCode SetState(Fluid f, Vec xlocal, PetscBool old_mass)
+PetscBool FluidMatFreeIsOperator(FluidMatFree mf, Mat J)
+{
+  return mf && J && J == mf->shell ? PETSC_TRUE : PETSC_FALSE;
+}
+
+PetscErrorCode FluidMatFreeSetOperatorOnly(FluidMatFree mf, PetscBool operator_only)
 {
   PetscFunctionBeginUser;
-  PetscCall(FEMCeedFluidJacobianApplySetUp(f->ceed, xlocal, f->moving ? f->z_local : NULL, old_mass));
-  PetscCall(MatZeroEntries(f->boundary_jacobian));
-  PetscCall(FEMBoundaryTerms(f->dm, f->time, xlocal, NULL, f->boundary_jacobian, &f->tractions));
-  PetscCall(MatAssemblyBegin(f->boundary_jacobian, MAT_FINAL_ASSEMBLY));
-  PetscCall(MatAssemblyEnd(f->boundary_jacobian, MAT_FINAL_ASSEMBLY));
+  if (mf) mf->operator_only = operator_only;
+  PetscFunctionReturn(0);
+}
+
+PetscBool FluidMatFreeOperatorOnly(FluidMatFree mf, Mat J)
+{
+  return FluidMatFreeIsOperator(mf, J) && mf->operator_only ? PETSC_TRUE : PETSC_FALSE;
+}
+
+/* the operator's state: the product's linearization and the boundary terms' matrix (a
+   Jacobian alone: no tractions, whose cache only a residual needs) */
+static PetscErrorCode SetState(Fluid f, Vec xlocal, PetscBool old_mass)
+{
+  FluidMatFree mf = f->matfree;
+
+  PetscFunctionBeginUser;
+  PetscCall(FluidOperatorProductSetUp(f->op, xlocal, old_mass));
+  PetscCall(MatZeroEntries(mf->boundary_jacobian));
+  PetscCall(FEMBoundaryTerms(f->dm, f->time, xlocal, NULL, mf->boundary_jacobian, NULL));
+  PetscCall(MatAssemblyBegin(mf->boundary_jacobian, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(mf->boundary_jacobian, MAT_FINAL_ASSEMBLY));
   PetscFunctionReturn(0);
 }
 
@@ -95,7 +128,7 @@ static PetscErrorCode Compare(Fluid f, Mat assembled, PetscReal difference[2])
   PetscCall(VecSetRandom(x, random));
   PetscCall(PetscRandomDestroy(&random));
   for (PetscInt t = 0; t < 2; ++t) {
-    PetscCall((t ? MatMultTranspose : MatMult)(f->matfree_jacobian, x, y));
+    PetscCall((t ? MatMultTranspose : MatMult)(f->matfree->shell, x, y));
     PetscCall((t ? MatMultTranspose : MatMult)(assembled, x, z));
     PetscCall(VecNorm(z, NORM_2, &norm));
     PetscCall(VecAXPY(y, -1.0, z));
@@ -119,19 +152,17 @@ static PetscErrorCode Check(Fluid f, Vec xlocal, PetscBool old_mass)
   Mat         A;
 
   PetscFunctionBeginUser;
-  if (f->operator_only) { /* the solver's matrix is the lagged preconditioner's: one at this state */
-    PetscCall(FEMCeedFluidCreateMatrix(f->ceed, &A));
-    PetscCall(FluidCeedAssemble(f, xlocal, old_mass, A));
+  if (f->matfree->operator_only) { /* the solver's matrix is the lagged preconditioner's: one at this state */
+    PetscCall(FluidOperatorJacobianMatrix(f->op, xlocal, old_mass, &A));
     PetscCall(Compare(f, A, at_state));
     PetscCall(MatDestroy(&A));
-  } else PetscCall(Compare(f, f->ceed_jacobian, at_state));
+  } else PetscCall(Compare(f, f->matfree->assembled, at_state));
   PetscCall(DMGetLocalVector(f->dm, &xrandom));
   PetscCall(PetscRandomCreate(PETSC_COMM_SELF, &random));
   PetscCall(PetscRandomSetInterval(random, -1.0, 1.0));
   PetscCall(VecSetRandom(xrandom, random));
   PetscCall(PetscRandomDestroy(&random));
-  PetscCall(FEMCeedFluidCreateMatrix(f->ceed, &A));
-  PetscCall(FluidCeedAssemble(f, xrandom, old_mass, A));
+  PetscCall(FluidOperatorJacobianMatrix(f->op, xrandom, old_mass, &A));
   PetscCall(SetState(f, xrandom, old_mass));
   PetscCall(Compare(f, A, at_random));
   PetscCall(SetState(f, xlocal, old_mass));
@@ -153,19 +184,23 @@ static PetscErrorCode Check(Fluid f, Vec xlocal, PetscBool old_mass)
 
 PetscErrorCode FluidMatFreeUpdate(Fluid f, Vec xlocal, PetscBool old_mass)
 {
+  FluidMatFree mf = f->matfree;
+
   PetscFunctionBeginUser;
   PetscCall(SetState(f, xlocal, old_mass));
-  if (f->check_backends && f->step <= FEM_BACKEND_CHECK_STEPS && f->step != f->matfree_checked_step) {
-    f->matfree_checked_step = f->step;
+  if (f->check && f->step <= FEM_BACKEND_CHECK_STEPS && f->step != mf->checked_step) {
+    mf->checked_step = f->step;
     PetscCall(Check(f, xlocal, old_mass));
   }
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FluidMatFreeDestroy(Fluid f)
+PetscErrorCode FluidMatFreeDestroy(FluidMatFree *matfree)
 {
   PetscFunctionBeginUser;
-  PetscCall(MatDestroy(&f->matfree_jacobian));
-  PetscCall(MatDestroy(&f->boundary_jacobian));
+  if (!*matfree) PetscFunctionReturn(0);
+  PetscCall(MatDestroy(&(*matfree)->shell));
+  PetscCall(MatDestroy(&(*matfree)->boundary_jacobian));
+  PetscCall(PetscFree(*matfree));
   PetscFunctionReturn(0);
 }

@@ -177,23 +177,6 @@ static PetscErrorCode StructureProjectExact(Structure s)
   PetscFunctionReturn(0);
 }
 
-/* The tangent factored after a solve is the first Newton Jacobian of the next solve, which
-   starts from that solution: assembled and factored once, not twice. */
-static PetscErrorCode TangentJacobian(DM dm, Vec xlocal, Mat J, Mat P, void *ctx)
-{
-  Structure s    = (Structure)ctx;
-  PetscBool same = PETSC_FALSE;
-
-  PetscFunctionBeginUser;
-  if (s->tangent_at) PetscCall(VecEqual(xlocal, s->tangent_at, &same));
-  if (same) PetscFunctionReturn(0);
-  PetscCall(DMPlexSNESComputeJacobianFEM(dm, xlocal, J, P, NULL));
-  ++s->counts.factorizations;
-  if (!s->tangent_at) PetscCall(VecDuplicate(xlocal, &s->tangent_at));
-  PetscCall(VecCopy(xlocal, s->tangent_at));
-  PetscFunctionReturn(0);
-}
-
 static PetscErrorCode RigidBodyModes(DM dm, PetscInt field_ignored, PetscInt field, MatNullSpace *modes)
 {
   PetscFunctionBeginUser;
@@ -252,7 +235,6 @@ PetscErrorCode StructureSetUp(Structure s, DM mesh, const PhysicsData *data, Pet
       PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
     }
     PetscCall(SNESSetFromOptions(s->snes));
-    PetscCall(DMSNESSetJacobianLocal(s->dm, TangentJacobian, s));
   }
   PetscCall(DMCreateGlobalVector(s->dm, &s->eta));
   PetscCall(PetscObjectSetName((PetscObject)s->eta, "displacement"));
@@ -278,7 +260,7 @@ PetscErrorCode StructureSetUp(Structure s, DM mesh, const PhysicsData *data, Pet
                "option -structure_initial_projection: the scene has no exact solution to project");
   if (data->exact_rate)
     PetscCall(DMProjectFunctionLocal(s->dm, t0, &s->data.exact_rate, &s->data.ctx, INSERT_ALL_VALUES, s->etadot_local));
-  PetscCall(StructureBackendSetUp(s)); /* after the projection, which PETSc's integration solves */
+  PetscCall(StructureOperatorsSetUp(s)); /* after the projection, which PETSc's integration solves */
   PetscCall(SetRigidBodyModes(s));
   PetscFunctionReturn(0);
 }
@@ -296,11 +278,11 @@ PetscErrorCode StructureBeginStep(Structure s)
   else {
     PetscCall(VecWAXPY(s->work_local, s->dt, s->etadot_local, s->eta_local));
     PetscCall(StructureSetConstants(s, mass, 0.0, 0.0, t_old));
-    PetscCall(StructureOperatorResidual(s, s->work_local, s->history));
+    PetscCall(StructureOperatorResidual(s->op, s->work_local, s->history));
   }
   if (s->time_order == 2) {
     PetscCall(StructureSetConstants(s, 0.0, 1.0, 1.0, t_old));
-    PetscCall(StructureOperatorResidual(s, s->eta_local, s->work));
+    PetscCall(StructureOperatorResidual(s->op, s->eta_local, s->work));
     PetscCall(VecAXPY(s->history, -1.0, s->work));
     PetscCall(VecAXPY(s->history, -1.0, s->load_old));
   }
@@ -319,7 +301,7 @@ PetscErrorCode StructureSolve(Structure s, Vec load, PetscInt step)
   if (load) PetscCall(VecCopy(load, s->load));
   else PetscCall(VecZeroEntries(s->load));
   PetscCall(VecWAXPY(s->rhs, -1.0, s->load, s->history));
-  PetscCall(StructureBackendCheck(s, step));
+  PetscCall(StructureOperatorsCheck(s, step));
   PetscCall(SNESSolve(s->snes, s->rhs, s->eta));
   PetscCall(SNESGetConvergedReason(s->snes, &reason));
   s->counts.nonlinear_solves += 1;
@@ -575,7 +557,7 @@ PetscErrorCode StructureDestroy(Structure *structure)
   PetscCall(VecDestroy(&s->tangent_at));
   PetscCall(VecDestroy(&s->eta_old_local));
   PetscCall(VecDestroy(&s->etadot_old_local));
-  PetscCall(StructureBackendDestroy(s));
+  PetscCall(StructureOperatorsDestroy(s));
   PetscCall(SNESDestroy(&s->snes));
   PetscCall(DMDestroy(&s->dm_free));
   PetscCall(DMDestroy(&s->dm));

@@ -2,7 +2,7 @@
 #define FSIOPT_STRUCTURE_IMPL_H
 #include "structure.h"
 #include "fem.h"
-#include "fem_ceed.h"
+#include "structure_operator.h"
 
 struct _p_Structure {
   MPI_Comm       comm;
@@ -25,20 +25,14 @@ struct _p_Structure {
   DirichletDatum datums[FSIOPT_MAX_BOUNDARIES];
   SolverCounts   counts;
   StepFailure    failure; /* of the step in progress */
-  /* the operators on the libCEED backend (structure_backend.c) */
-  PetscBool         backend_ceed;
-  FEMCeedElasticity ceed;
-  Mat               ceed_jacobian; /* of its COO pattern: the solver's matrix */
-  DM                dm_loads;      /* the scene's volume loads alone, NULL without */
-  FEMTractionCache  tractions;
-  PetscInt          backend_checked_step;
+  /* the operators (structure_operator.c): the solver's, and with -fem_backend_check the
+     other backend's beside it */
+  StructureOperator op, check;
 };
 
-/* structure_backend.c: R(eta) into the global F on the chosen backend (eta local, with its
-   boundary values); the solver's callbacks on libCEED's */
-PetscErrorCode StructureOperatorResidual(Structure, Vec xlocal, Vec F);
-PetscErrorCode StructureBackendSetUp(Structure);
-/* -fem_backend_check: both backends at the start of the first steps' solves */
-PetscErrorCode StructureBackendCheck(Structure, PetscInt step);
-PetscErrorCode StructureBackendDestroy(Structure);
+/* structure_operator.c: the solver's operator from -fem_backend (and the check's), after the
+   initial projection; -fem_backend_check at the start of the first steps' solves */
+PetscErrorCode StructureOperatorsSetUp(Structure);
+PetscErrorCode StructureOperatorsCheck(Structure, PetscInt step);
+PetscErrorCode StructureOperatorsDestroy(Structure);
 #endif
