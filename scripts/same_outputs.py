@@ -3,7 +3,7 @@
 one fsiopt binary and compares probes.csv, history.csv and summary.json byte for byte
 with another run of the same cases (a directory written earlier, or a second binary).
 summary.json is compared without the keys that measure the machine, not the computation
-(wall time, start time, host, version); keys the reference lacks are listed, not compared.
+(wall time, start time, host, version, memory), and with the run's directory written as DIR; keys the reference lacks are listed, not compared.
 
   scripts/same_outputs.py record DIR [--fsiopt BIN]      # the reference outputs
   scripts/same_outputs.py compare DIR [--fsiopt BIN] [--now DIR2]  # a run now against DIR
@@ -27,7 +27,7 @@ CASES = {
     "turek-hron-csm3": TUREK + ["-turek_case", "csm3", "-t_final", "0.5"],
 }
 FILES = ("probes.csv", "history.csv", "summary.json")
-MACHINE_KEYS = ("wall_time_s", "start_time", "host", "version")
+MACHINE_KEYS = ("wall_time_s", "start_time", "host", "version", "memory_gib")
 
 
 def run_cases(fsiopt, out_dir):
@@ -43,7 +43,11 @@ def run_cases(fsiopt, out_dir):
 
 
 def summary_without_machine(path):
-    s = json.load(open(path))
+    """summary.json without what measures the machine; the run's own directory, which the
+    options name (-output_dir, -checkpoint_file), written as DIR"""
+    text = open(path).read()
+    run_dir = json.loads(text).get("options_given", {}).get("-output_dir")
+    s = json.loads(text.replace(json.dumps(run_dir)[1:-1], "DIR") if run_dir else text)
     for k in MACHINE_KEYS:
         s.pop(k, None)
     return s

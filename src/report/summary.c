@@ -99,6 +99,9 @@ static PetscErrorCode WriteOptions(FILE *fp)
   fprintf(fp, "  \"options\": {");
   for (PetscInt i = 0; i < n; ++i) {
     const PetscInt g = FindGiven(given, names[i]);
+    size_t         len = strlen(names[i]), tail = strlen("mat_mumps_view_info");
+    /* PETSc 3.18's MUMPS interface lists this flag with an uninitialized integer as its default */
+    if (g < 0 && len >= tail && !strcmp(names[i] + len - tail, "mat_mumps_view_info")) continue;
     if (g >= 0) WritePair(fp, &first, given->name[g], given->name_len[g], given->value[g], given->value_len[g]);
     else WritePair(fp, &first, names[i], strlen(names[i]), values[i], strlen(values[i]));
   }
