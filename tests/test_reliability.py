@@ -380,7 +380,8 @@ def test_diverging_steps():
     return "%d cases" % len(cases)
 
 
-@test("a stopping signal when a step fails ends the run before the retries, at the step before, with its checkpoint")
+@test("a stopping signal when a step fails ends the run before the retries, at the step before, with its checkpoint, "
+      "which continues the run as one written after that step does")
 def test_signal_stops_retries():
     # channel2d with two Gauss-Newton iterations allowed: step 8 is the first that fails and would be retried
     base = CHANNEL + ["-t_final", "0.005", "-coupling_tol", "1e-6", "-dt", "5e-4", "-coupling_max_it", "2"]
@@ -407,10 +408,15 @@ def test_signal_stops_retries():
         for d in (stopped, after):
             more = solve(base + ["-restart", os.path.join(d, "checkpoint.h5")], nproc=nproc, out=d + "-restarted")
             assert more["first_step"] == 8 and more["steps_done"] == 10, "restart of %s: %s" % (d, more)
-            ends.append(open(os.path.join(d + "-restarted", "probes.csv")).read())
-        assert ends[0] == ends[1], "%d ranks: the two checkpoints continue differently" % nproc
+            ends.append(os.path.join(d + "-restarted", "probes.csv"))
+        if nproc == 1:
+            assert same_file(*ends), "1 rank: the two checkpoints continue differently"
+        else:  # to round-off: two ranks' MUMPS may add in another order from run to run
+            gap = fr.probes_difference(read_probes(ends[0])[1], read_probes(ends[1])[1])
+            assert gap <= 1e-12, "%d ranks: the two checkpoints continue differently (%.1e)" % (nproc, gap)
         details.append("%d rank%s: stopped at step 8's first failure, 1 failed attempt" % (nproc, "s" if nproc > 1 else ""))
-    return "%s; each checkpoint of step 7 continues the run byte for byte as one written after step 7" % ", ".join(details)
+    return "%s; each checkpoint of step 7 continues the run as one written after step 7 (1 rank byte for byte, 2 " \
+        "ranks to 1e-12)" % ", ".join(details)
 
 
 @test("diverging steps retried with dt/2: = the run at dt/2 (SVK), near the smallest dt's run (channel2d)")
