@@ -144,7 +144,7 @@ def test_partitioned_restart():
 
 
 @test("fluid | structure ranks write checkpoints and restart from them: 2 and 3 ranks (the fluid on 1 and 2, the "
-      "structure on 1 and 2) continue the run that wrote them to 1e-12, a SIGTERM's checkpoint too; a damaged part "
+      "structure on 1 and 2) continue the run that wrote them as closely as two such runs agree (1e-12 or 10 x), a SIGTERM's checkpoint too; a damaged part "
       "or another -structure_ranks is refused in one line")
 def test_split_restart():
     details = []
@@ -152,17 +152,20 @@ def test_split_restart():
         args = CHANNEL + ["-structure_ranks", str(structure), "-checkpoint_every", "10"]
         full, first, restarted = (os.path.join(WORK, "split-%s-%d-%d" % (n, nproc, structure)) for n in ("full", "first", "restarted"))
         solve(args + ["-t_final", "0.002"], nproc=nproc, out=full)
+        solve(args + ["-t_final", "0.002"], nproc=nproc, out=full + "-again")
         solve(args + ["-t_final", "0.001"], nproc=nproc, out=first)
         ck = os.path.join(first, "checkpoint.h5")
         assert checkpoint_step(ck) == 10, "checkpoint of step %d, not 10" % checkpoint_step(ck)
         s = solve(args + ["-t_final", "0.002", "-restart", ck], nproc=nproc, out=restarted)
         assert s["first_step"] == 11 and s["steps_done"] == 20, "restart at step %s, done %s" % (s["first_step"], s["steps_done"])
-        # to round-off: two fluid ranks may add in another order from run to run
-        gap = fr.probes_difference(read_probes(os.path.join(restarted, "probes.csv"))[1],
-                                   read_probes(os.path.join(full, "probes.csv"))[1])
-        assert gap <= 1e-12, "%d ranks, -structure_ranks %d: the restarted probes differ from the uninterrupted " \
-            "run's by %.1e" % (nproc, structure, gap)
-        details.append("%d:%d %.0e" % (nproc, structure, gap))
+        # to round-off: two fluid ranks may add in another order from run to run, so the bound is
+        # what two uninterrupted runs differ by (10 x, and at least 1e-12)
+        reference = read_probes(os.path.join(full, "probes.csv"))[1]
+        gap = fr.probes_difference(read_probes(os.path.join(restarted, "probes.csv"))[1], reference)
+        itself = fr.probes_difference(read_probes(os.path.join(full + "-again", "probes.csv"))[1], reference)
+        assert gap <= max(1e-12, 10 * itself), "%d ranks, -structure_ranks %d: the restarted probes differ from the " \
+            "uninterrupted run's by %.1e, two uninterrupted runs by %.1e" % (nproc, structure, gap, itself)
+        details.append("%d:%d %.0e (runs %.0e)" % (nproc, structure, gap, itself))
     rc, err, out = interrupted("SIGTERM", 10, 2, extra=["-structure_ranks", "1", "-t_final", "0.002"])
     ck = os.path.join(out, "checkpoint.h5")
     assert rc != 0 and os.path.exists(ck) and checkpoint_step(ck) == 10, \

@@ -133,6 +133,17 @@ PetscErrorCode ExplicitJacobianRequestRebuild(ExplicitJacobian E)
   PetscFunctionReturn(0);
 }
 
+/* As a run restarted here has it: no J0 until the next one is built (the start correction of a
+   step accepted at its start then has none, in both runs) */
+PetscErrorCode ExplicitJacobianForget(ExplicitJacobian E)
+{
+  PetscFunctionBeginUser;
+  E->rebuild  = PETSC_TRUE;
+  E->factored = PETSC_FALSE;
+  E->nsecants = 0;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode ExplicitJacobianSolve(ExplicitJacobian E, Vec b, Vec x, PetscBool *solved)
 {
   PetscFunctionBeginUser;

@@ -20,5 +20,6 @@ PetscErrorCode ExplicitJacobianSetSecants(ExplicitJacobian, PetscInt max_secants
 PetscErrorCode ExplicitJacobianSecantUpdate(ExplicitJacobian, Vec s, Vec y);
 PetscErrorCode ExplicitJacobianGetBuilds(ExplicitJacobian, PetscInt *builds);
 PetscErrorCode ExplicitJacobianRequestRebuild(ExplicitJacobian);
+PetscErrorCode ExplicitJacobianForget(ExplicitJacobian);
 PetscErrorCode ExplicitJacobianDestroy(ExplicitJacobian *);
 #endif

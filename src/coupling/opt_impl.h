@@ -5,6 +5,7 @@
    opt_newton_krylov.c (SNES: Newton on the square system F(x) = 0, a Krylov method on J
    itself). Both stop on the interface jump with the same test. */
 #include "coupling_impl.h"
+#include "checkpoint.h"
 #include "explicit_jacobian.h"
 #include "acceleration_iqn.h"
 #include <petsctao.h>
@@ -34,6 +35,8 @@ typedef struct {
   Mat        J;
   PetscReal  tikhonov, tol; /* -coupling_tikhonov, -coupling_tol */
   PetscReal  tol_relative;  /* -coupling_tol_relative */
+  PetscReal  velocity_scale; /* the largest ||v_s||_L2(Gamma_I) of the accepted states so far (checkpointed) */
+  PetscReal  last_velocity;  /* ||v_s|| of the last iterate tested */
   PetscInt   step, stall_its, inner_seen;
   PetscReal *objectives; /* this step's, by iteration */
   PetscBool  stalled, test_adjoint, test_taylor;
