@@ -151,7 +151,22 @@ def main(argv):
     status (1 on any failure). With --list: one line per selected test (its file, its
     function, quick or not, its title), nothing run."""
     t0, passed, failed = time.time(), 0, 0
+    if "--help" in argv or "-h" in argv:
+        print(sys.modules["__main__"].__doc__)
+        shutil.rmtree(WORK, ignore_errors=True)
+        return 0
+    unknown = [a for a in argv if a.startswith("-") and a not in ("--quick", "--list")]
+    if unknown:
+        print("run_tests.py: unknown option %s (expected --quick, --list, --help or words of test names)" % unknown[0],
+              file=sys.stderr)
+        shutil.rmtree(WORK, ignore_errors=True)
+        return 2
     chosen, quick = selected(argv)
+    if not chosen:
+        print("run_tests.py: no test's title or name contains %s" % " or ".join(repr(w) for w in argv if w[0] != "-"),
+              file=sys.stderr)
+        shutil.rmtree(WORK, ignore_errors=True)
+        return 2
     if "--list" in argv:
         for title, fn, q in chosen:
             print("%-20s %-52s %-5s %s" % (fn.__module__, fn.__name__, "quick" if q else "", title))
