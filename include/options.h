@@ -1,6 +1,7 @@
 #ifndef FSIOPT_OPTIONS_H
 #define FSIOPT_OPTIONS_H
 #include <petscsys.h>
+#include "units.h"
 
 /* Range-checked options: a bad value stops the run with one line naming the option. */
 PetscErrorCode OptionsPositiveReal(PetscOptionItems *, const char opt[], const char text[], PetscReal *value);
@@ -31,6 +32,14 @@ PetscBool OptionsHelpRequested(void);
 int            OptionsFileProblem(const char path[]);
 const char    *OptionsFileProblemText(int problem);
 PetscErrorCode OptionsCheckReadableFile(MPI_Comm, const char opt[], const char path[]);
+
+/* Declared by the code that reads an option, for -help's listing: the unit of its value
+   (shown in the scene's system of units) and the prefix of a group of options (a scene's
+   own: listed under it, after the modules' groups, in the order declared). */
+PetscErrorCode OptionsDeclareUnit(const char name[], UnitDimension);
+PetscBool      OptionsDeclaredUnit(const char name[], UnitDimension *);
+PetscErrorCode OptionsDeclareHelpGroup(const char prefix[]);
+const char    *OptionsDeclaredHelpGroup(int i); /* NULL past the last */
 
 /* Before PetscInitialize, which reads them: every options file of the run (petscrc files,
    PETSC_OPTIONS, -options_file, and the files they include) is a readable text file, valid

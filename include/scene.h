@@ -43,14 +43,4 @@ PetscErrorCode SceneSetDefaultMesh(const char option[], const char name[]);
 PetscErrorCode SceneMMSFluidBox(void);
 PetscErrorCode SceneMMSStructureBox(void);
 
-/* The scenes (src/scenes/), one file each. */
-PetscErrorCode SceneCreate_MMSFluid(Scene *);
-PetscErrorCode SceneCreate_MMSStructure(Scene *);
-PetscErrorCode SceneCreate_MMSStokes(Scene *);
-PetscErrorCode SceneCreate_MMSNS(Scene *);
-PetscErrorCode SceneCreate_GCL(Scene *);
-PetscErrorCode SceneCreate_Channel2D(Scene *);
-PetscErrorCode SceneCreate_Tube3D(Scene *);
-PetscErrorCode SceneCreate_Bend3D(Scene *);
-PetscErrorCode SceneCreate_TurekHron(Scene *);
 #endif

@@ -7,6 +7,17 @@
 
 PetscFunctionList CouplingList = NULL;
 
+/* The methods by name, each one file: a new method is its file and a line here. */
+#define COUPLING_METHODS(METHOD) \
+  METHOD("opt", CouplingCreate_Opt)         /* opt.c */ \
+  METHOD("dn", CouplingCreate_DN)           /* acceleration_constant.c */ \
+  METHOD("aitken", CouplingCreate_Aitken)   /* acceleration_aitken.c */ \
+  METHOD("iqnils", CouplingCreate_IQNILS)   /* acceleration_iqnils.c */ \
+  METHOD("iqnimvj", CouplingCreate_IQNIMVJ) /* acceleration_iqnimvj.c */
+#define DECLARE(name, create) PetscErrorCode create(Coupling);
+COUPLING_METHODS(DECLARE)
+#undef DECLARE
+
 PetscErrorCode CouplingRegister(const char name[], PetscErrorCode (*create)(Coupling))
 {
   PetscFunctionBeginUser;
@@ -18,11 +29,9 @@ PetscErrorCode CouplingRegisterAll(void)
 {
   PetscFunctionBeginUser;
   if (CouplingList) PetscFunctionReturn(0);
-  PetscCall(CouplingRegister("opt", CouplingCreate_Opt));
-  PetscCall(CouplingRegister("dn", CouplingCreate_DN));
-  PetscCall(CouplingRegister("aitken", CouplingCreate_Aitken));
-  PetscCall(CouplingRegister("iqnils", CouplingCreate_IQNILS));
-  PetscCall(CouplingRegister("iqnimvj", CouplingCreate_IQNIMVJ));
+#define REGISTER(name, create) PetscCall(CouplingRegister(name, create));
+  COUPLING_METHODS(REGISTER)
+#undef REGISTER
   PetscFunctionReturn(0);
 }
 

@@ -60,10 +60,4 @@ struct _p_Coupling {
   void *data;
 };
 
-/* The methods of the registry (CouplingRegisterAll) */
-PetscErrorCode CouplingCreate_Opt(Coupling);
-PetscErrorCode CouplingCreate_DN(Coupling);      /* acceleration_constant.c */
-PetscErrorCode CouplingCreate_Aitken(Coupling);  /* acceleration_aitken.c */
-PetscErrorCode CouplingCreate_IQNILS(Coupling);  /* acceleration_iqnils.c */
-PetscErrorCode CouplingCreate_IQNIMVJ(Coupling); /* acceleration_iqnimvj.c */
 #endif

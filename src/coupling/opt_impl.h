@@ -74,6 +74,8 @@ typedef struct {
 
 /* F(x), called in the optimizer's stage */
 PetscErrorCode OptResidual(Coupling, Vec x, Vec F);
+/* opt_options.c: the options and their measured defaults; whether the fluid's solves iterate */
+PetscErrorCode OptSetFromOptions(Coupling, PetscBool *fluid_krylov);
 /* The stopping test of an iteration (docs/design.md §3): writes its history row, counts its inner
    iterations (the solver's running total `inner_total`) and decides. */
 PetscErrorCode OptTestIteration(Coupling, PetscInt its, PetscReal objective, PetscInt inner_total, OptVerdict *);

@@ -89,28 +89,14 @@ static PetscErrorCode MatchInitialVelocity(CouplingProblem P)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure structure, Interface itf,
-                                     const PhysicsData *fluid_data, CouplingProblem *problem)
+/* The options of the coupled problem, checked against the fluid's solver; the structure's
+   velocity coefficient, agreed on by every rank */
+static PetscErrorCode CouplingProblemSetFromOptions(CouplingProblem P)
 {
-  CouplingProblem P;
-  PetscReal       wmin;
-  PetscBool       lag_set = PETSC_FALSE;
+  PetscBool lag_set = PETSC_FALSE;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscNew(&P));
-  P->comm                    = comm;
-  P->fluid                   = fluid;
-  P->structure               = structure;
-  P->itf                     = itf;
-  P->fluid_data              = *fluid_data;
-  P->variant                 = CONTROL_TRACTION;
-  P->measure                 = STRUCTURE_VELOCITY_SCHEME;
-  P->converged_jump          = -1;
-  P->jacobian_lag            = 1;
-  P->lag_preconditioner_only = PETSC_TRUE;
-  P->predict                 = PETSC_TRUE;
-  P->extrapolate_mesh        = PETSC_TRUE;
-  PetscOptionsBegin(comm, NULL, "Coupling problem options", "coupling");
+  PetscOptionsBegin(P->comm, NULL, "Coupling problem options", "coupling");
   PetscCall(PetscOptionsEnum("-coupling_control",
                              "What the control replaces: the fluid traction (Kuberry 2015 ch. 3, 6) or the traction minus the "
                              "convective boundary flux 1/2 rho ((u-z).n) u (Kuberry 2015 ch. 4, 5)",
@@ -145,26 +131,36 @@ PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure struc
   PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-coupling_tikhonov",
                                    "Tikhonov weight epsilon (delta) of eps/2 ||g||^2_{L2(Gamma_I)}", &P->tikhonov));
   PetscOptionsEnd();
-  if (fluid) {
+  if (P->fluid) {
     PetscBool krylov;
-    PetscCall(FluidSolverIsKrylov(fluid, &krylov));
+    PetscCall(FluidSolverIsKrylov(P->fluid, &krylov));
     P->fluid_krylov = krylov;
-    PetscCheck(krylov || !lag_set || !P->lag_preconditioner_only, comm, PETSC_ERR_ARG_INCOMP,
+    PetscCheck(krylov || !lag_set || !P->lag_preconditioner_only, P->comm, PETSC_ERR_ARG_INCOMP,
                "option -coupling_lag_preconditioner_only: expected a Krylov fluid solver (-fluid_ksp_type other than "
                "preonly); a factorization is its own preconditioner");
     P->lag_preconditioner_only = (PetscBool)(P->lag_preconditioner_only && krylov);
   }
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &P->fluid_krylov, 1, MPIU_BOOL, MPI_LOR, comm));
-  if (structure) P->velocity_coefficient = StructureVelocityCoefficient(structure, P->measure);
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &P->velocity_coefficient, 1, MPIU_REAL, MPI_MAX, comm));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &P->fluid_krylov, 1, MPIU_BOOL, MPI_LOR, P->comm));
+  if (P->structure) P->velocity_coefficient = StructureVelocityCoefficient(P->structure, P->measure);
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &P->velocity_coefficient, 1, MPIU_REAL, MPI_MAX, P->comm));
 
-  PetscCall(InterfaceGetMass(itf, &P->mass));
-  PetscCall(InterfaceCreateControlVector(itf, &P->weight_sqrt));
+  PetscFunctionReturn(0);
+}
+
+/* The control's weight (square roots of the lumped interface mass), the work vectors on the
+   interface and on each subproblem this rank holds, and the fluid mesh's motion */
+static PetscErrorCode CouplingProblemCreateVectors(CouplingProblem P)
+{
+  PetscReal wmin;
+
+  PetscFunctionBeginUser;
+  PetscCall(InterfaceGetMass(P->itf, &P->mass));
+  PetscCall(InterfaceCreateControlVector(P->itf, &P->weight_sqrt));
   {
     Vec lumped;
-    PetscCall(InterfaceGetLumpedControlMass(itf, &lumped));
+    PetscCall(InterfaceGetLumpedControlMass(P->itf, &lumped));
     PetscCall(VecMin(lumped, NULL, &wmin));
-    PetscCheck(wmin > 0, comm, PETSC_ERR_SUP,
+    PetscCheck(wmin > 0, P->comm, PETSC_ERR_SUP,
                "interface: the lumped interface mass has a non-positive entry (%g); its weight needs positive ones",
                (double)wmin);
     PetscCall(VecCopy(lumped, P->weight_sqrt));
@@ -176,40 +172,64 @@ PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure struc
   PetscCall(VecDuplicate(P->weight_sqrt, &P->state_F));
   PetscCall(VecDuplicate(P->weight_sqrt, &P->jacobian_x));
   PetscCall(VecDuplicate(P->weight_sqrt, &P->control_change));
-  PetscCall(InterfaceCreateVector(itf, &P->all_a));
+  PetscCall(InterfaceCreateVector(P->itf, &P->all_a));
   PetscCall(VecDuplicate(P->all_a, &P->all_b));
   PetscCall(VecDuplicate(P->all_a, &P->all_q));
   PetscCall(VecDuplicate(P->all_a, &P->datum_load));
   PetscCall(VecDuplicate(P->all_a, &P->all_velocity));
   PetscCall(VecDuplicate(P->all_a, &P->all_mass_velocity));
-  if (fluid) {
+  if (P->fluid) {
     DM dm;
-    PetscCall(FluidGetDM(fluid, &dm));
+    PetscCall(FluidGetDM(P->fluid, &dm));
     PetscCall(DMCreateGlobalVector(dm, &P->fluid_vec));
     PetscCall(VecDuplicate(P->fluid_vec, &P->fluid_sol));
     PetscCall(DMCreateLocalVector(dm, &P->fluid_local));
   }
-  if (structure) {
+  if (P->structure) {
     DM dm;
-    PetscCall(StructureGetDM(structure, &dm));
+    PetscCall(StructureGetDM(P->structure, &dm));
     PetscCall(DMCreateGlobalVector(dm, &P->structure_vec));
     PetscCall(VecDuplicate(P->structure_vec, &P->structure_sol));
     PetscCall(DMCreateLocalVector(dm, &P->structure_local));
   }
-  P->moving = fluid_data->n_fixed_mesh_faces ? PETSC_TRUE : PETSC_FALSE;
+  P->moving = P->fluid_data.n_fixed_mesh_faces ? PETSC_TRUE : PETSC_FALSE;
   if (P->moving) {
-    if (fluid) {
+    if (P->fluid) {
       DM  dm;
       Vec d;
-      PetscCall(FluidGetDM(fluid, &dm));
-      PetscCall(MeshMotionCreate(dm, fluid_data->interface_face, fluid_data->n_fixed_mesh_faces,
-                                 fluid_data->fixed_mesh_faces, &P->motion));
-      PetscCall(FluidGetMeshDisplacement(fluid, &d));
+      PetscCall(FluidGetDM(P->fluid, &dm));
+      PetscCall(MeshMotionCreate(dm, P->fluid_data.interface_face, P->fluid_data.n_fixed_mesh_faces,
+                                 P->fluid_data.fixed_mesh_faces, &P->motion));
+      PetscCall(FluidGetMeshDisplacement(P->fluid, &d));
       PetscCall(VecDuplicate(d, &P->mesh_displacement));
       PetscCall(VecDuplicate(d, &P->mesh_displacement_before));
       PetscCall(VecCopy(d, P->mesh_displacement_before));
     }
   }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode CouplingProblemCreate(MPI_Comm comm, Fluid fluid, Structure structure, Interface itf,
+                                     const PhysicsData *fluid_data, CouplingProblem *problem)
+{
+  CouplingProblem P;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&P));
+  P->comm                    = comm;
+  P->fluid                   = fluid;
+  P->structure               = structure;
+  P->itf                     = itf;
+  P->fluid_data              = *fluid_data;
+  P->variant                 = CONTROL_TRACTION;
+  P->measure                 = STRUCTURE_VELOCITY_SCHEME;
+  P->converged_jump          = -1;
+  P->jacobian_lag            = 1;
+  P->lag_preconditioner_only = PETSC_TRUE;
+  P->predict                 = PETSC_TRUE;
+  P->extrapolate_mesh        = PETSC_TRUE;
+  PetscCall(CouplingProblemSetFromOptions(P));
+  PetscCall(CouplingProblemCreateVectors(P));
   PetscCall(MatchInitialVelocity(P));
   *problem = P;
   PetscFunctionReturn(0);

@@ -33,6 +33,8 @@ PetscErrorCode FluidCreate(MPI_Comm comm, Fluid *fluid)
 PetscErrorCode FluidSetFromOptions(Fluid f)
 {
   PetscFunctionBeginUser;
+  PetscCall(OptionsDeclareUnit("-fluid_density", UNIT_DENSITY));
+  PetscCall(OptionsDeclareUnit("-fluid_viscosity", UNIT_VISCOSITY));
   PetscOptionsBegin(f->comm, NULL, "Fluid options", "fluid");
   PetscCall(PetscOptionsEnum("-fluid_model", "Fluid equations", NULL, FluidModels, (PetscEnum)f->model,
                              (PetscEnum *)&f->model, NULL));

@@ -57,35 +57,20 @@ static int Seek(FILE *fp, const char header[])
   return 0;
 }
 
-/* The checks; returns 0 and leaves why empty when the file is fine or not ours to check. */
-static int Check(const char path[], int dim, char why[], size_t len)
+/* The $Nodes section into *nodes (sorted by tag, tags positive and unique); 1 and why set on a fault. */
+static int ReadNodes(FILE *fp, double version, Node **nodes_out, long *nnodes_out, char why[], size_t len)
 {
-  FILE  *fp = fopen(path, "r");
-  double version;
-  int    binary = 0, datasize, result = 1, top = 0;
-  long   nnodes = 0, read = 0;
-  Node  *nodes = NULL;
+  long  nnodes = 0, read = 0;
+  Node *nodes  = NULL;
 
-  why[0] = 0;
-  if (!fp) return 0; /* OptionsCheckReadableFile reports it */
-  /* PETSc's reader crashes on a file that is not gmsh's at all */
-  if (!Seek(fp, "$MeshFormat") || fscanf(fp, "%lf %d %d", &version, &binary, &datasize) != 3) {
-    snprintf(why, len, "not a gmsh mesh (no readable $MeshFormat section)");
-    goto done;
-  }
-  if (binary || (version != 2.2 && version != 4.1)) {
-    fclose(fp);
-    return 0;
-  }
-  /* nodes */
   if (!Seek(fp, "$Nodes")) {
     snprintf(why, len, "it has no $Nodes section");
-    goto done;
+    return 1;
   }
   if (version == 2.2) {
     if (fscanf(fp, "%ld", &nnodes) != 1 || nnodes <= 0) {
       snprintf(why, len, "its $Nodes section does not start with a positive node count");
-      goto done;
+      return 1;
     }
     nodes = calloc((size_t)nnodes, sizeof(Node));
     for (; read < nnodes; ++read)
@@ -95,7 +80,7 @@ static int Check(const char path[], int dim, char why[], size_t len)
     long blocks, minTag, maxTag;
     if (fscanf(fp, "%ld %ld %ld %ld", &blocks, &nnodes, &minTag, &maxTag) != 4 || nnodes <= 0) {
       snprintf(why, len, "its $Nodes section does not start with its block and node counts");
-      goto done;
+      return 1;
     }
     nodes = calloc((size_t)nnodes, sizeof(Node));
     for (long b = 0; b < blocks && read <= nnodes; ++b) {
@@ -118,129 +103,170 @@ static int Check(const char path[], int dim, char why[], size_t len)
       read += inblock;
     }
   }
+  *nodes_out  = nodes;
+  *nnodes_out = nnodes;
   if (read != nnodes) {
     snprintf(why, len, "its $Nodes section declares %ld nodes but %s", nnodes,
              read < 0 ? "a node block is malformed" : "has fewer (the file is truncated or a count is wrong)");
-    goto done;
+    return 1;
   }
   qsort(nodes, (size_t)nnodes, sizeof(Node), CompareTags);
   for (long i = 0; i < nnodes; ++i) {
     if (nodes[i].tag <= 0) {
       snprintf(why, len, "it has node %ld (node tags start at 1)", nodes[i].tag);
-      goto done;
+      return 1;
     }
     if (i && nodes[i].tag == nodes[i - 1].tag) {
       snprintf(why, len, "node %ld is listed twice in $Nodes", nodes[i].tag);
-      goto done;
+      return 1;
     }
   }
-  /* elements */
+  return 0;
+}
+
+/* One element's type and nodes (fp after its tag): a type fsiopt meshes with, of at most the
+   scene's dimension, distinct nodes that $Nodes has; marks the nodes of cells. */
+static int CheckElement(FILE *fp, double version, long tag, int type, int dim, Node *nodes, long nnodes, int *top,
+                        char why[], size_t len)
+{
+  int  edim = 0, count;
+  long node, element_nodes[27];
+
+  if (version == 2.2) {
+    int ntags, t;
+    if (fscanf(fp, "%d %d", &type, &ntags) != 2 || ntags < 0) {
+      snprintf(why, len, "element %ld is malformed", tag);
+      return 1;
+    }
+    for (int k = 0; k < ntags; ++k)
+      if (fscanf(fp, "%d", &t) != 1) {
+        snprintf(why, len, "element %ld is malformed", tag);
+        return 1;
+      }
+  }
+  count = ElementType(type, &edim);
+  if (!count) {
+    snprintf(why, len,
+             "element %ld has gmsh type %d, which fsiopt does not mesh with (lines, triangles, "
+             "quadrilaterals, tetrahedra, hexahedra and points, linear or quadratic)",
+             tag, type);
+    return 1;
+  }
+  if (edim > dim && dim > 0) {
+    snprintf(why, len, "element %ld is %dD (gmsh type %d) in a mesh for a %dD scene", tag, edim, type, dim);
+    return 1;
+  }
+  if (edim > *top) *top = edim;
+  for (int k = 0; k < count; ++k) {
+    Node *n;
+    if (fscanf(fp, "%ld", &node) != 1) {
+      snprintf(why, len, "element %ld has fewer nodes than its type %d needs", tag, type);
+      return 1;
+    }
+    element_nodes[k] = node;
+    for (int j = 0; j < k; ++j)
+      if (element_nodes[j] == node) {
+        snprintf(why, len, "element %ld names node %ld twice (a collapsed cell)", tag, node);
+        return 1;
+      }
+    n = FindNode(nodes, nnodes, node);
+    if (!n) {
+      snprintf(why, len, "element %ld refers to node %ld, which $Nodes does not have", tag, node);
+      return 1;
+    }
+    if (edim == (dim > 0 ? dim : edim)) n->used = 1;
+  }
+  return 0;
+}
+
+/* The $Elements section: its counts, each element, and cells of the scene's dimension. */
+static int CheckElements(FILE *fp, double version, int dim, Node *nodes, long nnodes, char why[], size_t len)
+{
+  long nelem = 0, seen = 0, blocks = 1, minTag, maxTag;
+  int  top = 0;
+
   if (!Seek(fp, "$Elements")) {
     snprintf(why, len, "it has no $Elements section");
-    goto done;
+    return 1;
   }
-  {
-    long nelem = 0, seen = 0, blocks = 1, minTag, maxTag;
-    if (version == 2.2 ? fscanf(fp, "%ld", &nelem) != 1
-                       : fscanf(fp, "%ld %ld %ld %ld", &blocks, &nelem, &minTag, &maxTag) != 4) {
-      snprintf(why, len, "its $Elements section does not start with its counts");
-      goto done;
-    }
-    for (long b = 0; b < blocks; ++b) {
-      int  type = 0, edim = 0, count;
-      long inblock = nelem;
-      if (version == 4.1) {
-        int entity_dim, entity_tag;
-        if (fscanf(fp, "%d %d %d %ld", &entity_dim, &entity_tag, &type, &inblock) != 4) {
-          snprintf(why, len, "an element block of $Elements is malformed");
-          goto done;
-        }
-      }
-      for (long e = 0; e < inblock; ++e, ++seen) {
-        long tag, node;
-        if (fscanf(fp, "%ld", &tag) != 1) {
-          snprintf(why, len,
-                   "its $Elements section declares %ld elements but has fewer (the file is truncated or a "
-                   "count is wrong)",
-                   nelem);
-          goto done;
-        }
-        if (version == 2.2) {
-          int ntags, t;
-          if (fscanf(fp, "%d %d", &type, &ntags) != 2 || ntags < 0) {
-            snprintf(why, len, "element %ld is malformed", tag);
-            goto done;
-          }
-          for (int k = 0; k < ntags; ++k)
-            if (fscanf(fp, "%d", &t) != 1) {
-              snprintf(why, len, "element %ld is malformed", tag);
-              goto done;
-            }
-        }
-        count = ElementType(type, &edim);
-        if (!count) {
-          snprintf(why, len,
-                   "element %ld has gmsh type %d, which fsiopt does not mesh with (lines, triangles, "
-                   "quadrilaterals, tetrahedra, hexahedra and points, linear or quadratic)",
-                   tag, type);
-          goto done;
-        }
-        if (edim > dim && dim > 0) {
-          snprintf(why, len, "element %ld is %dD (gmsh type %d) in a mesh for a %dD scene", tag, edim, type, dim);
-          goto done;
-        }
-        if (edim > top) top = edim;
-        long element_nodes[27];
-        for (int k = 0; k < count; ++k) {
-          Node *n;
-          if (fscanf(fp, "%ld", &node) != 1) {
-            snprintf(why, len, "element %ld has fewer nodes than its type %d needs", tag, type);
-            goto done;
-          }
-          element_nodes[k] = node;
-          for (int j = 0; j < k; ++j)
-            if (element_nodes[j] == node) {
-              snprintf(why, len, "element %ld names node %ld twice (a collapsed cell)", tag, node);
-              goto done;
-            }
-          n = FindNode(nodes, nnodes, node);
-          if (!n) {
-            snprintf(why, len, "element %ld refers to node %ld, which $Nodes does not have", tag, node);
-            goto done;
-          }
-          if (edim == (dim > 0 ? dim : edim)) n->used = 1;
-        }
+  if (version == 2.2 ? fscanf(fp, "%ld", &nelem) != 1
+                     : fscanf(fp, "%ld %ld %ld %ld", &blocks, &nelem, &minTag, &maxTag) != 4) {
+    snprintf(why, len, "its $Elements section does not start with its counts");
+    return 1;
+  }
+  for (long b = 0; b < blocks; ++b) {
+    int  type    = 0;
+    long inblock = nelem;
+    if (version == 4.1) {
+      int entity_dim, entity_tag;
+      if (fscanf(fp, "%d %d %d %ld", &entity_dim, &entity_tag, &type, &inblock) != 4) {
+        snprintf(why, len, "an element block of $Elements is malformed");
+        return 1;
       }
     }
-    if (seen != nelem) {
-      snprintf(why, len, "its $Elements section declares %ld elements but its blocks hold %ld", nelem, seen);
-      goto done;
+    for (long e = 0; e < inblock; ++e, ++seen) {
+      long tag;
+      if (fscanf(fp, "%ld", &tag) != 1) {
+        snprintf(why, len,
+                 "its $Elements section declares %ld elements but has fewer (the file is truncated or a "
+                 "count is wrong)",
+                 nelem);
+        return 1;
+      }
+      if (CheckElement(fp, version, tag, type, dim, nodes, nnodes, &top, why, len)) return 1;
     }
+  }
+  if (seen != nelem) {
+    snprintf(why, len, "its $Elements section declares %ld elements but its blocks hold %ld", nelem, seen);
+    return 1;
   }
   if (dim > 0 && top < dim) {
     snprintf(why, len, "it has no %dD cells (its highest elements are %dD)", dim, top);
-    goto done;
+    return 1;
   }
-  {
-    /* a crack: two nodes of the cells at one point */
-    Node **used = malloc((size_t)nnodes * sizeof(Node *));
-    long   n    = 0;
-    for (long i = 0; i < nnodes; ++i)
-      if (nodes[i].used) used[n++] = &nodes[i];
-    qsort(used, (size_t)n, sizeof(Node *), ComparePoints);
-    for (long i = 1; i < n; ++i)
-      if (!ComparePoints(&used[i], &used[i - 1])) {
-        snprintf(why, len,
-                 "nodes %ld and %ld are at the same point (%g, %g, %g): a crack or a duplicated node (merge "
-                 "them, e.g. gmsh's Coherence)",
-                 used[i - 1]->tag, used[i]->tag, used[i]->x[0], used[i]->x[1], used[i]->x[2]);
-        free(used);
-        goto done;
-      }
-    free(used);
-  }
-  result = 0;
-done:
+  return 0;
+}
+
+/* A crack: two nodes of the cells at one point. */
+static int CheckCracks(Node *nodes, long nnodes, char why[], size_t len)
+{
+  Node **used = malloc((size_t)nnodes * sizeof(Node *));
+  long   n = 0;
+  int    result = 0;
+
+  for (long i = 0; i < nnodes; ++i)
+    if (nodes[i].used) used[n++] = &nodes[i];
+  qsort(used, (size_t)n, sizeof(Node *), ComparePoints);
+  for (long i = 1; i < n && !result; ++i)
+    if (!ComparePoints(&used[i], &used[i - 1])) {
+      snprintf(why, len,
+               "nodes %ld and %ld are at the same point (%g, %g, %g): a crack or a duplicated node (merge "
+               "them, e.g. gmsh's Coherence)",
+               used[i - 1]->tag, used[i]->tag, used[i]->x[0], used[i]->x[1], used[i]->x[2]);
+      result = 1;
+    }
+  free(used);
+  return result;
+}
+
+/* The checks; returns 0 and leaves why empty when the file is fine or not ours to check. */
+static int Check(const char path[], int dim, char why[], size_t len)
+{
+  FILE  *fp = fopen(path, "r");
+  double version;
+  int    binary = 0, datasize, result = 1;
+  long   nnodes = 0;
+  Node  *nodes  = NULL;
+
+  why[0] = 0;
+  if (!fp) return 0; /* OptionsCheckReadableFile reports it */
+  /* PETSc's reader crashes on a file that is not gmsh's at all */
+  if (!Seek(fp, "$MeshFormat") || fscanf(fp, "%lf %d %d", &version, &binary, &datasize) != 3)
+    snprintf(why, len, "not a gmsh mesh (no readable $MeshFormat section)");
+  else if (binary || (version != 2.2 && version != 4.1)) result = 0;
+  else
+    result = ReadNodes(fp, version, &nodes, &nnodes, why, len) || CheckElements(fp, version, dim, nodes, nnodes, why, len) ||
+             CheckCracks(nodes, nnodes, why, len);
   free(nodes);
   fclose(fp);
   return result;

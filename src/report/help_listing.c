@@ -11,30 +11,6 @@
 
 extern const char *const fsiopt_known_options[];
 
-static const struct {
-  const char   *name;
-  UnitDimension dimension;
-} dimensional[] = {
-  {"-fluid_density",            UNIT_DENSITY     },
-  {"-structure_density",        UNIT_DENSITY     },
-  {"-fluid_viscosity",          UNIT_VISCOSITY   },
-  {"-structure_youngs_modulus", UNIT_PRESSURE    },
-  {"-channel_inlet_amplitude",  UNIT_PRESSURE    },
-  {"-tube_inlet_pressure",      UNIT_PRESSURE    },
-  {"-dt",                       UNIT_TIME        },
-  {"-dt_min",                   UNIT_TIME        },
-  {"-t_start",                  UNIT_TIME        },
-  {"-t_final",                  UNIT_TIME        },
-  {"-quantities_window",        UNIT_TIME        },
-  {"-channel_inlet_duration",   UNIT_TIME        },
-  {"-tube_inlet_duration",      UNIT_TIME        },
-  {"-turek_ramp_time",          UNIT_TIME        },
-  {"-turek_gravity_ramp",       UNIT_TIME        },
-  {"-turek_mean_velocity",      UNIT_VELOCITY    },
-  {"-turek_gravity",            UNIT_ACCELERATION},
-  {"-coupling_tol",             UNIT_JUMP        },
-};
-
 #define MAX_HELD 512
 static PetscErrorCode (*petsc_help_printf)(MPI_Comm, const char[], ...) = NULL;
 static char    *held[MAX_HELD], pending_header[256], partial[4096];
@@ -232,11 +208,22 @@ PetscErrorCode HelpListingBegin(void)
   PetscFunctionReturn(0);
 }
 
-/* the prefixes of the groups, in the order printed; an option under none is the run's; the
-   checks of internals (TESTING) last */
+/* the modules' prefixes, in the order printed; an option under none is the run's; the scenes'
+   prefixes (OptionsDeclareHelpGroup) follow, the checks of internals (TESTING) last */
 #define TESTING "checks"
-static const char *const groups[] = {"",     "fluid_",      "structure_", "coupling_", "tao_", "mesh_",
-                                     "checkpoint_", "channel_", "tube_", "turek_", "mms_", TESTING, NULL};
+static const char *const module_groups[] = {"", "fluid_", "structure_", "coupling_", "tao_", "mesh_", "checkpoint_"};
+#define N_MODULE_GROUPS ((int)(sizeof(module_groups) / sizeof(module_groups[0])))
+
+/* the i-th group in the order printed; NULL past the last */
+static const char *Group(int i)
+{
+  int declared = 0;
+
+  if (i < N_MODULE_GROUPS) return module_groups[i];
+  while (OptionsDeclaredHelpGroup(declared)) ++declared;
+  if (i < N_MODULE_GROUPS + declared) return OptionsDeclaredHelpGroup(i - N_MODULE_GROUPS);
+  return i == N_MODULE_GROUPS + declared ? TESTING : NULL;
+}
 
 /* a check of the code's internals or a fault injection: derivative tests, backend and rank
    comparisons, signals sent by the run to itself */
@@ -258,8 +245,8 @@ static PetscBool InGroup(const char line[], const char group[])
   if (!strcmp(group, TESTING)) return IsCheck(line);
   if (IsCheck(line)) return PETSC_FALSE;
   if (group[0]) return !strncmp(line + 3, group, strlen(group)) ? PETSC_TRUE : PETSC_FALSE;
-  for (const char *const *g = groups + 1; *g; ++g)
-    if (!strncmp(line + 3, *g, strlen(*g))) return PETSC_FALSE;
+  for (int i = 1; Group(i); ++i)
+    if (strcmp(Group(i), TESTING) && !strncmp(line + 3, Group(i), strlen(Group(i)))) return PETSC_FALSE;
   return PETSC_TRUE;
 }
 
@@ -287,18 +274,22 @@ PetscErrorCode HelpListingEnd(const char units[])
   if (n_held)
     PetscCall(PetscHelpPrintf(help_comm, "fsiopt's options, by prefix, -name <value>: what it is [unit] (values in %s%s):\n",
                               units, strcmp(units, "nondimensional") ? " units" : " form"));
-  for (const char *const *g = groups; *g; ++g) {
-    PetscBool any = PETSC_FALSE;
+  for (int i = 0; Group(i); ++i) {
+    const char *g   = Group(i);
+    PetscBool   any = PETSC_FALSE;
     for (int j = 0; j < n_held; ++j) {
-      char       *line = held[j], *tail;
-      const char *unit = NULL;
-      if (!InGroup(line, *g)) continue;
-      if (!any) PetscCall(PetscHelpPrintf(help_comm, " %s\n", GroupTitle(*g)));
+      char          *line = held[j], *tail, name[128];
+      const char    *unit = NULL;
+      UnitDimension  dimension;
+      size_t         n = strcspn(line + 2, " :\n");
+      if (!InGroup(line, g)) continue;
+      if (!any) PetscCall(PetscHelpPrintf(help_comm, " %s\n", GroupTitle(g)));
       any = PETSC_TRUE;
-      for (size_t k = 0; k < sizeof(dimensional) / sizeof(dimensional[0]); ++k)
-        if (!strncmp(line + 2, dimensional[k].name, strlen(dimensional[k].name)) &&
-            line[2 + strlen(dimensional[k].name)] == ' ')
-          unit = UnitName(units, dimensional[k].dimension);
+      if (n < sizeof(name)) {
+        memcpy(name, line + 2, n);
+        name[n] = 0;
+        if (OptionsDeclaredUnit(name, &dimension)) unit = UnitName(units, dimension);
+      }
       if ((tail = strstr(line, " (None)\n"))) *tail = 0; /* PETSc names a manual page here; ours have none */
       else if ((tail = strrchr(line, '\n'))) *tail = 0;
       if (unit && strlen(line) > strlen(unit) && !strcmp(line + strlen(line) - strlen(unit), unit))

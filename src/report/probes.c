@@ -62,6 +62,7 @@ PetscErrorCode ProbesCreate(MPI_Comm comm, PetscInt dim, PetscInt nodes, const P
   PetscCheck(P->ncolumns <= FSIOPT_MAX_QUANTITIES, comm, PETSC_ERR_ARG_OUTOFRANGE,
              "at most %d probe columns, asked for %" PetscInt_FMT, FSIOPT_MAX_QUANTITIES, P->ncolumns);
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  PetscCall(OptionsDeclareUnit("-quantities_window", UNIT_TIME));
   PetscOptionsBegin(comm, NULL, "Probes and the quantities of summary.json", "probes");
   PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-quantities_window",
                                    "report mean, amplitude and frequency of every probe column over the run's last T "

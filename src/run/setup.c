@@ -24,6 +24,9 @@ static PetscErrorCode RunParamsSetFromOptions(RunParams *p)
   p->t_start = 0.0;
   p->t_final = 0.1;
   PetscCall(PetscStrncpy(p->coupling, "opt", sizeof(p->coupling)));
+  PetscCall(OptionsDeclareUnit("-dt", UNIT_TIME));
+  PetscCall(OptionsDeclareUnit("-t_start", UNIT_TIME));
+  PetscCall(OptionsDeclareUnit("-t_final", UNIT_TIME));
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "fsiopt run options", "fsiopt");
   PetscCall(PetscOptionsString("-scene", scenes, NULL, p->scene, p->scene, sizeof(p->scene), NULL));
   PetscCall(PetscOptionsString("-coupling", help, NULL, p->coupling, p->coupling, sizeof(p->coupling), NULL));

@@ -30,6 +30,7 @@ PetscErrorCode StepRetryCreate(const RunParams *params, Fluid fluid, Structure s
   R->fluid     = fluid;
   R->structure = structure;
   R->dt_min    = params->dt / 16;
+  PetscCall(OptionsDeclareUnit("-dt_min", UNIT_TIME));
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Diverging steps", "fsiopt");
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-dt_min",
                                 "a failing step is retried as two steps of half its dt, down to this dt (default "

@@ -43,6 +43,9 @@ PetscErrorCode SceneCreate_Channel2D(Scene *scene)
   PetscFunctionBeginUser;
   scene->dim   = 2;
   scene->units = "cgs";
+  PetscCall(OptionsDeclareHelpGroup("channel_"));
+  PetscCall(OptionsDeclareUnit("-channel_inlet_amplitude", UNIT_PRESSURE));
+  PetscCall(OptionsDeclareUnit("-channel_inlet_duration", UNIT_TIME));
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene channel2d: the haemodynamic channel of Kuberry 2015", "scene");
   PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-channel_inlet_amplitude",
                                    "amplitude A of the inlet traction pulse A (1 - cos(2 pi t/T)), dyn/cm^2",

@@ -46,6 +46,7 @@ PetscErrorCode SceneCreate_GCL(Scene *scene)
   PetscCall(SceneCreateContext(sizeof(*gcl), (void **)&gcl));
   gcl->amplitude = 0.15;
   gcl->frequency = 20.0;
+  PetscCall(OptionsDeclareHelpGroup("gcl_"));
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene gcl: a uniform flow on a moving mesh", "scene");
   PetscCall(
     OptionsNonNegativeReal(PetscOptionsObject, "-gcl_amplitude",

@@ -92,6 +92,7 @@ PetscErrorCode SceneCreate_MMSFluid(Scene *scene)
   PetscCall(SceneCreateContext(sizeof(*mms), (void **)&mms));
   mms->motion_amplitude = 0.0;
   mms->motion_frequency = 10.0;
+  PetscCall(OptionsDeclareHelpGroup("mms_"));
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene mms-fluid: the fluid alone against a manufactured solution",
                     "scene");
   PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-mms_mesh_motion",

@@ -158,6 +158,7 @@ PetscErrorCode SceneCreate_MMSFSI(Scene *scene, const char fluid_model[])
 
   PetscFunctionBeginUser;
   PetscCall(SceneCreateContext(sizeof(*mms), (void **)&mms));
+  PetscCall(OptionsDeclareHelpGroup("mms_"));
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Manufactured FSI solution (mms-stokes, mms-ns)", "scene");
   PetscCall(PetscOptionsBool("-mms_discrete_time",
                              "Force the fluid with the backward difference of the exact velocity, leaving its spatial "

@@ -96,6 +96,7 @@ PetscErrorCode SceneCreate_MMSStructure(Scene *scene)
   scene->dim = 2;
   PetscCall(SceneCreateContext(sizeof(*mms), (void **)&mms));
   mms->amplitude = 1.0;
+  PetscCall(OptionsDeclareHelpGroup("mms_"));
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene mms-structure: the structure against a manufactured displacement",
                     "scene");
   PetscCall(OptionsPositiveReal(PetscOptionsObject, "-mms_amplitude", "factor on the manufactured displacement",

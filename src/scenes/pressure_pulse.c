@@ -38,6 +38,9 @@ PetscErrorCode ScenePressurePulse(Scene *scene, const char fluid_mesh[], const c
   scene->dim   = 3;
   scene->units = "cgs";
   PetscCall(PetscSNPrintf(title, sizeof(title), "Scene %s: a pressure pulse into an elastic tube", scene->name));
+  PetscCall(OptionsDeclareHelpGroup("tube_"));
+  PetscCall(OptionsDeclareUnit("-tube_inlet_pressure", UNIT_PRESSURE));
+  PetscCall(OptionsDeclareUnit("-tube_inlet_duration", UNIT_TIME));
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, title, "scene");
   PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-tube_inlet_pressure", "overpressure P on the inlet, dyn/cm^2",
                                    &pressure));

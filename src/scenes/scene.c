@@ -6,19 +6,28 @@
 
 static PetscFunctionList scene_list = NULL;
 
+/* The scenes by name, each one file: a new scene is its file and a line here. */
+#define SCENES(SCENE) \
+  SCENE("mms-fluid", SceneCreate_MMSFluid)         /* mms_fluid.c */ \
+  SCENE("mms-structure", SceneCreate_MMSStructure) /* mms_structure.c */ \
+  SCENE("mms-stokes", SceneCreate_MMSStokes)       /* mms_stokes.c */ \
+  SCENE("mms-ns", SceneCreate_MMSNS)               /* mms_ns.c */ \
+  SCENE("gcl", SceneCreate_GCL)                    /* gcl.c */ \
+  SCENE("channel2d", SceneCreate_Channel2D)        /* channel2d.c */ \
+  SCENE("tube3d", SceneCreate_Tube3D)              /* tube3d.c */ \
+  SCENE("turek-hron", SceneCreate_TurekHron)       /* turek_hron.c */ \
+  SCENE("bend3d", SceneCreate_Bend3D)              /* bend3d.c */
+#define DECLARE(name, create) PetscErrorCode create(Scene *);
+SCENES(DECLARE)
+#undef DECLARE
+
 PetscErrorCode SceneRegisterAll(void)
 {
   PetscFunctionBeginUser;
   if (scene_list) PetscFunctionReturn(0);
-  PetscCall(PetscFunctionListAdd(&scene_list, "mms-fluid", SceneCreate_MMSFluid));
-  PetscCall(PetscFunctionListAdd(&scene_list, "mms-structure", SceneCreate_MMSStructure));
-  PetscCall(PetscFunctionListAdd(&scene_list, "mms-stokes", SceneCreate_MMSStokes));
-  PetscCall(PetscFunctionListAdd(&scene_list, "mms-ns", SceneCreate_MMSNS));
-  PetscCall(PetscFunctionListAdd(&scene_list, "gcl", SceneCreate_GCL));
-  PetscCall(PetscFunctionListAdd(&scene_list, "channel2d", SceneCreate_Channel2D));
-  PetscCall(PetscFunctionListAdd(&scene_list, "tube3d", SceneCreate_Tube3D));
-  PetscCall(PetscFunctionListAdd(&scene_list, "turek-hron", SceneCreate_TurekHron));
-  PetscCall(PetscFunctionListAdd(&scene_list, "bend3d", SceneCreate_Bend3D));
+#define REGISTER(name, create) PetscCall(PetscFunctionListAdd(&scene_list, name, create));
+  SCENES(REGISTER)
+#undef REGISTER
   PetscFunctionReturn(0);
 }
 

@@ -164,6 +164,11 @@ PetscErrorCode SceneCreate_TurekHron(Scene *scene)
   for (PetscInt i = 0; i < ncases; ++i) names[i] = cases[i].name;
   PetscCall(SceneCreateContext(sizeof(*inflow), (void **)&inflow));
   inflow->ramp_time = 2.0;
+  PetscCall(OptionsDeclareHelpGroup("turek_"));
+  PetscCall(OptionsDeclareUnit("-turek_mean_velocity", UNIT_VELOCITY));
+  PetscCall(OptionsDeclareUnit("-turek_ramp_time", UNIT_TIME));
+  PetscCall(OptionsDeclareUnit("-turek_gravity", UNIT_ACCELERATION));
+  PetscCall(OptionsDeclareUnit("-turek_gravity_ramp", UNIT_TIME));
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene turek-hron: the Turek-Hron benchmarks CSM1-3, CFD1-3, FSI1-3",
                     "scene");
   PetscCall(PetscOptionsEList("-turek_case", "benchmark", NULL, names, ncases, names[which], &which, NULL));

@@ -41,6 +41,8 @@ PetscErrorCode StructureSetFromOptions(Structure s)
   PetscInt    model    = s->model;
 
   PetscFunctionBeginUser;
+  PetscCall(OptionsDeclareUnit("-structure_density", UNIT_DENSITY));
+  PetscCall(OptionsDeclareUnit("-structure_youngs_modulus", UNIT_PRESSURE));
   PetscOptionsBegin(s->comm, NULL, "Structure options", "structure");
   PetscCall(PetscOptionsEList("-structure_model", "Constitutive law: linear elasticity or St. Venant-Kirchhoff (svk)",
                               NULL, models, 2, models[model], &model, NULL));

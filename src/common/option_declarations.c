@@ -1,0 +1,58 @@
+/* What an option's value is measured in, and the option prefixes -help groups fsiopt's options
+   by: declared by the code that reads the options (a scene declares its own), looked up by
+   -help's listing (report/help_listing.c), so a new scene or module edits no table there. */
+#include <string.h>
+#include "options.h"
+
+#define MAX_UNITS  128
+#define MAX_GROUPS 32
+
+static struct {
+  char          name[64];
+  UnitDimension dimension;
+} units[MAX_UNITS];
+static char groups[MAX_GROUPS][32];
+static int  n_units = 0, n_groups = 0;
+
+PetscErrorCode OptionsDeclareUnit(const char name[], UnitDimension dimension)
+{
+  PetscFunctionBeginUser;
+  for (int i = 0; i < n_units; ++i)
+    if (!strcmp(units[i].name, name)) {
+      units[i].dimension = dimension;
+      PetscFunctionReturn(0);
+    }
+  PetscCheck(n_units < MAX_UNITS && strlen(name) < sizeof(units[0].name), PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "option %s: no room to declare its unit (at most %d options of names under %d characters)", name,
+             MAX_UNITS, (int)sizeof(units[0].name));
+  PetscCall(PetscStrncpy(units[n_units].name, name, sizeof(units[0].name)));
+  units[n_units++].dimension = dimension;
+  PetscFunctionReturn(0);
+}
+
+PetscBool OptionsDeclaredUnit(const char name[], UnitDimension *dimension)
+{
+  for (int i = 0; i < n_units; ++i)
+    if (!strcmp(units[i].name, name)) {
+      *dimension = units[i].dimension;
+      return PETSC_TRUE;
+    }
+  return PETSC_FALSE;
+}
+
+PetscErrorCode OptionsDeclareHelpGroup(const char prefix[])
+{
+  PetscFunctionBeginUser;
+  for (int i = 0; i < n_groups; ++i)
+    if (!strcmp(groups[i], prefix)) PetscFunctionReturn(0);
+  PetscCheck(n_groups < MAX_GROUPS && strlen(prefix) < sizeof(groups[0]), PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "option prefix %s: no room to declare it (at most %d prefixes under %d characters)", prefix, MAX_GROUPS,
+             (int)sizeof(groups[0]));
+  PetscCall(PetscStrncpy(groups[n_groups++], prefix, sizeof(groups[0])));
+  PetscFunctionReturn(0);
+}
+
+const char *OptionsDeclaredHelpGroup(int i)
+{
+  return i >= 0 && i < n_groups ? groups[i] : NULL;
+}
