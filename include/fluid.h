@@ -1,25 +1,11 @@
+/* The fluid subproblem: ALE Navier-Stokes (or Stokes) in (Q2,Q1) or (P2,P1) Taylor-Hood,
+   backward Euler or BDF2, solved with a traction (the control) on the interface as its
+   Neumann datum, and its linearized and adjoint solves for the coupling's products. */
 #ifndef FSIOPT_FLUID_H
 #define FSIOPT_FLUID_H
 #include "fsiopt.h"
 #include "memory_estimate.h"
-
-/* Constants handed to the fluid's pointwise kernels; scene kernels read them too.
-   MASS is the coefficient of (u, v) (rho/dt in a step), OPERATOR and LOAD switch the
-   spatial operator and the data on and off, so one weak form also yields the
-   old-domain mass term M(Omega^{n-1}) u^{n-1}. */
-enum {
-  FLUID_RHO,
-  FLUID_MU,
-  FLUID_MASS,
-  FLUID_OPERATOR,
-  FLUID_LOAD,
-  FLUID_TIME,
-  FLUID_DT,
-  FLUID_CONVECTION,
-  FLUID_PROJECTION,
-  FLUID_PRESSURE_STABILIZATION,
-  FLUID_NUM_CONSTANTS
-};
+#include "fluid_constants.h"
 
 typedef struct _p_Fluid *Fluid;
 

@@ -280,6 +280,11 @@ def test_help_lists_options():
     assert "-fluid_density" in fluid and "[kg/m^3]" in fluid and "[Pa s]" in fluid, "turek-hron's fluid_ group: %s" % fluid[:300]
     assert not [l for g, lines in groups.items() if g != "the run (no prefix)" and not g.startswith("checks")
                 for l in lines if not l.startswith("  -" + g)], "an option outside its group: %s" % groups
+    # a scene's options: under the prefix it declares, with the units it declares
+    turek = " ".join(groups.get("turek_", []))
+    assert "-turek_mean_velocity" in turek and "[m/s]" in turek and "[m/s^2]" in turek, "turek_ group: %s" % turek[:300]
+    gcl = own_section(help_text(["-scene", "gcl"]))
+    assert [l for l in gcl.get("gcl_", []) if l.startswith("  -gcl_amplitude")], "gcl's groups: %s" % list(gcl)
     channel = own_section(help_text(["-options_file", "options/channel2d.yaml"]))
     assert "[g/cm^3]" in " ".join(channel.get("structure_", [])), "channel2d's structure_ group: %s" % channel.get("structure_")
     return "3 scenes' -help, no files left; fsiopt's options in %d groups with SI and cgs units" % len(groups)

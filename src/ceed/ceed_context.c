@@ -12,7 +12,7 @@ static struct {
 } choice = {PETSC_FALSE, FEM_BACKEND_CEED, PETSC_FALSE,
             "/cpu/self/opt/blocked"}; /* ceed: the whole suite passes with it */
 
-/* the three options of the operators, read once (FluidSetFromOptions reads them early, so that -help lists them) */
+/* the three options of the operators, read once (the fluid reads them early, so that -help lists them) */
 static PetscErrorCode ReadChoice(void)
 {
   PetscFunctionBeginUser;

@@ -3,7 +3,7 @@
 #ifndef FSIOPT_CEED_FLUID_IMPL_H
 #define FSIOPT_CEED_FLUID_IMPL_H
 #include "fem_ceed.h"
-#include "fluid.h"
+#include "fluid_constants.h"
 #include "qfunctions_fluid_context.h"
 
 #define FEM_CEED_MAX_FACE_SETS 16

@@ -1,3 +1,6 @@
+/* The fluid's object as the files of src/fluid/ share it: the solver and state fluid.c
+   owns, and the parts that one file each owns (moving meshes, forces, a prescribed interface
+   velocity, the matrix-free Jacobian) with the operator object that assembles. */
 #ifndef FSIOPT_FLUID_IMPL_H
 #define FSIOPT_FLUID_IMPL_H
 #include "fluid.h"

@@ -1,3 +1,6 @@
+/* The structure's object as the files of src/structure/ share it: material, solver, the
+   displacement and velocity of the time scheme, and the operator object (PETSc or libCEED)
+   that assembles. */
 #ifndef FSIOPT_STRUCTURE_IMPL_H
 #define FSIOPT_STRUCTURE_IMPL_H
 #include "structure.h"
