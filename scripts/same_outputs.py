@@ -7,7 +7,14 @@ summary.json is compared without the keys that measure the machine, not the comp
 
   scripts/same_outputs.py record DIR [--fsiopt BIN]      # the reference outputs
   scripts/same_outputs.py compare DIR [--fsiopt BIN] [--now DIR2]  # a run now against DIR
+  scripts/same_outputs.py time DIR --against BIN [--fsiopt BIN] [--rounds N]
+                                                         # wall times of two binaries, back to back
   scripts/same_outputs.py --list                         # the cases and their options
+
+time: each round runs every case with the two binaries one after the other (the order
+alternating from round to round), and reports per case the least wall time (summary.json's
+wall_time_s) of each binary and their ratio this/other: the fastest of N rounds is the
+least disturbed by whatever else runs on the machine.
 
 Exit 0 when every case agrees, 1 otherwise (each difference named)."""
 import argparse, json, os, shutil, sys, time
@@ -74,12 +81,38 @@ def compare(reference, now, added):
     return problems
 
 
+def wall_time(fsiopt, out_dir, name):
+    d = os.path.join(out_dir, name)
+    shutil.rmtree(d, ignore_errors=True)
+    p = run_fsiopt(CASES[name], out_dir=d, fsiopt=fsiopt)
+    if p.returncode:
+        raise SystemExit("same_outputs.py time: %s with %s failed: %s" % (name, fsiopt, (p.stderr or p.stdout).strip()[-300:]))
+    return json.load(open(os.path.join(d, "summary.json")))["wall_time_s"]
+
+
+def time_pair(this, other, out_dir, rounds):
+    """the least wall time of each binary per case over `rounds` back-to-back rounds"""
+    best = {name: [float("inf"), float("inf")] for name in CASES}
+    for r in range(rounds):
+        for name in CASES:
+            for k in ((0, 1) if r % 2 == 0 else (1, 0)):
+                t = wall_time((this, other)[k], os.path.join(out_dir, ("this", "other")[k]), name)
+                best[name][k] = min(best[name][k], t)
+    print("%-18s %9s %9s %7s" % ("case", "this s", "other s", "ratio"))
+    for name, (a, b) in best.items():
+        print("%-18s %9.2f %9.2f %7.3f" % (name, a, b, a / b))
+    total = sum(v[0] for v in best.values()) / sum(v[1] for v in best.values())
+    print("all cases: this/other %.3f (least of %d rounds each)" % (total, rounds))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("action", nargs="?", choices=("record", "compare"))
+    ap.add_argument("action", nargs="?", choices=("record", "compare", "time"))
     ap.add_argument("dir", nargs="?")
     ap.add_argument("--fsiopt", default=FSIOPT)
     ap.add_argument("--now", help="compare: where this run's outputs go (default DIR.now)")
+    ap.add_argument("--against", help="time: the other binary")
+    ap.add_argument("--rounds", type=int, default=3, help="time: rounds (default 3)")
     ap.add_argument("--list", action="store_true")
     a = ap.parse_args()
     if a.list or not a.action:
@@ -88,6 +121,11 @@ def main():
         return 0
     if not a.dir:
         ap.error("expected the directory of the reference outputs")
+    if a.action == "time":
+        if not a.against:
+            ap.error("time: expected --against BIN, the binary to time this one against")
+        time_pair(a.fsiopt, a.against, a.dir, a.rounds)
+        return 0
     if a.action == "record":
         run_cases(a.fsiopt, a.dir)
         return 0
