@@ -46,7 +46,8 @@ static PetscErrorCode FindPoints(Probes P, Vec layout, PetscInt nodes, const Pet
 
 PetscErrorCode ProbesCreate(MPI_Comm comm, PetscInt dim, PetscInt nodes, const PetscReal coords[], PetscInt npoints,
                             const PetscReal points[][3], PetscInt nextra, const char *const extra_names[],
-                            const char units[], const char dir[], const char name[], Probes *probes)
+                            const UnitDimension extra_units[], const char units[], const char dir[], const char name[],
+                            Probes *probes)
 {
   Probes      P;
   PetscMPIInt rank;
@@ -101,12 +102,14 @@ PetscErrorCode ProbesCreate(MPI_Comm comm, PetscInt dim, PetscInt nodes, const P
   {
     /* each header says its unit in the scene's system: "dy(1.5;1) [cm]"; the forces on a 2D
        body are per unit depth */
-    const char *time = UnitName(units, UNIT_TIME), *length = UnitName(units, UNIT_LENGTH),
-               *force = UnitName(units, dim == 2 ? UNIT_FORCE_PER_DEPTH : UNIT_FORCE);
-    if (!time) time = length = force = "1";
-    PetscCall(PetscFPrintf(comm, P->file.fp, "t [%s]", time));
-    for (PetscInt c = 0; c < P->ncolumns; ++c)
-      PetscCall(PetscFPrintf(comm, P->file.fp, ",%s [%s]", P->names[c], c < npoints * dim ? length : force));
+    const char *time = UnitName(units, UNIT_TIME);
+    PetscCall(PetscFPrintf(comm, P->file.fp, "t [%s]", time ? time : "1"));
+    for (PetscInt c = 0; c < P->ncolumns; ++c) {
+      const PetscInt      e = c - npoints * dim;
+      const UnitDimension d = e < 0 ? UNIT_LENGTH : extra_units ? extra_units[e] : dim == 2 ? UNIT_FORCE_PER_DEPTH : UNIT_FORCE;
+      const char         *unit = UnitName(units, d);
+      PetscCall(PetscFPrintf(comm, P->file.fp, ",%s [%s]", P->names[c], unit ? unit : "1"));
+    }
   }
   PetscCall(PetscFPrintf(comm, P->file.fp, "\n"));
   *probes = P;

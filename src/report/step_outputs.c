@@ -2,6 +2,7 @@
 #include "step_outputs.h"
 #include "fields.h"
 #include "logging.h"
+#include "point_values.h"
 
 struct _p_StepOutputs {
   const RunParams *params;
@@ -12,6 +13,8 @@ struct _p_StepOutputs {
   Probes           probes;
   Probes           surface;      /* force_surface.csv (-probes_surface_force) */
   Vec              displacement; /* of the probed nodes */
+  PointValues      points;       /* -probes_fluid_velocity, ...: after the force columns */
+  PetscInt         nforce;
   FieldWriter      fields;
 };
 
@@ -19,14 +22,33 @@ struct _p_StepOutputs {
    run, in the structure of a structure alone) and the force on the fluid's body faces. */
 static PetscErrorCode ProbesSetUp(StepOutputs out, PetscInt dim, Interface itf)
 {
-  const char  *force_names[] = {"drag", "lift", "force_z"};
-  const Scene *scene         = out->scene;
-  PetscInt     nforce = scene->has_fluid && scene->fluid.n_force_faces ? dim : 0, nodes = 0;
-  PetscReal   *coords = NULL;
+  const char          *force_names[] = {"drag", "lift", "force_z"};
+  const Scene         *scene         = out->scene;
+  const char *const   *point_names;
+  const UnitDimension *point_units;
+  const char          *names[FSIOPT_MAX_QUANTITIES];
+  UnitDimension        units[FSIOPT_MAX_QUANTITIES];
+  PetscInt             nforce = scene->has_fluid && scene->fluid.n_force_faces ? dim : 0, nodes = 0, npoint_columns;
+  PetscReal           *coords = NULL;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &dim, 1, MPIU_INT, MPI_MAX, PETSC_COMM_WORLD));
-  if (!scene->n_probes && !nforce) PetscFunctionReturn(0);
+  PetscCall(PointValuesCreate(PETSC_COMM_WORLD, dim, out->fluid, out->structure, &out->points));
+  PetscCall(PointValuesGetColumns(out->points, &npoint_columns, &point_names, &point_units));
+  PetscCheck(nforce + npoint_columns <= FSIOPT_MAX_QUANTITIES, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "options -probes_fluid_velocity, ...: at most %d columns of probes.csv besides the scene's, asked for "
+             "%" PetscInt_FMT,
+             FSIOPT_MAX_QUANTITIES - (int)nforce, npoint_columns);
+  for (PetscInt c = 0; c < nforce; ++c) {
+    names[c] = force_names[c];
+    units[c] = dim == 2 ? UNIT_FORCE_PER_DEPTH : UNIT_FORCE; /* a 2D body's force is per unit depth */
+  }
+  for (PetscInt c = 0; c < npoint_columns; ++c) {
+    names[nforce + c] = point_names[c];
+    units[nforce + c] = point_units[c];
+  }
+  out->nforce = nforce;
+  if (!scene->n_probes && !nforce && !npoint_columns) PetscFunctionReturn(0);
   if (scene->n_probes && itf) {
     const PetscReal *interface_coords;
     PetscCall(InterfaceCreateVector(itf, &out->displacement));
@@ -36,7 +58,8 @@ static PetscErrorCode ProbesSetUp(StepOutputs out, PetscInt dim, Interface itf)
   } else if (scene->n_probes && out->structure && !scene->has_fluid)
     PetscCall(StructureCreateNodeVector(out->structure, &out->displacement, &nodes, &coords));
   PetscCall(ProbesCreate(PETSC_COMM_WORLD, dim, nodes, coords, out->displacement ? scene->n_probes : 0, scene->probes,
-                         nforce, force_names, scene->units, out->params->output_dir, "probes.csv", &out->probes));
+                         nforce + npoint_columns, names, units, scene->units, out->params->output_dir, "probes.csv",
+                         &out->probes));
   PetscCall(PetscFree(coords));
   PetscFunctionReturn(0);
 }
@@ -63,7 +86,7 @@ static PetscErrorCode SurfaceForceSetUp(StepOutputs out, PetscInt dim)
   PetscCheck(scene->has_fluid && scene->fluid.n_force_faces, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
              "option -probes_surface_force: scene %s has no body whose force the fluid reports", scene->name);
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &dim, 1, MPIU_INT, MPI_MAX, PETSC_COMM_WORLD));
-  PetscCall(ProbesCreate(PETSC_COMM_WORLD, dim, 0, NULL, 0, NULL, dim, names, scene->units, out->params->output_dir,
+  PetscCall(ProbesCreate(PETSC_COMM_WORLD, dim, 0, NULL, 0, NULL, dim, names, NULL, scene->units, out->params->output_dir,
                          "force_surface.csv", &out->surface));
   PetscFunctionReturn(0);
 }
@@ -89,16 +112,18 @@ PetscErrorCode StepOutputsCreate(const RunParams *params, const Scene *scene, Pe
 
 static PetscErrorCode RecordProbes(StepOutputs out, PetscReal t)
 {
-  PetscReal force[3] = {0, 0, 0};
+  PetscReal force[3] = {0, 0, 0}, extra[FSIOPT_MAX_QUANTITIES];
 
   PetscFunctionBeginUser;
   if (!out->probes) PetscFunctionReturn(0);
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_PROBES, 0, 0, 0, 0));
   if (out->fluid && out->scene->fluid.n_force_faces) PetscCall(FluidBodyForce(out->fluid, force));
+  for (PetscInt c = 0; c < out->nforce; ++c) extra[c] = force[c];
+  if (out->points) PetscCall(PointValuesEvaluate(out->points, &extra[out->nforce]));
   if (out->displacement && out->problem)
     PetscCall(CouplingProblemInterfaceDisplacement(out->problem, out->displacement));
   else if (out->displacement) PetscCall(StructureGetNodeDisplacement(out->structure, out->displacement));
-  PetscCall(ProbesRecord(out->probes, t, out->displacement, force));
+  PetscCall(ProbesRecord(out->probes, t, out->displacement, extra));
   if (out->surface) {
     PetscCall(FluidBodyForceSurface(out->fluid, force));
     PetscCall(ProbesRecord(out->surface, t, NULL, force));
@@ -162,6 +187,7 @@ PetscErrorCode StepOutputsDestroy(StepOutputs *outputs)
   PetscCall(ProbesClose(&out->surface, PETSC_FALSE));
   PetscCall(FieldWriterDestroy(&out->fields));
   PetscCall(VecDestroy(&out->displacement));
+  PetscCall(PointValuesDestroy(&out->points));
   PetscCall(PetscFree(*outputs));
   PetscFunctionReturn(0);
 }
