@@ -5,7 +5,7 @@ export OMPI_MCA_rmaps_base_oversubscribe := 1
 
 # libopenblas0-serial: MUMPS's dense kernels; with Debian's reference BLAS the 3D tube's
 # fluid factorization took 28 s instead of 5 s (46k unknowns). Serial: one thread per MPI rank.
-DEB_PACKAGES := petsc-dev liblapack-dev libscotch-dev libyaml-dev python3-venv libhdf5-openmpi-dev gmsh pkg-config make python3-numpy python3-matplotlib python3-h5py libopenblas0-serial valgrind
+DEB_PACKAGES := petsc-dev liblapack-dev libscotch-dev libyaml-dev libmuparser-dev python3-venv libhdf5-openmpi-dev gmsh pkg-config make python3-numpy python3-matplotlib python3-h5py libopenblas0-serial valgrind
 PYTHON := /usr/bin/python3
 # libCEED (the fast FE operators, src/ceed/): PyPI's wheel carries the C library, its headers
 # and ceed.pc; it goes into a private venv, and bin/fsiopt finds it by an rpath
@@ -19,7 +19,7 @@ CFLAGS  ?= -O2 -g
 # petscviewerhdf5.h includes hdf5.h, which Debian keeps under the MPI flavour's directory
 # FSIOPT_ROOT: where a scene finds its default meshes when run from another directory
 CFLAGS  += -Wall -Wextra -std=c11 -D_POSIX_C_SOURCE=200809L -DFSIOPT_ROOT='"$(CURDIR)"' -Iinclude -Isrc/scenes $(shell pkg-config --cflags PETSc 2>/dev/null) $(shell pkg-config --cflags hdf5-openmpi 2>/dev/null) $(shell $(CEED_PC) --cflags ceed 2>/dev/null)
-LDLIBS  += $(shell pkg-config --libs PETSc 2>/dev/null) $(shell pkg-config --libs hdf5-openmpi 2>/dev/null) $(shell $(CEED_PC) --libs ceed 2>/dev/null) -Wl,-rpath,$(CEED_DIR)/lib -lscotch -llapack -lblas -lyaml -lm
+LDLIBS  += $(shell pkg-config --libs PETSc 2>/dev/null) $(shell pkg-config --libs hdf5-openmpi 2>/dev/null) $(shell $(CEED_PC) --libs ceed 2>/dev/null) -Wl,-rpath,$(CEED_DIR)/lib -lscotch -llapack -lblas -lyaml -lmuparser -lm
 
 SRC  := $(wildcard src/*.c src/*/*.c)
 OBJ  := $(SRC:%.c=build/%.o) build/known_options.o build/version.o

@@ -44,6 +44,7 @@ typedef struct {
 typedef struct {
   PetscInt n_dirichlet, dirichlet_faces[FSIOPT_MAX_BOUNDARIES];
   FieldFn  dirichlet_fn[FSIOPT_MAX_BOUNDARIES];
+  void    *dirichlet_ctx[FSIOPT_MAX_BOUNDARIES]; /* its ctx argument; NULL: the scene's ctx below */
   PetscInt n_traction, traction_faces[FSIOPT_MAX_BOUNDARIES];
   BdResidualKernel
     traction_kernel[FSIOPT_MAX_BOUNDARIES]; /* adds -load*h(x,t); NULL: traction-free or given in volume form */

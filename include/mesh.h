@@ -23,4 +23,12 @@ PetscErrorCode MeshLayoutSignature(DM, PetscReal *);
    element types and dimension (dim: the scene's, 0: any), no crack. One line naming the
    option, the file and the first problem; collective. */
 PetscErrorCode MeshCheckGmshFile(MPI_Comm, const char option[], const char path[], PetscInt dim);
+/* The physical groups of dimension dim that a gmsh file names (gmsh_names.c): at most max,
+   on every rank; none when the file has no $PhysicalNames. Collective. */
+typedef struct {
+  char     name[64];
+  PetscInt value; /* its number: the value of "Face Sets" (dim - 1) or "Cell Sets" (dim) */
+} MeshPhysicalName;
+PetscErrorCode MeshGmshPhysicalNames(MPI_Comm, const char path[], PetscInt dim, PetscInt max, PetscInt *n,
+                                     MeshPhysicalName names[]);
 #endif

@@ -40,6 +40,10 @@ PetscErrorCode OptionsDeclareUnit(const char name[], UnitDimension);
 PetscBool      OptionsDeclaredUnit(const char name[], UnitDimension *);
 PetscErrorCode OptionsDeclareHelpGroup(const char prefix[]);
 const char    *OptionsDeclaredHelpGroup(int i); /* NULL past the last */
+/* Options whose names a run makes from its data (-fluid_boundary_NAME for each face set
+   NAME of the mesh): fsiopt's own, listed by -help with the others, by their common prefix. */
+PetscErrorCode OptionsDeclareFamily(const char prefix[]);
+PetscBool      OptionsInDeclaredFamily(const char name[]);
 
 /* Before PetscInitialize, which reads them: every options file of the run (petscrc files,
    PETSC_OPTIONS, -options_file, and the files they include) is a readable text file, valid

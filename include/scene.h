@@ -8,8 +8,8 @@
    always wins: that is each value's one home, and an options file does not repeat it.
    A scene's closed forms read their parameters from a context of the scene's own
    (PhysicsData's ctx, made by SceneCreateContext), its pointwise kernels from the PetscDS
-   constants (PhysicsData's extra), not from file-level variables (one exception: the
-   interface data of mms_fsi.c, see there). */
+   constants (PhysicsData's extra), not from file-level variables (two exceptions: the
+   interface data of mms_fsi.c and the traction expressions of general.c, see there). */
 typedef struct {
   char        name[64];
   PetscBool   has_fluid, has_structure;

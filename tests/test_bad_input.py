@@ -2,8 +2,8 @@
 and the -help listing."""
 import os, shutil, subprocess
 
-from harness import (CHANNEL, FLUID_SPACE, ROOT, TUREK, WORK, F, S, fail_text, fr, inputs_dir, last_rows,  # noqa: F401
-                     out_dir, read_probes, refused, run, same_file, solve, test)
+from harness import (CHANNEL, FLUID_SPACE, ROOT, TUREK, WORK, F, S, fail_text, fr, help_text, inputs_dir, last_rows,  # noqa: F401
+                     out_dir, own_section, read_probes, refused, run, same_file, solve, test)
 
 
 @test("bad input: scenes, options files, methods and models", quick=True)
@@ -227,25 +227,6 @@ def test_bad_input_restarts():
     ])
 
 
-def help_text(args):
-    # errors="replace" (run_fsiopt): PETSc 3.18 prints an uninitialized buffer as the
-    # default of -<prefix>dm_plex_boundary_label in DMPlex's own -help lines.
-    out = out_dir("help")
-    r = fr.run_fsiopt(["-help"] + args, out_dir=out, timeout=120)
-    assert r.returncode == 0, "-help %s: exit %s" % (" ".join(args), r.returncode)
-    assert not os.path.exists(out), "-help %s left %s: %s" % (" ".join(args), out, os.listdir(out))
-    return r.stdout
-
-
-def own_section(text):
-    """fsiopt's options as -help groups them at its end: {group line: [option lines]}."""
-    groups, current = {}, None
-    for line in text.split("fsiopt's options, by prefix")[-1].splitlines()[1:]:
-        if line.startswith("  -"):
-            groups.setdefault(current, []).append(line)
-        elif line.startswith(" ") and not line.startswith("  "):
-            current = line.strip()
-    return groups
 
 
 @test("-help lists scenes and options", quick=True)

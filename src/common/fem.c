@@ -49,7 +49,7 @@ PetscErrorCode FEMAddBoundaries(DM dm, PetscInt field, const PhysicsData *data, 
   PetscCall(DMGetDS(dm, &ds));
   for (PetscInt b = 0; b < data->n_dirichlet; ++b) {
     datums[b].fn   = data->dirichlet_fn[b];
-    datums[b].ctx  = data->ctx;
+    datums[b].ctx  = data->dirichlet_ctx[b] ? data->dirichlet_ctx[b] : data->ctx;
     datums[b].time = time;
     PetscCall(PetscSNPrintf(name, sizeof(name), "dirichlet_%" PetscInt_FMT, data->dirichlet_faces[b]));
     PetscCall(DMAddBoundary(dm, DM_BC_ESSENTIAL, name, label, 1, &data->dirichlet_faces[b], field, 0, NULL,

@@ -1,6 +1,7 @@
-/* What an option's value is measured in, and the option prefixes -help groups fsiopt's options
-   by: declared by the code that reads the options (a scene declares its own), looked up by
-   -help's listing (report/help_listing.c), so a new scene or module edits no table there. */
+/* What an option's value is measured in, the option prefixes -help groups fsiopt's options
+   by, and the families of options whose names a run makes (-fluid_boundary_NAME of a mesh's
+   face sets): declared by the code that reads the options (a scene declares its own), looked
+   up by -help's listing (report/help_listing.c), so a new scene or module edits no table there. */
 #include <string.h>
 #include "options.h"
 
@@ -12,7 +13,8 @@ static struct {
   UnitDimension dimension;
 } units[MAX_UNITS];
 static char groups[MAX_GROUPS][32];
-static int  n_units = 0, n_groups = 0;
+static char families[MAX_GROUPS][64];
+static int  n_units = 0, n_groups = 0, n_families = 0;
 
 PetscErrorCode OptionsDeclareUnit(const char name[], UnitDimension dimension)
 {
@@ -55,4 +57,23 @@ PetscErrorCode OptionsDeclareHelpGroup(const char prefix[])
 const char *OptionsDeclaredHelpGroup(int i)
 {
   return i >= 0 && i < n_groups ? groups[i] : NULL;
+}
+
+PetscErrorCode OptionsDeclareFamily(const char prefix[])
+{
+  PetscFunctionBeginUser;
+  for (int i = 0; i < n_families; ++i)
+    if (!strcmp(families[i], prefix)) PetscFunctionReturn(0);
+  PetscCheck(n_families < MAX_GROUPS && strlen(prefix) < sizeof(families[0]), PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "option family %s: no room to declare it (at most %d families under %d characters)", prefix, MAX_GROUPS,
+             (int)sizeof(families[0]));
+  PetscCall(PetscStrncpy(families[n_families++], prefix, sizeof(families[0])));
+  PetscFunctionReturn(0);
+}
+
+PetscBool OptionsInDeclaredFamily(const char name[])
+{
+  for (int i = 0; i < n_families; ++i)
+    if (!strncmp(name, families[i], strlen(families[i]))) return PETSC_TRUE;
+  return PETSC_FALSE;
 }

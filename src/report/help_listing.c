@@ -58,7 +58,7 @@ static PetscBool IsOwn(const char line[])
   name[n] = 0;
   for (const char *const *k = fsiopt_known_options; *k; ++k)
     if (!strcmp(*k, name)) return PETSC_TRUE;
-  return PETSC_FALSE;
+  return OptionsInDeclaredFamily(name);
 }
 
 /* Capture: the options every object read while the run was set up, with the values they

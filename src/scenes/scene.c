@@ -16,7 +16,8 @@ static PetscFunctionList scene_list = NULL;
   SCENE("channel2d", SceneCreate_Channel2D)        /* channel2d.c */ \
   SCENE("tube3d", SceneCreate_Tube3D)              /* tube3d.c */ \
   SCENE("turek-hron", SceneCreate_TurekHron)       /* turek_hron.c */ \
-  SCENE("bend3d", SceneCreate_Bend3D)              /* bend3d.c */
+  SCENE("bend3d", SceneCreate_Bend3D)              /* bend3d.c */ \
+  SCENE("general", SceneCreate_General)            /* general.c */
 #define DECLARE(name, create) PetscErrorCode create(Scene *);
 SCENES(DECLARE)
 #undef DECLARE

@@ -1,0 +1,49 @@
+/* The names of a gmsh file's physical groups ($PhysicalNames, mesh.h), so that an options
+   file can name a face set or a region as the geometry does. Read on the first rank and
+   handed to all; a file without names has none. ASCII files of format 2.2 and 4.1. */
+#include "mesh.h"
+#include <stdio.h>
+#include <string.h>
+
+/* rank 0: the groups of dimension dim, at most max of them */
+static int ReadNames(const char path[], PetscInt dim, PetscInt max, MeshPhysicalName names[])
+{
+  FILE *fp = fopen(path, "r");
+  char  line[512];
+  int   n = 0, count = 0;
+
+  if (!fp) return 0;
+  while (fgets(line, sizeof(line), fp))
+    if (!strncmp(line, "$PhysicalNames", 14)) break;
+  if (!feof(fp) && fscanf(fp, "%d", &count) == 1) {
+    for (int i = 0; i < count && n < max; ++i) {
+      int  d, tag;
+      char quoted[256];
+      if (fscanf(fp, "%d %d %255s", &d, &tag, quoted) != 3) break;
+      if (d != dim) continue;
+      names[n].value = tag;
+      /* "inlet" -> inlet */
+      PetscStrncpy(names[n].name, quoted[0] == '"' ? quoted + 1 : quoted, sizeof(names[n].name));
+      if (strlen(names[n].name) && names[n].name[strlen(names[n].name) - 1] == '"')
+        names[n].name[strlen(names[n].name) - 1] = 0;
+      ++n;
+    }
+  }
+  fclose(fp);
+  return n;
+}
+
+PetscErrorCode MeshGmshPhysicalNames(MPI_Comm comm, const char path[], PetscInt dim, PetscInt max, PetscInt *n,
+                                     MeshPhysicalName names[])
+{
+  PetscMPIInt rank;
+  int         found = 0;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (!rank) found = ReadNames(path, dim, max, names);
+  PetscCallMPI(MPI_Bcast(&found, 1, MPI_INT, 0, comm));
+  PetscCallMPI(MPI_Bcast(names, (PetscMPIInt)(found * sizeof(MeshPhysicalName)), MPI_BYTE, 0, comm));
+  *n = found;
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,259 @@
+/* Scene general: a case from an options file and a mesh, no C. Each face set of the fluid's
+   and the structure's mesh, by its name (a gmsh physical name; bottom, right, top, left on a
+   2D box; or its number), gets one condition:
+
+     -fluid_boundary_NAME      wall | velocity | traction | pressure | open | interface
+     -structure_boundary_NAME  clamped | free | traction | pressure | interface
+
+   with its datum as an expression in x, y, z, t (expression.h) where the condition takes one:
+   -fluid_boundary_NAME_velocity, -..._traction (vectors, components separated by commas) and
+   -..._pressure (a scalar p: the traction -p n). The fluid's mesh follows the interface and
+   stays put on every other face set. -probes_interface_displacement gives probes.csv's
+   interface points; -units the system the values are in. The meshes, materials and solver
+   settings are the options every scene has. */
+#include "scene.h"
+#include "fluid.h"
+#include "structure.h"
+#include "options.h"
+#include "fem.h"
+#include "mesh.h"
+#include "expression.h"
+
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+
+#define MAX_FACE_SETS 32
+
+typedef enum {
+  FLUID_SIDE,
+  STRUCTURE_SIDE
+} Side;
+
+static const char *const fluid_conditions[]     = {"wall", "velocity", "traction", "pressure", "open", "interface", NULL};
+static const char *const structure_conditions[] = {"clamped", "free", "traction", "pressure", "interface", NULL};
+
+/* PETSc fixes the pointwise kernels' signature (no context): the traction data of each side's
+   traction slots live here, one kernel per slot reads its own */
+static Expression traction_data[2][FSIOPT_MAX_BOUNDARIES];
+static PetscBool  traction_is_pressure[2][FSIOPT_MAX_BOUNDARIES];
+static Expression velocity_data[FSIOPT_MAX_BOUNDARIES]; /* the fluid's inlets: PETSc hands them to ExpressionField */
+
+/* adds -load h(x, t), h the traction given, or -p n for a pressure */
+static inline void AddTraction(Side side, PetscInt slot, PetscInt dim, const PetscReal x[], const PetscReal n[],
+                               const PetscScalar constants[], PetscScalar f0[])
+{
+  const PetscReal   time = PetscRealPart(constants[side == FLUID_SIDE ? FLUID_TIME : STRUCTURE_TIME]);
+  const PetscScalar load = constants[side == FLUID_SIDE ? FLUID_LOAD : STRUCTURE_LOAD];
+  PetscScalar       h[3];
+
+  ExpressionEvaluate(traction_data[side][slot], time, dim, x, h);
+  if (traction_is_pressure[side][slot])
+    for (PetscInt d = 0; d < dim; ++d) f0[d] -= load * (-h[0] * n[d]);
+  else
+    for (PetscInt d = 0; d < dim; ++d) f0[d] -= load * h[d];
+}
+
+#define TRACTION_KERNEL(NAME, SIDE, SLOT) \
+  static void NAME(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], \
+                   const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], \
+                   const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], \
+                   PetscReal t, const PetscReal x[], const PetscReal n[], PetscInt numConstants, \
+                   const PetscScalar constants[], PetscScalar f0[]) \
+  { \
+    AddTraction(SIDE, SLOT, dim, x, n, constants, f0); \
+  }
+TRACTION_KERNEL(FluidTraction0, FLUID_SIDE, 0)
+TRACTION_KERNEL(FluidTraction1, FLUID_SIDE, 1)
+TRACTION_KERNEL(FluidTraction2, FLUID_SIDE, 2)
+TRACTION_KERNEL(FluidTraction3, FLUID_SIDE, 3)
+TRACTION_KERNEL(FluidTraction4, FLUID_SIDE, 4)
+TRACTION_KERNEL(FluidTraction5, FLUID_SIDE, 5)
+TRACTION_KERNEL(FluidTraction6, FLUID_SIDE, 6)
+TRACTION_KERNEL(FluidTraction7, FLUID_SIDE, 7)
+TRACTION_KERNEL(StructureTraction0, STRUCTURE_SIDE, 0)
+TRACTION_KERNEL(StructureTraction1, STRUCTURE_SIDE, 1)
+TRACTION_KERNEL(StructureTraction2, STRUCTURE_SIDE, 2)
+TRACTION_KERNEL(StructureTraction3, STRUCTURE_SIDE, 3)
+TRACTION_KERNEL(StructureTraction4, STRUCTURE_SIDE, 4)
+TRACTION_KERNEL(StructureTraction5, STRUCTURE_SIDE, 5)
+TRACTION_KERNEL(StructureTraction6, STRUCTURE_SIDE, 6)
+TRACTION_KERNEL(StructureTraction7, STRUCTURE_SIDE, 7)
+
+static const BdResidualKernel traction_kernels[2][FSIOPT_MAX_BOUNDARIES] = {
+  {FluidTraction0,     FluidTraction1,     FluidTraction2,     FluidTraction3,     FluidTraction4,     FluidTraction5,
+   FluidTraction6,     FluidTraction7    },
+  {StructureTraction0, StructureTraction1, StructureTraction2, StructureTraction3, StructureTraction4, StructureTraction5,
+   StructureTraction6, StructureTraction7},
+};
+
+/* a velocity given by an expression, as PETSc's boundary values take it */
+static PetscErrorCode ExpressionField(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *u,
+                                      void *ctx)
+{
+  ExpressionEvaluate((Expression)ctx, t, dim, x, u);
+  return 0;
+}
+
+static PetscErrorCode DestroyExpressions(void *ctx)
+{
+  PetscFunctionBeginUser;
+  for (PetscInt b = 0; b < FSIOPT_MAX_BOUNDARIES; ++b) {
+    PetscCall(ExpressionDestroy(&traction_data[FLUID_SIDE][b]));
+    PetscCall(ExpressionDestroy(&traction_data[STRUCTURE_SIDE][b]));
+    PetscCall(ExpressionDestroy(&velocity_data[b]));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* The face sets of a side's mesh by name: the gmsh file's physical names of dimension
+   dim - 1, or the four sides of a 2D box; each also answers to its number. */
+static PetscErrorCode FaceSets(const char prefix[], PetscInt dim, PetscInt *n, MeshPhysicalName sets[])
+{
+  char      option[64], path[PETSC_MAX_PATH_LEN];
+  PetscBool file;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(option, sizeof(option), "-%sdm_plex_filename", prefix));
+  PetscCall(PetscOptionsGetString(NULL, NULL, option, path, sizeof(path), &file));
+  *n = 0;
+  if (file) PetscCall(MeshGmshPhysicalNames(PETSC_COMM_WORLD, path, dim - 1, MAX_FACE_SETS, n, sets));
+  else if (dim == 2) {
+    const char *box[] = {"bottom", "right", "top", "left"}; /* FACE_BOTTOM, ... */
+    for (PetscInt i = 0; i < 4; ++i) {
+      PetscCall(PetscStrncpy(sets[i].name, box[i], sizeof(sets[i].name)));
+      sets[i].value = i + 1;
+    }
+    *n = 4;
+  }
+  PetscCheck(*n > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
+             "scene general: the %s mesh has no named face sets (%s: a gmsh file with physical names, or a 2D box)",
+             prefix[0] == 'f' ? "fluid" : "structure", option);
+  PetscFunctionReturn(0);
+}
+
+/* One side's conditions, face set by face set, into its PhysicsData. */
+static PetscErrorCode ReadConditions(Side side, PetscInt dim, PhysicsData *data)
+{
+  const char *const *conditions = side == FLUID_SIDE ? fluid_conditions : structure_conditions;
+  const char        *prefix     = side == FLUID_SIDE ? "fluid_" : "structure_";
+  MeshPhysicalName   sets[MAX_FACE_SETS];
+  PetscInt           nsets, nconditions = 0;
+  char               list[128] = "";
+
+  PetscFunctionBeginUser;
+  while (conditions[nconditions]) {
+    PetscCall(PetscStrlcat(list, nconditions ? ", " : "", sizeof(list)));
+    PetscCall(PetscStrlcat(list, conditions[nconditions++], sizeof(list)));
+  }
+  PetscCall(FaceSets(prefix, dim, &nsets, sets));
+  PetscCall(OptionsDeclareFamily(side == FLUID_SIDE ? "-fluid_boundary_" : "-structure_boundary_"));
+  /* a title of each side's own: PETSc lists a title's options once */
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL,
+                    side == FLUID_SIDE ? "Scene general: the fluid's face sets" : "Scene general: the structure's face sets",
+                    "scene");
+  for (PetscInt i = 0; i < nsets; ++i) {
+    char        option[128], datum_option[160], text[1024], help[256];
+    const char *condition;
+    PetscInt    which = -1;
+    PetscBool   given;
+
+    PetscCall(PetscSNPrintf(option, sizeof(option), "-%sboundary_%s", prefix, sets[i].name));
+    PetscCall(PetscSNPrintf(help, sizeof(help), "the condition on the %s face set %s (%" PetscInt_FMT ")",
+                            side == FLUID_SIDE ? "fluid's" : "structure's", sets[i].name, sets[i].value));
+    PetscCall(PetscOptionsEList(option, help, NULL, conditions, nconditions, "none", &which, &given));
+    if (!given) { /* by its number */
+      PetscCall(PetscSNPrintf(option, sizeof(option), "-%sboundary_%" PetscInt_FMT, prefix, sets[i].value));
+      PetscCall(PetscOptionsGetEList(NULL, NULL, option, conditions, nconditions, &which, &given));
+    }
+    PetscCheck(given, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
+               "scene general: the %s face set %s (%" PetscInt_FMT ") has no condition: expected -%sboundary_%s one of %s",
+               side == FLUID_SIDE ? "fluid" : "structure", sets[i].name, sets[i].value, prefix, sets[i].name, list);
+    condition = conditions[which];
+    if (!strcmp(condition, "interface")) {
+      PetscCheck(!data->interface_face, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
+                 "option %s: a second interface face set; the %s's interface is one face set", option,
+                 side == FLUID_SIDE ? "fluid" : "structure");
+      data->interface_face = sets[i].value;
+      continue;
+    }
+    PetscCheck(data->n_dirichlet < FSIOPT_MAX_BOUNDARIES && data->n_traction < FSIOPT_MAX_BOUNDARIES,
+               PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "option %s: at most %d face sets besides the interface", option,
+               FSIOPT_MAX_BOUNDARIES);
+    if (side == FLUID_SIDE) data->fixed_mesh_faces[data->n_fixed_mesh_faces++] = sets[i].value;
+    if (!strcmp(condition, "wall") || !strcmp(condition, "clamped") || !strcmp(condition, "velocity")) {
+      const PetscInt b = data->n_dirichlet++;
+      data->dirichlet_faces[b] = sets[i].value;
+      data->dirichlet_fn[b]    = FEMZero;
+      if (!strcmp(condition, "velocity")) {
+        PetscCall(PetscSNPrintf(datum_option, sizeof(datum_option), "%s_velocity", option));
+        PetscCall(PetscOptionsString(datum_option, "the velocity there, an expression in x, y, z, t (components separated by commas)",
+                                     NULL, "", text, sizeof(text), &given));
+        PetscCheck(given, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
+                   "option %s velocity: expected %s, the velocity as an expression in x, y, z, t", option, datum_option);
+        PetscCall(ExpressionCreate(PETSC_COMM_WORLD, datum_option, text, dim, &velocity_data[b]));
+        data->dirichlet_ctx[b] = velocity_data[b];
+        data->dirichlet_fn[b]  = ExpressionField;
+      }
+      continue;
+    }
+    {
+      const PetscInt b = data->n_traction++; /* traction, pressure, open, free */
+      data->traction_faces[b] = sets[i].value;
+      if (strcmp(condition, "traction") && strcmp(condition, "pressure")) continue;
+      PetscCall(PetscSNPrintf(datum_option, sizeof(datum_option), "%s_%s", option, condition));
+      PetscCall(PetscOptionsString(datum_option, "the traction there (components separated by commas) or the pressure, "
+                                   "an expression in x, y, z, t", NULL, "", text, sizeof(text), &given));
+      PetscCheck(given, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG, "option %s %s: expected %s, an expression in x, y, z, t",
+                 option, condition, datum_option);
+      traction_is_pressure[side][b] = !strcmp(condition, "pressure") ? PETSC_TRUE : PETSC_FALSE;
+      PetscCall(ExpressionCreate(PETSC_COMM_WORLD, datum_option, text, traction_is_pressure[side][b] ? 1 : dim,
+                                 &traction_data[side][b]));
+      data->traction_kernel[b] = traction_kernels[side][b];
+    }
+  }
+  PetscOptionsEnd();
+  PetscCheck(data->interface_face, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
+             "scene general: no %s face set is the interface (-%sboundary_NAME interface)",
+             side == FLUID_SIDE ? "fluid" : "structure", prefix);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SceneCreate_General(Scene *scene)
+{
+  const char *const systems[] = {"nondimensional", "SI", "cgs", NULL};
+  PetscInt          system = 0, dim = 2, nprobe = 8 * 3;
+  PetscReal         probes[8 * 3];
+  PetscBool         given;
+  PetscContainer    container;
+
+  PetscFunctionBeginUser;
+  PetscCall(DestroyExpressions(NULL)); /* a scene created once more starts afresh */
+  PetscCall(OptionsDeclareHelpGroup("general_"));
+  PetscCall(OptionsDeclareUnit("-probes_interface_displacement", UNIT_LENGTH));
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene general: a case from an options file and a mesh", "scene");
+  PetscCall(PetscOptionsEList("-units", "the system of units the case's values are in", NULL, systems, 3, systems[0],
+                              &system, NULL));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-general_dim", "the dimension of the meshes", 2, 3, &dim));
+  PetscCall(PetscOptionsRealArray("-probes_interface_displacement",
+                                  "interface nodes x,y[,z],... whose displacement probes.csv records (dx, dy, dz)", NULL,
+                                  probes, &nprobe, &given));
+  PetscOptionsEnd();
+  scene->units         = systems[system];
+  scene->dim           = dim;
+  scene->has_fluid     = PETSC_TRUE;
+  scene->has_structure = PETSC_TRUE;
+  PetscCall(ReadConditions(FLUID_SIDE, dim, &scene->fluid));
+  PetscCall(ReadConditions(STRUCTURE_SIDE, dim, &scene->structure));
+  if (given) {
+    PetscCheck(nprobe % dim == 0 && nprobe / dim <= 8, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
+               "option -probes_interface_displacement: expected up to 8 points of %" PetscInt_FMT " coordinates each",
+               dim);
+    scene->n_probes = nprobe / dim;
+    for (PetscInt p = 0; p < scene->n_probes; ++p)
+      for (PetscInt d = 0; d < dim; ++d) scene->probes[p][d] = probes[p * dim + d];
+  }
+  /* the expressions live as long as the run: PetscFinalize releases them */
+  PetscCall(PetscContainerCreate(PETSC_COMM_SELF, &container));
+  PetscCall(PetscContainerSetUserDestroy(container, DestroyExpressions));
+  PetscCall(PetscObjectRegisterDestroy((PetscObject)container));
+  PetscFunctionReturn(0);
+}
