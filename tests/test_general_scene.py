@@ -81,7 +81,8 @@ def test_general_conditions():
 
 
 @test("general scene, bad input: a face set without a condition, an unknown condition, an expression that does not "
-      "parse or has the wrong number of components, a missing datum, two interfaces: one line each", quick=True)
+      "parse or has the wrong number of components, a missing datum, two interfaces, a face set the mesh lacks, a datum "
+      "its condition does not take: one line each", quick=True)
 def test_general_refused():
     pulse = '"t <= 0.025 ? 1e3*(1-cos(2*_pi*t/0.025)) : 0, 0"'
     short = ["-t_final", "0.0002"]
@@ -101,4 +102,10 @@ def test_general_refused():
          "option -fluid_boundary_left traction: expected -fluid_boundary_left_traction"),
         ("two interfaces", variant("two-interfaces", [("    top: free", "    top: interface")]) + short,
          "option -structure_boundary_top: a second interface face set"),
+        ("no such face set", variant("no-face-set", [("    bottom: wall", "    bottom: wall\n    inlet: wall")]) + short,
+         "option -fluid_boundary_inlet: the fluid mesh has no face set of that name; its face sets: bottom, right, top, "
+         "left"),
+        ("datum of another condition", ["-options_file", GENERAL_CHANNEL, "-fluid_boundary_left", "wall"] + short,
+         "option -fluid_boundary_left_traction: the condition of the face set left (-fluid_boundary_left) takes no "
+         "such datum"),
     ])

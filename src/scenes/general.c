@@ -130,6 +130,52 @@ static PetscErrorCode FaceSets(const char prefix[], PetscInt dim, PetscInt *n, M
   PetscFunctionReturn(0);
 }
 
+/* An option of the side's family that no face set read names a face set the mesh lacks:
+   stop, naming it and the face sets there are. */
+static PetscErrorCode CheckNoOtherFaceSets(const char prefix[], PetscInt nsets, const MeshPhysicalName sets[])
+{
+  char      family[64], names[512] = "";
+  PetscInt  n;
+  char   **left, **values;
+  PetscBool allowed = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetBool(NULL, NULL, "-options_allow_unused", &allowed, NULL));
+  if (allowed) PetscFunctionReturn(0); /* the check of unused options warns of them */
+  PetscCall(PetscSNPrintf(family, sizeof(family), "%sboundary_", prefix)); /* PETSc's names come without the dash */
+  for (PetscInt i = 0; i < nsets; ++i) {
+    PetscCall(PetscStrlcat(names, i ? ", " : "", sizeof(names)));
+    PetscCall(PetscStrlcat(names, sets[i].name, sizeof(names)));
+  }
+  PetscCall(PetscOptionsLeftGet(NULL, &n, &left, &values));
+  for (PetscInt i = 0; i < n; ++i) {
+    PetscBool ours;
+    PetscCall(PetscStrncmp(left[i], family, strlen(family), &ours));
+    if (!ours) continue;
+    {
+      char        message[1024];
+      const char *set = NULL; /* the face set whose datum it would be */
+      for (PetscInt k = 0; k < nsets && !set; ++k) {
+        const size_t length = strlen(family) + strlen(sets[k].name);
+        if (!strncmp(left[i] + strlen(family), sets[k].name, strlen(sets[k].name)) && left[i][length] == '_')
+          set = sets[k].name;
+      }
+      if (set)
+        PetscCall(PetscSNPrintf(message, sizeof(message),
+                                "option -%s: the condition of the face set %s (-%s%s) takes no such datum", left[i],
+                                set, family, set));
+      else
+        PetscCall(PetscSNPrintf(message, sizeof(message),
+                                "option -%s: the %s mesh has no face set of that name; its face sets: %s", left[i],
+                                prefix[0] == 'f' ? "fluid" : "structure", names));
+      PetscCall(PetscOptionsLeftRestore(NULL, &n, &left, &values));
+      SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG, "%s", message);
+    }
+  }
+  PetscCall(PetscOptionsLeftRestore(NULL, &n, &left, &values));
+  PetscFunctionReturn(0);
+}
+
 /* One side's conditions, face set by face set, into its PhysicsData. */
 static PetscErrorCode ReadConditions(Side side, PetscInt dim, PhysicsData *data)
 {
@@ -211,6 +257,7 @@ static PetscErrorCode ReadConditions(Side side, PetscInt dim, PhysicsData *data)
     }
   }
   PetscOptionsEnd();
+  PetscCall(CheckNoOtherFaceSets(prefix, nsets, sets));
   PetscCheck(data->interface_face, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
              "scene general: no %s face set is the interface (-%sboundary_NAME interface)",
              side == FLUID_SIDE ? "fluid" : "structure", prefix);
