@@ -9,10 +9,19 @@
 
 typedef struct _p_Expression *Expression;
 
-/* Compiles `text`, which `option` gave, expecting `ncomponents` values: a text that does not
-   parse, names an unknown variable or gives another number of values stops the run with
-   one line naming the option, the position and muparser's message. */
-PetscErrorCode ExpressionCreate(MPI_Comm, const char option[], const char text[], PetscInt ncomponents, Expression *);
+/* A function of one argument an expression may call by name: a waveform, flow(t). */
+typedef struct {
+  const char *name;
+  PetscReal (*fn)(void *ctx, PetscReal);
+  void *ctx;
+} ExpressionFunction;
+
+/* Compiles `text`, which `option` gave, expecting `ncomponents` values, with the nfunctions
+   functions it may call: a text that does not parse, names an unknown variable or function
+   or gives another number of values stops the run with one line naming the option, the
+   position and muparser's message. */
+PetscErrorCode ExpressionCreate(MPI_Comm, const char option[], const char text[], PetscInt ncomponents,
+                                PetscInt nfunctions, const ExpressionFunction functions[], Expression *);
 /* The values at (t, x) (dim coordinates; the others 0). */
 void           ExpressionEvaluate(Expression, PetscReal t, PetscInt dim, const PetscReal x[], PetscScalar value[]);
 PetscErrorCode ExpressionDestroy(Expression *);

@@ -80,9 +80,46 @@ def test_general_conditions():
     return "pressure = traction to %.0e; inlet profile to %.0e; -help lists the face sets' conditions" % (same, worst)
 
 
+def waveform_file(name, rows, header="t,Q"):
+    path = os.path.join(inputs_dir(), name + ".csv")
+    with open(path, "w") as f:
+        f.write((header + "\n" if header else "") + "".join("%s\n" % r for r in rows))
+    return path
+
+
+def interpolated(table, t):
+    """the table's value at t: linear between rows, repeated with the period it spans"""
+    t0, t1 = table[0][0], table[-1][0]
+    t = t0 + (t - t0) % (t1 - t0)
+    for (a, va), (b, vb) in zip(table, table[1:]):
+        if a <= t <= b:
+            return va + (vb - va) * (t - a) / (b - a)
+    raise AssertionError("t = %g outside the table" % t)
+
+
+@test("general scene: a flow waveform from a CSV file (-waveform_flow FILE), called as flow(t) in a velocity inlet, "
+      "is the table interpolated and repeated with its period, to 1e-12, at a point of the inlet that is no node")
+def test_general_waveform():
+    import math
+    table = [(i * 0.0003, 10 * math.sin(math.pi * i / 10) ** 2) for i in range(11)]
+    path = waveform_file("flow", ["%.17g,%.17g" % r for r in table])
+    out = os.path.join(WORK, "general-waveform")
+    solve(variant("waveform", [("left: traction", "left: velocity"),
+                               ('left_traction: "t <= 0.025 ? 1e3*(1-cos(2*_pi*t/0.025)) : 0, 0"',
+                                'left_velocity: "flow(t)*6*y*(1-y), 0"')])
+          + ["-waveform_flow", path, "-t_final", "0.005", "-probes_fluid_velocity", "0,0.37"], out=out)
+    head, rows = read_probes(os.path.join(out, "probes.csv"))
+    u = head.index("u_x(0.;0.37)")
+    expected = [interpolated(table, r[0]) * 6 * 0.37 * 0.63 for r in rows]
+    worst = max(abs(r[u] - e) for r, e in zip(rows, expected)) / max(expected)
+    assert len(rows) == 51 and worst <= 1e-12, "%d rows; the inlet differs from the waveform by %.1e" % (len(rows), worst)
+    return "50 steps over 1.7 periods of the table: the inlet velocity within %.0e of the interpolated waveform" % worst
+
+
 @test("general scene, bad input: a face set without a condition, an unknown condition, an expression that does not "
       "parse or has the wrong number of components, a missing datum, two interfaces, a face set the mesh lacks, a datum "
-      "its condition does not take: one line each", quick=True)
+      "its condition does not take, a waveform file missing, not numbers, out of order, of one row or not "
+      "covering the run, an unknown function: one line each", quick=True)
 def test_general_refused():
     pulse = '"t <= 0.025 ? 1e3*(1-cos(2*_pi*t/0.025)) : 0, 0"'
     short = ["-t_final", "0.0002"]
@@ -105,6 +142,21 @@ def test_general_refused():
         ("no such face set", variant("no-face-set", [("    bottom: wall", "    bottom: wall\n    inlet: wall")]) + short,
          "option -fluid_boundary_inlet: the fluid mesh has no face set of that name; its face sets: bottom, right, top, "
          "left"),
+        ("waveform missing", ["-options_file", GENERAL_CHANNEL, "-waveform_flow", "no-such.csv"] + short,
+         "option -waveform_flow: the waveform file no-such.csv cannot be read"),
+        ("waveform not numbers", ["-options_file", GENERAL_CHANNEL, "-waveform_flow",
+                                  waveform_file("words", ["0,1", "0.1,one"])] + short, "line 3: expected two numbers"),
+        ("waveform unsorted", ["-options_file", GENERAL_CHANNEL, "-waveform_flow",
+                               waveform_file("unsorted", ["0,1", "0.2,2", "0.1,3"])] + short,
+         "line 4: t = 0.1 does not come after the row before's t = 0.2"),
+        ("waveform one row", ["-options_file", GENERAL_CHANNEL, "-waveform_flow",
+                              waveform_file("one-row", ["0,1"])] + short, "has one row; expected at least two"),
+        ("waveform short", ["-options_file", GENERAL_CHANNEL, "-waveform_flow",
+                            waveform_file("short", ["0,1", "0.0001,2"]), "-waveform_flow_extend", "none"] + short,
+         "spans t = 0. to 0.0001, not the run's 0. to 0.0002"),
+        ("unknown function", variant("function", [('"t <= 0.025 ? 1e3*(1-cos(2*_pi*t/0.025)) : 0, 0"',
+                                                   '"flw(t), 0"')]) + short,
+         'option -fluid_boundary_left_traction: the expression "flw(t), 0" does not parse'),
         ("datum of another condition", ["-options_file", GENERAL_CHANNEL, "-fluid_boundary_left", "wall"] + short,
          "option -fluid_boundary_left_traction: the condition of the face set left (-fluid_boundary_left) takes no "
          "such datum"),

@@ -10,7 +10,7 @@ struct _p_Expression {
 };
 
 PetscErrorCode ExpressionCreate(MPI_Comm comm, const char option[], const char text[], PetscInt ncomponents,
-                                Expression *expression)
+                                PetscInt nfunctions, const ExpressionFunction functions[], Expression *expression)
 {
   Expression e;
   int        n = 0;
@@ -27,6 +27,8 @@ PetscErrorCode ExpressionCreate(MPI_Comm comm, const char option[], const char t
   mupDefineConst(e->parser, "_pi", PETSC_PI);
   mupDefineConst(e->parser, "pi", PETSC_PI);
   mupDefineConst(e->parser, "_e", PetscExpReal(1.0));
+  for (PetscInt f = 0; f < nfunctions; ++f)
+    mupDefineFunUserData1(e->parser, functions[f].name, functions[f].fn, functions[f].ctx, 0 /* not constant */);
   mupSetExpr(e->parser, text);
   if (!mupError(e->parser)) (void)mupEvalMulti(e->parser, &n); /* muparser compiles at the first evaluation */
   if (mupError(e->parser)) {
