@@ -19,7 +19,7 @@ For k In {0:#fluidS[]-1}
   EndIf
 EndFor
 
-Physical Surface(4) = {fluidS[]};
-Physical Surface(2) = {tops[]};
-Physical Surface(3) = {iface[]};
-Physical Volume(1) = {vols[]};
+Physical Surface("inlet", 4) = {fluidS[]};
+Physical Surface("outlet", 2) = {tops[]};
+Physical Surface("interface", 3) = {iface[]};
+Physical Volume("blood", 1) = {vols[]};

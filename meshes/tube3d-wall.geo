@@ -18,8 +18,8 @@ For k In {0:#wallS[]-1}
   inner[] += out[4];
 EndFor
 
-Physical Surface(1) = {inner[]};
-Physical Surface(3) = {outer[]};
-Physical Surface(4) = {wallS[]};
-Physical Surface(2) = {tops[]};
-Physical Volume(1) = {vols[]};
+Physical Surface("interface", 1) = {inner[]};
+Physical Surface("outer", 3) = {outer[]};
+Physical Surface("inlet_end", 4) = {wallS[]};
+Physical Surface("outlet_end", 2) = {tops[]};
+Physical Volume("wall", 1) = {vols[]};

@@ -49,6 +49,21 @@ def test_general_channel2d():
         its[0], s["coupling_iterations"], gap, named_gap)
 
 
+@test("general scene: tube3d from options/examples/tube3d.yaml (3D gmsh meshes, face sets by name, a pressure inlet) "
+      "gives the built-in scene's 30 steps: the same coupling iterations, probes within 1e-10")
+def test_general_tube3d():
+    out, builtin = os.path.join(WORK, "general-tube3d"), os.path.join(WORK, "general-tube3d-builtin")
+    g = solve(["-options_file", os.path.join(ROOT, "options", "examples", "tube3d.yaml")], out=out)
+    b = solve(["-options_file", "options/tube3d.yaml"], out=builtin)
+    head, rows = read_probes(os.path.join(out, "probes.csv"))
+    ref_head, ref = read_probes(os.path.join(builtin, "probes.csv"))
+    assert head == ref_head and len(rows) == len(ref) == 31, "probe layout %s, %d rows" % (head, len(rows))
+    gap = probes_difference(rows, ref)
+    assert g["coupling_iterations"] == b["coupling_iterations"] and gap <= 1e-10, \
+        "coupling iterations %s and %s, probes %.1e apart" % (g["coupling_iterations"], b["coupling_iterations"], gap)
+    return "30 steps, %d coupling iterations each; probes within %.0e" % (g["coupling_iterations"], gap)
+
+
 @test("general scene: a pressure p on the inlet is the traction (p, 0) there (probes the same to 1e-12); a velocity "
       "inlet's quadratic profile read at a point of the inlet that is no node is the profile to 1e-12")
 def test_general_conditions():

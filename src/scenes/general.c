@@ -57,7 +57,7 @@ static inline void AddTraction(Side side, PetscInt slot, PetscInt dim, const Pet
 
   ExpressionEvaluate(traction_data[side][slot], time, dim, x, h);
   if (traction_is_pressure[side][slot])
-    for (PetscInt d = 0; d < dim; ++d) f0[d] -= load * (-h[0] * n[d]);
+    for (PetscInt d = 0; d < dim; ++d) f0[d] += load * h[0] * n[d]; /* -load (-p n), in the built-in scenes' order */
   else
     for (PetscInt d = 0; d < dim; ++d) f0[d] -= load * h[d];
 }
