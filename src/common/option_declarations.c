@@ -12,7 +12,7 @@ static struct {
   char          name[64];
   UnitDimension dimension;
 } units[MAX_UNITS];
-static char groups[MAX_GROUPS][32];
+static char groups[MAX_GROUPS][64];
 static char families[MAX_GROUPS][64];
 static int  n_units = 0, n_groups = 0, n_families = 0;
 
@@ -42,15 +42,22 @@ PetscBool OptionsDeclaredUnit(const char name[], UnitDimension *dimension)
   return PETSC_FALSE;
 }
 
+/* prefix into a table of prefixes, once */
+static PetscErrorCode AddPrefix(char table[][64], int *n, const char what[], const char prefix[])
+{
+  PetscFunctionBeginUser;
+  for (int i = 0; i < *n; ++i)
+    if (!strcmp(table[i], prefix)) PetscFunctionReturn(0);
+  PetscCheck(*n < MAX_GROUPS && strlen(prefix) < 64, PETSC_COMM_SELF, PETSC_ERR_PLIB,
+             "option %s %s: no room to declare it (at most %d, each under 64 characters)", what, prefix, MAX_GROUPS);
+  PetscCall(PetscStrncpy(table[(*n)++], prefix, 64));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode OptionsDeclareHelpGroup(const char prefix[])
 {
   PetscFunctionBeginUser;
-  for (int i = 0; i < n_groups; ++i)
-    if (!strcmp(groups[i], prefix)) PetscFunctionReturn(0);
-  PetscCheck(n_groups < MAX_GROUPS && strlen(prefix) < sizeof(groups[0]), PETSC_COMM_SELF, PETSC_ERR_PLIB,
-             "option prefix %s: no room to declare it (at most %d prefixes under %d characters)", prefix, MAX_GROUPS,
-             (int)sizeof(groups[0]));
-  PetscCall(PetscStrncpy(groups[n_groups++], prefix, sizeof(groups[0])));
+  PetscCall(AddPrefix(groups, &n_groups, "prefix", prefix));
   PetscFunctionReturn(0);
 }
 
@@ -62,12 +69,7 @@ const char *OptionsDeclaredHelpGroup(int i)
 PetscErrorCode OptionsDeclareFamily(const char prefix[])
 {
   PetscFunctionBeginUser;
-  for (int i = 0; i < n_families; ++i)
-    if (!strcmp(families[i], prefix)) PetscFunctionReturn(0);
-  PetscCheck(n_families < MAX_GROUPS && strlen(prefix) < sizeof(families[0]), PETSC_COMM_SELF, PETSC_ERR_PLIB,
-             "option family %s: no room to declare it (at most %d families under %d characters)", prefix, MAX_GROUPS,
-             (int)sizeof(families[0]));
-  PetscCall(PetscStrncpy(families[n_families++], prefix, sizeof(families[0])));
+  PetscCall(AddPrefix(families, &n_families, "family", prefix));
   PetscFunctionReturn(0);
 }
 

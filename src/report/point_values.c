@@ -42,6 +42,8 @@ struct _p_PointValues {
   Structure     structure;
   PetscInt      npoints[NUM_KINDS];
   PetscReal     points[NUM_KINDS][MAX_POINTS * 3];
+  PetscInt      owner[NUM_KINDS][MAX_POINTS], cell[NUM_KINDS][MAX_POINTS]; /* where each point was found */
+  PetscBool     located[NUM_KINDS]; /* the structure's points: once, in the reference configuration */
   PetscInt      ncolumns;
   char        **names;
   UnitDimension units[NUM_KINDS * MAX_POINTS * 3];
@@ -77,19 +79,17 @@ static PetscErrorCode EvaluateInCell(DM dm, PetscInt field, Vec local, PetscInt 
   PetscFunctionReturn(0);
 }
 
-/* The values of one kind at its points: located and evaluated where dm is (NULL on the
-   other ranks), then summed over comm. */
-static PetscErrorCode EvaluateKind(PointValues P, PointKind k, DM dm, Vec local, PetscReal out[])
+/* The rank and cell of each point of one kind: found where dm is (NULL on the other ranks),
+   the lowest rank of those that found it owning it. */
+static PetscErrorCode Locate(PointValues P, PointKind k, DM dm)
 {
-  const PetscInt n = P->npoints[k], nc = kinds[k].vector ? P->dim : 1;
+  const PetscInt n = P->npoints[k];
   PetscMPIInt    rank, size;
-  PetscInt       owner[MAX_POINTS], cell[MAX_POINTS];
-  PetscReal      values[MAX_POINTS * 3] = {0};
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_rank(P->comm, &rank));
   PetscCallMPI(MPI_Comm_size(P->comm, &size));
-  for (PetscInt p = 0; p < n; ++p) owner[p] = size;
+  for (PetscInt p = 0; p < n; ++p) P->owner[k][p] = size;
   if (dm) {
     Vec                points;
     PetscSF            located = NULL; /* DMLocatePoints creates it only when NULL */
@@ -104,51 +104,73 @@ static PetscErrorCode EvaluateKind(PointValues P, PointKind k, DM dm, Vec local,
     for (PetscInt i = 0; i < nfound; ++i) {
       const PetscInt p = found ? found[i] : i;
       if (cells[i].index < 0) continue;
-      owner[p] = rank;
-      cell[p]  = cells[i].index;
+      P->owner[k][p] = rank;
+      P->cell[k][p]  = cells[i].index;
     }
     PetscCall(PetscSFDestroy(&located));
     PetscCall(VecDestroy(&points));
   }
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, owner, (PetscMPIInt)n, MPIU_INT, MPI_MIN, P->comm));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, P->owner[k], (PetscMPIInt)n, MPIU_INT, MPI_MIN, P->comm));
   for (PetscInt p = 0; p < n; ++p) {
     const PetscReal *x = &P->points[k][p * P->dim];
-    PetscCheck(owner[p] < size, P->comm, PETSC_ERR_ARG_OUTOFRANGE,
+    PetscCheck(P->owner[k][p] < size, P->comm, PETSC_ERR_ARG_OUTOFRANGE,
                "option %s: the point (%g, %g, %g) is outside the %s's mesh", kinds[k].option, (double)x[0],
                (double)x[1], (double)(P->dim == 3 ? x[2] : 0), kinds[k].fluid ? "fluid" : "structure");
-    if (owner[p] == rank) PetscCall(EvaluateInCell(dm, kinds[k].field, local, cell[p], x, nc, &values[p * nc]));
   }
+  P->located[k] = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+/* The values of one kind at its points, evaluated by their owners and summed over comm. The
+   fluid's points are located anew each time: its mesh moves. */
+static PetscErrorCode EvaluateKind(PointValues P, PointKind k, DM dm, Vec local, PetscReal out[])
+{
+  const PetscInt n = P->npoints[k], nc = kinds[k].vector ? P->dim : 1;
+  PetscMPIInt    rank;
+  PetscReal      values[MAX_POINTS * 3] = {0};
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(P->comm, &rank));
+  if (kinds[k].fluid || !P->located[k]) PetscCall(Locate(P, k, dm));
+  for (PetscInt p = 0; p < n; ++p)
+    if (P->owner[k][p] == rank)
+      PetscCall(EvaluateInCell(dm, kinds[k].field, local, P->cell[k][p], &P->points[k][p * P->dim], nc, &values[p * nc]));
   PetscCallMPI(MPI_Allreduce(values, out, (PetscMPIInt)(n * nc), MPIU_REAL, MPIU_SUM, P->comm));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode PointValuesEvaluate(PointValues P, PetscReal out[])
 {
+  DM       fluid_dm = NULL;
+  Vec      fluid_local = NULL; /* one for the fluid's velocity and pressure points */
   PetscInt column = 0;
 
   PetscFunctionBeginUser;
+  if (P->fluid && (P->npoints[FLUID_VELOCITY] || P->npoints[FLUID_PRESSURE])) {
+    Vec state;
+    PetscCall(FluidGetDM(P->fluid, &fluid_dm));
+    PetscCall(FluidGetSolution(P->fluid, &state));
+    PetscCall(DMGetLocalVector(fluid_dm, &fluid_local));
+    PetscCall(FluidGlobalToLocal(P->fluid, state, fluid_local));
+  }
   for (PetscInt k = 0; k < NUM_KINDS; ++k) {
     DM  dm    = NULL;
-    Vec local = NULL, fluid_local = NULL;
+    Vec local = NULL;
 
     if (!P->npoints[k]) continue;
-    if (kinds[k].fluid && P->fluid) {
-      Vec state;
-      PetscCall(FluidGetDM(P->fluid, &dm));
-      PetscCall(FluidGetSolution(P->fluid, &state));
-      PetscCall(DMGetLocalVector(dm, &fluid_local));
-      PetscCall(FluidGlobalToLocal(P->fluid, state, fluid_local));
+    if (kinds[k].fluid) {
+      dm    = fluid_dm;
       local = fluid_local;
-    } else if (!kinds[k].fluid && P->structure) {
+    } else if (P->structure) {
       PetscCall(StructureGetDM(P->structure, &dm));
       if (k == STRUCTURE_DISPLACEMENT) PetscCall(StructureGetDisplacementLocal(P->structure, &local));
       else PetscCall(StructureGetVelocityLocal(P->structure, &local));
     }
     PetscCall(EvaluateKind(P, (PointKind)k, dm, local, &out[column]));
-    if (fluid_local) PetscCall(DMRestoreLocalVector(dm, &fluid_local));
     if (k == STRUCTURE_VELOCITY && P->structure) PetscCall(StructureRestoreVelocityLocal(P->structure, &local));
     column += P->npoints[k] * (kinds[k].vector ? P->dim : 1);
   }
+  if (fluid_local) PetscCall(DMRestoreLocalVector(fluid_dm, &fluid_local));
   PetscFunctionReturn(0);
 }
 
