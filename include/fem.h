@@ -5,6 +5,11 @@
 /* The pieces the fluid and structure solvers share: fields, boundary data, residual
    evaluation on a given state, counted Jacobians and error norms. */
 
+/* Entries (global rows and columns) every Jacobian of dm must hold beyond the weak form's
+   stencil (fem_matrix_pattern.c): in the pattern of the matrices the backends make, zero
+   after each assembly, for the caller to add to. */
+PetscErrorCode FEMAddExtraPattern(DM dm, PetscInt n, const PetscInt rows[], const PetscInt cols[]);
+PetscErrorCode FEMGetExtraPattern(DM dm, PetscInt *n, const PetscInt **rows, const PetscInt **cols);
 PetscErrorCode FEMCreateField(DM dm, PetscInt field, const char name[], PetscInt Nc, PetscInt degree,
                               PetscFE quadrature_from);
 /* Registers the essential and natural boundaries of `data` on field `field`.

@@ -63,8 +63,21 @@ PetscErrorCode FluidGetInfo(Fluid, PetscInt *dim, PetscInt *ndofs);
    state, on every fluid rank (fluid_forces.c). */
 PetscErrorCode FluidBodyForce(Fluid, PetscReal force[3]);
 /* The same force as the boundary integral of sigma n of the discrete solution (a check on
-   the volume-weighted form; fluid_surface_force.c). */
+   the volume-weighted form; fluid_face_integrals.c). */
 PetscErrorCode FluidBodyForceSurface(Fluid, PetscReal force[3]);
+/* Integrals over face sets of the current state, n the fluid's outward normal: the area
+   (2D: the length), the flow rate int u.n (out of the fluid), int p, and the force
+   -int sigma n of the fluid on what lies beyond (fluid_face_integrals.c); collective. */
+typedef struct {
+  PetscReal area, flow_rate, pressure, force[3];
+} FluidFaceIntegral;
+PetscErrorCode FluidFaceSetIntegral(Fluid, PetscInt n, const PetscInt values[], FluidFaceIntegral *);
+/* The 0D outlets' (PhysicsData.outlets) flow rate and pressure at the current state; the
+   boundary kernel of outlet k, for its face set's traction slot (fluid_outlets.c). */
+PetscErrorCode   FluidGetOutletState(Fluid, PetscReal q[], PetscReal p[]);
+BdResidualKernel FluidOutletKernel(PetscInt k);
+/* The scene's data the fluid was set up with */
+PetscErrorCode FluidGetData(Fluid, const PhysicsData **);
 /* Saves or loads the state the next step needs (checkpoint.h); either way the next
    coupled step refactors the Jacobian. */
 PetscErrorCode FluidCheckpoint(Fluid, Checkpoint, PetscBool load);

@@ -40,6 +40,16 @@ typedef struct {
   const PetscReal *time;
 } DirichletDatum;
 
+/* A 0D outlet of the fluid (fluid_outlets.c): on its face set the traction -p n with
+   p = R_p Q + P_c, Q the flow rate out through it, and C dP_c/dt = Q - (P_c - P_d)/R_d (the
+   three-element Windkessel, RCR); C = 0: the resistance p = R_p Q + P_d. */
+#define FSIOPT_MAX_OUTLETS 8
+typedef struct {
+  char      name[64];
+  PetscInt  face;
+  PetscReal proximal_resistance, capacitance, distal_resistance, distal_pressure;
+} OutletModel;
+
 /* What a single-physics solver needs from a scene: boundary data, loads, exact solution. */
 typedef struct {
   PetscInt n_dirichlet, dirichlet_faces[FSIOPT_MAX_BOUNDARIES];
@@ -60,6 +70,8 @@ typedef struct {
   FieldFn     mesh_displacement;                       /* fluid: a prescribed mesh motion d(X, t), NULL: none */
   PetscInt    n_fixed_mesh_faces;                      /* fluid: > 0 makes the mesh follow the interface, */
   PetscInt    fixed_mesh_faces[FSIOPT_MAX_BOUNDARIES]; /* these face sets staying put */
+  PetscInt    n_outlets;                               /* fluid: its 0D outlets, each also a traction face */
+  OutletModel outlets[FSIOPT_MAX_OUTLETS];             /* set whose kernel is FluidOutletKernel(k) */
   PetscInt    n_force_faces;                           /* fluid: face sets of the body whose force (drag, lift) */
   PetscInt    force_faces[FSIOPT_MAX_BOUNDARIES];      /* is recorded each step */
   PetscInt    n_extra;                                 /* scene constants appended after the solver's: */

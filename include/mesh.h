@@ -31,4 +31,11 @@ typedef struct {
 } MeshPhysicalName;
 PetscErrorCode MeshGmshPhysicalNames(MPI_Comm, const char path[], PetscInt dim, PetscInt max, PetscInt *n,
                                      MeshPhysicalName names[]);
+/* The named face sets of a side's mesh (prefix "fluid_" or "structure_", dim the mesh's):
+   the gmsh file's physical names of dimension dim - 1, or bottom, right, top, left of a 2D
+   box; none for a file without names. Collective. */
+PetscErrorCode MeshFaceSetNames(MPI_Comm, const char prefix[], PetscInt dim, PetscInt max, PetscInt *n,
+                                MeshPhysicalName sets[]);
+/* The face set `text` names: one of sets by name, or a positive number; -1 for neither. */
+PetscErrorCode MeshFaceSetFind(PetscInt n, const MeshPhysicalName sets[], const char text[], PetscInt *value);
 #endif

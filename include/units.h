@@ -13,7 +13,13 @@ typedef enum {
   UNIT_ACCELERATION,
   UNIT_FORCE_PER_DEPTH, /* a force on a 2D body, per unit depth */
   UNIT_FORCE,
-  UNIT_JUMP /* the interface jump ||u - v_s||_{L2(Gamma_I)} */
+  UNIT_JUMP, /* the interface jump ||u - v_s||_{L2(Gamma_I)} */
+  UNIT_FLOW_RATE,
+  UNIT_FLOW_RATE_PER_DEPTH, /* through a 2D face set, per unit depth */
+  UNIT_RESISTANCE,          /* of a 0D outlet: pressure per flow rate */
+  UNIT_RESISTANCE_PER_DEPTH,
+  UNIT_COMPLIANCE, /* of a 0D outlet: volume per pressure */
+  UNIT_COMPLIANCE_PER_DEPTH
 } UnitDimension;
 
 const char *UnitName(const char system[], UnitDimension);

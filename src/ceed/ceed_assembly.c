@@ -3,6 +3,7 @@
    operator per block: libCEED assembles an operator with one active input and one active
    output restriction. */
 #include "fem_ceed.h"
+#include "fem.h"
 
 /* A bare AIJ matrix of dm's global size: MatSetPreallocationCOO on DMCreateMatrix's would
    leak its variable block sizes (PETSc 3.18, valgrind) */
@@ -19,6 +20,31 @@ PetscErrorCode FEMCeedCreateCOOMatrix(DM dm, Mat *A)
   PetscCall(MatCreate(PetscObjectComm((PetscObject)dm), A));
   PetscCall(MatSetSizes(*A, n, n, N, N));
   PetscCall(MatSetType(*A, MATAIJ));
+  PetscFunctionReturn(0);
+}
+
+/* the count of the DM's extra entries at the end of a matrix's COO pattern, kept with it */
+static PetscErrorCode ExtraCount(Mat A, PetscBool set, PetscInt *n)
+{
+  PetscContainer container;
+  PetscInt      *count;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectQuery((PetscObject)A, "fsiopt_coo_extra", (PetscObject *)&container));
+  if (!container && !set) {
+    *n = 0;
+    PetscFunctionReturn(0);
+  }
+  if (!container) {
+    PetscCall(PetscNew(&count));
+    PetscCall(PetscContainerCreate(PETSC_COMM_SELF, &container));
+    PetscCall(PetscContainerSetPointer(container, count));
+    PetscCall(PetscContainerSetUserDestroy(container, PetscContainerUserDestroyDefault));
+    PetscCall(PetscObjectCompose((PetscObject)A, "fsiopt_coo_extra", (PetscObject)container));
+    PetscCall(PetscContainerDestroy(&container));
+  } else PetscCall(PetscContainerGetPointer(container, (void **)&count));
+  if (set) *count = *n;
+  else *n = *count;
   PetscFunctionReturn(0);
 }
 
@@ -54,6 +80,19 @@ PetscErrorCode FEMCeedAssemblySetUp(Ceed ceed, DM dm, PetscInt n, const CeedOper
   PetscCall(DMGetLocalToGlobalMapping(dm, &ltog));
   PetscCall(ISLocalToGlobalMappingApply(ltog, (PetscInt)total, rows, rows));
   PetscCall(ISLocalToGlobalMappingApply(ltog, (PetscInt)total, cols, cols));
+  { /* and the DM's entries beyond the stencil (global already), zero at each assembly */
+    const PetscInt *extra_rows, *extra_cols;
+    PetscInt        nextra;
+    PetscCall(FEMGetExtraPattern(dm, &nextra, &extra_rows, &extra_cols));
+    if (nextra) {
+      PetscCall(PetscRealloc(sizeof(PetscInt) * (total + nextra), &rows));
+      PetscCall(PetscRealloc(sizeof(PetscInt) * (total + nextra), &cols));
+      PetscCall(PetscArraycpy(rows + total, extra_rows, nextra));
+      PetscCall(PetscArraycpy(cols + total, extra_cols, nextra));
+      total += nextra;
+    }
+    if (nextra) PetscCall(ExtraCount(A, PETSC_TRUE, &nextra));
+  }
   PetscCall(MatSetPreallocationCOO(A, (PetscCount)total, rows, cols));
   PetscCall(PetscFree(rows));
   PetscCall(PetscFree(cols));
@@ -86,10 +125,13 @@ PetscErrorCode FEMCeedAssemble(Ceed ceed, PetscInt n, const CeedOperator ops[], 
 {
   PetscScalar *values;
   CeedSize     total = 0, at = 0;
+  PetscInt     nextra;
 
   PetscFunctionBeginUser;
   for (PetscInt b = 0; b < n; ++b) total += counts[b];
-  PetscCall(COOValues(A, total, &values));
+  PetscCall(ExtraCount(A, PETSC_FALSE, &nextra));
+  PetscCall(COOValues(A, total + nextra, &values));
+  PetscCall(PetscArrayzero(values + total, nextra));
   for (PetscInt b = 0; b < n; ++b) {
     /* a block of the pattern with no values in this assembly gets zeros */
     if (ops[b]) PetscCall(FEMCeedElementMatrices(ceed, ops[b], values + at));

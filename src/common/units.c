@@ -29,6 +29,18 @@ const char *UnitName(const char system[], UnitDimension d)
     return si ? "N" : "dyn";
   case UNIT_JUMP:
     return si ? "m/s in the L2 norm over the interface" : "cm/s in the L2 norm over the interface";
+  case UNIT_FLOW_RATE:
+    return si ? "m^3/s" : "cm^3/s";
+  case UNIT_FLOW_RATE_PER_DEPTH:
+    return si ? "m^2/s" : "cm^2/s";
+  case UNIT_RESISTANCE:
+    return si ? "Pa s/m^3" : "dyn s/cm^5";
+  case UNIT_RESISTANCE_PER_DEPTH:
+    return si ? "Pa s/m^2" : "dyn s/cm^4";
+  case UNIT_COMPLIANCE:
+    return si ? "m^3/Pa" : "cm^5/dyn";
+  case UNIT_COMPLIANCE_PER_DEPTH:
+    return si ? "m^2/Pa" : "cm^4/dyn";
   }
   return NULL;
 }

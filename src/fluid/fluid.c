@@ -161,6 +161,7 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
   }
   PetscCall(FluidSetPressureStabilization(f));
   PetscCall(FluidSetUpWeakForm(f));
+  PetscCall(FluidOutletsCreate(f)); /* on the DM's fields, before the constants hold their pressures */
   PetscCall(FluidSetConstants(f, 0.0, 1.0, 1.0));
   if (f->model == FLUID_STOKES) policy = FEM_JACOBIAN_CONSTANT;
   else if (f->interface_face) policy = FEM_JACOBIAN_ON_REQUEST;
@@ -202,6 +203,7 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
     PetscCall(VecZeroEntries(f->x));
   }
   PetscCall(FluidOperatorsSetUp(f)); /* after the projection, which PETSc's integration solves */
+  if (f->outlets) PetscCall(FluidSNESUseOperator(f)); /* whose residual sets the outlets' pressures */
   PetscFunctionReturn(0);
 }
 
@@ -211,6 +213,7 @@ PetscErrorCode FluidBeginStep(Fluid f, PetscInt step)
 
   PetscFunctionBeginUser;
   StepFailureClear(&f->failure);
+  PetscCall(FluidOutletsBeginStep(f)); /* from the state the last step accepted, on its mesh */
   f->steps_at_dt++;
   /* Old-domain mass term, evaluated before the time and the mesh move on. */
   PetscCall(FluidGlobalToLocal(f, f->x, f->xlocal_old));
@@ -423,6 +426,7 @@ PetscErrorCode FluidCheckpoint(Fluid f, Checkpoint cp, PetscBool load)
   PetscCall(CheckpointVec(cp, "state", f->x, load));
   PetscCall(CheckpointVec(cp, "state_before", f->x_before, load));
   if (f->moving) PetscCall(FluidALECheckpoint(f, cp, load, bdf2_state));
+  PetscCall(FluidOutletsCheckpoint(f, cp, load));
   if (bdf2_state) {
     PetscCall(CheckpointInt(cp, "steps_at_dt", &f->steps_at_dt, load));
     if (CheckpointIsFile(cp)) {
@@ -453,6 +457,13 @@ PetscErrorCode FluidGetFailure(Fluid f, const char **reason)
 {
   PetscFunctionBeginUser;
   *reason = StepFailureReason(&f->failure);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FluidGetData(Fluid f, const PhysicsData **data)
+{
+  PetscFunctionBeginUser;
+  *data = &f->data;
   PetscFunctionReturn(0);
 }
 
@@ -520,6 +531,7 @@ PetscErrorCode FluidDestroy(Fluid *fluid)
   PetscCall(FluidALEDestroy(&f->ale));
   PetscCall(FluidForcesDestroy(&f->forces));
   PetscCall(FluidDirichletDestroy(&f->dirichlet));
+  PetscCall(FluidOutletsDestroy(&f->outlets));
   PetscCall(VecDestroy(&f->xlocal_old));
   PetscCall(VecDestroy(&f->xlocal_work));
   PetscCall(VecDestroy(&f->xlocal_previous));

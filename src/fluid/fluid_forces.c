@@ -24,35 +24,8 @@ struct _n_FluidForces {
 
 PetscErrorCode FluidBodyFaces(Fluid f, IS *faces)
 {
-  DMLabel  label;
-  PetscInt fstart, fend, count = 0, *list = NULL;
-
   PetscFunctionBeginUser;
-  PetscCall(DMGetLabel(f->dm, "Face Sets", &label));
-  PetscCall(DMPlexGetHeightStratum(f->dm, 1, &fstart, &fend));
-  for (PetscInt pass = 0; pass < 2; ++pass) {
-    count = 0;
-    for (PetscInt b = 0; b < f->data.n_force_faces; ++b) {
-      IS              stratum;
-      const PetscInt *point;
-      PetscInt        npoints = 0;
-
-      PetscCall(DMLabelGetStratumIS(label, f->data.force_faces[b], &stratum));
-      if (!stratum) continue;
-      PetscCall(ISGetLocalSize(stratum, &npoints));
-      PetscCall(ISGetIndices(stratum, &point));
-      for (PetscInt i = 0; i < npoints; ++i)
-        if (point[i] >= fstart && point[i] < fend) {
-          if (pass) list[count] = point[i];
-          ++count;
-        }
-      PetscCall(ISRestoreIndices(stratum, &point));
-      PetscCall(ISDestroy(&stratum));
-    }
-    if (!pass) PetscCall(PetscMalloc1(count, &list));
-  }
-  PetscCall(PetscSortRemoveDupsInt(&count, list));
-  PetscCall(ISCreateGeneral(PETSC_COMM_SELF, count, list, PETSC_OWN_POINTER, faces));
+  PetscCall(FluidFaceSetFaces(f, f->data.n_force_faces, f->data.force_faces, faces));
   PetscFunctionReturn(0);
 }
 
@@ -189,7 +162,7 @@ static PetscErrorCode SetConstants(Fluid f, DM dm, PetscReal mass, PetscReal op,
   PetscDS            ds, ds_force;
   DMLabel            band;
   const PetscScalar *constants;
-  PetscScalar        copy[FLUID_NUM_CONSTANTS + FSIOPT_MAX_EXTRA];
+  PetscScalar        copy[FLUID_MAX_CONSTANTS];
   PetscInt           n;
 
   PetscFunctionBeginUser;

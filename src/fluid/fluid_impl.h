@@ -17,6 +17,10 @@ typedef struct _n_FluidALE       *FluidALE;       /* moving meshes (fluid_ale.c)
 typedef struct _n_FluidForces    *FluidForces;    /* the force on a body (fluid_forces.c) */
 typedef struct _n_FluidDirichlet *FluidDirichlet; /* the interface velocity prescribed (fluid_dirichlet.c) */
 typedef struct _n_FluidMatFree   *FluidMatFree;   /* -fluid_matfree (fluid_matfree.c) */
+typedef struct _n_FluidOutlets   *FluidOutlets;   /* 0D outlets (fluid_outlets.c) */
+
+/* the constants' array: the solver's, the scene's (PhysicsData.extra), the outlets' pressures */
+#define FLUID_MAX_CONSTANTS (FLUID_NUM_CONSTANTS + FSIOPT_MAX_EXTRA + FSIOPT_MAX_OUTLETS)
 
 struct _p_Fluid {
   MPI_Comm   comm;
@@ -61,6 +65,7 @@ struct _p_Fluid {
   FluidForces    forces;    /* NULL without body faces */
   FluidDirichlet dirichlet; /* its solver made when a Dirichlet-Neumann coupling asks */
   FluidMatFree   matfree;   /* NULL without -fluid_matfree */
+  FluidOutlets   outlets;   /* NULL without 0D outlets */
   PhysicsData    data;
   DirichletDatum datums[FSIOPT_MAX_BOUNDARIES];
   SolverCounts   counts;
@@ -101,7 +106,23 @@ static inline PetscBool FluidStepIsBDF2(Fluid f)
 
 /* fluid_forces.c: the faces of the scene's body (its force_faces) on this rank, sorted, each once */
 PetscErrorCode FluidBodyFaces(Fluid, IS *faces);
+/* fluid_face_integrals.c: the faces of the face sets `values` on this rank, sorted, each
+   once; the integrals over such faces of a local state (collective) */
+PetscErrorCode FluidFaceSetFaces(Fluid, PetscInt n, const PetscInt values[], IS *faces);
+PetscErrorCode FluidIntegrateFaces(Fluid, Vec xlocal, IS faces, FluidFaceIntegral *, Vec flux_local);
 PetscErrorCode FluidForcesCreate(Fluid, FluidForces *);
+
+/* fluid_outlets.c: made at set-up when the scene has 0D outlets; each residual sets their
+   pressures from its iterate (FluidOutletsSetIterate); a step begins from the state the last
+   one left. FluidOutletsGetPressures writes them in the constants' order (the last, outlet 0)
+   and returns how many. */
+PetscErrorCode FluidOutletsCreate(Fluid);
+PetscErrorCode FluidOutletsDestroy(FluidOutlets *);
+PetscErrorCode FluidOutletsSetIterate(Fluid, Vec xlocal);
+PetscErrorCode FluidOutletsAddJacobian(Fluid, Vec xlocal, Mat); /* their rank-one terms into an assembled Jacobian */
+PetscErrorCode FluidOutletsBeginStep(Fluid);
+PetscErrorCode FluidOutletsCheckpoint(Fluid, Checkpoint, PetscBool load);
+PetscInt       FluidOutletsGetPressures(Fluid, PetscScalar constants[]);
 PetscErrorCode FluidForcesDestroy(FluidForces *);
 
 /* fluid_dirichlet.c: created with the fluid, its solver by FluidSetUpDirichlet; Refactor:

@@ -103,6 +103,7 @@ PetscErrorCode FluidSNESResidual(SNES snes, Vec x, Vec F, void *ctx)
   PetscFunctionBeginUser;
   (void)snes;
   PetscCall(FluidGlobalToLocal(f, x, f->xlocal_work));
+  PetscCall(FluidOutletsSetIterate(f, f->xlocal_work));
   /* on a moving mesh the time derivative acts through the old domains' mass (fluid_ale.c) */
   PetscCall(FluidOperatorResidual(f->op, f->xlocal_work, f->moving, F));
   PetscFunctionReturn(0);
@@ -124,6 +125,8 @@ PetscErrorCode FluidSNESJacobian(SNES snes, Vec x, Mat J, Mat P, void *ctx)
     PetscFunctionReturn(0);
   }
   PetscCall(op->ops.jacobian(op, f->xlocal_work, f->moving, matfree ? P : J, P));
+  PetscCall(FluidOutletsAddJacobian(f, f->xlocal_work, P));
+  if (J != P && !matfree) PetscCall(FluidOutletsAddJacobian(f, f->xlocal_work, J));
   if (matfree) PetscCall(FluidMatFreeUpdate(f, f->xlocal_work, f->moving));
   f->counts.factorizations++;
   PetscFunctionReturn(0);

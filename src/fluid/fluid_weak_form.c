@@ -19,7 +19,8 @@ PetscErrorCode FluidSetConstantsFull(Fluid f, PetscReal mass, PetscReal op, Pets
                                      PetscReal projection)
 {
   PetscDS     ds;
-  PetscScalar c[FLUID_NUM_CONSTANTS + FSIOPT_MAX_EXTRA];
+  PetscScalar c[FLUID_MAX_CONSTANTS];
+  PetscInt    n = FLUID_NUM_CONSTANTS + f->data.n_extra;
 
   PetscFunctionBeginUser;
   c[FLUID_RHO]                    = f->rho;
@@ -34,7 +35,8 @@ PetscErrorCode FluidSetConstantsFull(Fluid f, PetscReal mass, PetscReal op, Pets
   c[FLUID_PRESSURE_STABILIZATION] = f->pressure_tau;
   for (PetscInt i = 0; i < f->data.n_extra; ++i) c[FLUID_NUM_CONSTANTS + i] = f->data.extra[i];
   PetscCall(DMGetDS(f->dm, &ds));
-  PetscCall(PetscDSSetConstants(ds, FLUID_NUM_CONSTANTS + f->data.n_extra, c));
+  n += FluidOutletsGetPressures(f, &c[n]);
+  PetscCall(PetscDSSetConstants(ds, n, c));
   PetscFunctionReturn(0);
 }
 

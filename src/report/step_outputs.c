@@ -3,6 +3,7 @@
 #include "fields.h"
 #include "logging.h"
 #include "point_values.h"
+#include "face_integrals.h"
 
 struct _p_StepOutputs {
   const RunParams *params;
@@ -14,7 +15,8 @@ struct _p_StepOutputs {
   Probes           surface;      /* force_surface.csv (-probes_surface_force) */
   Vec              displacement; /* of the probed nodes */
   PointValues      points;       /* -probes_fluid_velocity, ...: after the force columns */
-  PetscInt         nforce;
+  FaceIntegrals    integrals;    /* -integrals_flow_rate, ..., the 0D outlets: after the points' columns */
+  PetscInt         nforce, npoint_columns;
   FieldWriter      fields;
 };
 
@@ -25,20 +27,25 @@ static PetscErrorCode ProbesSetUp(StepOutputs out, PetscInt dim, Interface itf)
   const char          *force_names[] = {"drag", "lift", "force_z"};
   const Scene         *scene         = out->scene;
   const char *const   *point_names;
+  const char *const   *integral_names;
   const UnitDimension *point_units;
+  const UnitDimension *integral_units;
   const char          *names[FSIOPT_MAX_QUANTITIES];
   UnitDimension        units[FSIOPT_MAX_QUANTITIES];
-  PetscInt             nforce = scene->has_fluid && scene->fluid.n_force_faces ? dim : 0, nodes = 0, npoint_columns;
+  PetscInt             nforce = scene->has_fluid && scene->fluid.n_force_faces ? dim : 0, nodes = 0, npoint_columns,
+                       nintegrals;
   PetscReal           *coords = NULL;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &dim, 1, MPIU_INT, MPI_MAX, PETSC_COMM_WORLD));
   PetscCall(PointValuesCreate(PETSC_COMM_WORLD, dim, out->fluid, out->structure, &out->points));
   PetscCall(PointValuesGetColumns(out->points, &npoint_columns, &point_names, &point_units));
-  PetscCheck(nforce + npoint_columns <= FSIOPT_MAX_QUANTITIES, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
-             "options -probes_fluid_velocity, ...: at most %d columns of probes.csv besides the scene's, asked for "
-             "%" PetscInt_FMT,
-             FSIOPT_MAX_QUANTITIES - (int)nforce, npoint_columns);
+  PetscCall(FaceIntegralsCreate(PETSC_COMM_WORLD, dim, out->fluid, &out->integrals));
+  PetscCall(FaceIntegralsGetColumns(out->integrals, &nintegrals, &integral_names, &integral_units));
+  PetscCheck(nforce + npoint_columns + nintegrals <= FSIOPT_MAX_QUANTITIES, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "options -probes_fluid_velocity, ..., -integrals_*: at most %d columns of probes.csv besides the scene's, "
+             "asked for %" PetscInt_FMT,
+             FSIOPT_MAX_QUANTITIES - (int)nforce, npoint_columns + nintegrals);
   for (PetscInt c = 0; c < nforce; ++c) {
     names[c] = force_names[c];
     units[c] = dim == 2 ? UNIT_FORCE_PER_DEPTH : UNIT_FORCE; /* a 2D body's force is per unit depth */
@@ -47,8 +54,13 @@ static PetscErrorCode ProbesSetUp(StepOutputs out, PetscInt dim, Interface itf)
     names[nforce + c] = point_names[c];
     units[nforce + c] = point_units[c];
   }
-  out->nforce = nforce;
-  if (!scene->n_probes && !nforce && !npoint_columns) PetscFunctionReturn(0);
+  for (PetscInt c = 0; c < nintegrals; ++c) {
+    names[nforce + npoint_columns + c] = integral_names[c];
+    units[nforce + npoint_columns + c] = integral_units[c];
+  }
+  out->nforce         = nforce;
+  out->npoint_columns = npoint_columns;
+  if (!scene->n_probes && !nforce && !npoint_columns && !nintegrals) PetscFunctionReturn(0);
   if (scene->n_probes && itf) {
     const PetscReal *interface_coords;
     PetscCall(InterfaceCreateVector(itf, &out->displacement));
@@ -58,7 +70,7 @@ static PetscErrorCode ProbesSetUp(StepOutputs out, PetscInt dim, Interface itf)
   } else if (scene->n_probes && out->structure && !scene->has_fluid)
     PetscCall(StructureCreateNodeVector(out->structure, &out->displacement, &nodes, &coords));
   PetscCall(ProbesCreate(PETSC_COMM_WORLD, dim, nodes, coords, out->displacement ? scene->n_probes : 0, scene->probes,
-                         nforce + npoint_columns, names, units, scene->units, out->params->output_dir, "probes.csv",
+                         nforce + npoint_columns + nintegrals, names, units, scene->units, out->params->output_dir, "probes.csv",
                          &out->probes));
   PetscCall(PetscFree(coords));
   PetscFunctionReturn(0);
@@ -120,6 +132,7 @@ static PetscErrorCode RecordProbes(StepOutputs out, PetscReal t)
   if (out->fluid && out->scene->fluid.n_force_faces) PetscCall(FluidBodyForce(out->fluid, force));
   for (PetscInt c = 0; c < out->nforce; ++c) extra[c] = force[c];
   if (out->points) PetscCall(PointValuesEvaluate(out->points, &extra[out->nforce]));
+  if (out->integrals) PetscCall(FaceIntegralsEvaluate(out->integrals, &extra[out->nforce + out->npoint_columns]));
   if (out->displacement && out->problem)
     PetscCall(CouplingProblemInterfaceDisplacement(out->problem, out->displacement));
   else if (out->displacement) PetscCall(StructureGetNodeDisplacement(out->structure, out->displacement));
@@ -188,6 +201,7 @@ PetscErrorCode StepOutputsDestroy(StepOutputs *outputs)
   PetscCall(FieldWriterDestroy(&out->fields));
   PetscCall(VecDestroy(&out->displacement));
   PetscCall(PointValuesDestroy(&out->points));
+  PetscCall(FaceIntegralsDestroy(&out->integrals));
   PetscCall(PetscFree(*outputs));
   PetscFunctionReturn(0);
 }

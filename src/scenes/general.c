@@ -2,12 +2,13 @@
    and the structure's mesh, by its name (a gmsh physical name; bottom, right, top, left on a
    2D box; or its number), gets one condition:
 
-     -fluid_boundary_NAME      wall | velocity | traction | pressure | open | interface
+     -fluid_boundary_NAME      wall | velocity | traction | pressure | open | resistance | rcr | interface
      -structure_boundary_NAME  clamped | free | traction | pressure | interface
 
    with its datum as an expression in x, y, z, t (expression.h) where the condition takes one:
    -fluid_boundary_NAME_velocity, -..._traction (vectors, components separated by commas) and
-   -..._pressure (a scalar p: the traction -p n). The fluid's mesh follows the interface and
+   -..._pressure (a scalar p: the traction -p n). A 0D outlet (fluid_outlets.c) takes
+   -..._resistance R or -..._rcr R_p,C,R_d, and -..._distal_pressure P_d (default 0). The fluid's mesh follows the interface and
    stays put on every other face set. -probes_interface_displacement gives probes.csv's
    interface points; -units the system the values are in. The meshes, materials and solver
    settings are the options every scene has. */
@@ -31,7 +32,7 @@ typedef enum {
   STRUCTURE_SIDE
 } Side;
 
-static const char *const fluid_conditions[]     = {"wall", "velocity", "traction", "pressure", "open", "interface", NULL};
+static const char *const fluid_conditions[]     = {"wall", "velocity", "traction", "pressure", "open", "resistance", "rcr", "interface", NULL};
 static const char *const structure_conditions[] = {"clamped", "free", "traction", "pressure", "interface", NULL};
 
 /* PETSc fixes the pointwise kernels' signature (no context): the traction data of each side's
@@ -116,29 +117,15 @@ static PetscErrorCode DestroyExpressions(void *ctx)
   PetscFunctionReturn(0);
 }
 
-/* The face sets of a side's mesh by name: the gmsh file's physical names of dimension
-   dim - 1, or the four sides of a 2D box; each also answers to its number. */
+/* The face sets of a side's mesh by name (mesh.h); each also answers to its number. */
 static PetscErrorCode FaceSets(const char prefix[], PetscInt dim, PetscInt *n, MeshPhysicalName sets[])
 {
-  char      option[64], path[PETSC_MAX_PATH_LEN];
-  PetscBool file;
-
   PetscFunctionBeginUser;
-  PetscCall(PetscSNPrintf(option, sizeof(option), "-%sdm_plex_filename", prefix));
-  PetscCall(PetscOptionsGetString(NULL, NULL, option, path, sizeof(path), &file));
-  *n = 0;
-  if (file) PetscCall(MeshGmshPhysicalNames(PETSC_COMM_WORLD, path, dim - 1, MAX_FACE_SETS, n, sets));
-  else if (dim == 2) {
-    const char *box[] = {"bottom", "right", "top", "left"}; /* FACE_BOTTOM, ... */
-    for (PetscInt i = 0; i < 4; ++i) {
-      PetscCall(PetscStrncpy(sets[i].name, box[i], sizeof(sets[i].name)));
-      sets[i].value = i + 1;
-    }
-    *n = 4;
-  }
+  PetscCall(MeshFaceSetNames(PETSC_COMM_WORLD, prefix, dim, MAX_FACE_SETS, n, sets));
   PetscCheck(*n > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
-             "scene general: the %s mesh has no named face sets (%s: a gmsh file with physical names, or a 2D box)",
-             prefix[0] == 'f' ? "fluid" : "structure", option);
+             "scene general: the %s mesh has no named face sets (-%sdm_plex_filename: a gmsh file with physical names, "
+             "or a 2D box)",
+             prefix[0] == 'f' ? "fluid" : "structure", prefix);
   PetscFunctionReturn(0);
 }
 
@@ -247,6 +234,52 @@ static PetscErrorCode CheckNoOtherFaceSets(const char prefix[], PetscInt nsets, 
   PetscFunctionReturn(0);
 }
 
+/* A 0D outlet on the face set: its model's parameters (-NAME_resistance R, or -NAME_rcr
+   R_p,C,R_d; -NAME_distal_pressure P_d), and the traction kernel of its slot */
+static PetscErrorCode ReadOutlet(PetscOptionItems *PetscOptionsObject, const char option[], const char condition[],
+                                 MeshPhysicalName set, PhysicsData *data, BdResidualKernel *kernel)
+{
+  const PetscBool rcr = !strcmp(condition, "rcr") ? PETSC_TRUE : PETSC_FALSE;
+  char            datum_option[160], pd_option[160];
+  PetscReal       values[3] = {0, 0, 0};
+  PetscInt        n         = rcr ? 3 : 1;
+  PetscBool       given;
+  OutletModel    *m;
+
+  PetscFunctionBeginUser;
+  PetscCheck(data->n_outlets < FSIOPT_MAX_OUTLETS, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "option %s: at most %d 0D outlets", option, FSIOPT_MAX_OUTLETS);
+  m = &data->outlets[data->n_outlets];
+  PetscCall(PetscSNPrintf(datum_option, sizeof(datum_option), "%s_%s", option, condition));
+  PetscCall(PetscSNPrintf(pd_option, sizeof(pd_option), "%s_distal_pressure", option));
+  PetscCall(PetscOptionsRealArray(datum_option,
+                                  rcr ? "the three-element Windkessel's R_p,C,R_d (pressure per flow rate, flow "
+                                        "rate times time per pressure, pressure per flow rate)"
+                                      : "the resistance R of p = R Q + P_d (pressure per flow rate)",
+                                  NULL, values, &n, &given));
+  PetscCheck(given && n == (rcr ? 3 : 1), PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
+             "option %s %s: expected %s %s", option, condition, datum_option,
+             rcr ? "R_p,C,R_d (three numbers)" : "R (one number)");
+  for (PetscInt i = 0; i < n; ++i)
+    PetscCheck(values[i] >= 0 && (PetscIsNormalReal(values[i]) || values[i] == 0), PETSC_COMM_WORLD,
+               PETSC_ERR_ARG_OUTOFRANGE, "option %s: expected finite numbers >= 0, got %g", datum_option,
+               (double)values[i]);
+  PetscCheck(!rcr || (values[1] > 0 && values[2] > 0), PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "option %s: C and R_d must be > 0 (for a resistance alone: %s resistance)", datum_option, option);
+  m->distal_pressure = 0;
+  PetscCall(PetscOptionsReal(pd_option, "the 0D outlet's distal pressure P_d", NULL, m->distal_pressure,
+                             &m->distal_pressure, NULL));
+  PetscCheck(PetscIsNormalReal(m->distal_pressure) || m->distal_pressure == 0, PETSC_COMM_WORLD,
+             PETSC_ERR_ARG_OUTOFRANGE, "option %s: expected a finite pressure", pd_option);
+  m->proximal_resistance = values[0];
+  m->capacitance         = rcr ? values[1] : 0;
+  m->distal_resistance   = rcr ? values[2] : 0;
+  m->face                = set.value;
+  PetscCall(PetscStrncpy(m->name, set.name, sizeof(m->name)));
+  *kernel = FluidOutletKernel(data->n_outlets++);
+  PetscFunctionReturn(0);
+}
+
 /* One side's conditions, face set by face set, into its PhysicsData. */
 static PetscErrorCode ReadConditions(Side side, PetscInt dim, PhysicsData *data)
 {
@@ -310,6 +343,12 @@ static PetscErrorCode ReadConditions(Side side, PetscInt dim, PhysicsData *data)
         data->dirichlet_ctx[b] = velocity_data[b];
         data->dirichlet_fn[b]  = ExpressionField;
       }
+      continue;
+    }
+    if (!strcmp(condition, "resistance") || !strcmp(condition, "rcr")) {
+      const PetscInt b = data->n_traction++;
+      data->traction_faces[b] = sets[i].value;
+      PetscCall(ReadOutlet(PetscOptionsObject, option, condition, sets[i], data, &data->traction_kernel[b]));
       continue;
     }
     {
