@@ -40,6 +40,13 @@ typedef struct {
   const PetscReal *time;
 } DirichletDatum;
 
+/* The flow rate int u.n (n out of the fluid) through the face set `face` of the velocity
+   field fn as the fluid interpolates and integrates it (its nodal values, its elements). */
+typedef struct {
+  PetscErrorCode (*flux)(void *ctx, PetscInt face, FieldFn fn, void *fn_ctx, PetscReal *flux);
+  void *ctx;
+} FluxMeasure;
+
 /* A 0D outlet of the fluid (fluid_outlets.c): on its face set the traction -p n with
    p = R_p Q + P_c, Q the flow rate out through it, and C dP_c/dt = Q - (P_c - P_d)/R_d (the
    three-element Windkessel, RCR); C = 0: the resistance p = R_p Q + P_d. */
@@ -55,6 +62,9 @@ typedef struct {
   PetscInt n_dirichlet, dirichlet_faces[FSIOPT_MAX_BOUNDARIES];
   FieldFn  dirichlet_fn[FSIOPT_MAX_BOUNDARIES];
   void    *dirichlet_ctx[FSIOPT_MAX_BOUNDARIES]; /* its ctx argument; NULL: the scene's ctx below */
+  /* fluid: called with the fluid's mesh, the face set, nu = mu/rho and the fluid's flux
+     measure before the datum is first used (a flow-rate inlet measures its face set); NULL: none */
+  PetscErrorCode (*dirichlet_setup[FSIOPT_MAX_BOUNDARIES])(DM, PetscInt face, PetscReal nu, const FluxMeasure *, void *ctx);
   PetscInt n_traction, traction_faces[FSIOPT_MAX_BOUNDARIES];
   BdResidualKernel
     traction_kernel[FSIOPT_MAX_BOUNDARIES]; /* adds -load*h(x,t); NULL: traction-free or given in volume form */

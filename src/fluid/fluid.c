@@ -163,6 +163,13 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
   PetscCall(FluidSetUpWeakForm(f));
   PetscCall(FluidOutletsCreate(f)); /* on the DM's fields, before the constants hold their pressures */
   PetscCall(FluidSetConstants(f, 0.0, 1.0, 1.0));
+  { /* on the DM's fields and constants */
+    const FluxMeasure measure = {FluidInterpolatedFlux, f};
+    for (PetscInt b = 0; b < data->n_dirichlet; ++b)
+      if (data->dirichlet_setup[b])
+        PetscCall(
+          data->dirichlet_setup[b](mesh, data->dirichlet_faces[b], f->mu / f->rho, &measure, data->dirichlet_ctx[b]));
+  }
   if (f->model == FLUID_STOKES) policy = FEM_JACOBIAN_CONSTANT;
   else if (f->interface_face) policy = FEM_JACOBIAN_ON_REQUEST;
   f->chord = policy == FEM_JACOBIAN_ON_REQUEST ? PETSC_TRUE : PETSC_FALSE;

@@ -110,6 +110,7 @@ PetscErrorCode FluidBodyFaces(Fluid, IS *faces);
    once; the integrals over such faces of a local state (collective) */
 PetscErrorCode FluidFaceSetFaces(Fluid, PetscInt n, const PetscInt values[], IS *faces);
 PetscErrorCode FluidIntegrateFaces(Fluid, Vec xlocal, IS faces, FluidFaceIntegral *, Vec flux_local);
+PetscErrorCode FluidInterpolatedFlux(void *fluid, PetscInt face, FieldFn, void *fn_ctx, PetscReal *flux); /* FluxMeasure */
 PetscErrorCode FluidForcesCreate(Fluid, FluidForces *);
 
 /* fluid_outlets.c: made at set-up when the scene has 0D outlets; each residual sets their

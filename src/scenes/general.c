@@ -2,12 +2,14 @@
    and the structure's mesh, by its name (a gmsh physical name; bottom, right, top, left on a
    2D box; or its number), gets one condition:
 
-     -fluid_boundary_NAME      wall | velocity | traction | pressure | open | resistance | rcr | interface
+     -fluid_boundary_NAME      wall | velocity | flow | traction | pressure | open | resistance | rcr | interface
      -structure_boundary_NAME  clamped | free | traction | pressure | interface
 
    with its datum as an expression in x, y, z, t (expression.h) where the condition takes one:
    -fluid_boundary_NAME_velocity, -..._traction (vectors, components separated by commas) and
-   -..._pressure (a scalar p: the traction -p n). A 0D outlet (fluid_outlets.c) takes
+   -..._pressure (a scalar p: the traction -p n). A flow inlet takes -..._flow_rate Q(t) (in),
+   -..._profile plug | parabolic | womersley, and Womersley's -..._period and -..._harmonics
+   (flow_profile.h). A 0D outlet (fluid_outlets.c) takes
    -..._resistance R or -..._rcr R_p,C,R_d, and -..._distal_pressure P_d (default 0). The fluid's mesh follows the interface and
    stays put on every other face set. -probes_interface_displacement gives probes.csv's
    interface points; -units the system the values are in. The meshes, materials and solver
@@ -20,6 +22,7 @@
 #include "mesh.h"
 #include "expression.h"
 #include "waveform.h"
+#include "flow_profile.h"
 
 #include <ctype.h>
 
@@ -32,7 +35,8 @@ typedef enum {
   STRUCTURE_SIDE
 } Side;
 
-static const char *const fluid_conditions[]     = {"wall", "velocity", "traction", "pressure", "open", "resistance", "rcr", "interface", NULL};
+static const char *const fluid_conditions[]     = {"wall", "velocity", "flow", "traction", "pressure", "open", "resistance", "rcr", "interface", NULL};
+static const char *const profiles[]             = {"plug", "parabolic", "womersley", NULL};
 static const char *const structure_conditions[] = {"clamped", "free", "traction", "pressure", "interface", NULL};
 
 /* PETSc fixes the pointwise kernels' signature (no context): the traction data of each side's
@@ -40,6 +44,7 @@ static const char *const structure_conditions[] = {"clamped", "free", "traction"
 static Expression traction_data[2][FSIOPT_MAX_BOUNDARIES];
 static PetscBool  traction_is_pressure[2][FSIOPT_MAX_BOUNDARIES];
 static Expression velocity_data[FSIOPT_MAX_BOUNDARIES]; /* the fluid's inlets: PETSc hands them to ExpressionField */
+static FlowProfile flow_data[FSIOPT_MAX_BOUNDARIES];     /* and its flow-rate inlets */
 
 /* -waveform_NAME FILE: the functions NAME(t) the expressions may call */
 #define MAX_WAVEFORMS 16
@@ -111,6 +116,7 @@ static PetscErrorCode DestroyExpressions(void *ctx)
     PetscCall(ExpressionDestroy(&traction_data[FLUID_SIDE][b]));
     PetscCall(ExpressionDestroy(&traction_data[STRUCTURE_SIDE][b]));
     PetscCall(ExpressionDestroy(&velocity_data[b]));
+    PetscCall(FlowProfileDestroy(&flow_data[b]));
   }
   for (PetscInt w = 0; w < nwaveforms; ++w) PetscCall(WaveformDestroy(&waveforms[w]));
   nwaveforms = 0;
@@ -280,6 +286,39 @@ static PetscErrorCode ReadOutlet(PetscOptionItems *PetscOptionsObject, const cha
   PetscFunctionReturn(0);
 }
 
+/* A flow-rate inlet: -NAME_flow_rate Q(t) (flowing in), -NAME_profile, Womersley's -NAME_period
+   and -NAME_harmonics */
+static PetscErrorCode ReadFlowInlet(PetscOptionItems *PetscOptionsObject, const char option[], FlowProfile *profile)
+{
+  char       rate_option[160], profile_option[160], period_option[160], harmonics_option[160], text[1024];
+  PetscInt   kind = FLOW_PROFILE_PARABOLIC, harmonics = 16;
+  PetscReal  period = 0;
+  PetscBool  given;
+  Expression rate;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(rate_option, sizeof(rate_option), "%s_flow_rate", option));
+  PetscCall(PetscSNPrintf(profile_option, sizeof(profile_option), "%s_profile", option));
+  PetscCall(PetscSNPrintf(period_option, sizeof(period_option), "%s_period", option));
+  PetscCall(PetscSNPrintf(harmonics_option, sizeof(harmonics_option), "%s_harmonics", option));
+  PetscCall(PetscOptionsString(rate_option, "the flow rate in through the face set, an expression in t", NULL, "", text,
+                               sizeof(text), &given));
+  PetscCheck(given, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG, "option %s flow: expected %s, the flow rate in as an "
+             "expression in t", option, rate_option);
+  PetscCall(PetscOptionsEList(profile_option, "the velocity profile across the face set", NULL, profiles, 3,
+                              profiles[kind], &kind, NULL));
+  PetscCall(PetscOptionsReal(period_option, "womersley: the period of the flow rate (its Fourier series)", NULL,
+                             period, &period, &given));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, harmonics_option,
+                              "womersley: the flow rate's harmonics the profile follows", 1, 64, &harmonics));
+  PetscCheck(kind != FLOW_PROFILE_WOMERSLEY || (given && period > 0 && PetscIsNormalReal(period)), PETSC_COMM_WORLD,
+             PETSC_ERR_ARG_WRONG, "option %s: a womersley profile needs %s, the flow rate's period (> 0)",
+             profile_option, period_option);
+  PetscCall(ExpressionCreate(PETSC_COMM_WORLD, rate_option, text, 1, nwaveforms, functions, &rate));
+  PetscCall(FlowProfileCreate(option, (FlowProfileKind)kind, rate, period, harmonics, profile));
+  PetscFunctionReturn(0);
+}
+
 /* One side's conditions, face set by face set, into its PhysicsData. */
 static PetscErrorCode ReadConditions(Side side, PetscInt dim, PhysicsData *data)
 {
@@ -329,6 +368,15 @@ static PetscErrorCode ReadConditions(Side side, PetscInt dim, PhysicsData *data)
                PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "option %s: at most %d face sets besides the interface", option,
                FSIOPT_MAX_BOUNDARIES);
     if (side == FLUID_SIDE) data->fixed_mesh_faces[data->n_fixed_mesh_faces++] = sets[i].value;
+    if (!strcmp(condition, "flow")) {
+      const PetscInt b = data->n_dirichlet++;
+      data->dirichlet_faces[b] = sets[i].value;
+      PetscCall(ReadFlowInlet(PetscOptionsObject, option, &flow_data[b]));
+      data->dirichlet_fn[b]    = FlowProfileVelocity;
+      data->dirichlet_ctx[b]   = flow_data[b];
+      data->dirichlet_setup[b] = FlowProfileSetUp;
+      continue;
+    }
     if (!strcmp(condition, "wall") || !strcmp(condition, "clamped") || !strcmp(condition, "velocity")) {
       const PetscInt b = data->n_dirichlet++;
       data->dirichlet_faces[b] = sets[i].value;
