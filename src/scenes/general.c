@@ -45,6 +45,7 @@ static Expression traction_data[2][FSIOPT_MAX_BOUNDARIES];
 static PetscBool  traction_is_pressure[2][FSIOPT_MAX_BOUNDARIES];
 static Expression velocity_data[FSIOPT_MAX_BOUNDARIES]; /* the fluid's inlets: PETSc hands them to ExpressionField */
 static FlowProfile flow_data[FSIOPT_MAX_BOUNDARIES];     /* and its flow-rate inlets */
+static Expression  body_force[2];                        /* -fluid_body_force, -structure_body_force */
 
 /* -waveform_NAME FILE: the functions NAME(t) the expressions may call */
 #define MAX_WAVEFORMS 16
@@ -101,6 +102,48 @@ static const BdResidualKernel traction_kernels[2][FSIOPT_MAX_BOUNDARIES] = {
    StructureTraction6, StructureTraction7},
 };
 
+/* -load f(x, t), f the body force per unit volume */
+static inline void AddBodyForce(Side side, PetscInt dim, const PetscReal x[], const PetscScalar constants[],
+                                PetscScalar f0[])
+{
+  const PetscReal   time = PetscRealPart(constants[side == FLUID_SIDE ? FLUID_TIME : STRUCTURE_TIME]);
+  const PetscScalar load = constants[side == FLUID_SIDE ? FLUID_LOAD : STRUCTURE_LOAD];
+  PetscScalar       f[3];
+
+  ExpressionEvaluate(body_force[side], time, dim, x, f);
+  for (PetscInt d = 0; d < dim; ++d) f0[d] -= load * f[d];
+}
+
+#define BODY_FORCE_KERNEL(NAME, SIDE) \
+  static void NAME(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[], \
+                   const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[], \
+                   const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[], \
+                   PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[], \
+                   PetscScalar f0[]) \
+  { \
+    AddBodyForce(SIDE, dim, x, constants, f0); \
+  }
+BODY_FORCE_KERNEL(FluidBodyForceKernel, FLUID_SIDE)
+BODY_FORCE_KERNEL(StructureBodyForceKernel, STRUCTURE_SIDE)
+
+/* -fluid_body_force, -structure_body_force: a vector expression in x, y, z, t */
+static PetscErrorCode ReadBodyForce(Side side, PetscInt dim, PhysicsData *data)
+{
+  const char *option = side == FLUID_SIDE ? "-fluid_body_force" : "-structure_body_force";
+  char        text[1024];
+  PetscBool   given;
+
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene general: body forces", "scene");
+  PetscCall(PetscOptionsString(option, "a force per unit volume over the domain, a vector expression in x, y, z, t "
+                               "(gravity: 0, -rho*g)", NULL, "", text, sizeof(text), &given));
+  PetscOptionsEnd();
+  if (!given) PetscFunctionReturn(0);
+  PetscCall(ExpressionCreate(PETSC_COMM_WORLD, option, text, dim, nwaveforms, functions, &body_force[side]));
+  data->load_value_kernel = side == FLUID_SIDE ? FluidBodyForceKernel : StructureBodyForceKernel;
+  PetscFunctionReturn(0);
+}
+
 /* a velocity given by an expression, as PETSc's boundary values take it */
 static PetscErrorCode ExpressionField(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *u,
                                       void *ctx)
@@ -118,6 +161,8 @@ static PetscErrorCode DestroyExpressions(void *ctx)
     PetscCall(ExpressionDestroy(&velocity_data[b]));
     PetscCall(FlowProfileDestroy(&flow_data[b]));
   }
+  PetscCall(ExpressionDestroy(&body_force[FLUID_SIDE]));
+  PetscCall(ExpressionDestroy(&body_force[STRUCTURE_SIDE]));
   for (PetscInt w = 0; w < nwaveforms; ++w) PetscCall(WaveformDestroy(&waveforms[w]));
   nwaveforms = 0;
   PetscFunctionReturn(0);
@@ -449,6 +494,8 @@ PetscErrorCode SceneCreate_General(Scene *scene)
   scene->has_structure = PETSC_TRUE;
   PetscCall(ReadConditions(FLUID_SIDE, dim, &scene->fluid));
   PetscCall(ReadConditions(STRUCTURE_SIDE, dim, &scene->structure));
+  PetscCall(ReadBodyForce(FLUID_SIDE, dim, &scene->fluid));
+  PetscCall(ReadBodyForce(STRUCTURE_SIDE, dim, &scene->structure));
   if (given) {
     PetscCheck(nprobe % dim == 0 && nprobe / dim <= 8, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
                "option -probes_interface_displacement: expected up to 8 points of %" PetscInt_FMT " coordinates each",
