@@ -36,6 +36,10 @@ PetscErrorCode MeshGmshPhysicalNames(MPI_Comm, const char path[], PetscInt dim, 
    box; none for a file without names. Collective. */
 PetscErrorCode MeshFaceSetNames(MPI_Comm, const char prefix[], PetscInt dim, PetscInt max, PetscInt *n,
                                 MeshPhysicalName sets[]);
+/* A .geo given as -PREFIXdm_plex_filename: meshed by gmsh (in dim dimensions, with
+   -PREFIXgeo_setnumber NAME,VALUE,...) beside it as .msh, which the option then names; a
+   mesh newer than the .geo is reused (gmsh_geo.c). Collective. */
+PetscErrorCode MeshFromGeo(MPI_Comm, const char prefix[], PetscInt dim);
 /* The face set `text` names: one of sets by name, or a positive number; -1 for neither. */
 PetscErrorCode MeshFaceSetFind(PetscInt n, const MeshPhysicalName sets[], const char text[], PetscInt *value);
 #endif

@@ -176,3 +176,41 @@ def test_general_refused():
          "option -fluid_boundary_left_traction: the condition of the face set left (-fluid_boundary_left) takes no "
          "such datum"),
     ])
+
+
+@test("general scene: a .geo named as the mesh file is meshed by gmsh beside it (the same mesh as make writes, the "
+      "same probes), reused while newer than the .geo, with -fluid_geo_setnumber passed on; a .geo gmsh cannot mesh "
+      "stops the run with one line naming the option and gmsh's reason", quick=True)
+def test_general_geo():
+    import filecmp
+    import shutil
+    import time
+    geo_dir = os.path.join(inputs_dir(), "geo")
+    os.makedirs(geo_dir, exist_ok=True)
+    for name in ("channel-fluid.geo", "channel-wall.geo"):
+        shutil.copy(os.path.join(ROOT, "meshes", name), geo_dir)
+    text = open(NAMED_CHANNEL).read()
+    for side in ("fluid", "wall"):
+        old = "meshes/channel-%s.msh" % side
+        assert old in text, "%s lacks %s" % (NAMED_CHANNEL, old)
+        text = text.replace(old, os.path.join(geo_dir, "channel-%s.geo" % side))
+    case = os.path.join(geo_dir, "case.yaml")
+    open(case, "w").write(text)
+    out, ref = os.path.join(WORK, "general-geo"), os.path.join(WORK, "general-geo-ref")
+    solve(["-options_file", case, "-t_final", "0.001"], out=out)
+    solve(["-options_file", NAMED_CHANNEL, "-t_final", "0.001"], out=ref)
+    mesh = os.path.join(geo_dir, "channel-fluid.msh")
+    assert filecmp.cmp(mesh, os.path.join(ROOT, "meshes", "channel-fluid.msh"), shallow=False), "another mesh than make's"
+    assert filecmp.cmp(os.path.join(out, "probes.csv"), os.path.join(ref, "probes.csv"), shallow=False), \
+        "the probes differ from the .msh run's"
+    stamp = os.path.getmtime(mesh)
+    time.sleep(1.1)
+    solve(["-options_file", case, "-t_final", "0.0002"], out=out)
+    assert os.path.getmtime(mesh) == stamp, "the mesh was made again although newer than its .geo"
+    solve(["-options_file", case, "-t_final", "0.0002", "-fluid_geo_setnumber", "unused_number,1"], out=out)
+    assert os.path.exists(os.path.join(geo_dir, "channel-fluid-unused_number-1.msh")), "no mesh of the -setnumber variant"
+    broken = os.path.join(geo_dir, "broken.geo")
+    open(broken, "w").write("// gmsh -2\nPoint(1) = {0, 0, 0\n")
+    refused([("a .geo gmsh cannot mesh", ["-options_file", case, "-fluid_dm_plex_filename", broken, "-t_final", "0.0002"],
+              "-fluid_dm_plex_filename")])
+    return "the .geo's mesh = make's, probes identical; reused; -setnumber variant; a broken .geo refused"

@@ -57,6 +57,7 @@ PetscErrorCode MeshFaceSetNames(MPI_Comm comm, const char prefix[], PetscInt dim
   PetscBool file;
 
   PetscFunctionBeginUser;
+  PetscCall(MeshFromGeo(comm, prefix, dim));
   PetscCall(PetscSNPrintf(option, sizeof(option), "-%sdm_plex_filename", prefix));
   PetscCall(PetscOptionsGetString(NULL, NULL, option, path, sizeof(path), &file));
   *n = 0;

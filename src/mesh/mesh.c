@@ -111,6 +111,7 @@ static PetscErrorCode LoadChecked(MPI_Comm comm, const char prefix[], PetscInt d
 
   PetscFunctionBeginUser;
   filename[0] = 0;
+  PetscCall(MeshFromGeo(comm, prefix, dim));
   PetscCall(PetscSNPrintf(option, sizeof(option), "-%sdm_plex_filename", prefix));
   PetscCall(PetscOptionsGetString(NULL, NULL, option, filename, PETSC_MAX_PATH_LEN, &from_file));
   if (from_file) PetscCall(OptionsCheckReadableFile(comm, option, filename));
