@@ -38,7 +38,7 @@ PetscErrorCode MeshFaceSetNames(MPI_Comm, const char prefix[], PetscInt dim, Pet
                                 MeshPhysicalName sets[]);
 /* A .geo given as -PREFIXdm_plex_filename: meshed by gmsh (in dim dimensions, with
    -PREFIXgeo_setnumber NAME,VALUE,...) beside it as .msh, which the option then names; a
-   mesh newer than the .geo is reused (gmsh_geo.c). Collective. */
+   mesh newer than the .geo and its includes is reused (gmsh_geo.c). Collective. */
 PetscErrorCode MeshFromGeo(MPI_Comm, const char prefix[], PetscInt dim);
 /* The face set `text` names: one of sets by name, or a positive number; -1 for neither. */
 PetscErrorCode MeshFaceSetFind(PetscInt n, const MeshPhysicalName sets[], const char text[], PetscInt *value);

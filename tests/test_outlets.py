@@ -141,3 +141,27 @@ def test_integrals_3d():
         assert worst <= 1e-7, "%s: flow rates sum to %.1e of the inflow" % (name, worst)
         report.append("%s %.0e" % (name, worst))
     return "40 steps: flow rates sum to " + ", ".join(report) + " of the inflow"
+
+
+@test("bifurcation example (options/examples/bifurcation.yaml: a 3D vessel branching in two, a Womersley inflow "
+      "from a waveform file, two RCR outlets, meshes from .geo at run time), its first 10 steps: the flow rates "
+      "through inlet, outlets and wall sum to zero to 1e-7 of the inflow, each outlet follows its RCR law to 1e-10, "
+      "and the two symmetric daughters carry the same flow to 1e-3")
+def test_bifurcation_example():
+    out = os.path.join(WORK, "bifurcation")
+    solve(["-options_file", os.path.join(ROOT, "options", "examples", "bifurcation.yaml"), "-t_final", "0.02",
+           "-integrals_flow_rate", "inlet,outlet_left,outlet_right,interface"], out=out)
+    c = columns(out)
+    flows = [c["Q(%s)" % s] for s in ("inlet", "outlet_left", "outlet_right", "interface")]
+    inflow = max(abs(q) for q in flows[0])
+    worst = max(abs(sum(q[k] for q in flows)) for k in range(len(flows[0]))) / inflow
+    assert inflow > 0 and worst <= 1e-7, "flow rates sum to %.1e of the inflow" % worst
+    Rp, C, Rd, dt = 5e3, 1e-5, 4.3e4, 2e-3
+    for side in ("left", "right"):
+        q, p = c["Q_outlet(outlet_%s)" % side], c["p_outlet(outlet_%s)" % side]
+        pc = [pk - Rp * qk for pk, qk in zip(p, q)]
+        law = max(abs(pc[k] - (pc[k - 1] + dt / C * q[k]) / (1 + dt / (Rd * C))) for k in range(1, len(pc)))
+        assert law <= 1e-10 * max(abs(x) for x in pc), "outlet_%s: the RCR law holds to %.1e only" % (side, law)
+    split = max(abs(a - b) for a, b in zip(flows[1], flows[2])) / max(abs(x) for x in flows[1])
+    assert split <= 1e-3, "the symmetric daughters' flows differ by %.1e" % split
+    return "10 steps: flow rates sum to %.0e of the inflow; RCR laws hold; daughters' flows within %.0e" % (worst, split)

@@ -2,7 +2,7 @@
    by gmsh before anything reads it (mesh.h): the mesh is written beside the .geo with the
    extension .msh (MSH 2.2, as `make` writes meshes/), or -NAME-setnumber-NAME-VALUE....msh
    with -PREFIXgeo_setnumber NAME,VALUE,... passed on as gmsh's -setnumber; kept and reused
-   while newer than the .geo. gmsh runs on the first rank; its last line of output names what
+   while newer than the .geo and the files it includes. gmsh runs on the first rank; its last line of output names what
    went wrong. The dimension is the scene's, or the .geo's first line's (// gmsh -2). */
 #include "mesh.h"
 #include "options.h"
@@ -75,6 +75,29 @@ static int RunGmsh(const char geo[], const char msh[], PetscInt dim, PetscInt ns
   return 0;
 }
 
+/* the newest modification time of the .geo and of the files it includes (Include "F";) */
+static time_t GeoTime(const char geo[])
+{
+  struct stat st;
+  time_t      newest = 0;
+  FILE       *fp;
+  char        line[1024], dir[PETSC_MAX_PATH_LEN];
+  const char *slash = strrchr(geo, '/');
+
+  if (stat(geo, &st)) return 0;
+  newest = st.st_mtime;
+  snprintf(dir, sizeof(dir), "%.*s", slash ? (int)(slash - geo + 1) : 0, geo);
+  if (!(fp = fopen(geo, "r"))) return newest;
+  while (fgets(line, sizeof(line), fp)) {
+    char name[512], path[PETSC_MAX_PATH_LEN + 512];
+    if (sscanf(line, " Include \"%511[^\"]\"", name) != 1) continue;
+    snprintf(path, sizeof(path), "%s%s", name[0] == '/' ? "" : dir, name);
+    if (!stat(path, &st) && st.st_mtime > newest) newest = st.st_mtime;
+  }
+  fclose(fp);
+  return newest;
+}
+
 PetscErrorCode MeshFromGeo(MPI_Comm comm, const char prefix[], PetscInt dim)
 {
   char        option[128], set_option[128], geo[PETSC_MAX_PATH_LEN], msh[PETSC_MAX_PATH_LEN], message[512] = "";
@@ -112,8 +135,8 @@ PetscErrorCode MeshFromGeo(MPI_Comm comm, const char prefix[], PetscInt dim)
   PetscCall(PetscStrlcat(msh, ".msh", sizeof(msh)));
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   if (!rank) {
-    struct stat g, m;
-    if (stat(msh, &m) || stat(geo, &g) || m.st_mtime < g.st_mtime)
+    struct stat m;
+    if (stat(msh, &m) || m.st_mtime < GeoTime(geo))
       failed = RunGmsh(geo, msh, dim, nset, set, message, sizeof(message));
   }
   for (PetscInt i = 0; i < nset; ++i) PetscCall(PetscFree(set[i]));
