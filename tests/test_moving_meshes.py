@@ -55,7 +55,7 @@ def test_ale_triangles_rates():
     return "BDF2 %s; PETSc's backend within %.1e" % (detail, worst)
 
 
-@test("incremental mesh motion: channel2d probes = stored reference (1e-8), restarts byte for byte")
+@test("incremental mesh motion: channel2d probes = stored reference (5e-8), restarts byte for byte")
 def test_incremental_mesh_motion():
     inc = CHANNEL + ["-mesh_motion_incremental"]
     full = os.path.join(WORK, "incremental-full")
@@ -64,7 +64,9 @@ def test_incremental_mesh_motion():
     ref_head, ref = read_probes(INCREMENTAL_REFERENCE)
     assert head == ref_head and len(got) == len(ref), "probe layout differs from the reference"
     worst = probes_difference(got, ref)
-    assert worst <= 1e-8, "probes differ from the stored incremental run's by %.2e relative" % worst
+    # the last bits of the factorizations follow the processor (OpenBLAS picks its kernels when
+    # it starts): 1.4e-8 on one machine of the same build and packages, below 1e-8 on another
+    assert worst <= 5e-8, "probes differ from the stored incremental run's by %.2e relative" % worst
     # and from the total extension's (stored, without checkpoints) by at most the coupling's
     # 10 x tol: 7.2e-5, mostly the checkpoint's (-checkpoint_every 25 alone moves either run's
     # probes by 7.7e-5 after step 25; without checkpoints the two extensions differ by 5.3e-6)
