@@ -120,7 +120,8 @@ PetscErrorCode FluidForcesCreate(Fluid, FluidForces *);
 PetscErrorCode FluidOutletsCreate(Fluid);
 PetscErrorCode FluidOutletsDestroy(FluidOutlets *);
 PetscErrorCode FluidOutletsSetIterate(Fluid, Vec xlocal);
-PetscErrorCode FluidOutletsAddJacobian(Fluid, Vec xlocal, Mat); /* their rank-one terms into an assembled Jacobian */
+/* their rank-one terms into the assembled Jacobian P, and into J when it is another assembled one (else NULL) */
+PetscErrorCode FluidOutletsAddJacobian(Fluid, Vec xlocal, Mat P, Mat J);
 PetscErrorCode FluidOutletsBeginStep(Fluid);
 PetscErrorCode FluidOutletsCheckpoint(Fluid, Checkpoint, PetscBool load);
 PetscInt       FluidOutletsGetPressures(Fluid, PetscScalar constants[]);

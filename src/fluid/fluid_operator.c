@@ -125,8 +125,7 @@ PetscErrorCode FluidSNESJacobian(SNES snes, Vec x, Mat J, Mat P, void *ctx)
     PetscFunctionReturn(0);
   }
   PetscCall(op->ops.jacobian(op, f->xlocal_work, f->moving, matfree ? P : J, P));
-  PetscCall(FluidOutletsAddJacobian(f, f->xlocal_work, P));
-  if (J != P && !matfree) PetscCall(FluidOutletsAddJacobian(f, f->xlocal_work, J));
+  PetscCall(FluidOutletsAddJacobian(f, f->xlocal_work, P, J != P && !matfree ? J : NULL));
   if (matfree) PetscCall(FluidMatFreeUpdate(f, f->xlocal_work, f->moving));
   f->counts.factorizations++;
   PetscFunctionReturn(0);

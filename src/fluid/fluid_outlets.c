@@ -204,16 +204,18 @@ static PetscReal PressureSlope(const OutletModel *m, PetscReal dt)
   return slope + dt * m->distal_resistance / (m->distal_resistance * m->capacitance + dt);
 }
 
-PetscErrorCode FluidOutletsAddJacobian(Fluid f, Vec xlocal, Mat A)
+PetscErrorCode FluidOutletsAddJacobian(Fluid f, Vec xlocal, Mat P, Mat J)
 {
   FluidOutlets o = f->outlets;
   Vec          flux_local, flux;
+  Mat          targets[2] = {P, J};
 
   PetscFunctionBeginUser;
   if (!o) PetscFunctionReturn(0);
   PetscCall(DMGetLocalVector(f->dm, &flux_local));
   PetscCall(DMGetGlobalVector(f->dm, &flux));
-  PetscCall(MatSetOption(A, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE)); /* PETSc's stencil lacks them */
+  for (PetscInt m = 0; m < 2; ++m) /* PETSc's stencil lacks them */
+    if (targets[m]) PetscCall(MatSetOption(targets[m], MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_FALSE));
   for (PetscInt k = 0; k < o->n; ++k) {
     FluidFaceIntegral  integral;
     const PetscScalar *b;
@@ -234,11 +236,16 @@ PetscErrorCode FluidOutletsAddJacobian(Fluid f, Vec xlocal, Mat A)
                                 MPIU_SCALAR, f->comm));
     for (PetscInt i = 0; i < o->nrows[k]; ++i)
       for (PetscInt j = 0; j < o->ncols[k]; ++j) block[i * o->ncols[k] + j] = slope * mine[i] * all[j];
-    PetscCall(MatSetValues(A, o->nrows[k], o->rows[k], o->ncols[k], o->cols[k], block, ADD_VALUES));
+    for (PetscInt m = 0; m < 2; ++m)
+      if (targets[m])
+        PetscCall(MatSetValues(targets[m], o->nrows[k], o->rows[k], o->ncols[k], o->cols[k], block, ADD_VALUES));
     PetscCall(PetscFree3(mine, all, block));
   }
-  PetscCall(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY));
-  PetscCall(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY));
+  for (PetscInt m = 0; m < 2; ++m)
+    if (targets[m]) {
+      PetscCall(MatAssemblyBegin(targets[m], MAT_FINAL_ASSEMBLY));
+      PetscCall(MatAssemblyEnd(targets[m], MAT_FINAL_ASSEMBLY));
+    }
   PetscCall(DMRestoreGlobalVector(f->dm, &flux));
   PetscCall(DMRestoreLocalVector(f->dm, &flux_local));
   PetscFunctionReturn(0);
