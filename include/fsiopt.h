@@ -82,6 +82,10 @@ typedef struct {
   PetscInt    fixed_mesh_faces[FSIOPT_MAX_BOUNDARIES]; /* these face sets staying put */
   PetscInt    n_outlets;                               /* fluid: its 0D outlets, each also a traction face */
   OutletModel outlets[FSIOPT_MAX_OUTLETS];             /* set whose kernel is FluidOutletKernel(k) */
+  PetscInt    n_robin;                                 /* structure: Robin supports, the traction */
+  PetscInt    robin_faces[FSIOPT_MAX_BOUNDARIES];      /* -(k eta + c etadot) on these face sets */
+  PetscReal   robin_stiffness[FSIOPT_MAX_BOUNDARIES];  /* k per unit area */
+  PetscReal   robin_damping[FSIOPT_MAX_BOUNDARIES];    /* c per unit area */
   PetscInt    n_force_faces;                           /* fluid: face sets of the body whose force (drag, lift) */
   PetscInt    force_faces[FSIOPT_MAX_BOUNDARIES];      /* is recorded each step */
   PetscInt    n_extra;                                 /* scene constants appended after the solver's: */

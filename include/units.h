@@ -19,7 +19,9 @@ typedef enum {
   UNIT_RESISTANCE,          /* of a 0D outlet: pressure per flow rate */
   UNIT_RESISTANCE_PER_DEPTH,
   UNIT_COMPLIANCE, /* of a 0D outlet: volume per pressure */
-  UNIT_COMPLIANCE_PER_DEPTH
+  UNIT_COMPLIANCE_PER_DEPTH,
+  UNIT_STIFFNESS_PER_AREA, /* of a Robin support: pressure per length */
+  UNIT_DAMPING_PER_AREA    /* pressure per velocity */
 } UnitDimension;
 
 const char *UnitName(const char system[], UnitDimension);

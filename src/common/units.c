@@ -41,6 +41,10 @@ const char *UnitName(const char system[], UnitDimension d)
     return si ? "m^3/Pa" : "cm^5/dyn";
   case UNIT_COMPLIANCE_PER_DEPTH:
     return si ? "m^2/Pa" : "cm^4/dyn";
+  case UNIT_STIFFNESS_PER_AREA:
+    return si ? "Pa/m" : "dyn/cm^3";
+  case UNIT_DAMPING_PER_AREA:
+    return si ? "Pa s/m" : "dyn s/cm^3";
   }
   return NULL;
 }

@@ -3,14 +3,15 @@
    2D box; or its number), gets one condition:
 
      -fluid_boundary_NAME      wall | velocity | flow | traction | pressure | open | resistance | rcr | interface
-     -structure_boundary_NAME  clamped | free | traction | pressure | interface
+     -structure_boundary_NAME  clamped | free | traction | pressure | robin | interface
 
    with its datum as an expression in x, y, z, t (expression.h) where the condition takes one:
    -fluid_boundary_NAME_velocity, -..._traction (vectors, components separated by commas) and
    -..._pressure (a scalar p: the traction -p n). A flow inlet takes -..._flow_rate Q(t) (in),
    -..._profile plug | parabolic | womersley, and Womersley's -..._period and -..._harmonics
    (flow_profile.h). A 0D outlet (fluid_outlets.c) takes
-   -..._resistance R or -..._rcr R_p,C,R_d, and -..._distal_pressure P_d (default 0). The fluid's mesh follows the interface and
+   -..._resistance R or -..._rcr R_p,C,R_d, and -..._distal_pressure P_d (default 0). A Robin
+   support of the wall (structure_robin.c) takes -..._stiffness k and -..._damping c. The fluid's mesh follows the interface and
    stays put on every other face set. -probes_interface_displacement gives probes.csv's
    interface points; -units the system the values are in. The meshes, materials and solver
    settings are the options every scene has. */
@@ -37,7 +38,7 @@ typedef enum {
 
 static const char *const fluid_conditions[]     = {"wall", "velocity", "flow", "traction", "pressure", "open", "resistance", "rcr", "interface", NULL};
 static const char *const profiles[]             = {"plug", "parabolic", "womersley", NULL};
-static const char *const structure_conditions[] = {"clamped", "free", "traction", "pressure", "interface", NULL};
+static const char *const structure_conditions[] = {"clamped", "free", "traction", "pressure", "robin", "interface", NULL};
 
 /* PETSc fixes the pointwise kernels' signature (no context): the traction data of each side's
    traction slots live here, one kernel per slot reads its own */
@@ -331,6 +332,38 @@ static PetscErrorCode ReadOutlet(PetscOptionItems *PetscOptionsObject, const cha
   PetscFunctionReturn(0);
 }
 
+/* A Robin support of the wall: the traction -(k eta + c etadot), -NAME_stiffness k > 0 and
+   -NAME_damping c >= 0 per unit area */
+static PetscErrorCode ReadRobin(PetscOptionItems *PetscOptionsObject, const char option[], PetscInt face,
+                                PhysicsData *data)
+{
+  char      k_option[160], c_option[160];
+  PetscReal k = 0, c = 0;
+  PetscBool given;
+
+  PetscFunctionBeginUser;
+  PetscCheck(data->n_robin < FSIOPT_MAX_BOUNDARIES, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "option %s: at most %d Robin supports", option, FSIOPT_MAX_BOUNDARIES);
+  PetscCall(PetscSNPrintf(k_option, sizeof(k_option), "%s_stiffness", option));
+  PetscCall(PetscSNPrintf(c_option, sizeof(c_option), "%s_damping", option));
+  PetscCall(OptionsDeclareUnit(k_option, UNIT_STIFFNESS_PER_AREA));
+  PetscCall(OptionsDeclareUnit(c_option, UNIT_DAMPING_PER_AREA));
+  PetscCall(PetscOptionsReal(k_option, "robin: the support's stiffness k per unit area (the traction -k eta)", NULL, k,
+                             &k, &given));
+  PetscCheck(given, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG, "option %s robin: expected %s, the stiffness k > 0 per unit area",
+             option, k_option);
+  PetscCheck(k > 0 && PetscIsNormalReal(k), PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "option %s: expected a finite stiffness > 0, got %g", k_option, (double)k);
+  PetscCall(PetscOptionsReal(c_option, "robin: the support's damping c per unit area (the traction -c d(eta)/dt)", NULL,
+                             c, &c, NULL));
+  PetscCheck(c >= 0 && (c == 0 || PetscIsNormalReal(c)), PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "option %s: expected a finite damping >= 0, got %g", c_option, (double)c);
+  data->robin_faces[data->n_robin]     = face;
+  data->robin_stiffness[data->n_robin] = k;
+  data->robin_damping[data->n_robin++] = c;
+  PetscFunctionReturn(0);
+}
+
 /* A flow-rate inlet: -NAME_flow_rate Q(t) (flowing in), -NAME_profile, Womersley's -NAME_period
    and -NAME_harmonics */
 static PetscErrorCode ReadFlowInlet(PetscOptionItems *PetscOptionsObject, const char option[], FlowProfile *profile)
@@ -365,7 +398,7 @@ static PetscErrorCode ReadFlowInlet(PetscOptionItems *PetscOptionsObject, const 
 }
 
 /* One side's conditions, face set by face set, into its PhysicsData. */
-static PetscErrorCode ReadConditions(Side side, PetscInt dim, PhysicsData *data)
+static PetscErrorCode ReadConditions(Side side, PetscInt dim, PetscBool coupled, PhysicsData *data)
 {
   const char *const *conditions = side == FLUID_SIDE ? fluid_conditions : structure_conditions;
   const char        *prefix     = side == FLUID_SIDE ? "fluid_" : "structure_";
@@ -403,6 +436,9 @@ static PetscErrorCode ReadConditions(Side side, PetscInt dim, PhysicsData *data)
                side == FLUID_SIDE ? "fluid" : "structure", sets[i].name, sets[i].value, prefix, sets[i].name, list);
     condition = conditions[which];
     if (!strcmp(condition, "interface")) {
+      PetscCheck(coupled, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
+                 "option %s interface: -general_physics %s has no interface; give the face set another condition", option,
+                 side == FLUID_SIDE ? "fluid" : "structure");
       PetscCheck(!data->interface_face, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
                  "option %s: a second interface face set; the %s's interface is one face set", option,
                  side == FLUID_SIDE ? "fluid" : "structure");
@@ -438,6 +474,10 @@ static PetscErrorCode ReadConditions(Side side, PetscInt dim, PhysicsData *data)
       }
       continue;
     }
+    if (!strcmp(condition, "robin")) {
+      PetscCall(ReadRobin(PetscOptionsObject, option, sets[i].value, data));
+      continue;
+    }
     if (!strcmp(condition, "resistance") || !strcmp(condition, "rcr")) {
       const PetscInt b = data->n_traction++;
       data->traction_faces[b] = sets[i].value;
@@ -461,7 +501,7 @@ static PetscErrorCode ReadConditions(Side side, PetscInt dim, PhysicsData *data)
   }
   PetscOptionsEnd();
   PetscCall(CheckNoOtherFaceSets(prefix, nsets, sets));
-  PetscCheck(data->interface_face, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
+  PetscCheck(data->interface_face || !coupled, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
              "scene general: no %s face set is the interface (-%sboundary_NAME interface)",
              side == FLUID_SIDE ? "fluid" : "structure", prefix);
   PetscFunctionReturn(0);
@@ -470,7 +510,8 @@ static PetscErrorCode ReadConditions(Side side, PetscInt dim, PhysicsData *data)
 PetscErrorCode SceneCreate_General(Scene *scene)
 {
   const char *const systems[] = {"nondimensional", "SI", "cgs", NULL};
-  PetscInt          system = 0, dim = 2, nprobe = 8 * 3;
+  const char *const physics[] = {"fsi", "fluid", "structure", NULL};
+  PetscInt          system = 0, dim = 2, nprobe = 8 * 3, which = 0;
   PetscReal         probes[8 * 3];
   PetscBool         given;
   PetscContainer    container;
@@ -483,6 +524,10 @@ PetscErrorCode SceneCreate_General(Scene *scene)
   PetscCall(PetscOptionsEList("-units", "the system of units the case's values are in", NULL, systems, 3, systems[0],
                               &system, NULL));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-general_dim", "the dimension of the meshes", 2, 3, &dim));
+  PetscCall(PetscOptionsEList("-general_physics",
+                              "fsi: the fluid and the structure coupled on their interface; fluid, structure: one alone "
+                              "(its mesh fixed, no interface)",
+                              NULL, physics, 3, physics[0], &which, NULL));
   PetscCall(PetscOptionsRealArray("-probes_interface_displacement",
                                   "interface nodes x,y[,z],... whose displacement probes.csv records (dx, dy, dz)", NULL,
                                   probes, &nprobe, &given));
@@ -490,12 +535,16 @@ PetscErrorCode SceneCreate_General(Scene *scene)
   PetscCall(LoadWaveforms());
   scene->units         = systems[system];
   scene->dim           = dim;
-  scene->has_fluid     = PETSC_TRUE;
-  scene->has_structure = PETSC_TRUE;
-  PetscCall(ReadConditions(FLUID_SIDE, dim, &scene->fluid));
-  PetscCall(ReadConditions(STRUCTURE_SIDE, dim, &scene->structure));
-  PetscCall(ReadBodyForce(FLUID_SIDE, dim, &scene->fluid));
-  PetscCall(ReadBodyForce(STRUCTURE_SIDE, dim, &scene->structure));
+  scene->has_fluid     = which != 2 ? PETSC_TRUE : PETSC_FALSE;
+  scene->has_structure = which != 1 ? PETSC_TRUE : PETSC_FALSE;
+  if (scene->has_fluid) {
+    PetscCall(ReadConditions(FLUID_SIDE, dim, which == 0, &scene->fluid));
+    PetscCall(ReadBodyForce(FLUID_SIDE, dim, &scene->fluid));
+  }
+  if (scene->has_structure) {
+    PetscCall(ReadConditions(STRUCTURE_SIDE, dim, which == 0, &scene->structure));
+    PetscCall(ReadBodyForce(STRUCTURE_SIDE, dim, &scene->structure));
+  }
   if (given) {
     PetscCheck(nprobe % dim == 0 && nprobe / dim <= 8, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
                "option -probes_interface_displacement: expected up to 8 points of %" PetscInt_FMT " coordinates each",

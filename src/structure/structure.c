@@ -74,20 +74,25 @@ static PetscReal StructureMassCoefficient(Structure s)
   return factor[s->time_order] * s->rho / (s->dt * s->dt);
 }
 
-static PetscErrorCode StructureSetConstantsFull(Structure, PetscReal, PetscReal, PetscReal, PetscReal, PetscReal);
+static PetscErrorCode StructureSetConstantsFull(Structure, PetscReal, PetscReal, PetscReal, PetscReal, PetscReal,
+                                                PetscReal);
 
-static PetscErrorCode StructureSetConstants(Structure s, PetscReal mass, PetscReal op, PetscReal load, PetscReal time)
+/* the weak form's coefficients: mass, operator, load; the Robin supports' dashpots with the
+   velocity's coefficient `rate` (structure_robin.c) */
+static PetscErrorCode StructureSetConstants(Structure s, PetscReal mass, PetscReal op, PetscReal load, PetscReal time,
+                                            PetscReal rate)
 {
   PetscFunctionBeginUser;
-  PetscCall(StructureSetConstantsFull(s, mass, op, load, time, 0.0));
+  PetscCall(StructureSetConstantsFull(s, mass, op, load, time, 0.0, rate));
   PetscFunctionReturn(0);
 }
 
 static PetscErrorCode StructureSetConstantsFull(Structure s, PetscReal mass, PetscReal op, PetscReal load,
-                                                PetscReal time, PetscReal projection)
+                                                PetscReal time, PetscReal projection, PetscReal rate)
 {
-  PetscDS     ds;
-  PetscScalar c[STRUCTURE_NUM_CONSTANTS + FSIOPT_MAX_EXTRA];
+  PetscDS        ds;
+  PetscScalar    c[STRUCTURE_NUM_CONSTANTS + FSIOPT_MAX_EXTRA + FSIOPT_MAX_BOUNDARIES];
+  const PetscInt n = STRUCTURE_NUM_CONSTANTS + s->data.n_extra + s->data.n_robin;
 
   PetscFunctionBeginUser;
   c[STRUCTURE_RHO]        = s->rho;
@@ -102,7 +107,8 @@ static PetscErrorCode StructureSetConstantsFull(Structure s, PetscReal mass, Pet
   c[STRUCTURE_MODEL]      = s->model;
   for (PetscInt i = 0; i < s->data.n_extra; ++i) c[STRUCTURE_NUM_CONSTANTS + i] = s->data.extra[i];
   PetscCall(DMGetDS(s->dm, &ds));
-  PetscCall(PetscDSSetConstants(ds, STRUCTURE_NUM_CONSTANTS + s->data.n_extra, c));
+  StructureRobinShifts(s, op, rate, n, c);
+  PetscCall(PetscDSSetConstants(ds, n, c));
   PetscFunctionReturn(0);
 }
 
@@ -130,6 +136,7 @@ static PetscErrorCode StructureSetUpWeakForm(Structure s)
   if (s->data.load_value_kernel || s->data.load_stress_kernel)
     PetscCall(PetscWeakFormAddResidual(wf, NULL, 0, 0, 0, s->data.load_value_kernel, s->data.load_stress_kernel));
   PetscCall(FEMAddBoundaries(s->dm, 0, &s->data, s->datums, &s->time));
+  PetscCall(StructureRobinAddBoundaries(s));
   PetscFunctionReturn(0);
 }
 
@@ -172,10 +179,10 @@ static PetscErrorCode StructureProjectExact(Structure s)
   PetscCall(DMGetDS(s->dm, &ds));
   PetscCall(PetscDSGetWeakForm(ds, &wf));
   PetscCall(PetscWeakFormAddResidual(wf, NULL, 0, 0, 0, NULL, ProjectionStress));
-  PetscCall(StructureSetConstantsFull(s, 0.0, 1.0, 0.0, s->time, 1.0));
+  PetscCall(StructureSetConstantsFull(s, 0.0, 1.0, 0.0, s->time, 1.0, 0.0));
   PetscCall(FEMSolveSteady(s->dm, "structure_projection_", &s->counts.factorizations, s->eta));
   PetscCall(FEMGlobalToLocal(s->dm, s->eta, s->eta_local));
-  PetscCall(StructureSetConstants(s, 0.0, 1.0, 1.0, s->time));
+  PetscCall(StructureSetConstants(s, 0.0, 1.0, 1.0, s->time, 0.0));
   PetscFunctionReturn(0);
 }
 
@@ -269,27 +276,33 @@ PetscErrorCode StructureSetUp(Structure s, DM mesh, const PhysicsData *data, Pet
 
 PetscErrorCode StructureBeginStep(Structure s)
 {
-  const PetscReal mass = StructureMassCoefficient(s), t_old = s->time;
+  const PetscReal mass = StructureMassCoefficient(s), t_old = s->time,
+                  rate = StructureVelocityCoefficient(s, STRUCTURE_VELOCITY_SCHEME);
 
   PetscFunctionBeginUser;
   StepFailureClear(&s->failure);
   PetscCall(VecCopy(s->eta_local, s->eta_old_local));
   PetscCall(VecCopy(s->etadot_local, s->etadot_old_local));
-  /* history = m M (eta^{n-1} + dt etadot^{n-1}) [- K eta^{n-1} + L^{n-1} - B_s g^{n-1}] */
+  /* history = m M (eta^{n-1} + dt etadot^{n-1}) [- K eta^{n-1} + L^{n-1} - B_s g^{n-1}]
+     + the Robin supports' part in eta^{n-1}: (c/dt) eta^{n-1}, or (2c/dt - k) eta^{n-1} */
   if (s->time_order == 0) PetscCall(VecZeroEntries(s->history));
   else {
     PetscCall(VecWAXPY(s->work_local, s->dt, s->etadot_local, s->eta_local));
-    PetscCall(StructureSetConstants(s, mass, 0.0, 0.0, t_old));
+    PetscCall(StructureSetConstants(s, mass, 0.0, 0.0, t_old, 0.0));
     PetscCall(StructureOperatorResidual(s->op, s->work_local, s->history));
   }
   if (s->time_order == 2) {
-    PetscCall(StructureSetConstants(s, 0.0, 1.0, 1.0, t_old));
+    PetscCall(StructureSetConstants(s, 0.0, 1.0, 1.0, t_old, -rate));
     PetscCall(StructureOperatorResidual(s->op, s->eta_local, s->work));
     PetscCall(VecAXPY(s->history, -1.0, s->work));
     PetscCall(VecAXPY(s->history, -1.0, s->load_old));
+  } else if (s->data.n_robin) {
+    PetscCall(StructureSetConstants(s, 0.0, 0.0, 0.0, t_old, -rate));
+    PetscCall(StructureOperatorResidual(s->op, s->eta_local, s->work));
+    PetscCall(VecAXPY(s->history, -1.0, s->work));
   }
   s->time += s->dt;
-  PetscCall(StructureSetConstants(s, mass, 1.0, 1.0, s->time));
+  PetscCall(StructureSetConstants(s, mass, 1.0, 1.0, s->time, rate));
   PetscFunctionReturn(0);
 }
 

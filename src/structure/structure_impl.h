@@ -38,4 +38,8 @@ struct _p_Structure {
 PetscErrorCode StructureOperatorsSetUp(Structure);
 PetscErrorCode StructureOperatorsCheck(Structure, PetscInt step);
 PetscErrorCode StructureOperatorsDestroy(Structure);
+/* structure_robin.c: the Robin supports' natural boundaries, and their coefficients
+   s_b = op k_b + rate c_b as the last n_robin of the DS's nconstants constants */
+PetscErrorCode StructureRobinAddBoundaries(Structure);
+void           StructureRobinShifts(Structure, PetscReal op, PetscReal rate, PetscInt nconstants, PetscScalar constants[]);
 #endif

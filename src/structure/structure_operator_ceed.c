@@ -61,6 +61,7 @@ static PetscErrorCode Assemble(StructureOperator op, Vec xlocal, Mat A)
   PetscFunctionBeginUser;
   PetscCall(Synchronize(op));
   PetscCall(FEMCeedElasticityJacobian(c->ceed, xlocal, A));
+  if (op->structure->data.n_robin) PetscCall(FEMBoundaryTerms(op->structure->dm, op->structure->time, xlocal, NULL, A, NULL));
   PetscCall(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY));
   PetscFunctionReturn(0);
