@@ -29,12 +29,6 @@ PetscErrorCode SceneRequiredFaces(const PhysicsData *, PetscInt *n, PetscInt fac
 PetscErrorCode SceneFinalize(void);
 /* A zeroed context of `size` bytes for a scene's parameters, freed by PetscFinalize. */
 PetscErrorCode SceneCreateContext(size_t size, void **ctx);
-/* A wall clamped on its LEFT and RIGHT face sets (its ends), traction-free on TOP, on the
-   fluid along BOTTOM: channel2d's and tube3d's. */
-PetscErrorCode SceneClampedWall(Scene *);
-/* tube3d's and bend3d's pressure pulse into an elastic tube on these default meshes
-   (pressure_pulse.c): its options, materials, loads and boundary conditions */
-PetscErrorCode ScenePressurePulse(Scene *, const char fluid_mesh[], const char wall_mesh[]);
 /* The default of a mesh option: meshes/<name> of the working directory when it is there,
    else of the repository the binary was built in (FSIOPT_ROOT). */
 PetscErrorCode SceneSetDefaultMesh(const char option[], const char name[]);

@@ -4,8 +4,8 @@
 // the inlet, 2 the end at the outlet. Volume 1.
 part = 1;
 Include "bend3d.geoinc";
-Physical Surface(1) = {third[]};
-Physical Surface(3) = {first[]};
-Physical Surface(4) = {wallS[]};
-Physical Surface(2) = {ends[]};
-Physical Volume(1) = {vols[]};
+Physical Surface("interface", 1) = {third[]};
+Physical Surface("outer", 3) = {first[]};
+Physical Surface("inlet_end", 4) = {wallS[]};
+Physical Surface("outlet_end", 2) = {ends[]};
+Physical Volume("wall", 1) = {vols[]};

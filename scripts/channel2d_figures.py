@@ -20,7 +20,7 @@ dt = 1e-4 to T = 0.1 (options/channel2d.yaml). Reproduces, from bin/fsiopt runs:
                     converged: false): recorded, not a failure
   svk               St. Venant-Kirchhoff against linear wall, each coupled by Gauss-Newton
                     (opt) and by Dirichlet-Neumann with Aitken's relaxation (Fig 6.2); all four
-                    with the midpoint wall (options/channel2d-svk.yaml, and channel2d.yaml
+                    with the midpoint wall (options/channel2d-svk.opts, and channel2d.yaml
                     with -structure_time_order 2); the Aitken runs take about half an hour each
   table [RUNDIR]    interface jump at each Gauss-Newton iteration of the steps at three times
                     (Table 3.1; default t = T/4, T/2, 3T/4 = 0.025, 0.05, 0.075 for the full
@@ -65,7 +65,7 @@ import fsiopt_tables as ft   # noqa: E402  (probes.csv headers, scenes, units)
 from channel2d_pressure import default_times, pressure_figure  # noqa: E402  (the pressure figure)
 
 ROOT = fr.ROOT
-OPTIONS_FILE = {"linear": "options/channel2d.yaml", "svk": "options/channel2d-svk.yaml"}
+OPTIONS_FILE = {"linear": "options/channel2d.yaml", "svk": "options/channel2d-svk.opts"}
 MODEL_LABEL = {"linear": "linear wall", "svk": "St. Venant-Kirchhoff wall"}
 COUPLING_LABEL = {"opt": "Gauss-Newton (opt)", "aitken": "Dirichlet-Neumann + Aitken"}
 HY_LABEL = {10: "hy = 0.1", 20: "hy = 0.05", 30: "hy = 1/30"}

@@ -22,7 +22,7 @@ the radial displacement of the inner surface under a pressure p:
   thick wall, plane strain (Lame) u_a = p a (1 + nu) / E ((1 - 2 nu) a^2 + b^2)/(b^2 - a^2)
 (plane stress: a free axial stress; plane strain: no axial strain, as clamped ends hold a
 long tube). These hold for waves much longer than the radius. The inlet pulse lasts T
-(-tube_inlet_duration): at the angular frequency w = 2 pi / (2 T) of a pulse of that length
+(-parameter_duration): at the angular frequency w = 2 pi / (2 T) of a pulse of that length
 the wave is about 2.5 radii long, and the fluid's radial inertia and the wall's slow it.
 The script also gives that speed, from the dispersion relation of an inviscid fluid in a
 tube whose wall has the thick wall's radial stiffness K = p / u_a and the mass rho_s h per
@@ -116,7 +116,7 @@ def main():
             sys.exit("tube3d_front: %s: no summary.json" % run)
         o = s.get("options", {})
         p = (float(o["-structure_youngs_modulus"]), float(o["-structure_poisson_ratio"]), float(o["-fluid_density"]),
-             float(o["-structure_density"]), float(o.get("-tube_inlet_duration", "0.003")))
+             float(o["-structure_density"]), float(o.get("-parameter_duration", "0.003")))
         if params and p != params:
             sys.exit("tube3d_front: %s has other parameters (E, nu, rho) %s than %s" % (run, p, params))
         params = p

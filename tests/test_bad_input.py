@@ -241,7 +241,7 @@ def test_help_lists_options():
     for opt in ["-coupling_domain", "-coupling_predictor", "-coupling_mesh_extrapolate", "-coupling_extrapolation",
                 "-coupling_extrapolation_points",
                 "-coupling_omega", "-coupling_rtol", "-coupling_atol", "-coupling_iqn_reuse", "-mesh_motion",
-                "-channel_inlet_amplitude", "-fluid_backflow_stabilization", "-structure_model"]:
+                "-parameter_amplitude", "-fluid_boundary_left_traction", "-fluid_backflow_stabilization", "-structure_model"]:
         assert opt in text, "%s not in -help of channel2d with -coupling iqnils" % opt
     text = help_text(["-options_file", "options/channel2d.yaml", "-coupling", "iqnimvj"])
     for opt in ["-coupling_imvj_restart", "-coupling_iqn_columns", "-coupling_iqn_filter"]:

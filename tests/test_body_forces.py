@@ -4,14 +4,14 @@ import os
 
 from harness import ROOT, WORK, inputs_dir, read_probes, refused, solve, test
 
-GENERAL_CHANNEL = os.path.join(ROOT, "options", "examples", "channel2d.yaml")
+GENERAL_CHANNEL = os.path.join(ROOT, "options", "channel2d.yaml")
 
 
 def hydrostatic_channel():
     """the channel with both ends at the hydrostatic pressure rho g (1 - y) (rho = 1, g = 980 cm/s^2)"""
     text = open(GENERAL_CHANNEL).read()
     for old, new in (("    left: traction\n", "    left: pressure\n"),
-                     ('    left_traction: "t <= 0.025 ? 1e3*(1-cos(2*_pi*t/0.025)) : 0, 0"\n',
+                     ('    left_traction: "t <= duration ? amplitude*(1-cos(2*pi*t/duration)) : 0, 0"\n',
                       '    left_pressure: "980*(1-y)"\n'),
                      ("    right: open\n", '    right: pressure\n    right_pressure: "980*(1-y)"\n')):
         assert old in text, "%s lacks %r" % (GENERAL_CHANNEL, old)

@@ -8,9 +8,9 @@ import os
 
 from harness import ROOT, WORK, inputs_dir, read_probes, refused, solve, test
 
-GENERAL_CHANNEL = os.path.join(ROOT, "options", "examples", "channel2d.yaml")
-TUBE = os.path.join(ROOT, "options", "examples", "tube3d.yaml")
-PULSE = '    left_traction: "t <= 0.025 ? 1e3*(1-cos(2*_pi*t/0.025)) : 0, 0"\n'
+GENERAL_CHANNEL = os.path.join(ROOT, "options", "channel2d.yaml")
+TUBE = os.path.join(ROOT, "options", "tube3d.yaml")
+PULSE = '    left_traction: "t <= duration ? amplitude*(1-cos(2*pi*t/duration)) : 0, 0"\n'
 
 
 def inlet_file(name, base, old_lines, new_lines):

@@ -58,7 +58,7 @@ def test_backends_agree():
     cases = [(CHANNEL + three + ["-fem_backend", "petsc"], 2, 3, 3, 1),                      # PETSc's backend, 2 ranks
              (CHANNEL + three + ["-fluid_time_order", "2", "-fem_backend", "ceed", "-mesh_motion", "elastic",
                                  "-mesh_motion_stiffening", "1"], 1, 3, 3, 1),               # BDF2, elastic stiffened
-             (["-options_file", "options/channel2d-svk.yaml"] + three, 1, 3, 3, 1),       # St. Venant-Kirchhoff
+             (["-options_file", "options/channel2d-svk.opts"] + three, 1, 3, 3, 1),       # St. Venant-Kirchhoff
              (["-options_file", "options/mms-ns.yaml"], 1, 1, 1, 0),                       # fixed mesh, volume loads
              (["-options_file", "options/mms-fluid.yaml", "-fluid_dm_plex_filename", "meshes/square.msh"], 1, 1, 0, 0),
              (["-options_file", "options/mms-fluid.yaml", "-fluid_velocity_degree", "1",

@@ -6,7 +6,7 @@ import os
 
 from harness import ROOT, WORK, inputs_dir, read_probes, refused, solve, test
 
-GENERAL_CHANNEL = os.path.join(ROOT, "options", "examples", "channel2d.yaml")
+GENERAL_CHANNEL = os.path.join(ROOT, "options", "channel2d.yaml")
 DT = 1e-4
 
 
@@ -126,7 +126,7 @@ def test_outlets_refused():
       "1e-7 of the inflow, on hexahedra (bilinear faces: normals from the cell's own Jacobian) and on tetrahedra, "
       "with an RCR outlet")
 def test_integrals_3d():
-    example = os.path.join(ROOT, "options", "examples", "tube3d.yaml")
+    example = os.path.join(ROOT, "options", "tube3d.yaml")
     tets = ["-fluid_dm_plex_filename", os.path.join(ROOT, "meshes", "tube3d-fluid-tets.msh"),
             "-structure_dm_plex_filename", os.path.join(ROOT, "meshes", "tube3d-wall-tets.msh")]
     report = []

@@ -5,7 +5,7 @@ import os
 from harness import ROOT, WORK, adjoint_difference, read_probes, refused, run, solve, test
 
 PLATE = ["-options_file", os.path.join(ROOT, "options", "examples", "supported-plate.yaml")]
-CHANNEL = ["-options_file", os.path.join(ROOT, "options", "examples", "channel2d.yaml")]
+CHANNEL = ["-options_file", os.path.join(ROOT, "options", "channel2d.yaml")]
 K, C, P, H = 50.0, 2.0, 2.0, 0.2  # the example's stiffness, damping, pressure, thickness; density 1
 POINTS = ((0.3, 0.15), (0.7, 0.05))
 

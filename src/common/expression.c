@@ -10,7 +10,7 @@ struct _p_Expression {
 };
 
 PetscErrorCode ExpressionCreate(MPI_Comm comm, const char option[], const char text[], PetscInt ncomponents,
-                                PetscInt nfunctions, const ExpressionFunction functions[], Expression *expression)
+                                const ExpressionSymbols *symbols, Expression *expression)
 {
   Expression e;
   int        n = 0;
@@ -27,8 +27,11 @@ PetscErrorCode ExpressionCreate(MPI_Comm comm, const char option[], const char t
   mupDefineConst(e->parser, "_pi", PETSC_PI);
   mupDefineConst(e->parser, "pi", PETSC_PI);
   mupDefineConst(e->parser, "_e", PetscExpReal(1.0));
-  for (PetscInt f = 0; f < nfunctions; ++f)
-    mupDefineFunUserData1(e->parser, functions[f].name, functions[f].fn, functions[f].ctx, 0 /* not constant */);
+  for (PetscInt f = 0; symbols && f < symbols->nfunctions; ++f)
+    mupDefineFunUserData1(e->parser, symbols->functions[f].name, symbols->functions[f].fn, symbols->functions[f].ctx,
+                          0 /* not constant */);
+  for (PetscInt p = 0; symbols && p < symbols->nparameters; ++p)
+    mupDefineVar(e->parser, symbols->parameter_names[p], &symbols->parameter_values[p]);
   mupSetExpr(e->parser, text);
   if (!mupError(e->parser)) (void)mupEvalMulti(e->parser, &n); /* muparser compiles at the first evaluation */
   if (mupError(e->parser)) {

@@ -358,8 +358,51 @@ static void SolverPrefix(const char name[], char prefix[], size_t len)
     }
 }
 
+/* read[i]: names[i], left unread on this rank, was read on another: a run that splits its
+   ranks between the fluid and the structure (-structure_ranks) reads each side's options on
+   that side's ranks only */
+static PetscErrorCode ReadOnAnotherRank(MPI_Comm comm, PetscInt n, char **names, PetscBool read[])
+{
+  PetscMPIInt size, length = 0, *lengths, *offsets;
+  char       *mine, *all;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  for (PetscInt i = 0; i < n; ++i) read[i] = PETSC_FALSE;
+  if (size == 1) PetscFunctionReturn(0);
+  for (PetscInt i = 0; i < n; ++i) length += (PetscMPIInt)strlen(names[i]) + 1;
+  PetscCall(PetscMalloc3(length + 1, &mine, size, &lengths, size + 1, &offsets));
+  mine[0] = 0;
+  for (PetscInt i = 0; i < n; ++i) {
+    PetscCall(PetscStrlcat(mine, names[i], length + 1));
+    PetscCall(PetscStrlcat(mine, "\n", length + 1));
+  }
+  PetscCallMPI(MPI_Allgather(&length, 1, MPI_INT, lengths, 1, MPI_INT, comm));
+  offsets[0] = 0;
+  for (PetscMPIInt r = 0; r < size; ++r) offsets[r + 1] = offsets[r] + lengths[r];
+  PetscCall(PetscMalloc1(offsets[size] + 1, &all));
+  PetscCallMPI(MPI_Allgatherv(mine, length, MPI_CHAR, all, lengths, offsets, MPI_CHAR, comm));
+  for (PetscInt i = 0; i < n; ++i) {
+    const size_t len = strlen(names[i]);
+    for (PetscMPIInt r = 0; r < size && !read[i]; ++r) {
+      PetscBool left = PETSC_FALSE; /* names[i] among rank r's unread options */
+      for (PetscMPIInt at = offsets[r]; at < offsets[r + 1] && !left;) {
+        PetscMPIInt end = at;
+        while (end < offsets[r + 1] && all[end] != '\n') ++end;
+        left = (size_t)(end - at) == len && !strncmp(all + at, names[i], len) ? PETSC_TRUE : PETSC_FALSE;
+        at   = end + 1;
+      }
+      read[i] = left ? PETSC_FALSE : PETSC_TRUE;
+    }
+  }
+  PetscCall(PetscFree(all));
+  PetscCall(PetscFree3(mine, lengths, offsets));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode OptionsCheckUnused(MPI_Comm comm, PetscBool after_first_step)
 {
+  PetscBool *elsewhere;
   PetscInt  n;
   char    **names, **values, unknown[1024] = "", nearest[1024] = "", unread[1024] = "";
   char      exact_prefix[64] = "";
@@ -376,10 +419,13 @@ PetscErrorCode OptionsCheckUnused(MPI_Comm comm, PetscBool after_first_step)
     PetscOptionsEnd();
   } else PetscCall(PetscOptionsGetBool(NULL, NULL, "-options_allow_unused", &allow, NULL));
   PetscCall(PetscOptionsLeftGet(NULL, &n, &names, &values));
+  PetscCall(PetscMalloc1(n + 1, &elsewhere));
+  PetscCall(ReadOnAnotherRank(comm, n, names, elsewhere));
   for (PetscInt i = 0; i < n; ++i) {
     char suggestion[256];
 
-    if (IsDefault(names[i]) || IsReadAtExit(names[i]) || IsDeferred(names[i]) != after_first_step) continue;
+    if (elsewhere[i] || IsDefault(names[i]) || IsReadAtExit(names[i]) || IsDeferred(names[i]) != after_first_step)
+      continue;
     if (IsKnown(names[i])) {
       PetscCall(PetscStrlcat(unread, unread[0] ? ", -" : "-", sizeof(unread)));
       PetscCall(PetscStrlcat(unread, names[i], sizeof(unread)));
@@ -396,6 +442,7 @@ PetscErrorCode OptionsCheckUnused(MPI_Comm comm, PetscBool after_first_step)
     }
   }
   PetscCall(PetscOptionsLeftRestore(NULL, &n, &names, &values));
+  PetscCall(PetscFree(elsewhere));
   if (unread[0])
     PetscCall(PetscPrintf(comm,
                           "fsiopt: warning: option%s %s: not read by this set-up (%s to another scene, coupling method "

@@ -331,7 +331,10 @@ static PetscErrorCode OptSetUp(Coupling C)
   PetscCall(OptionsSetDefault("-tao_brgn_regularization_type", "l2pure"));
   PetscCall(OptionsSetDefault("-tao_brgn_subsolver_tao_bnk_ksp_type", "cg"));
   PetscCall(OptionsSetDefault("-tao_brgn_subsolver_tao_bnk_pc_type", "none"));
-  PetscCall(OptionsSetDefault("-tao_brgn_subsolver_tao_bnk_ksp_rtol", "1e-10"));
+  /* inexact Gauss-Newton: the inner CG stops at 1e-4 of its start. On channel2d, the same
+     Gauss-Newton iterations as at 1e-10 with half the CG iterations (first 300 steps); the
+     manufactured scenes keep 1e-10, the seed's exact steps */
+  PetscCall(OptionsSetDefault("-tao_brgn_subsolver_tao_bnk_ksp_rtol", "1e-4"));
   PetscCall(OptionsSetDefault("-tao_brgn_subsolver_tao_bnk_init_type", "constant"));
   PetscCall(PetscOptionsGetString(NULL, NULL, "-tao_ls_type", ls_type, sizeof(ls_type), &given));
   PetscCall(OptionsSetDefault("-tao_brgn_subsolver_tao_ls_type", given ? ls_type : "unit"));

@@ -98,6 +98,22 @@ static time_t GeoTime(const char geo[])
   return newest;
 }
 
+/* A relative mesh path that the working directory lacks is the repository's (the one fsiopt
+   was built in: FSIOPT_ROOT), so that the options files' meshes/... paths work from any directory. */
+static PetscErrorCode ResolveFromRoot(const char option[])
+{
+  char      path[PETSC_MAX_PATH_LEN], rooted[2 * PETSC_MAX_PATH_LEN];
+  PetscBool given;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetString(NULL, NULL, option, path, sizeof(path), &given));
+  if (!given || !path[0] || path[0] == '/' || !access(path, F_OK)) PetscFunctionReturn(0);
+  PetscCall(PetscSNPrintf(rooted, sizeof(rooted), "%s/%s", FSIOPT_ROOT, path));
+  if (access(rooted, F_OK)) PetscFunctionReturn(0); /* the reader names the path as given */
+  PetscCall(PetscOptionsSetValue(NULL, option, rooted));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode MeshFromGeo(MPI_Comm comm, const char prefix[], PetscInt dim)
 {
   char        option[128], set_option[128], geo[PETSC_MAX_PATH_LEN], msh[PETSC_MAX_PATH_LEN], message[512] = "";
@@ -110,6 +126,7 @@ PetscErrorCode MeshFromGeo(MPI_Comm comm, const char prefix[], PetscInt dim)
 
   PetscFunctionBeginUser;
   PetscCall(PetscSNPrintf(option, sizeof(option), "-%sdm_plex_filename", prefix));
+  PetscCall(ResolveFromRoot(option));
   PetscCall(PetscOptionsGetString(NULL, NULL, option, geo, sizeof(geo), &given));
   PetscCall(PetscStrlen(geo, &len));
   if (!given || len < 5 || strcmp(geo + len - 4, ".geo")) PetscFunctionReturn(0);

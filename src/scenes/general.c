@@ -22,10 +22,9 @@
 #include "fem.h"
 #include "mesh.h"
 #include "expression.h"
-#include "waveform.h"
+#include "general_symbols.h"
 #include "flow_profile.h"
 
-#include <ctype.h>
 
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 
@@ -48,12 +47,8 @@ static Expression velocity_data[FSIOPT_MAX_BOUNDARIES]; /* the fluid's inlets: P
 static FlowProfile flow_data[FSIOPT_MAX_BOUNDARIES];     /* and its flow-rate inlets */
 static Expression  body_force[2];                        /* -fluid_body_force, -structure_body_force */
 
-/* -waveform_NAME FILE: the functions NAME(t) the expressions may call */
-#define MAX_WAVEFORMS 16
-static Waveform           waveforms[MAX_WAVEFORMS];
-static char               waveform_names[MAX_WAVEFORMS][64];
-static ExpressionFunction functions[MAX_WAVEFORMS];
-static PetscInt           nwaveforms = 0;
+/* the waveforms and parameters the expressions may use (general_symbols.c) */
+static const ExpressionSymbols *symbols;
 
 /* adds -load h(x, t), h the traction given, or -p n for a pressure */
 static inline void AddTraction(Side side, PetscInt slot, PetscInt dim, const PetscReal x[], const PetscReal n[],
@@ -140,7 +135,7 @@ static PetscErrorCode ReadBodyForce(Side side, PetscInt dim, PhysicsData *data)
                                "(gravity: 0, -rho*g)", NULL, "", text, sizeof(text), &given));
   PetscOptionsEnd();
   if (!given) PetscFunctionReturn(0);
-  PetscCall(ExpressionCreate(PETSC_COMM_WORLD, option, text, dim, nwaveforms, functions, &body_force[side]));
+  PetscCall(ExpressionCreate(PETSC_COMM_WORLD, option, text, dim, symbols, &body_force[side]));
   data->load_value_kernel = side == FLUID_SIDE ? FluidBodyForceKernel : StructureBodyForceKernel;
   PetscFunctionReturn(0);
 }
@@ -164,8 +159,8 @@ static PetscErrorCode DestroyExpressions(void *ctx)
   }
   PetscCall(ExpressionDestroy(&body_force[FLUID_SIDE]));
   PetscCall(ExpressionDestroy(&body_force[STRUCTURE_SIDE]));
-  for (PetscInt w = 0; w < nwaveforms; ++w) PetscCall(WaveformDestroy(&waveforms[w]));
-  nwaveforms = 0;
+  PetscCall(GeneralSymbolsDestroy());
+  symbols = NULL;
   PetscFunctionReturn(0);
 }
 
@@ -178,65 +173,6 @@ static PetscErrorCode FaceSets(const char prefix[], PetscInt dim, PetscInt *n, M
              "scene general: the %s mesh has no named face sets (-%sdm_plex_filename: a gmsh file with physical names, "
              "or a 2D box)",
              prefix[0] == 'f' ? "fluid" : "structure", prefix);
-  PetscFunctionReturn(0);
-}
-
-static PetscReal WaveformAt(void *waveform, PetscReal t)
-{
-  return WaveformValue((Waveform)waveform, t);
-}
-
-/* The waveforms the options name (-waveform_NAME FILE, -waveform_NAME_extend periodic|none),
-   each a function NAME(t) of the expressions. */
-static PetscErrorCode LoadWaveforms(void)
-{
-  const char *const extends[] = {"periodic", "none", NULL};
-  PetscInt          n;
-  char            **left, **values;
-  char              names[MAX_WAVEFORMS][64];
-  PetscInt          count = 0;
-  PetscReal         t_start = 0, t_final = 0;
-
-  PetscFunctionBeginUser;
-  PetscCall(OptionsDeclareFamily("-waveform_"));
-  PetscCall(PetscOptionsLeftGet(NULL, &n, &left, &values));
-  for (PetscInt i = 0; i < n; ++i) {
-    const size_t length = strlen(left[i]);
-    PetscBool    ours;
-    PetscCall(PetscStrncmp(left[i], "waveform_", 9, &ours));
-    if (!ours || (length > 7 && !strcmp(left[i] + length - 7, "_extend"))) continue;
-    if (count == MAX_WAVEFORMS) break;
-    PetscCall(PetscStrncpy(names[count++], left[i] + 9, sizeof(names[0])));
-  }
-  PetscCall(PetscOptionsLeftRestore(NULL, &n, &left, &values));
-  PetscCheck(count < MAX_WAVEFORMS, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE, "options -waveform_NAME: at most %d",
-             MAX_WAVEFORMS - 1);
-  PetscCall(PetscOptionsGetReal(NULL, NULL, "-t_start", &t_start, NULL));
-  t_final = t_start;
-  PetscCall(PetscOptionsGetReal(NULL, NULL, "-t_final", &t_final, NULL));
-  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene general: waveforms", "scene");
-  for (PetscInt w = 0; w < count; ++w) {
-    char     option[96], extend_option[112], path[PETSC_MAX_PATH_LEN];
-    PetscInt extend = 0;
-    for (const char *c = names[w]; *c; ++c)
-      PetscCheck(isalnum((unsigned char)*c) || *c == '_', PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
-                 "option -waveform_%s: a waveform's name is letters, digits and _ (the expressions call it by it)",
-                 names[w]);
-    PetscCall(PetscSNPrintf(option, sizeof(option), "-waveform_%s", names[w]));
-    PetscCall(PetscSNPrintf(extend_option, sizeof(extend_option), "%s_extend", option));
-    PetscCall(PetscOptionsString(option, "a CSV file of rows t,value: the function of t the expressions call by this name",
-                                 NULL, "", path, sizeof(path), NULL));
-    PetscCall(PetscOptionsEList(extend_option, "beyond the file's rows: repeat them with the period they span, or none",
-                                NULL, extends, 2, extends[0], &extend, NULL));
-    PetscCall(WaveformLoad(PETSC_COMM_WORLD, option, path, extend == 0 ? PETSC_TRUE : PETSC_FALSE, t_start, t_final,
-                           &waveforms[w]));
-    PetscCall(PetscStrncpy(waveform_names[w], names[w], sizeof(waveform_names[w])));
-    functions[w].name = waveform_names[w];
-    functions[w].fn   = WaveformAt;
-    functions[w].ctx  = waveforms[w];
-    nwaveforms        = w + 1;
-  }
-  PetscOptionsEnd();
   PetscFunctionReturn(0);
 }
 
@@ -392,7 +328,7 @@ static PetscErrorCode ReadFlowInlet(PetscOptionItems *PetscOptionsObject, const 
   PetscCheck(kind != FLOW_PROFILE_WOMERSLEY || (given && period > 0 && PetscIsNormalReal(period)), PETSC_COMM_WORLD,
              PETSC_ERR_ARG_WRONG, "option %s: a womersley profile needs %s, the flow rate's period (> 0)",
              profile_option, period_option);
-  PetscCall(ExpressionCreate(PETSC_COMM_WORLD, rate_option, text, 1, nwaveforms, functions, &rate));
+  PetscCall(ExpressionCreate(PETSC_COMM_WORLD, rate_option, text, 1, symbols, &rate));
   PetscCall(FlowProfileCreate(option, (FlowProfileKind)kind, rate, period, harmonics, profile));
   PetscFunctionReturn(0);
 }
@@ -468,7 +404,7 @@ static PetscErrorCode ReadConditions(Side side, PetscInt dim, PetscBool coupled,
                                      NULL, "", text, sizeof(text), &given));
         PetscCheck(given, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
                    "option %s velocity: expected %s, the velocity as an expression in x, y, z, t", option, datum_option);
-        PetscCall(ExpressionCreate(PETSC_COMM_WORLD, datum_option, text, dim, nwaveforms, functions, &velocity_data[b]));
+        PetscCall(ExpressionCreate(PETSC_COMM_WORLD, datum_option, text, dim, symbols, &velocity_data[b]));
         data->dirichlet_ctx[b] = velocity_data[b];
         data->dirichlet_fn[b]  = ExpressionField;
       }
@@ -495,7 +431,7 @@ static PetscErrorCode ReadConditions(Side side, PetscInt dim, PetscBool coupled,
                  option, condition, datum_option);
       traction_is_pressure[side][b] = !strcmp(condition, "pressure") ? PETSC_TRUE : PETSC_FALSE;
       PetscCall(ExpressionCreate(PETSC_COMM_WORLD, datum_option, text, traction_is_pressure[side][b] ? 1 : dim,
-                                 nwaveforms, functions, &traction_data[side][b]));
+                                 symbols, &traction_data[side][b]));
       data->traction_kernel[b] = traction_kernels[side][b];
     }
   }
@@ -532,7 +468,7 @@ PetscErrorCode SceneCreate_General(Scene *scene)
                                   "interface nodes x,y[,z],... whose displacement probes.csv records (dx, dy, dz)", NULL,
                                   probes, &nprobe, &given));
   PetscOptionsEnd();
-  PetscCall(LoadWaveforms());
+  PetscCall(GeneralSymbolsLoad(&symbols));
   scene->units         = systems[system];
   scene->dim           = dim;
   scene->has_fluid     = which != 2 ? PETSC_TRUE : PETSC_FALSE;

@@ -1,22 +1,21 @@
 /* The registry of scenes by name (scene.h) and the helpers scenes share: a context for
-   their parameters, default meshes, the clamped wall and the manufactured solutions' boxes. */
+   their parameters, default meshes and the manufactured solutions' boxes. A case that needs no
+   closed form is an options file of the general scene (general.c), not a scene here. */
 #include "scene.h"
 #include "fem.h"
 #include "options.h"
 
 static PetscFunctionList scene_list = NULL;
 
-/* The scenes by name, each one file: a new scene is its file and a line here. */
+/* The scenes by name, each one file: a new scene is its file and a line here (a case without
+   a closed form needs none: an options file of the general scene). */
 #define SCENES(SCENE) \
   SCENE("mms-fluid", SceneCreate_MMSFluid)         /* mms_fluid.c */ \
   SCENE("mms-structure", SceneCreate_MMSStructure) /* mms_structure.c */ \
   SCENE("mms-stokes", SceneCreate_MMSStokes)       /* mms_stokes.c */ \
   SCENE("mms-ns", SceneCreate_MMSNS)               /* mms_ns.c */ \
   SCENE("gcl", SceneCreate_GCL)                    /* gcl.c */ \
-  SCENE("channel2d", SceneCreate_Channel2D)        /* channel2d.c */ \
-  SCENE("tube3d", SceneCreate_Tube3D)              /* tube3d.c */ \
   SCENE("turek-hron", SceneCreate_TurekHron)       /* turek_hron.c */ \
-  SCENE("bend3d", SceneCreate_Bend3D)              /* bend3d.c */ \
   SCENE("general", SceneCreate_General)            /* general.c */
 #define DECLARE(name, create) PetscErrorCode create(Scene *);
 SCENES(DECLARE)
@@ -99,23 +98,6 @@ PetscErrorCode SceneSetDefaultMesh(const char option[], const char name[])
   /* from the repository root as the tests and scripts run; from elsewhere, the build's meshes */
   if (OptionsFileProblem(path)) PetscCall(PetscSNPrintf(path, sizeof(path), "%s/meshes/%s", FSIOPT_ROOT, name));
   PetscCall(OptionsSetDefault(option, path));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode SceneClampedWall(Scene *scene)
-{
-  PhysicsData *structure = &scene->structure;
-
-  PetscFunctionBeginUser;
-  scene->has_structure          = PETSC_TRUE;
-  structure->n_dirichlet        = 2;
-  structure->dirichlet_faces[0] = FACE_LEFT;
-  structure->dirichlet_faces[1] = FACE_RIGHT;
-  structure->dirichlet_fn[0]    = FEMZero;
-  structure->dirichlet_fn[1]    = FEMZero;
-  structure->n_traction         = 1;
-  structure->traction_faces[0]  = FACE_TOP; /* traction-free */
-  structure->interface_face     = FACE_BOTTOM;
   PetscFunctionReturn(0);
 }
 

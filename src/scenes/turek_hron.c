@@ -141,7 +141,6 @@ static PetscErrorCode SolverDefaults(void)
      flag moves J away from the explicit one (fsi3 from t = 5, 20 steps: 1.2x faster, 213
      instead of 1101 CG iterations) */
   PetscCall(OptionsSetDefault("-coupling_explicit_jacobian_rebuild_its", "10"));
-  PetscCall(OptionsSetDefault("-tao_brgn_subsolver_tao_bnk_ksp_rtol", "1e-4"));
   PetscCall(OptionsSetDefault("-coupling_domain", "current"));
   PetscCall(OptionsSetDefault("-coupling_extrapolation", "2"));
   PetscCall(OptionsSetDefault("-coupling_extrapolation_points", "12"));
