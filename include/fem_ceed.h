@@ -131,13 +131,20 @@ PetscErrorCode FEMCeedMatDifference(Mat ceed, Mat petsc, PetscReal *difference);
 
 /* Vector stiffness forms on dm's field 0 (qfunctions_elasticity.h): m (u, v) + op c (P(grad u),
    grad v), P linear (h G + mu (G + G^T) + lambda tr(G) I) or St. Venant-Kirchhoff (svk),
-   c per-cell weights (weighted: from a P0 field of dm_weights; else 1). The Jacobian's
-   state xlocal is read for St. Venant-Kirchhoff only. The geometry follows dm's coordinates. */
+   with per-cell values from a P0 field (FEMCeedElasticitySetCellValues): none; a weight c
+   (else 1); or a material (rho_scale, mu, lambda, svk) of the cell, which then replaces mu,
+   lambda and the model, and scales m. The Jacobian's state xlocal is read for St.
+   Venant-Kirchhoff only (svk: some cell may be). The geometry follows dm's coordinates. */
+typedef enum {
+  FEM_CEED_CELLS_NONE     = 0,
+  FEM_CEED_CELLS_WEIGHT   = 1,
+  FEM_CEED_CELLS_MATERIAL = 4 /* its size */
+} FEMCeedCellValues;
 typedef struct _n_FEMCeedElasticity *FEMCeedElasticity;
-PetscErrorCode FEMCeedElasticityCreate(DM dm, PetscBool svk, PetscBool weighted, FEMCeedElasticity *);
+PetscErrorCode FEMCeedElasticityCreate(DM dm, PetscBool svk, FEMCeedCellValues, FEMCeedElasticity *);
 PetscErrorCode FEMCeedElasticitySetForm(FEMCeedElasticity, PetscScalar mass, PetscScalar op, PetscScalar mu,
                                         PetscScalar lambda, PetscScalar harmonic);
-PetscErrorCode FEMCeedElasticitySetWeights(FEMCeedElasticity, DM dm_weights, Vec weights_local);
+PetscErrorCode FEMCeedElasticitySetCellValues(FEMCeedElasticity, DM dm_cells, Vec values_local);
 PetscErrorCode FEMCeedElasticityResidual(FEMCeedElasticity, Vec xlocal, Vec flocal);
 PetscErrorCode FEMCeedElasticityCreateMatrix(FEMCeedElasticity, Mat *);
 PetscErrorCode FEMCeedElasticityJacobian(FEMCeedElasticity, Vec xlocal, Mat);

@@ -12,7 +12,7 @@ struct _n_FEMCeedElasticity {
   DM                   dm;
   PetscFE              fe;
   ElasticityForm       form;
-  CeedElemRestriction  r_u, r_q, r_w;
+  CeedElemRestriction  r_u, r_q, r_w; /* r_w: the per-cell values' */
   CeedBasis            b_u;
   CeedVector           qdata, x, f, state, weight;
   FEMCeedGeometryKey   geometry;
@@ -37,7 +37,7 @@ static PetscErrorCode OperatorsCreate(FEMCeedElasticity o)
     PetscCallCeed(ceed, CeedQFunctionAddInput(qf, "u", dim, CEED_EVAL_INTERP));
     PetscCallCeed(ceed, CeedQFunctionAddInput(qf, "du", dim * dim, CEED_EVAL_GRAD));
     PetscCallCeed(ceed, CeedQFunctionAddInput(qf, "qdata", qsize, CEED_EVAL_NONE));
-    if (o->form.weighted) PetscCallCeed(ceed, CeedQFunctionAddInput(qf, "c", 1, CEED_EVAL_NONE));
+    if (o->form.cell_values) PetscCallCeed(ceed, CeedQFunctionAddInput(qf, "c", o->form.cell_values, CEED_EVAL_NONE));
     if (k && o->form.svk) PetscCallCeed(ceed, CeedQFunctionAddInput(qf, "du0", dim * dim, CEED_EVAL_GRAD));
     PetscCallCeed(ceed, CeedQFunctionAddOutput(qf, "v", dim, CEED_EVAL_INTERP));
     PetscCallCeed(ceed, CeedQFunctionAddOutput(qf, "dv", dim * dim, CEED_EVAL_GRAD));
@@ -49,7 +49,7 @@ static PetscErrorCode OperatorsCreate(FEMCeedElasticity o)
     PetscCallCeed(ceed, CeedOperatorSetField(*op, "u", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
     PetscCallCeed(ceed, CeedOperatorSetField(*op, "du", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
     PetscCallCeed(ceed, CeedOperatorSetField(*op, "qdata", o->r_q, CEED_BASIS_NONE, o->qdata));
-    if (o->form.weighted) PetscCallCeed(ceed, CeedOperatorSetField(*op, "c", o->r_w, CEED_BASIS_NONE, o->weight));
+    if (o->form.cell_values) PetscCallCeed(ceed, CeedOperatorSetField(*op, "c", o->r_w, CEED_BASIS_NONE, o->weight));
     if (k && o->form.svk) PetscCallCeed(ceed, CeedOperatorSetField(*op, "du0", o->r_u, o->b_u, o->state));
     PetscCallCeed(ceed, CeedOperatorSetField(*op, "v", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
     PetscCallCeed(ceed, CeedOperatorSetField(*op, "dv", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
@@ -57,7 +57,7 @@ static PetscErrorCode OperatorsCreate(FEMCeedElasticity o)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FEMCeedElasticityCreate(DM dm, PetscBool svk, PetscBool weighted, FEMCeedElasticity *elasticity)
+PetscErrorCode FEMCeedElasticityCreate(DM dm, PetscBool svk, FEMCeedCellValues cells, FEMCeedElasticity *elasticity)
 {
   FEMCeedElasticity o;
   PetscInt          dim;
@@ -74,7 +74,7 @@ PetscErrorCode FEMCeedElasticityCreate(DM dm, PetscBool svk, PetscBool weighted,
   PetscCall(FEMCeedGeometryFollow(ceed, dm, o->fe, &o->geometry, &o->r_q, &o->qdata));
   o->form.dim      = (CeedInt)dim;
   o->form.svk      = svk ? 1 : 0;
-  o->form.weighted = weighted ? 1 : 0;
+  o->form.cell_values = (CeedInt)cells;
   PetscCallCeed(ceed, CeedQFunctionContextCreate(ceed, &o->context));
   PetscCallCeed(ceed,
                 CeedQFunctionContextSetData(o->context, CEED_MEM_HOST, CEED_COPY_VALUES, sizeof(o->form), &o->form));
@@ -82,7 +82,7 @@ PetscErrorCode FEMCeedElasticityCreate(DM dm, PetscBool svk, PetscBool weighted,
     CeedVector *vectors[] = {&o->x, &o->f, &o->state};
     PetscCall(FEMCeedLocalVectors(ceed, dm, 3, vectors));
   }
-  PetscCall(FEMCeedPointRestriction(ceed, o->r_u, o->b_u, 1, &o->r_w, &o->weight));
+  PetscCall(FEMCeedPointRestriction(ceed, o->r_u, o->b_u, cells ? (CeedInt)cells : 1, &o->r_w, &o->weight));
   PetscCallCeed(ceed, CeedVectorSetValue(o->weight, 1.0));
   PetscCall(OperatorsCreate(o));
   *elasticity = o;
@@ -105,29 +105,32 @@ PetscErrorCode FEMCeedElasticitySetForm(FEMCeedElasticity o, PetscScalar mass, P
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FEMCeedElasticitySetWeights(FEMCeedElasticity o, DM dm_weights, Vec weights_local)
+PetscErrorCode FEMCeedElasticitySetCellValues(FEMCeedElasticity o, DM dm_cells, Vec values_local)
 {
   PetscSection       section;
   const PetscScalar *w;
   CeedScalar        *c;
   CeedInt            nq;
+  const CeedInt      size = o->form.cell_values;
   PetscInt           cStart, cEnd;
 
   PetscFunctionBeginUser;
-  PetscCheck(o->form.weighted, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "libCEED elasticity: created without weights");
+  PetscCheck(size, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "libCEED elasticity: created without per-cell values");
   PetscCallCeed(o->ceed, CeedBasisGetNumQuadraturePoints(o->b_u, &nq));
-  PetscCall(DMGetLocalSection(dm_weights, &section));
-  PetscCall(DMPlexGetHeightStratum(dm_weights, 0, &cStart, &cEnd));
-  PetscCall(VecGetArrayRead(weights_local, &w));
+  PetscCall(DMGetLocalSection(dm_cells, &section));
+  PetscCall(DMPlexGetHeightStratum(dm_cells, 0, &cStart, &cEnd));
+  PetscCall(VecGetArrayRead(values_local, &w));
   PetscCallCeed(o->ceed, CeedVectorGetArrayWrite(o->weight, CEED_MEM_HOST, &c));
-  /* the cells in the order of DMPlexGetLocalOffsets */
+  /* the cells in the order of DMPlexGetLocalOffsets, each value at every point
+     (FEMCeedPointRestriction's strides: point, component, cell) */
   for (PetscInt cell = cStart; cell < cEnd; ++cell) {
     PetscInt off;
     PetscCall(PetscSectionGetOffset(section, cell, &off));
-    for (CeedInt q = 0; q < nq; ++q) c[(cell - cStart) * nq + q] = w[off];
+    for (CeedInt k = 0; k < size; ++k)
+      for (CeedInt q = 0; q < nq; ++q) c[((cell - cStart) * size + k) * nq + q] = w[off + k];
   }
   PetscCallCeed(o->ceed, CeedVectorRestoreArray(o->weight, &c));
-  PetscCall(VecRestoreArrayRead(weights_local, &w));
+  PetscCall(VecRestoreArrayRead(values_local, &w));
   PetscFunctionReturn(0);
 }
 

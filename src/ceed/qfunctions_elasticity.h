@@ -1,6 +1,7 @@
 /* libCEED pointwise functions of vector-valued stiffness forms on the geometry of
    FEMCeedGeometry: m (u, v) + op c (P(grad u), grad v), with c a per-point weight (the mesh
-   motion's stiffening, else 1) and P
+   motion's stiffening, else 1), or a per-point material (rho_scale, mu, lambda, svk: the
+   structure's regions) that replaces the form's mu, lambda and model and scales m, and P
      linear: h G + mu (G + G^T) + lambda tr(G) I (h: a harmonic part, the mesh motion's),
      St. Venant-Kirchhoff: F S, F = I + G, S = lambda tr(E) I + 2 mu E, E = (F^T F - I)/2,
    the weak forms of structure_kernels.c and motion.c. Gradients are [direction][component][point]. */
@@ -9,7 +10,7 @@
 #include "qfunctions_geometry.h"
 
 typedef struct {
-  CeedInt    dim, svk, weighted;
+  CeedInt    dim, svk, cell_values; /* cell_values: 0, 1 (a weight) or 4 (a material) */
   CeedScalar mass, op, mu, lambda, harmonic;
 } ElasticityForm;
 
@@ -100,34 +101,52 @@ CEED_QFUNCTION_HELPER void ElasticityOutput(const ElasticityForm *e, CeedInt i, 
     }
 }
 
-/* inputs u, du, qdata[, weight]; outputs v, dv */
+/* the form at point i: e's, or with the point's material; its weight into *weight */
+CEED_QFUNCTION_HELPER ElasticityForm ElasticityAtPoint(const ElasticityForm *e, const CeedScalar *c, CeedInt i,
+                                                      CeedInt Q, CeedScalar *weight)
+{
+  ElasticityForm f = *e;
+
+  *weight = e->cell_values == 1 ? c[i] : 1.0;
+  if (e->cell_values == 4) {
+    f.mass *= c[i];
+    f.mu     = c[Q + i];
+    f.lambda = c[2 * Q + i];
+    f.svk    = c[3 * Q + i] > 0.5;
+  }
+  return f;
+}
+
+/* inputs u, du, qdata[, cell values]; outputs v, dv */
 CEED_QFUNCTION(ElasticityResidual)(void *ctx, CeedInt Q, const CeedScalar *const *in, CeedScalar *const *out)
 {
   const ElasticityForm *e = (const ElasticityForm *)ctx;
-  const CeedScalar     *u = in[0], *du = in[1], *qdata = in[2], *c = e->weighted ? in[3] : NULL;
+  const CeedScalar     *u = in[0], *du = in[1], *qdata = in[2], *c = e->cell_values ? in[3] : NULL;
 
   for (CeedInt i = 0; i < Q; ++i) {
-    CeedScalar B[3][3], G[3][3], P[3][3];
+    CeedScalar     B[3][3], G[3][3], P[3][3], weight;
+    ElasticityForm f = ElasticityAtPoint(e, c, i, Q, &weight);
     PhysicalGradient(e->dim, du, qdata, i, Q, B, G);
-    ElasticityStress(e, G, P);
-    ElasticityOutput(e, i, Q, qdata[i], c ? c[i] : 1.0, u, B, P, out[0], out[1]);
+    ElasticityStress(&f, G, P);
+    ElasticityOutput(&f, i, Q, qdata[i], weight, u, B, P, out[0], out[1]);
   }
   return 0;
 }
 
-/* inputs w, dw, qdata[, weight][, du0: St. Venant-Kirchhoff's state]; outputs v, dv */
+/* inputs w, dw, qdata[, cell values][, du0: St. Venant-Kirchhoff's state]; outputs v, dv */
 CEED_QFUNCTION(ElasticityJacobian)(void *ctx, CeedInt Q, const CeedScalar *const *in, CeedScalar *const *out)
 {
   const ElasticityForm *e = (const ElasticityForm *)ctx;
-  const CeedScalar     *w = in[0], *dw = in[1], *qdata = in[2], *c = e->weighted ? in[3] : NULL;
-  const CeedScalar     *du0 = e->svk ? in[e->weighted ? 4 : 3] : NULL;
+  const CeedScalar     *w = in[0], *dw = in[1], *qdata = in[2], *c = e->cell_values ? in[3] : NULL;
+  const CeedScalar     *du0 = e->svk ? in[e->cell_values ? 4 : 3] : NULL;
 
   for (CeedInt i = 0; i < Q; ++i) {
-    CeedScalar B[3][3], dG[3][3], G0[3][3] = {{0}}, dP[3][3];
+    CeedScalar     B[3][3], dG[3][3], G0[3][3] = {{0}}, dP[3][3], weight;
+    ElasticityForm f = ElasticityAtPoint(e, c, i, Q, &weight);
     PhysicalGradient(e->dim, dw, qdata, i, Q, B, dG);
     if (du0) PhysicalGradient(e->dim, du0, qdata, i, Q, B, G0);
-    ElasticityStressIncrement(e, G0, dG, dP);
-    ElasticityOutput(e, i, Q, qdata[i], c ? c[i] : 1.0, w, B, dP, out[0], out[1]);
+    ElasticityStressIncrement(&f, G0, dG, dP);
+    ElasticityOutput(&f, i, Q, qdata[i], weight, w, B, dP, out[0], out[1]);
   }
   return 0;
 }

@@ -161,7 +161,7 @@ static PetscErrorCode CheckBackends(MeshMotion mm)
   PetscCall(VecZeroEntries(zero));
   PetscCall(DMPlexSNESComputeJacobianFEM(mm->dm_all, zero, petsc, petsc, NULL));
   PetscCall(DMRestoreLocalVector(mm->dm_all, &zero));
-  if (mm->stiffening > 0) PetscCall(FEMCeedElasticitySetWeights(mm->ceed, mm->dm_stiffness, mm->stiffness));
+  if (mm->stiffening > 0) PetscCall(FEMCeedElasticitySetCellValues(mm->ceed, mm->dm_stiffness, mm->stiffness));
   PetscCall(FEMCeedElasticityCreateMatrix(mm->ceed, &ceed));
   PetscCall(FEMCeedElasticityJacobian(mm->ceed, NULL, ceed));
   PetscCall(FEMCeedMatDifference(ceed, petsc, &difference));
@@ -184,7 +184,7 @@ static PetscErrorCode AssembleOperator(MeshMotion mm)
 
   PetscFunctionBeginUser;
   if (mm->use_ceed) {
-    if (mm->stiffening > 0) PetscCall(FEMCeedElasticitySetWeights(mm->ceed, mm->dm_stiffness, mm->stiffness));
+    if (mm->stiffening > 0) PetscCall(FEMCeedElasticitySetCellValues(mm->ceed, mm->dm_stiffness, mm->stiffness));
     PetscCall(FEMCeedElasticityJacobian(mm->ceed, NULL, mm->operator_all));
   } else {
     PetscCall(DMGetLocalVector(mm->dm_all, &zero));
@@ -266,7 +266,8 @@ PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfix
     PetscBool  check;
     PetscCall(FEMBackendGet(&backend, &check));
     if ((backend == FEM_BACKEND_CEED || check) && mm->type != MOTION_BIHARMONIC) {
-      PetscCall(FEMCeedElasticityCreate(mm->dm_all, PETSC_FALSE, mm->stiffening > 0, &mm->ceed));
+      PetscCall(FEMCeedElasticityCreate(mm->dm_all, PETSC_FALSE, mm->stiffening > 0 ? FEM_CEED_CELLS_WEIGHT : FEM_CEED_CELLS_NONE,
+                                         &mm->ceed));
       /* harmonic: P = c G; elastic (mu = lambda = 1): P = c (G + G^T + tr(G) I) */
       if (mm->type == MOTION_HARMONIC) PetscCall(FEMCeedElasticitySetForm(mm->ceed, 0.0, 1.0, 0.0, 0.0, 1.0));
       else PetscCall(FEMCeedElasticitySetForm(mm->ceed, 0.0, 1.0, 1.0, 1.0, 0.0));

@@ -35,10 +35,13 @@ PetscErrorCode StructureCreate(MPI_Comm comm, Structure *structure)
   PetscFunctionReturn(0);
 }
 
+/* -structure_model's and each region's choices, in StructureModel's order */
+const char *const StructureModelNames[] = {"linear", "svk"};
+
 PetscErrorCode StructureSetFromOptions(Structure s)
 {
-  const char *models[] = {"linear", "svk"};
-  PetscInt    model    = s->model;
+  const char *const *models = StructureModelNames;
+  PetscInt           model  = s->model;
 
   PetscFunctionBeginUser;
   PetscCall(OptionsDeclareUnit("-structure_density", UNIT_DENSITY));
@@ -124,6 +127,8 @@ static PetscErrorCode StructureSetUpWeakForm(Structure s)
   PetscCall(DMCreateDS(s->dm_free));
   PetscCall(FEMCreateField(s->dm, 0, "displacement", -1, s->degree, NULL));
   PetscCall(DMCreateDS(s->dm));
+  PetscCall(StructureMaterialsSetUp(s));
+  if (s->material) PetscCall(DMSetAuxiliaryVec(s->dm, NULL, 0, 0, s->material));
   PetscCall(DMGetDS(s->dm, &ds));
   if (s->model == STRUCTURE_SVK) {
     PetscCall(PetscDSSetResidual(ds, 0, StructureF0Mass, StructureF1SVKStress));
@@ -573,6 +578,8 @@ PetscErrorCode StructureDestroy(Structure *structure)
   PetscCall(VecDestroy(&s->eta_old_local));
   PetscCall(VecDestroy(&s->etadot_old_local));
   PetscCall(StructureOperatorsDestroy(s));
+  PetscCall(VecDestroy(&s->material));
+  PetscCall(DMDestroy(&s->dm_material));
   PetscCall(SNESDestroy(&s->snes));
   PetscCall(DMDestroy(&s->dm_free));
   PetscCall(DMDestroy(&s->dm));

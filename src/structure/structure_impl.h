@@ -24,6 +24,8 @@ struct _p_Structure {
   Vec            work_local, history, work, rhs;
   Vec            load, load_old; /* interface load B_s g of this and of the previous step */
   Vec            tangent_at;     /* St. Venant-Kirchhoff: the local state of the factored tangent */
+  DM             dm_material; /* materials per region: their P0 field's space, NULL without */
+  Vec            material;    /* local: rho/rho_s, mu, lambda, model per cell */
   PhysicsData    data;
   DirichletDatum datums[FSIOPT_MAX_BOUNDARIES];
   SolverCounts   counts;
@@ -38,6 +40,10 @@ struct _p_Structure {
 PetscErrorCode StructureOperatorsSetUp(Structure);
 PetscErrorCode StructureOperatorsCheck(Structure, PetscInt step);
 PetscErrorCode StructureOperatorsDestroy(Structure);
+extern const char *const StructureModelNames[]; /* by StructureModel */
+/* structure_materials.c: the materials per region the options give (the auxiliary field and
+   the model: St. Venant-Kirchhoff where any region is) */
+PetscErrorCode StructureMaterialsSetUp(Structure);
 /* structure_robin.c: the Robin supports' natural boundaries, and their coefficients
    s_b = op k_b + rate c_b as the last n_robin of the DS's nconstants constants */
 PetscErrorCode StructureRobinAddBoundaries(Structure);

@@ -14,13 +14,37 @@
 /* PETSc fixes the signatures of pointwise kernels; each uses a few of their arguments. */
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 
+/* The point's material: with materials per region (structure_materials.c) the auxiliary field
+   (rho/rho_s, mu, lambda, model), else the constants and the kernel's own model. */
+typedef struct {
+  StructureModel model;
+  PetscReal      density_scale, mu, lambda;
+} PointMaterial;
+
+static inline PointMaterial MaterialAt(StructureModel model, PetscInt NfAux, const PetscInt aOff[],
+                                       const PetscScalar a[], const PetscScalar constants[])
+{
+  PointMaterial m = {model, 1.0, PetscRealPart(constants[STRUCTURE_MU]), PetscRealPart(constants[STRUCTURE_LAMBDA])};
+
+  if (NfAux > 0) {
+    const PetscScalar *v = &a[aOff[0]];
+    m.density_scale      = PetscRealPart(v[0]);
+    m.mu                 = PetscRealPart(v[1]);
+    m.lambda             = PetscRealPart(v[2]);
+    m.model              = PetscRealPart(v[3]) > 0.5 ? STRUCTURE_SVK : STRUCTURE_LINEAR;
+  }
+  return m;
+}
+
 void StructureF0Mass(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
                      const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[],
                      const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[], const PetscScalar a_x[],
                      PetscReal t, const PetscReal x[], PetscInt numConstants, const PetscScalar constants[],
                      PetscScalar f0[])
 {
-  for (PetscInt c = 0; c < dim; ++c) f0[c] = constants[STRUCTURE_MASS] * u[uOff[0] + c];
+  const PetscScalar mass = constants[STRUCTURE_MASS] * MaterialAt(STRUCTURE_LINEAR, NfAux, aOff, a, constants).density_scale;
+
+  for (PetscInt c = 0; c < dim; ++c) f0[c] = mass * u[uOff[0] + c];
 }
 
 void StructureF1LinearStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
@@ -29,11 +53,11 @@ void StructureF1LinearStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const Pe
                              const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[],
                              PetscInt numConstants, const PetscScalar constants[], PetscScalar f1[])
 {
-  const PetscScalar op = constants[STRUCTURE_OPERATOR];
-  PetscScalar       sigma[9];
+  const PetscScalar   op = constants[STRUCTURE_OPERATOR];
+  const PointMaterial m  = MaterialAt(STRUCTURE_LINEAR, NfAux, aOff, a, constants);
+  PetscScalar         sigma[9];
 
-  StructureStress(STRUCTURE_LINEAR, dim, PetscRealPart(constants[STRUCTURE_MU]),
-                  PetscRealPart(constants[STRUCTURE_LAMBDA]), &u_x[uOff_x[0]], sigma);
+  StructureStress(m.model, dim, m.mu, m.lambda, &u_x[uOff_x[0]], sigma);
   for (PetscInt i = 0; i < dim * dim; ++i) f1[i] = op * sigma[i];
 }
 
@@ -80,11 +104,11 @@ void StructureF1SVKStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const Petsc
                           const PetscScalar a_t[], const PetscScalar a_x[], PetscReal t, const PetscReal x[],
                           PetscInt numConstants, const PetscScalar constants[], PetscScalar f1[])
 {
-  const PetscScalar op = constants[STRUCTURE_OPERATOR];
-  PetscScalar       P[9];
+  const PetscScalar   op = constants[STRUCTURE_OPERATOR];
+  const PointMaterial m  = MaterialAt(STRUCTURE_SVK, NfAux, aOff, a, constants);
+  PetscScalar         P[9];
 
-  StructureStress(STRUCTURE_SVK, dim, PetscRealPart(constants[STRUCTURE_MU]),
-                  PetscRealPart(constants[STRUCTURE_LAMBDA]), &u_x[uOff_x[0]], P);
+  StructureStress(m.model, dim, m.mu, m.lambda, &u_x[uOff_x[0]], P);
   for (PetscInt i = 0; i < dim * dim; ++i) f1[i] = op * P[i];
 }
 
@@ -94,8 +118,13 @@ void StructureG0Mass(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt u
                      PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants,
                      const PetscScalar constants[], PetscScalar g0[])
 {
-  for (PetscInt c = 0; c < dim; ++c) g0[c * dim + c] = constants[STRUCTURE_MASS];
+  const PetscScalar mass = constants[STRUCTURE_MASS] * MaterialAt(STRUCTURE_LINEAR, NfAux, aOff, a, constants).density_scale;
+
+  for (PetscInt c = 0; c < dim; ++c) g0[c * dim + c] = mass;
 }
+
+/* op dP/dG at G of the point's material */
+static void Tangent(PointMaterial m, PetscInt dim, PetscScalar op, const PetscScalar G[], PetscScalar g3[]);
 
 void StructureG3LinearElasticity(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[],
                                  const PetscInt uOff_x[], const PetscScalar u[], const PetscScalar u_t[],
@@ -104,15 +133,8 @@ void StructureG3LinearElasticity(PetscInt dim, PetscInt Nf, PetscInt NfAux, cons
                                  PetscReal u_tShift, const PetscReal x[], PetscInt numConstants,
                                  const PetscScalar constants[], PetscScalar g3[])
 {
-  const PetscScalar op = constants[STRUCTURE_OPERATOR], mu = op * constants[STRUCTURE_MU],
-                    lambda = op * constants[STRUCTURE_LAMBDA];
-
-  for (PetscInt c = 0; c < dim; ++c)
-    for (PetscInt d = 0; d < dim; ++d) {
-      g3[((c * dim + c) * dim + d) * dim + d] += mu;
-      g3[((c * dim + d) * dim + d) * dim + c] += mu;
-      g3[((c * dim + d) * dim + c) * dim + d] += lambda;
-    }
+  Tangent(MaterialAt(STRUCTURE_LINEAR, NfAux, aOff, a, constants), dim, constants[STRUCTURE_OPERATOR],
+          &u_x[uOff_x[0]], g3);
 }
 
 /* dP_cd/dG_ef = delta_ce S_fd + lambda F_cd F_ef + mu_s F_cf F_ed + mu_s (F F^T)_ce delta_df
@@ -123,11 +145,24 @@ void StructureG3SVK(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uO
                     PetscReal t, PetscReal u_tShift, const PetscReal x[], PetscInt numConstants,
                     const PetscScalar constants[], PetscScalar g3[])
 {
-  const PetscScalar op = constants[STRUCTURE_OPERATOR], mu = constants[STRUCTURE_MU],
-                    lambda = constants[STRUCTURE_LAMBDA];
-  const PetscScalar *G     = &u_x[uOff_x[0]];
-  PetscScalar        F[9], S[9], FFt[9];
+  Tangent(MaterialAt(STRUCTURE_SVK, NfAux, aOff, a, constants), dim, constants[STRUCTURE_OPERATOR], &u_x[uOff_x[0]],
+          g3);
+}
 
+static void Tangent(PointMaterial m, PetscInt dim, PetscScalar op, const PetscScalar G[], PetscScalar g3[])
+{
+  const PetscScalar mu = m.mu, lambda = m.lambda;
+  PetscScalar       F[9], S[9], FFt[9];
+
+  if (m.model == STRUCTURE_LINEAR) {
+    for (PetscInt c = 0; c < dim; ++c)
+      for (PetscInt d = 0; d < dim; ++d) {
+        g3[((c * dim + c) * dim + d) * dim + d] += op * mu;
+        g3[((c * dim + d) * dim + d) * dim + c] += op * mu;
+        g3[((c * dim + d) * dim + c) * dim + d] += op * lambda;
+      }
+    return;
+  }
   SVKDeformation(dim, mu, lambda, G, F, S);
   for (PetscInt k = 0; k < dim; ++k)
     for (PetscInt d = 0; d < dim; ++d) {

@@ -149,7 +149,9 @@ PetscErrorCode StructureOperatorCreate_Ceed(Structure s, StructureOperatorUse us
   op->ops.residual        = Residual;
   op->ops.jacobian_matrix = JacobianMatrix;
   op->ops.destroy         = Destroy;
-  PetscCall(FEMCeedElasticityCreate(s->dm, s->model == STRUCTURE_SVK, PETSC_FALSE, &c->ceed));
+  PetscCall(FEMCeedElasticityCreate(s->dm, s->model == STRUCTURE_SVK,
+                                    s->material ? FEM_CEED_CELLS_MATERIAL : FEM_CEED_CELLS_NONE, &c->ceed));
+  if (s->material) PetscCall(FEMCeedElasticitySetCellValues(c->ceed, s->dm_material, s->material));
   PetscCall(FEMLoadsCreate(s->dm, s->data.load_value_kernel, s->data.load_stress_kernel, NULL, &c->dm_loads));
   if (use != STRUCTURE_OPERATOR_SOLVER) PetscFunctionReturn(0);
   PetscCall(FEMCeedElasticityCreateMatrix(c->ceed, &c->jacobian));
