@@ -1,5 +1,6 @@
 /* Integrals over the fluid's face sets as columns of probes.csv (-integrals_flow_rate,
-   -integrals_mean_pressure, -integrals_force: face sets by name or number), and the state of
+   -integrals_mean_pressure, -integrals_force: face sets by name or number), over its regions
+   (-integrals_region_volume, _mean_pressure, _kinetic_energy: by name, number or all), and the state of
    the fluid's 0D outlets (the outlet pressure of each), each column with its unit. */
 #ifndef FSIOPT_FACE_INTEGRALS_H
 #define FSIOPT_FACE_INTEGRALS_H

@@ -72,6 +72,13 @@ typedef struct {
   PetscReal area, flow_rate, pressure, force[3];
 } FluidFaceIntegral;
 PetscErrorCode FluidFaceSetIntegral(Fluid, PetscInt n, const PetscInt values[], FluidFaceIntegral *);
+/* Integrals over the region `region` ("Cell Sets"; -1: every cell) of the current state: its
+   volume (2D: area), int p and the kinetic energy int rho |u|^2 / 2 (fluid_region_integrals.c);
+   collective. */
+typedef struct {
+  PetscReal volume, pressure, kinetic;
+} FluidRegionIntegrals;
+PetscErrorCode FluidRegionIntegral(Fluid, PetscInt region, FluidRegionIntegrals *);
 /* The 0D outlets' (PhysicsData.outlets) flow rate and pressure at the current state; the
    boundary kernel of outlet k, for its face set's traction slot (fluid_outlets.c). */
 PetscErrorCode   FluidGetOutletState(Fluid, PetscReal q[], PetscReal p[]);

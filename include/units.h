@@ -21,7 +21,11 @@ typedef enum {
   UNIT_COMPLIANCE, /* of a 0D outlet: volume per pressure */
   UNIT_COMPLIANCE_PER_DEPTH,
   UNIT_STIFFNESS_PER_AREA, /* of a Robin support: pressure per length */
-  UNIT_DAMPING_PER_AREA    /* pressure per velocity */
+  UNIT_DAMPING_PER_AREA,   /* pressure per velocity */
+  UNIT_AREA,
+  UNIT_VOLUME,
+  UNIT_ENERGY,
+  UNIT_ENERGY_PER_DEPTH /* of a 2D region, per unit depth */
 } UnitDimension;
 
 const char *UnitName(const char system[], UnitDimension);

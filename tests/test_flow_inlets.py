@@ -31,7 +31,7 @@ def channel_inlet(name, lines):
 
 
 def tube_inlet(name, lines):
-    return inlet_file(name, TUBE, ["    inlet: pressure\n", '    inlet_pressure: "t <= 0.003*(1+1e-12) ? 1.333e4 : 0"\n'],
+    return inlet_file(name, TUBE, ["    inlet: pressure\n", '    inlet_pressure: "t <= duration*(1+1e-12) ? pressure : 0"\n'],
                       lines)
 
 

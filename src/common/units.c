@@ -45,6 +45,14 @@ const char *UnitName(const char system[], UnitDimension d)
     return si ? "Pa/m" : "dyn/cm^3";
   case UNIT_DAMPING_PER_AREA:
     return si ? "Pa s/m" : "dyn s/cm^3";
+  case UNIT_AREA:
+    return si ? "m^2" : "cm^2";
+  case UNIT_VOLUME:
+    return si ? "m^3" : "cm^3";
+  case UNIT_ENERGY:
+    return si ? "J" : "erg";
+  case UNIT_ENERGY_PER_DEPTH:
+    return si ? "J/m" : "erg/cm";
   }
   return NULL;
 }

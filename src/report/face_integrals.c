@@ -1,7 +1,8 @@
-/* Integrals over the fluid's face sets as columns of probes.csv (face_integrals.h): the flow
-   rate int u.n (out of the fluid), the mean pressure int p / |face set| and the force
-   -int sigma n of the fluid on the face set, by the fluid's face integration on its current
-   mesh; then each 0D outlet's flow rate and pressure. */
+/* Integrals over the fluid's face sets and regions as columns of probes.csv
+   (face_integrals.h): the flow rate int u.n (out of the fluid), the mean pressure
+   int p / |face set| and the force -int sigma n of the fluid on the face set, by the fluid's
+   face integration on its current mesh; a region's volume, mean pressure and kinetic energy
+   (fluid_region_integrals.c); then each 0D outlet's flow rate and pressure. */
 #include "face_integrals.h"
 #include "mesh.h"
 #include "options.h"
@@ -12,8 +13,13 @@ typedef enum {
   FLOW_RATE,
   MEAN_PRESSURE,
   FORCE,
+  REGION_VOLUME,
+  REGION_MEAN_PRESSURE,
+  REGION_KINETIC_ENERGY,
   NUM_KINDS
 } IntegralKind;
+#define IsRegionKind(k) ((k) >= REGION_VOLUME)
+#define ALL_CELLS       (-2) /* the region "all": FluidRegionIntegral's any negative */
 
 static const struct {
   const char *option, *help, *symbol;
@@ -23,6 +29,12 @@ static const struct {
   {"-integrals_mean_pressure", "face sets whose mean pressure (int p over the face set / its area) probes.csv records",
    "p_mean"},
   {"-integrals_force", "face sets whose force from the fluid (-int sigma n) probes.csv records", "F"},
+  {"-integrals_region_volume", "regions of the fluid mesh (names or numbers; all: the whole mesh) whose volume (2D: "
+   "area) on the moving mesh probes.csv records", "V"},
+  {"-integrals_region_mean_pressure", "regions of the fluid mesh (all: the whole mesh) whose mean pressure probes.csv "
+   "records", "p_region"},
+  {"-integrals_region_kinetic_energy", "regions of the fluid mesh (all: the whole mesh) whose kinetic energy "
+   "int rho |u|^2/2 probes.csv records", "E_kin"},
 };
 
 struct _p_FaceIntegrals {
@@ -44,10 +56,12 @@ static PetscErrorCode AddColumn(FaceIntegrals fi, const char name[], UnitDimensi
   PetscFunctionReturn(0);
 }
 
-/* The face sets an option names, checked against the fluid mesh's names */
+/* The face sets (regions) an option names, checked against the fluid mesh's names; a
+   region "all" is every cell (-1) */
 static PetscErrorCode ReadSets(FaceIntegrals fi, PetscOptionItems *PetscOptionsObject, IntegralKind k, PetscInt nnames,
                                const MeshPhysicalName known[], char *texts[MAX_SETS])
 {
+  const char *what = IsRegionKind(k) ? "region" : "face set";
   PetscInt  n = MAX_SETS;
   PetscBool given;
   char      list[512] = "";
@@ -57,8 +71,8 @@ static PetscErrorCode ReadSets(FaceIntegrals fi, PetscOptionItems *PetscOptionsO
   PetscCall(PetscOptionsStringArray(kinds[k].option, kinds[k].help, NULL, texts, &n, &given));
   PetscCall(PetscOptionsHasName(NULL, NULL, kinds[k].option, &present));
   if (!given && !present) PetscFunctionReturn(0);
-  PetscCheck(given && n > 0, fi->comm, PETSC_ERR_ARG_WRONG, "option %s: expected face sets (names or numbers, comma-separated)",
-             kinds[k].option);
+  PetscCheck(given && n > 0, fi->comm, PETSC_ERR_ARG_WRONG, "option %s: expected %ss (names or numbers, comma-separated)",
+             kinds[k].option, what);
   PetscCheck(fi->fluid || fi->nfluid_ranks, fi->comm, PETSC_ERR_ARG_INCOMP, "option %s: this scene has no fluid",
              kinds[k].option);
   for (PetscInt i = 0; i < nnames; ++i) {
@@ -68,9 +82,15 @@ static PetscErrorCode ReadSets(FaceIntegrals fi, PetscOptionItems *PetscOptionsO
   for (PetscInt i = 0; i < n; ++i) {
     PetscInt value;
     PetscCall(MeshFaceSetFind(nnames, known, texts[i], &value));
-    PetscCheck(value > 0, fi->comm, PETSC_ERR_ARG_WRONG,
-               "option %s: the fluid mesh has no face set %s; expected a number or one of its names (%s)",
-               kinds[k].option, texts[i], nnames ? list : "none: its file has no physical names");
+    if (IsRegionKind(k)) { /* a region the file names (a box names none), or all */
+      PetscBool named = PETSC_FALSE;
+      for (PetscInt j = 0; j < nnames; ++j) named = named || known[j].value == value ? PETSC_TRUE : PETSC_FALSE;
+      value = !strcmp(texts[i], "all") ? ALL_CELLS : named ? value : -1;
+    }
+    PetscCheck(value > 0 || value == ALL_CELLS, fi->comm, PETSC_ERR_ARG_WRONG,
+               "option %s: the fluid mesh has no %s %s; expected a number or one of its names (%s%s)", kinds[k].option,
+               what, texts[i], nnames ? list : "none: its file has no physical names",
+               IsRegionKind(k) ? "; all: the whole mesh" : "");
     fi->sets[k][i] = value;
   }
   fi->nsets[k] = n;
@@ -80,8 +100,8 @@ static PetscErrorCode ReadSets(FaceIntegrals fi, PetscOptionItems *PetscOptionsO
 PetscErrorCode FaceIntegralsCreate(MPI_Comm comm, PetscInt dim, Fluid fluid, FaceIntegrals *integrals)
 {
   FaceIntegrals    fi;
-  MeshPhysicalName known[64];
-  PetscInt         nknown = 0;
+  MeshPhysicalName known[64], regions[64];
+  PetscInt         nknown = 0, nregions = 0;
   char            *texts[NUM_KINDS][MAX_SETS];
   const PhysicsData *data = NULL;
   const UnitDimension flow = dim == 2 ? UNIT_FLOW_RATE_PER_DEPTH : UNIT_FLOW_RATE,
@@ -95,17 +115,26 @@ PetscErrorCode FaceIntegralsCreate(MPI_Comm comm, PetscInt dim, Fluid fluid, Fac
   fi->fluid        = fluid;
   fi->nfluid_ranks = fluid ? 1 : 0;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &fi->nfluid_ranks, 1, MPIU_INT, MPI_SUM, comm));
-  if (fi->nfluid_ranks) PetscCall(MeshFaceSetNames(comm, "fluid_", dim, 64, &nknown, known));
+  if (fi->nfluid_ranks) {
+    char      path[PETSC_MAX_PATH_LEN];
+    PetscBool file;
+    PetscCall(MeshFaceSetNames(comm, "fluid_", dim, 64, &nknown, known));
+    PetscCall(PetscOptionsGetString(NULL, NULL, "-fluid_dm_plex_filename", path, sizeof(path), &file));
+    if (file) PetscCall(MeshGmshPhysicalNames(comm, path, dim, 64, &nregions, regions));
+  }
   if (fluid) {
     PetscCall(FluidGetData(fluid, &data));
     fi->noutlets = data->n_outlets;
   }
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &fi->noutlets, 1, MPIU_INT, MPI_MAX, comm));
-  PetscOptionsBegin(comm, NULL, "Integrals over the fluid's face sets", "probes");
-  for (PetscInt k = 0; k < NUM_KINDS; ++k) PetscCall(ReadSets(fi, PetscOptionsObject, (IntegralKind)k, nknown, known, texts[k]));
+  PetscOptionsBegin(comm, NULL, "Integrals over the fluid's face sets and regions", "probes");
+  for (PetscInt k = 0; k < NUM_KINDS; ++k)
+    PetscCall(ReadSets(fi, PetscOptionsObject, (IntegralKind)k, IsRegionKind(k) ? nregions : nknown,
+                       IsRegionKind(k) ? regions : known, texts[k]));
   PetscOptionsEnd();
   {
     PetscInt ncolumns = fi->nsets[FLOW_RATE] + fi->nsets[MEAN_PRESSURE] + dim * fi->nsets[FORCE] + 2 * fi->noutlets;
+    for (PetscInt k = REGION_VOLUME; k < NUM_KINDS; ++k) ncolumns += fi->nsets[k];
     if (!ncolumns) {
       PetscCall(PetscFree(fi));
       PetscFunctionReturn(0);
@@ -121,8 +150,12 @@ PetscErrorCode FaceIntegralsCreate(MPI_Comm comm, PetscInt dim, Fluid fluid, Fac
           PetscCall(AddColumn(fi, name, force));
         }
       else {
+        const UnitDimension unit = k == FLOW_RATE              ? flow
+                                   : k == REGION_VOLUME         ? (dim == 2 ? UNIT_AREA : UNIT_VOLUME)
+                                   : k == REGION_KINETIC_ENERGY ? (dim == 2 ? UNIT_ENERGY_PER_DEPTH : UNIT_ENERGY)
+                                                                : UNIT_PRESSURE;
         PetscCall(PetscSNPrintf(name, sizeof(name), "%s(%s)", kinds[k].symbol, texts[k][i]));
-        PetscCall(AddColumn(fi, name, k == FLOW_RATE ? flow : UNIT_PRESSURE));
+        PetscCall(AddColumn(fi, name, unit));
       }
       PetscCall(PetscFree(texts[k][i]));
     }
@@ -147,6 +180,13 @@ PetscErrorCode FaceIntegralsEvaluate(FaceIntegrals fi, PetscReal out[])
     for (PetscInt k = 0; k < NUM_KINDS; ++k)
       for (PetscInt i = 0; i < fi->nsets[k]; ++i) {
         FluidFaceIntegral integral;
+        if (IsRegionKind(k)) {
+          FluidRegionIntegrals r;
+          PetscCall(FluidRegionIntegral(fi->fluid, fi->sets[k][i], &r));
+          out[column++] = k == REGION_VOLUME ? r.volume : k == REGION_KINETIC_ENERGY ? r.kinetic
+                                                                                    : r.pressure / r.volume;
+          continue;
+        }
         PetscCall(FluidFaceSetIntegral(fi->fluid, 1, &fi->sets[k][i], &integral));
         if (k == FLOW_RATE) out[column++] = integral.flow_rate;
         else if (k == MEAN_PRESSURE) out[column++] = integral.area > 0 ? integral.pressure / integral.area : 0;
