@@ -88,6 +88,12 @@ def read_probes(path):
     return [fr.column_name(n) for n in rows[0]], [[float(v) for v in r] for r in rows[1:]]
 
 
+def probe_rows(out):
+    """probes.csv of a run's directory as rows of {column name without its unit: value}"""
+    head, rows = read_probes(os.path.join(out, "probes.csv"))
+    return [dict(zip(head, r)) for r in rows]
+
+
 def difference_to_largest(rows, reference):
     """The largest difference of two probe series (t first) relative to the reference's
     largest value over all its columns (probes_difference scales each column by its own)."""

@@ -3,15 +3,10 @@ _poisson_ratio, _density): the two-layer plate's closed forms, static and in tim
 per region, the backends' agreement, and the refusals."""
 import os
 
-from harness import ROOT, WORK, read_probes, refused, run, solve, test
+from harness import ROOT, WORK, probe_rows, refused, run, solve, test
 
 PLATE = ["-options_file", os.path.join(ROOT, "options", "examples", "layered-plate.yaml")]
 P = 2.0  # the example's pressure; E_inner = 400, E_outer = 100, densities 3 and 1, layers 0.1 thick
-
-
-def last(out):
-    head, rows = read_probes(os.path.join(out, "probes.csv"))
-    return dict(zip(head, rows[-1])), [dict(zip(head, r)) for r in rows]
 
 
 @test("materials per region, static: the two-layer plate under a uniform pressure deflects by the closed form of "
@@ -23,7 +18,7 @@ def test_materials_static():
     for backend, nproc in (("ceed", 1), ("petsc", 1), ("ceed", 2)):
         out = os.path.join(WORK, "materials-static-%s-%d" % (backend, nproc))
         solve(PLATE + ["-fem_backend", backend], nproc=nproc, out=out)
-        values = last(out)[0]
+        values = probe_rows(out)[-1]
         worst = max([worst] + [abs(values[k] - v) / abs(v) for k, v in exact.items()])
     assert worst <= 1e-12, "deflections off the closed form by %.1e" % worst
     return "closed form to %.1e" % worst
@@ -38,7 +33,7 @@ def test_materials_density():
                    "-structure_boundary_bottom_damping", str(c), "-structure_time_order", "1", "-dt", str(dt),
                    "-t_final", "1", "-structure_youngs_modulus", "1e8", "-structure_region_inner_youngs_modulus",
                    "4e8"], out=out)
-    rows = last(out)[1][1:]
+    rows = probe_rows(out)[1:]
     m, x, v, gap, peak = 3 * 0.1 + 1 * 0.1, 0.0, 0.0, 0.0, 0.0
     for r in rows:
         x0 = x
@@ -60,7 +55,7 @@ def test_materials_model():
     solve(PLATE + load + ["-structure_model", "svk", "-structure_region_outer_model", "svk"], out=whole)
     linear = os.path.join(WORK, "materials-linear")
     solve(PLATE + load, out=linear)
-    a, b, l = (last(d)[0] for d in (regions, whole, linear))
+    a, b, l = (probe_rows(d)[-1] for d in (regions, whole, linear))
     same = max(abs(a[k] - b[k]) / max(abs(b[k]), 1e-30) for k in a if k.startswith("eta_y"))
     apart = max(abs(a[k] - l[k]) / abs(l[k]) for k in a if k.startswith("eta_y"))
     assert same <= 1e-12 and apart >= 1e-3, "regions vs whole %.1e, vs linear %.1e" % (same, apart)

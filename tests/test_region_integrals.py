@@ -4,16 +4,11 @@ channel's volume against its flow rates, and the refusals."""
 import math
 import os
 
-from harness import ROOT, WORK, read_probes, refused, solve, test
+from harness import ROOT, WORK, probe_rows, refused, solve, test
 
 RIGID = ["-options_file", os.path.join(ROOT, "options", "examples", "rigid-channel.yaml")]
 CHANNEL = ["-options_file", os.path.join(ROOT, "options", "channel2d.yaml")]
 TUBE = ["-options_file", os.path.join(ROOT, "options", "tube3d.yaml")]
-
-
-def rows_of(out):
-    head, rows = read_probes(os.path.join(out, "probes.csv"))
-    return [dict(zip(head, r)) for r in rows]
 
 
 @test("region integrals: Poiseuille flow in the rigid channel (the fluid alone, steady) has the area 6, the mean "
@@ -25,7 +20,7 @@ def test_region_poiseuille():
     for nproc in (1, 2):
         out = os.path.join(WORK, "region-poiseuille-%d" % nproc)
         solve(RIGID, nproc=nproc, out=out)
-        last = rows_of(out)[-1]
+        last = probe_rows(out)[-1]
         worst = max([worst] + [abs(last[k] - v) / v for k, v in exact.items()])
     assert worst <= 1e-12, "off the closed form by %.1e" % worst
     return "closed forms to %.1e" % worst
@@ -38,7 +33,7 @@ def test_region_named():
     out = os.path.join(WORK, "region-tube")
     solve(TUBE + ["-t_final", "3e-4", "-integrals_region_volume", "blood,all", "-integrals_region_mean_pressure",
                   "blood,all", "-integrals_region_kinetic_energy", "blood,all"], out=out)
-    rows = rows_of(out)
+    rows = probe_rows(out)
     same = max(abs(r["%s(blood)" % k] - r["%s(all)" % k]) / max(abs(r["%s(all)" % k]), 1e-300)
                for r in rows[1:] for k in ("V", "p_region", "E_kin"))
     prism = 16 / 2 * math.sin(2 * math.pi / 16) * 0.25 * 5
@@ -55,7 +50,7 @@ def test_region_volume_balance():
     out = os.path.join(WORK, "region-balance")
     solve(CHANNEL + ["-t_final", "0.01", "-integrals_region_volume", "all", "-integrals_flow_rate", "left,right"],
           out=out)
-    rows = rows_of(out)
+    rows = probe_rows(out)
     steps = [(b["V(all)"] - a["V(all)"], -(b["t"] - a["t"]) * (b["Q(left)"] + b["Q(right)"]))
              for a, b in zip(rows, rows[1:])]
     largest = max(abs(dv) for dv, _ in steps)

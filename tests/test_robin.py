@@ -2,17 +2,12 @@
 the supported plate's closed forms, static and in time, alone and coupled to the fluid."""
 import os
 
-from harness import ROOT, WORK, adjoint_difference, read_probes, refused, run, solve, test
+from harness import ROOT, WORK, adjoint_difference, probe_rows, refused, run, solve, test
 
 PLATE = ["-options_file", os.path.join(ROOT, "options", "examples", "supported-plate.yaml")]
 CHANNEL = ["-options_file", os.path.join(ROOT, "options", "channel2d.yaml")]
 K, C, P, H = 50.0, 2.0, 2.0, 0.2  # the example's stiffness, damping, pressure, thickness; density 1
 POINTS = ((0.3, 0.15), (0.7, 0.05))
-
-
-def columns(out):
-    head, rows = read_probes(os.path.join(out, "probes.csv"))
-    return [dict(zip(head, r)) for r in rows]
 
 
 @test("robin support, static: the plate on its foundation under a uniform pressure deflects by the closed form "
@@ -25,7 +20,7 @@ def test_robin_static():
         solve(PLATE + ["-structure_time_order", "0", "-structure_boundary_bottom_damping", "0", "-dt", "0.1",
                        "-t_final", "0.2", "-fem_backend", backend],
               nproc=nproc, out=out)
-        last = columns(out)[-1]
+        last = probe_rows(out)[-1]
         for x, y in POINTS:
             exact = -P / K - P * y / 100.0
             tag = "(%g;%g)" % (x, y)
@@ -60,7 +55,7 @@ def test_robin_dynamic():
         for E in ("1e7", "1e8"):
             out = os.path.join(WORK, "robin-dynamic-%d-%s" % (order, E))
             solve(PLATE + ["-structure_time_order", str(order), "-structure_youngs_modulus", E], out=out)
-            rows = columns(out)[1:]
+            rows = probe_rows(out)[1:]
             exact = oscillator(order, 0.01, len(rows), 1.0 * H)
             peak = max(abs(x) for x in exact)
             gaps[order, E] = max(abs(r["eta_y(0.3;0.15)"] - x) for r, x in zip(rows, exact)) / peak
@@ -84,10 +79,10 @@ def test_robin_coupled():
         assert rc == 0, err
         identity = adjoint_difference(stdout)
         assert abs(identity) <= 1e-10, "k = %s: <J h, r> - <h, J^T r> relative %.1e" % (k, identity)
-        deflections.append(abs(columns(out)[-1]["dy(1.5;1.)"]))
+        deflections.append(abs(probe_rows(out)[-1]["dy(1.5;1.)"]))
     free = os.path.join(WORK, "robin-coupled-free")
     solve(CHANNEL + ["-t_final", "0.002"], out=free)
-    deflections.insert(0, abs(columns(free)[-1]["dy(1.5;1.)"]))
+    deflections.insert(0, abs(probe_rows(free)[-1]["dy(1.5;1.)"]))
     assert deflections[0] > deflections[1] > deflections[2] > 0, "deflections free, k 1e7, 1e9: %s" % deflections
     return "deflections %.3g (free), %.3g (k 1e7), %.3g (k 1e9)" % tuple(deflections)
 
