@@ -3,7 +3,7 @@ stop the run before its first step with one line naming them and the nearest kno
 option, and leave no outputs; -options_allow_unused lets them through with a warning; an
 option fsiopt reads in another set-up is a warning."""
 import os
-from harness import test, run, out_dir, fr, WORK, NS_STEP, CHANNEL
+from harness import test, run, out_dir, fr, WORK, NS_STEP, CHANNEL, TUREK
 
 # (misspelled option or YAML key, its value, the suggestion the line must name)
 TYPOS = [
@@ -89,9 +89,9 @@ def test_allow_unused_and_other_setups():
     rc, stdout, err, summary = run(CHANNEL + ["-t_final", "2e-4", "-coupling", "aitken", "-coupling_tol", "1e-5"])
     warned = [l for l in stdout.splitlines() if l.startswith("fsiopt: warning:") and "-coupling_tol" in l]
     assert rc == 0 and summary is not None and len(warned) == 1, "-coupling_tol with aitken: exit %d, %s" % (rc, warned)
-    # a scene's own defaults that a method leaves unread are no warning (channel2d's opt settings under aitken)
-    rc, stdout, err, summary = run(CHANNEL + ["-t_final", "2e-4", "-coupling", "aitken"])
-    assert rc == 0 and not [l for l in stdout.splitlines() if "warning" in l], "channel2d with aitken warns: %s" % stdout
+    # a C scene's own defaults that a method leaves unread are no warning (Turek-Hron's opt settings under aitken)
+    rc, stdout, err, summary = run(TUREK + ["-turek_case", "fsi1", "-t_final", "0.2", "-coupling", "aitken"])
+    assert rc == 0 and not [l for l in stdout.splitlines() if "warning" in l], "turek-hron with aitken warns: %s" % stdout
     return "allowed with one warning; -coupling_omega under opt and -coupling_tol under aitken warned; scene defaults silent"
 
 
