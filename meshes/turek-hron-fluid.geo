@@ -2,9 +2,9 @@
 // Fluid of the Turek-Hron FSI benchmark: channel [0,2.5]x[0,0.41] minus the cylinder
 // (centre (0.2,0.2), radius 0.05) and the flag (turek-hron.geoinc); unstructured quads
 // only, graded from the body to the outlet.
-// Face sets: 1 bottom wall y = 0, 2 outlet x = 2.5, 3 top wall y = 0.41, 4 inlet x = 0,
-// 5 cylinder (the arcs facing the fluid), 6 flag (bottom, tip, top; same nodes as in
-// turek-hron-flag.geo). Surface 1.
+// Face sets: 1 "bottom" wall y = 0, 2 "outflow" x = 2.5, 3 "top" wall y = 0.41, 4 "inflow" x = 0,
+// 5 "cylinder" (the arcs facing the fluid), 6 "flag" (bottom, tip, top; same nodes as in
+// turek-hron-flag.geo). Surface 1 "fluid".
 Include "turek-hron.geoinc";
 L = 2.5;  H = 0.41;
 
@@ -67,10 +67,10 @@ Mesh.RecombinationAlgorithm = 1;  // Blossom
 Mesh.Smoothing = 3;
 Recombine Surface{1};
 
-Physical Curve(1) = {1};
-Physical Curve(2) = {2};
-Physical Curve(3) = {3};
-Physical Curve(4) = {4};
-Physical Curve(5) = {21:24};
-Physical Curve(6) = {flagWet[]};
-Physical Surface(1) = {1};
+Physical Curve("bottom", 1) = {1};
+Physical Curve("outflow", 2) = {2};
+Physical Curve("top", 3) = {3};
+Physical Curve("inflow", 4) = {4};
+Physical Curve("cylinder", 5) = {21:24};
+Physical Curve("flag", 6) = {flagWet[]};
+Physical Surface("fluid", 1) = {1};

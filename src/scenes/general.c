@@ -140,6 +140,35 @@ static PetscErrorCode ReadBodyForce(Side side, PetscInt dim, PhysicsData *data)
   PetscFunctionReturn(0);
 }
 
+/* -fluid_body_faces: the face sets of a body whose force (drag, lift: fluid_forces.c's
+   volume-weighted form) probes.csv records and summary.json's quantities summarize */
+static PetscErrorCode ReadBodyFaces(PetscInt dim, PhysicsData *data)
+{
+  MeshPhysicalName sets[MAX_FACE_SETS];
+  char            *texts[FSIOPT_MAX_BOUNDARIES];
+  PetscInt         nsets, n = FSIOPT_MAX_BOUNDARIES;
+  PetscBool        given;
+
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene general: the force on a body", "scene");
+  PetscCall(PetscOptionsStringArray("-fluid_body_faces",
+                                    "face sets (names or numbers) of a body whose force from the fluid (drag, lift) "
+                                    "probes.csv records",
+                                    NULL, texts, &n, &given));
+  PetscOptionsEnd();
+  if (!given) PetscFunctionReturn(0);
+  PetscCall(MeshFaceSetNames(PETSC_COMM_WORLD, "fluid_", dim, MAX_FACE_SETS, &nsets, sets));
+  for (PetscInt i = 0; i < n; ++i) {
+    PetscInt value;
+    PetscCall(MeshFaceSetFind(nsets, sets, texts[i], &value));
+    PetscCheck(value > 0, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG, "option -fluid_body_faces: the fluid mesh has no face set %s",
+               texts[i]);
+    data->force_faces[data->n_force_faces++] = value;
+    PetscCall(PetscFree(texts[i]));
+  }
+  PetscFunctionReturn(0);
+}
+
 /* a velocity given by an expression, as PETSc's boundary values take it */
 static PetscErrorCode ExpressionField(PetscInt dim, PetscReal t, const PetscReal x[], PetscInt Nc, PetscScalar *u,
                                       void *ctx)
@@ -476,6 +505,7 @@ PetscErrorCode SceneCreate_General(Scene *scene)
   if (scene->has_fluid) {
     PetscCall(ReadConditions(FLUID_SIDE, dim, which == 0, &scene->fluid));
     PetscCall(ReadBodyForce(FLUID_SIDE, dim, &scene->fluid));
+    PetscCall(ReadBodyFaces(dim, &scene->fluid));
   }
   if (scene->has_structure) {
     PetscCall(ReadConditions(STRUCTURE_SIDE, dim, which == 0, &scene->structure));
