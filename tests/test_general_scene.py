@@ -128,7 +128,8 @@ def test_general_waveform():
 @test("general scene, bad input: a face set without a condition, an unknown condition, an expression that does not "
       "parse or has the wrong number of components, a missing datum, two interfaces, a face set the mesh lacks, a datum "
       "its condition does not take, a waveform file missing, not numbers, out of order, of one row or not "
-      "covering the run, an unknown function, a parameter named as a built-in name or not a number: one line each", quick=True)
+      "covering the run, an unknown function, a parameter named as a built-in name or not a number, a face set given "
+      "two conditions (by name and by number): one line each", quick=True)
 def test_general_refused():
     pulse = '"t <= duration ? amplitude*(1-cos(2*pi*t/duration)) : 0, 0"'
     short = ["-t_final", "0.0002"]
@@ -166,6 +167,8 @@ def test_general_refused():
         ("unknown function", variant("function", [('"t <= duration ? amplitude*(1-cos(2*pi*t/duration)) : 0, 0"',
                                                    '"flw(t), 0"')]) + short,
          'option -fluid_boundary_left_traction: the expression "flw(t), 0" does not parse'),
+        ("two conditions", ["-options_file", GENERAL_CHANNEL, "-fluid_boundary_2", "wall"] + short,
+         "options -fluid_boundary_right and -fluid_boundary_2: two conditions for one face set"),
         ("parameter named t", ["-options_file", GENERAL_CHANNEL, "-parameter_t", "1"] + short,
          "option -parameter_t: t is a name of every expression already"),
         ("parameter not a number", ["-options_file", GENERAL_CHANNEL, "-parameter_amplitude", "big"] + short,

@@ -392,9 +392,18 @@ static PetscErrorCode ReadConditions(Side side, PetscInt dim, PetscBool coupled,
     PetscCall(PetscSNPrintf(help, sizeof(help), "the condition on the %s face set %s (%" PetscInt_FMT ")",
                             side == FLUID_SIDE ? "fluid's" : "structure's", sets[i].name, sets[i].value));
     PetscCall(PetscOptionsEList(option, help, NULL, conditions, nconditions, "none", &which, &given));
-    if (!given) { /* by its number */
-      PetscCall(PetscSNPrintf(option, sizeof(option), "-%sboundary_%" PetscInt_FMT, prefix, sets[i].value));
-      PetscCall(PetscOptionsGetEList(NULL, NULL, option, conditions, nconditions, &which, &given));
+    {
+      char      by_number[128];
+      PetscBool numbered;
+      PetscCall(PetscSNPrintf(by_number, sizeof(by_number), "-%sboundary_%" PetscInt_FMT, prefix, sets[i].value));
+      PetscCall(PetscOptionsHasName(NULL, NULL, by_number, &numbered));
+      PetscCheck(!given || !numbered || !strcmp(option, by_number), PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
+                 "options %s and %s: two conditions for one face set (%s is %" PetscInt_FMT "); give one", option,
+                 by_number, sets[i].name, sets[i].value);
+      if (!given) { /* by its number */
+        PetscCall(PetscStrncpy(option, by_number, sizeof(option)));
+        PetscCall(PetscOptionsGetEList(NULL, NULL, option, conditions, nconditions, &which, &given));
+      }
     }
     PetscCheck(given, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
                "scene general: the %s face set %s (%" PetscInt_FMT ") has no condition: expected -%sboundary_%s one of %s",
