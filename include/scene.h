@@ -29,9 +29,6 @@ PetscErrorCode SceneRequiredFaces(const PhysicsData *, PetscInt *n, PetscInt fac
 PetscErrorCode SceneFinalize(void);
 /* A zeroed context of `size` bytes for a scene's parameters, freed by PetscFinalize. */
 PetscErrorCode SceneCreateContext(size_t size, void **ctx);
-/* The default of a mesh option: meshes/<name> of the working directory when it is there,
-   else of the repository the binary was built in (FSIOPT_ROOT). */
-PetscErrorCode SceneSetDefaultMesh(const char option[], const char name[]);
 /* The default meshes of the manufactured solutions (mms-fluid, mms-structure, mms-stokes,
    mms-ns): the fluid [0,1]^2 in 4x4 quadrilaterals, the structure [0,1]x[1,1.5] in 4x2. */
 PetscErrorCode SceneMMSFluidBox(void);

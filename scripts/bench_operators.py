@@ -52,7 +52,7 @@ def case_options(case, steps, mesh_dir):
     if scene == "turek-fsi3":
         fluid, flag = turek.ensure_mesh("fluid", n, mesh_dir), turek.ensure_mesh("flag", n, mesh_dir)
         dt = 1e-3   # fsi3's default dt (src/scenes/turek_hron.c)
-        return ["-options_file", "options/turek-hron.yaml", "-turek_case", "fsi3", "-t_final", fr.fmt_num(steps * dt), "-fluid_dm_plex_filename", fr.rel(fluid),
+        return ["-options_file", "options/turek-hron/fsi3.yaml", "-t_final", fr.fmt_num(steps * dt), "-fluid_dm_plex_filename", fr.rel(fluid),
                 "-structure_dm_plex_filename", fr.rel(flag)]
     raise SystemExit("bench_operators: --cases: unknown case %s (known: %s)" % (case, ", ".join(CASES)))
 

@@ -21,7 +21,6 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from fsiopt_runs import ROOT, run_fsiopt  # noqa: E402  (the binary, its environment, the launch)
 
 CHANNEL = ["-options_file", "options/channel2d.yaml"]
-TUREK = ["-options_file", "options/turek-hron.yaml"]
 
 RUNS = [
     ("fluid alone (Navier-Stokes, Q2/Q1)", ["-scene", "mms-fluid", "-dt", "0.1", "-t_start", "0.5", "-t_final", "0.6"]),
@@ -33,8 +32,8 @@ RUNS = [
     ("channel2d: BDF2 fluid, incremental mesh motion", CHANNEL + ["-t_final", "0.0003", "-fluid_time_order", "2",
                                                                   "-mesh_motion_incremental"]),
     ("channel2d: biharmonic mesh motion", CHANNEL + ["-t_final", "0.0003", "-mesh_motion", "biharmonic"]),
-    ("turek-hron cfd1: steady fluid, body forces", TUREK + ["-turek_case", "cfd1", "-dt", "1.25"]),
-    ("turek-hron csm1: static flag, probes on the structure", TUREK + ["-turek_case", "csm1"]),
+    ("turek-hron cfd1: steady fluid, body forces", ["-options_file", "options/turek-hron/cfd1.yaml", "-dt", "1.25"]),
+    ("turek-hron csm1: static flag, probes on the structure", ["-options_file", "options/turek-hron/csm1.yaml"]),
     ("structure alone: every step retried with dt/2", ["-options_file", "options/mms-structure.yaml", "-structure_model", "svk", "-dt", "0.05",
                                                         "-t_final", "0.6", "-structure_snes_max_it", "5"]),
     ("diverging: channel2d retried, then past -dt_min", CHANNEL + ["-t_final", "0.001", "-coupling", "dn"]),

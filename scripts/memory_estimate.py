@@ -14,7 +14,7 @@ from fsiopt_runs import run_fsiopt  # noqa: E402
 from cost_growth import SOLVERS  # noqa: E402
 
 CHANNEL = ["-options_file", "options/channel2d.yaml", "-t_final", "0.0002"]
-FSI3 = ["-options_file", "options/turek-hron.yaml", "-turek_case", "fsi3", "-dt", "0.0005", "-t_final", "0.001"]
+FSI3 = ["-options_file", "options/turek-hron/fsi3.yaml", "-dt", "0.0005", "-t_final", "0.001"]
 TUBE = ["-options_file", "options/tube3d.yaml", "-t_final", "0.0001"]
 # every subproblem by a Krylov method: cost_growth.py's solver files (options/solvers/)
 # cgls, the inner method docs/options.md's memory table was measured with (with an iterative fluid,

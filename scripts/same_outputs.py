@@ -23,15 +23,14 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from fsiopt_runs import FSIOPT, run_fsiopt  # noqa: E402  (the binary, its environment, the launch)
 
 CHANNEL = ["-options_file", "options/channel2d.yaml"]
-TUREK = ["-options_file", "options/turek-hron.yaml"]
 CASES = {
     "channel2d-opt": CHANNEL + ["-t_final", "0.01"],
     "channel2d-aitken": CHANNEL + ["-coupling", "aitken", "-t_final", "0.003"],
     "channel2d-iqnils": CHANNEL + ["-coupling", "iqnils", "-t_final", "0.005"],
     "mms-ns": ["-options_file", "options/mms-ns.yaml"],
     "tube3d": ["-options_file", "options/tube3d.yaml", "-t_final", "3e-4"],
-    "turek-hron-fsi1": TUREK + ["-turek_case", "fsi1", "-t_final", "2"],
-    "turek-hron-csm3": TUREK + ["-turek_case", "csm3", "-t_final", "0.5"],
+    "turek-hron-fsi1": ["-options_file", "options/turek-hron/fsi1.yaml", "-t_final", "2"],
+    "turek-hron-csm3": ["-options_file", "options/turek-hron/csm3.yaml", "-t_final", "0.5"],
 }
 FILES = ("probes.csv", "history.csv", "summary.json")
 MACHINE_KEYS = ("wall_time_s", "start_time", "host", "version", "memory_gib")

@@ -44,7 +44,7 @@ Examples (build first: make all):
   scripts/stress.py --jobs 2
   scripts/stress.py --steps 3 --ratios 1.1,0.1 --dts 1e-4,1e-5 --methods opt,iqnils --out /tmp/s1
   scripts/stress.py --steps 3 --developed 0.012:1e-4 --relative 1e-5
-  scripts/stress.py --options-file options/turek-hron.yaml --extra "-turek_case fsi3" --fluid-density 1000 \
+  scripts/stress.py --options-file options/turek-hron/fsi3.yaml --fluid-density 1000 \
       --restart out/fsi3-swing/checkpoint.h5:5 --ratios 1,0.5,0.1,0.01 --relative 1e-5 --out out/stress-fsi3"""
 import argparse, math, os, re, shlex, sys
 
@@ -369,8 +369,6 @@ def main():
     cbar_label = "coupling iterations per step" + (" (below %g: drawn as %g)" % (vmin, vmin)
                                                    if any(x < vmin for x in its) else "")
     scene = os.path.splitext(os.path.basename(args.options_file))[0]
-    if "-turek_case" in extra[:-1]:
-        scene += " " + extra[extra.index("-turek_case") + 1]
     start = ("from %s" % args.restart) if args.restart else ("from developed states (%s)" % args.developed
                                                               if args.developed else "from rest")
     title = "%s stress: %d steps %s%s, %s" % (scene, args.steps, start, ", relative accuracy %g" % args.relative

@@ -3,7 +3,7 @@
 dt/4, ... over the same stretch of time, and what changes with dt.
 
   /usr/bin/python3 scripts/time_convergence.py --checkpoint out/fsi3-swing/checkpoint.h5 \\
-      --options-file options/turek-hron.yaml --extra "-turek_case fsi3 -probes_surface_force" \\
+      --options-file options/turek-hron/fsi3.yaml --extra "-probes_surface_force" \\
       --dt 0.001 --halvings 2 --t-final 6 --window 0.5 --out out/fsi3-dt
 
 Each run is

@@ -8,7 +8,7 @@ meshes/turek-hron.geoinc, so the two meshes of a level conform on the flag) into
 out/meshes/turek-hron-{fluid,flag}-n<N>.msh (--mesh-dir; re-used while newer than the .geo
 and .geoinc files), runs
 
-  bin/fsiopt -options_file options/turek-hron.yaml -turek_case CASE
+  bin/fsiopt -options_file options/turek-hron/CASE.yaml
              [-fluid_dm_plex_filename F] [-structure_dm_plex_filename S]
              [-dt DT] [-t_final T] [--extra]
 
@@ -110,7 +110,7 @@ from turek_hron_rows import (CASES, DASH, MESH_OPTION, PARTS, QUANTITIES, STATS,
     change, change_cell, duration, g, gn_cell, result_row, status_cell, unknowns_cell, value_cell, wall_cell, window_cell)
 
 FSIOPT = fr.FSIOPT
-OPTIONS_FILE = "options/turek-hron.yaml"
+OPTIONS_FILE = "options/turek-hron/%s.yaml"   # of a case
 GEO = {"fluid": "meshes/turek-hron-fluid.geo", "flag": "meshes/turek-hron-flag.geo"}
 GEO_INCLUDES = ["meshes/turek-hron.geoinc"]
 # the benchmark's cases: which parts they have, and whether they are periodic (as the scene's cases[])
@@ -162,7 +162,7 @@ def case_run(case, level, meshes, dt, t_final, extra, dt_scale, checkpoint_every
     """The fsiopt run of a case on level n; dt, t_final: None for the scene's default;
     checkpoint_every: -checkpoint_every K (0: none), a run option (not in cmd.txt)."""
     kind = CASES[case][0]
-    options = ["-options_file", OPTIONS_FILE, "-turek_case", case]
+    options = ["-options_file", OPTIONS_FILE % case]
     for part in PARTS[kind]:
         options += [MESH_OPTION[part], rel(meshes[part])]
     name = "%s-n%d" % (case, level)
@@ -263,7 +263,7 @@ def case_defaults(cases, args, meshes, extra):
         level = next((n for n in args.levels if all((p, n) in meshes for p in parts)), None)
         if level is None:
             sys.exit("turek_hron_table: --dt-scale needs %s's default dt, and none of its meshes exists" % c)
-        options = ["-options_file", OPTIONS_FILE, "-turek_case", c]
+        options = ["-options_file", OPTIONS_FILE % c]
         for p in parts:
             options += [MESH_OPTION[p], rel(meshes[p, level])]
         try:
@@ -399,12 +399,12 @@ def main():
         changes.append("extra options `%s`" % " ".join(extra))
     state = git_state()
     md = ["# Turek-Hron benchmarks: our values over mesh refinements", "",
-          "Written %s by `scripts/turek_hron_table.py`%s. Binary `%s`. Scene `-options_file %s -turek_case CASE`, "
+          "Written %s by `scripts/turek_hron_table.py`%s. Binary `%s`. Case `-options_file %s`, "
           "cases %s, "
           "levels n = %s; %s. Meshes `%s/turek-hron-{fluid,flag}-n<n>.msh` (`-setnumber n <n>` of "
           "`meshes/turek-hron-{fluid,flag}.geo`; every mesh size halves from n to n + 1). Runs in `%s`, "
           "each with its exact command line in `cmd.txt`, its time series in `probes.csv`." % (
-              now, " (source tree at %s)" % state if state else "", rel(args.fsiopt), OPTIONS_FILE, ", ".join(cases),
+              now, " (source tree at %s)" % state if state else "", rel(args.fsiopt), OPTIONS_FILE % "CASE", ", ".join(cases),
               ", ".join(str(n) for n in args.levels),
               "; ".join(changes) if changes else "dt, T and window: the scene's per-case defaults",
               rel(args.mesh_dir), rel(args.runs_dir)), "",

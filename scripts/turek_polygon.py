@@ -12,7 +12,7 @@ level n of --levels this script takes the level's meshes in two geometries:
 
 and runs every case of --cases (default cfd1) on both:
 
-  bin/fsiopt -options_file options/turek-hron.yaml -turek_case CASE
+  bin/fsiopt -options_file options/turek-hron/CASE.yaml
              -fluid_dm_plex_filename F [-structure_dm_plex_filename S] [--extra]
 
 The difference of a quantity between the two geometries, against its change from the
@@ -188,7 +188,7 @@ def main():
             geometry_rows.append({"level": level, "geometry": geometry, "node_radius": r, "segments": len(angles),
                                   "mean_angle": sum(angles) / len(angles), "area_ratio": ratio})
             for case in cases:
-                options = ["-options_file", OPTIONS_FILE, "-turek_case", case]
+                options = ["-options_file", OPTIONS_FILE % case]
                 for part in PARTS[CASES[case][0]]:
                     options += [MESH_OPTION[part], rel(paths[part])]
                 tag = ""
@@ -224,7 +224,7 @@ def main():
     md = ["# What the cylinder's polygon costs (Turek-Hron)", "",
           "`%s -options_file %s` with the level's meshes (inscribed: the benchmark's; area: the cylinder's nodes at "
           "the radius R whose polygon encloses pi r^2)%s%s; runs in `%s`." % (
-              rel(args.bin), OPTIONS_FILE, ", -t_final %s" % fr.fmt_num(args.t_final) if args.t_final else "",
+              rel(args.bin), OPTIONS_FILE % "CASE", ", -t_final %s" % fr.fmt_num(args.t_final) if args.t_final else "",
               ", extra options `%s`" % " ".join(extra) if extra else "", rel(runs_dir)), "",
           "| level | geometry | cylinder segments | mean segment angle (rad) | node radius (m) | area / pi r^2 over the arc |",
           "|---|---|---|---|---|---|"]

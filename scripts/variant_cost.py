@@ -82,7 +82,7 @@ def main():
     a = ap.parse_args()
     if a.steps < 1 or a.repeats < 1:
         ap.error("--steps and --repeats: 1 or more expected")
-    base = ["-options_file", "options/turek-hron.yaml", "-turek_case", a.case] + a.extra
+    base = ["-options_file", "options/turek-hron/%s.yaml" % a.case] + a.extra
     if a.restart:
         if not os.path.isfile(a.restart):
             ap.error("--restart %s: no such checkpoint file" % a.restart)

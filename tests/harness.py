@@ -21,7 +21,13 @@ SVK = ["-scene", "mms-structure", "-structure_model", "svk"]
 NS_STEP = ["-options_file", "options/mms-ns.yaml"]        # one step of 1e-6 from t0 = 0.5
 SHORT = ["-scene", "mms-ns", "-t_start", "0.5", "-t_final", "0.52", "-dt", "0.01", "-refine", "1"]
 CHANNEL = ["-options_file", "options/channel2d.yaml"]
-TUREK = ["-options_file", "options/turek-hron.yaml"]
+
+
+def turek(case):
+    """the options of a Turek-Hron case (options/turek-hron/CASE.yaml)"""
+    return ["-options_file", "options/turek-hron/%s.yaml" % case]
+
+
 REFERENCE = os.path.join(ROOT, "tests", "reference")
 
 

@@ -2,7 +2,7 @@
 and the -help listing."""
 import os, shutil, subprocess
 
-from harness import (CHANNEL, FLUID_SPACE, ROOT, TUREK, WORK, F, S, fail_text, fr, help_text, inputs_dir, last_rows,  # noqa: F401
+from harness import (CHANNEL, FLUID_SPACE, ROOT, turek, WORK, F, S, fail_text, fr, help_text, inputs_dir, last_rows,  # noqa: F401
                      out_dir, own_section, read_probes, refused, run, same_file, solve, test)
 
 
@@ -26,8 +26,8 @@ def test_bad_input_choices():
         ("relaxed descent without Tikhonov", ["-scene", "mms-stokes", "-tao_type", "sdrelaxed"], "-coupling_tikhonov"),
         ("BDF2 with a backward-Euler forcing", F + ["-mms_discrete_time", "-fluid_time_order", "2"], "-mms_discrete_time"),
         ("third-order fluid time scheme", F + ["-fluid_time_order", "3"], "-fluid_time_order"),
-        ("unknown Turek-Hron case", TUREK + ["-turek_case", "fsi4"], "-turek_case"),
-        ("steady fluid on a moving mesh", TUREK + ["-turek_case", "fsi1", "-fluid_steady"], "-fluid_steady"),
+        ("a case file that is not there", turek("fsi4"), "fsi4.yaml"),
+        ("steady fluid on a moving mesh", turek("fsi1") + ["-fluid_steady"], "-fluid_steady"),
         ("unknown mesh motion", CHANNEL + ["-mesh_motion", "biharmonc"], "-mesh_motion. Available options: harmonic elastic biharmonic"),
         ("matrix-free fluid on PETSc's backend", F + ["-fluid_matfree", "-fem_backend", "petsc"], "-fluid_matfree"),
         ("surface force without a body", ["-scene", "mms-structure", "-probes_surface_force"], "-probes_surface_force"),
@@ -70,9 +70,8 @@ def test_bad_input_numbers():
         ("zero -dt_min", F + ["-dt_min", "0"], "-dt_min"),
         ("negative -dt_min", F + ["-dt_min", "-1e-3"], "-dt_min"),
         ("-dt_min above -dt", F + ["-dt", "0.1", "-dt_min", "0.2"], "-dt_min"),
-        ("negative inflow velocity", TUREK + ["-turek_case", "cfd1", "-turek_mean_velocity", "-1"], "-turek_mean_velocity"),
-        ("negative mesh stiffening", TUREK + ["-turek_case", "fsi1", "-mesh_motion_stiffening", "-1"], "-mesh_motion_stiffening"),
-        ("negative quantities window", TUREK + ["-turek_case", "csm1", "-quantities_window", "-1"], "-quantities_window"),
+        ("negative mesh stiffening", turek("fsi1") + ["-mesh_motion_stiffening", "-1"], "-mesh_motion_stiffening"),
+        ("negative quantities window", turek("csm1") + ["-quantities_window", "-1"], "-quantities_window"),
     ])
 
 
@@ -246,8 +245,8 @@ def test_help_lists_options():
     text = help_text(["-options_file", "options/channel2d.yaml", "-coupling", "iqnimvj"])
     for opt in ["-coupling_imvj_restart", "-coupling_iqn_columns", "-coupling_iqn_filter"]:
         assert opt in text, "%s not in -help of channel2d with -coupling iqnimvj" % opt
-    text = help_text(TUREK)
-    for opt in ["-turek_case", "-turek_mean_velocity", "-turek_ramp_time", "-turek_gravity", "-turek_gravity_ramp",
+    text = help_text(turek("fsi3"))
+    for opt in ["-parameter_U", "-parameter_ramp", "-fluid_body_faces", "-fluid_boundary_inflow_velocity",
                 "-quantities_window", "-checkpoint_every", "-checkpoint_file", "-restart", "-fluid_steady",
                 "-mesh_motion_stiffening", "-mesh_motion_incremental", "-mesh_motion_warm_start", "-dt_min",
                 "-fluid_time_order", "-coupling_lag_preconditioner_only",
@@ -262,8 +261,6 @@ def test_help_lists_options():
     assert not [l for g, lines in groups.items() if g != "the run (no prefix)" and not g.startswith("checks")
                 for l in lines if not l.startswith("  -" + g)], "an option outside its group: %s" % groups
     # a scene's options: under the prefix it declares, with the units it declares
-    turek = " ".join(groups.get("turek_", []))
-    assert "-turek_mean_velocity" in turek and "[m/s]" in turek and "[m/s^2]" in turek, "turek_ group: %s" % turek[:300]
     gcl = own_section(help_text(["-scene", "gcl"]))
     assert [l for l in gcl.get("gcl_", []) if l.startswith("  -gcl_amplitude")], "gcl's groups: %s" % list(gcl)
     channel = own_section(help_text(["-options_file", "options/channel2d.yaml"]))

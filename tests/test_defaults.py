@@ -4,7 +4,7 @@ first and last lines of a run say what it did (the regime's choice, the step an 
 run stopped at, the measure a method's tolerance bounds, a steady case's values)."""
 import os, re
 
-from harness import CHANNEL, TUREK, last_rows, out_dir, run, test
+from harness import CHANNEL, turek, last_rows, out_dir, run, test
 
 TUBE = ["-options_file", "options/tube3d.yaml"]
 
@@ -72,7 +72,7 @@ def test_closing_lines():
     assert largest <= 1e-5 or all(float(r["jump"]) <= 1e-7 for r in last_rows(iqn).values()
                                   if float(r["jump"]) > 0), "largest final relative change %.3e" % largest
     assert "max interface jump 0.000e+00" not in stdout, "a partitioned run still reports a jump of 0"
-    rc, stdout, err, s = run(TUREK + ["-turek_case", "cfd1"])
+    rc, stdout, err, s = run(turek("cfd1"))
     assert rc == 0 and s, "cfd1 failed: %s" % err[-300:]
     values = dict(re.findall(r"(drag|lift) (-?[0-9.e+-]+)", stdout.splitlines()[-2]))
     assert set(values) == {"drag", "lift"}, stdout.splitlines()[-3:]

@@ -2,7 +2,7 @@
 channel2d on named gmsh meshes, its conditions against closed forms, and its refusals."""
 import os
 
-from harness import (CHANNEL, REFERENCE, ROOT, TUREK, WORK, help_text, inputs_dir, last_rows, own_section, probes_difference,
+from harness import (CHANNEL, REFERENCE, ROOT, WORK, help_text, inputs_dir, last_rows, own_section, probes_difference,
                      read_probes, refused, solve, test)
 
 
@@ -216,16 +216,3 @@ def test_general_geo():
               "-fluid_dm_plex_filename")])
     return "the .geo's mesh = make's, probes identical; reused; -setnumber variant; a broken .geo refused"
 
-
-@test("general scene: Turek-Hron fsi3 written as a general case (options/examples/turek-hron-fsi3.yaml: named face "
-      "sets, the ramped inflow with parameters, -fluid_body_faces) gives the turek-hron scene's first 10 steps: "
-      "probes.csv and history.csv byte for byte")
-def test_general_turek_fsi3():
-    general, scene = os.path.join(WORK, "general-fsi3"), os.path.join(WORK, "scene-fsi3")
-    solve(["-options_file", os.path.join(ROOT, "options", "examples", "turek-hron-fsi3.yaml"), "-t_final", "0.01"],
-          out=general)
-    solve(TUREK + ["-turek_case", "fsi3", "-t_final", "0.01"], out=scene)
-    for name in ("probes.csv", "history.csv"):
-        assert open(os.path.join(general, name)).read() == open(os.path.join(scene, name)).read(), \
-            "%s differs from the turek-hron scene's" % name
-    return "10 steps: probes.csv and history.csv byte for byte"

@@ -4,7 +4,7 @@ whose assembled mass and Laplacian equal PETSc's on every finite-element space o
 quadrilaterals, triangles and hexahedra, Q1, Q2, P1, P2, on one and two ranks, on each
 backend that runs here (opt/blocked, ref/serial)."""
 import os, re
-from harness import CHANNEL, SHORT, TUREK, adjoint_difference, out_dir, probes_difference, read_probes, run, test
+from harness import CHANNEL, SHORT, turek, adjoint_difference, out_dir, probes_difference, read_probes, run, test
 
 CHECK = re.compile(r"fsiopt: libCEED check: (\w+) field (\d+) \((\w+), (\d) components, (\dD \w+) cells\): "
                    r"mass ([0-9.e+-]+), Laplacian ([0-9.e+-]+)")
@@ -24,7 +24,7 @@ def test_ceed_spaces_match_petsc():
         (["-options_file", "options/tube3d.yaml", "-t_final", "1e-4"], 1, 3),           # hexahedra, 3 components
         (["-options_file", "options/tube3d.yaml", "-t_final", "1e-4", "-fluid_dm_plex_filename",
           "meshes/tube3d-fluid-tets.msh", "-structure_dm_plex_filename", "meshes/tube3d-wall-tets.msh"], 1, 3),  # tetrahedra
-        (TUREK + ["-turek_case", "fsi1", "-t_final", "0.1", "-dt", "0.1"], 1, 3),       # unstructured quadrilaterals
+        (turek("fsi1") + ["-t_final", "0.1", "-dt", "0.1"], 1, 3),       # unstructured quadrilaterals
         (CHANNEL + ["-t_final", "1e-4"], 2, 3),                                          # 2 ranks: ghosts, global numbers
         (["-options_file", "options/mms-ns.yaml", "-ceed", "/cpu/self/ref/serial"], 1, 3),
     ]
@@ -66,8 +66,8 @@ def test_backends_agree():
              (["-options_file", "options/mms-stokes.yaml", "-t_final", "0.65"], 1, 3, 3, 0),  # Stokes
              (["-options_file", "options/mms-structure.yaml", "-t_final", "0.575"], 1, 0, 3, 0),  # structure loads
              (["-options_file", "options/tube3d.yaml"] + three + ["-fem_backend", "ceed"], 1, 3, 3, 1),  # hexahedra
-             (TUREK + ["-turek_case", "fsi1", "-t_final", "0.3", "-dt", "0.1", "-fem_backend", "petsc"], 1, 3, 3, 1),  # forces
-             (TUREK + ["-turek_case", "csm1", "-t_final", "0.3", "-dt", "0.1"], 1, 0, 3, 0),  # gravity, equilibria
+             (turek("fsi1") + ["-t_final", "0.3", "-dt", "0.1", "-fem_backend", "petsc"], 1, 3, 3, 1),  # forces
+             (turek("csm1") + ["-t_final", "0.3", "-dt", "0.1"], 1, 0, 3, 0),  # gravity, equilibria
              # face operators: backflow and the interface's convective term, 2D on 2 ranks, 3D
              (CHANNEL + three + ["-fluid_backflow_stabilization", "-coupling_control", "convective"], 2, 3, 3, 1),
              # simplices on moving meshes: (P2,P1) triangles, tetrahedra with backflow faces

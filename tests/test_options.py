@@ -3,7 +3,7 @@ stop the run before its first step with one line naming them and the nearest kno
 option, and leave no outputs; -options_allow_unused lets them through with a warning; an
 option fsiopt reads in another set-up is a warning."""
 import os
-from harness import test, run, out_dir, fr, WORK, NS_STEP, CHANNEL, TUREK
+from harness import test, run, out_dir, fr, WORK, NS_STEP, CHANNEL, turek
 
 # (misspelled option or YAML key, its value, the suggestion the line must name)
 TYPOS = [
@@ -90,7 +90,7 @@ def test_allow_unused_and_other_setups():
     warned = [l for l in stdout.splitlines() if l.startswith("fsiopt: warning:") and "-coupling_tol" in l]
     assert rc == 0 and summary is not None and len(warned) == 1, "-coupling_tol with aitken: exit %d, %s" % (rc, warned)
     # a C scene's own defaults that a method leaves unread are no warning (Turek-Hron's opt settings under aitken)
-    rc, stdout, err, summary = run(TUREK + ["-turek_case", "fsi1", "-t_final", "0.2", "-coupling", "aitken"])
+    rc, stdout, err, summary = run(turek("fsi1") + ["-t_final", "0.2", "-coupling", "aitken"])
     assert rc == 0 and not [l for l in stdout.splitlines() if "warning" in l], "turek-hron with aitken warns: %s" % stdout
     return "allowed with one warning; -coupling_omega under opt and -coupling_tol under aitken warned; scene defaults silent"
 
@@ -110,7 +110,7 @@ def test_summary_provenance():
         assert name in effect and (value is None or effect[name] == value), "options[%s] = %r" % (name, effect.get(name))
     assert "-fluid_snes_type" not in given and given.get("-fluid_density") == "2", "options_given %s" % sorted(given)[:20]
     assert set(given) <= set(effect), "given but not in effect: %s" % (set(given) - set(effect))
-    rc, stdout, err, t = run(["-options_file", "options/turek-hron.yaml", "-turek_case", "csm1"])
+    rc, stdout, err, t = run(turek("csm1"))
     assert rc == 0 and t["units"] == "SI" and t["options"].get("-structure_model") == "svk", "turek-hron: units %s, model %s" % (
         t and t["units"], t and t["options"].get("-structure_model"))
     return "version %s; %d options in effect, %d given (-fluid_density 2 among them); units %s, %s" % (

@@ -3,7 +3,7 @@ diverging steps and their retries, output ownership, full disks, memory, ranks, 
 Checkpoints and restarts: test_restarts.py; bad input and -help: test_bad_input.py."""
 import csv, os, shutil, subprocess
 
-from harness import (CHANNEL, FLUID_SPACE, ROOT, TUREK, WORK, S, checkpoint_step, fail_text, fr, inputs_dir,
+from harness import (CHANNEL, FLUID_SPACE, ROOT, turek, WORK, S, checkpoint_step, fail_text, fr, inputs_dir,
                      interrupted, out_dir, read_probes, refused, run, same_file, solve, test, ITERATIVE_ILU)
 
 
@@ -241,7 +241,7 @@ def test_three_ranks():
              ("channel2d", CHANNEL + ["-t_final", "0.0005"], 0),
              ("channel2d split", CHANNEL + ["-t_final", "0.0005", "-structure_ranks", "1"], 0),
              ("tube3d", ["-options_file", "options/tube3d.yaml", "-t_final", "0.0002"], 0),
-             ("turek-hron fsi3", TUREK + ["-turek_case", "fsi3", "-dt", "0.001", "-t_final", "0.003"], 0))
+             ("turek-hron fsi3", turek("fsi3") + ["-dt", "0.001", "-t_final", "0.003"], 0))
     details, serial = [], {}
     for name, args, _ in cases:
         base = name.split()[0]

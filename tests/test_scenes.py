@@ -3,7 +3,7 @@
 steady state, the periodic quantities and scripts/turek_hron_series.py)."""
 import contextlib, csv, io, math, os, subprocess, sys
 
-from harness import (CHANNEL, REFERENCE, ROOT, TUREK, WORK, adjoint_difference, difference_to_largest,  # noqa: F401
+from harness import (CHANNEL, REFERENCE, ROOT, turek, WORK, adjoint_difference, difference_to_largest,  # noqa: F401
                      fail_text, fr, last_rows, probes_difference, read_probes, run, solve, test)
 
 CHANNEL_REFERENCE = os.path.join(REFERENCE, "channel2d-50-steps-probes.csv")
@@ -101,7 +101,7 @@ def cantilever_estimate():
 
 def level_values(case, parts, columns, level, extra=()):
     """The last probe row's values of `columns` of a run on mesh level `level`."""
-    options = TUREK + ["-turek_case", case] + list(extra)
+    options = turek(case) + list(extra)
     for part in parts:
         options += [MESH_OPTION[part], turek_mesh(part, level)]
     out = os.path.join(WORK, "%s-n%d-%d" % (case, level, len(os.listdir(WORK))))
@@ -200,7 +200,7 @@ def test_turek_hron_fsi1_levels():
 @test("turek-hron FSI1 coarse: A moves < 1e-7 m over the last 0.5 s, its steady state = the stored one (3e-5)")
 def test_turek_hron_fsi1_steady_state():
     out = os.path.join(WORK, "fsi1")
-    s = solve(TUREK + ["-turek_case", "fsi1"], out=out)
+    s = solve(turek("fsi1"), out=out)
     head, rows = read_probes(os.path.join(out, "probes.csv"))
     t_end = rows[-1][0]
     last = [r for r in rows if r[0] >= t_end - 0.5 - 1e-9]
@@ -222,7 +222,7 @@ def test_turek_hron_fsi1_steady_state():
 @test("turek-hron CSM3: summary quantities = the probe series' own")
 def test_turek_hron_csm3_quantities():
     out = os.path.join(WORK, "csm3")
-    s = solve(TUREK + ["-turek_case", "csm3", "-dt", "0.01", "-t_final", "4", "-quantities_window", "2"], out=out)
+    s = solve(turek("csm3") + ["-dt", "0.01", "-t_final", "4", "-quantities_window", "2"], out=out)
     head, rows = read_probes(os.path.join(out, "probes.csv"))
     last = [r for r in rows if r[0] >= rows[-1][0] - 2 - 1e-9]
     y = [r[2] for r in last]

@@ -46,6 +46,7 @@ static PetscBool  traction_is_pressure[2][FSIOPT_MAX_BOUNDARIES];
 static Expression velocity_data[FSIOPT_MAX_BOUNDARIES]; /* the fluid's inlets: PETSc hands them to ExpressionField */
 static FlowProfile flow_data[FSIOPT_MAX_BOUNDARIES];     /* and its flow-rate inlets */
 static Expression  body_force[2];                        /* -fluid_body_force, -structure_body_force */
+static PetscBool   body_acceleration[2];                 /* given per unit mass (-*_body_acceleration) */
 
 /* the waveforms and parameters the expressions may use (general_symbols.c) */
 static const ExpressionSymbols *symbols;
@@ -98,14 +99,15 @@ static const BdResidualKernel traction_kernels[2][FSIOPT_MAX_BOUNDARIES] = {
    StructureTraction6, StructureTraction7},
 };
 
-/* -load f(x, t), f the body force per unit volume */
+/* -load f(x, t), f the body force per unit volume, or rho a(x, t) given the acceleration a */
 static inline void AddBodyForce(Side side, PetscInt dim, const PetscReal x[], const PetscScalar constants[],
                                 PetscScalar f0[])
 {
   const PetscReal   time = PetscRealPart(constants[side == FLUID_SIDE ? FLUID_TIME : STRUCTURE_TIME]);
-  const PetscScalar load = constants[side == FLUID_SIDE ? FLUID_LOAD : STRUCTURE_LOAD];
+  PetscScalar       load = constants[side == FLUID_SIDE ? FLUID_LOAD : STRUCTURE_LOAD];
   PetscScalar       f[3];
 
+  if (body_acceleration[side]) load *= constants[side == FLUID_SIDE ? FLUID_RHO : STRUCTURE_RHO];
   ExpressionEvaluate(body_force[side], time, dim, x, f);
   for (PetscInt d = 0; d < dim; ++d) f0[d] -= load * f[d];
 }
@@ -126,16 +128,25 @@ BODY_FORCE_KERNEL(StructureBodyForceKernel, STRUCTURE_SIDE)
 static PetscErrorCode ReadBodyForce(Side side, PetscInt dim, PhysicsData *data)
 {
   const char *option = side == FLUID_SIDE ? "-fluid_body_force" : "-structure_body_force";
-  char        text[1024];
-  PetscBool   given;
+  const char *per_mass = side == FLUID_SIDE ? "-fluid_body_acceleration" : "-structure_body_acceleration";
+  char        text[1024], accel[1024];
+  PetscBool   given, given_accel;
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene general: body forces", "scene");
-  PetscCall(PetscOptionsString(option, "a force per unit volume over the domain, a vector expression in x, y, z, t "
-                               "(gravity: 0, -rho*g)", NULL, "", text, sizeof(text), &given));
+  PetscCall(PetscOptionsString(option, "a force per unit volume over the domain, a vector expression in x, y, z, t",
+                               NULL, "", text, sizeof(text), &given));
+  PetscCall(PetscOptionsString(per_mass,
+                               "a force per unit mass (an acceleration: gravity is 0, -g), a vector expression in x, y, "
+                               "z, t; the side's density multiplies it",
+                               NULL, "", accel, sizeof(accel), &given_accel));
   PetscOptionsEnd();
-  if (!given) PetscFunctionReturn(0);
-  PetscCall(ExpressionCreate(PETSC_COMM_WORLD, option, text, dim, symbols, &body_force[side]));
+  PetscCheck(!given || !given_accel, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG, "options %s and %s: give one of them", option,
+             per_mass);
+  if (!given && !given_accel) PetscFunctionReturn(0);
+  PetscCall(ExpressionCreate(PETSC_COMM_WORLD, given ? option : per_mass, given ? text : accel, dim, symbols,
+                             &body_force[side]));
+  body_acceleration[side] = given_accel;
   data->load_value_kernel = side == FLUID_SIDE ? FluidBodyForceKernel : StructureBodyForceKernel;
   PetscFunctionReturn(0);
 }
@@ -188,6 +199,7 @@ static PetscErrorCode DestroyExpressions(void *ctx)
   }
   PetscCall(ExpressionDestroy(&body_force[FLUID_SIDE]));
   PetscCall(ExpressionDestroy(&body_force[STRUCTURE_SIDE]));
+  body_acceleration[FLUID_SIDE] = body_acceleration[STRUCTURE_SIDE] = PETSC_FALSE;
   PetscCall(GeneralSymbolsDestroy());
   symbols = NULL;
   PetscFunctionReturn(0);

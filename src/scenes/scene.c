@@ -1,8 +1,7 @@
 /* The registry of scenes by name (scene.h) and the helpers scenes share: a context for
-   their parameters, default meshes and the manufactured solutions' boxes. A case that needs no
+   their parameters and the manufactured solutions' boxes. A case that needs no
    closed form is an options file of the general scene (general.c), not a scene here. */
 #include "scene.h"
-#include "fem.h"
 #include "options.h"
 
 static PetscFunctionList scene_list = NULL;
@@ -15,7 +14,6 @@ static PetscFunctionList scene_list = NULL;
   SCENE("mms-stokes", SceneCreate_MMSStokes)       /* mms_stokes.c */ \
   SCENE("mms-ns", SceneCreate_MMSNS)               /* mms_ns.c */ \
   SCENE("gcl", SceneCreate_GCL)                    /* gcl.c */ \
-  SCENE("turek-hron", SceneCreate_TurekHron)       /* turek_hron.c */ \
   SCENE("general", SceneCreate_General)            /* general.c */
 #define DECLARE(name, create) PetscErrorCode create(Scene *);
 SCENES(DECLARE)
@@ -86,18 +84,6 @@ PetscErrorCode SceneCreateContext(size_t size, void **ctx)
   PetscCall(PetscContainerSetPointer(container, *ctx));
   PetscCall(PetscContainerSetUserDestroy(container, PetscContainerUserDestroyDefault));
   PetscCall(PetscObjectRegisterDestroy((PetscObject)container));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode SceneSetDefaultMesh(const char option[], const char name[])
-{
-  char path[PETSC_MAX_PATH_LEN];
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscSNPrintf(path, sizeof(path), "meshes/%s", name));
-  /* from the repository root as the tests and scripts run; from elsewhere, the build's meshes */
-  if (OptionsFileProblem(path)) PetscCall(PetscSNPrintf(path, sizeof(path), "%s/meshes/%s", FSIOPT_ROOT, name));
-  PetscCall(OptionsSetDefault(option, path));
   PetscFunctionReturn(0);
 }
 
