@@ -1,7 +1,8 @@
 """Integrals over face sets (-integrals_*, src/report/face_integrals.c) and the 0D outlets of the
 general scene (resistance, RCR: src/fluid/fluid_outlets.c): mass conservation, the outlet laws
-as their discrete closed forms, Newton's iterations with the outlets' Jacobian term, an exact
-restart, and the refusals."""
+as their discrete closed forms, the RCR outlet against its continuous closed form, Newton's
+iterations with the outlets' Jacobian term, an exact restart, and the refusals."""
+import math
 import os
 
 from harness import ROOT, WORK, inputs_dir, read_probes, refused, solve, test
@@ -166,3 +167,26 @@ def test_bifurcation_example():
     split = max(abs(a - b) for a, b in zip(flows[1], flows[2])) / max(abs(x) for x in flows[1])
     assert split <= 1e-3, "the symmetric daughters' flows differ by %.1e" % split
     return "10 steps: flow rates sum to %.0e of the inflow; RCR laws hold; daughters' flows within %.0e" % (worst, split)
+
+
+@test("RCR outlet under a constant inflow (the rigid channel, the fluid alone): the outlet pressure follows the "
+      "closed form R_p Q + R_d Q (1 - e^{-t/(R_d C)}) to 1 % at every step (Delta t = R_d C / 50) and reaches "
+      "(R_p + R_d) Q to 1e-4 after ten time constants")
+def test_rcr_closed_form():
+    rp, c, rd = 100.0, 1e-3, 100.0
+    text = open(os.path.join(ROOT, "options", "examples", "rigid-channel.yaml")).read()
+    old = '    right: traction\n    right_traction: "0, 0.035*4*(1-2*y)"\n'
+    assert old in text, "rigid-channel.yaml lacks its outlet's traction"
+    path = os.path.join(inputs_dir(), "rigid-channel-rcr.yaml")
+    open(path, "w").write(text.replace(old, "    right: rcr\n    right_rcr: %g,%g,%g\n" % (rp, c, rd)))
+    out = os.path.join(WORK, "rcr-closed-form")
+    solve(["-options_file", path, "-fluid_steady", "0", "-dt", "2e-3", "-t_final", "1"], out=out)
+    c_ = columns(out)
+    tau, worst = rd * c, 0.0
+    for t, q, p in zip(c_["t"][1:], c_["Q_outlet(right)"][1:], c_["p_outlet(right)"][1:]):
+        worst = max(worst, abs(p - (rp * q + rd * q * (1 - math.exp(-t / tau)))) / ((rp + rd) * q))
+    final = abs(c_["p_outlet(right)"][-1] / ((rp + rd) * c_["Q_outlet(right)"][-1]) - 1)
+    assert worst <= 1e-2 and final <= 1e-4, "off the closed form by %.1e of (R_p + R_d) Q; at t = 10 R_d C by %.1e" % (
+        worst, final)
+    return "off the closed form by %.1e at most (Delta t = R_d C/50); %.1e from (R_p + R_d) Q at t = 10 R_d C" % (
+        worst, final)
