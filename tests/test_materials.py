@@ -69,7 +69,7 @@ def test_materials_model():
 
 
 @test("materials per region, bad input: a region the mesh lacks (its names listed), an option of no known kind, an "
-      "unknown model, a Poisson ratio of 0.5: one line each", quick=True)
+      "unknown model, a Poisson ratio of 0.5: one line each")
 def test_materials_refused():
     return refused([
         ("no such region", PLATE + ["-structure_region_middle_density", "2"], "the structure mesh has no region middle"),

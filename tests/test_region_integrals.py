@@ -60,8 +60,7 @@ def test_region_volume_balance():
         rows[0]["V(all)"], rows[-1]["V(all)"], gap)
 
 
-@test("region integrals, bad input: a region the fluid mesh lacks (its regions listed, all named): one line",
-      quick=True)
+@test("region integrals, bad input: a region the fluid mesh lacks (its regions listed, all named): one line")
 def test_region_refused():
     return refused([
         ("no such region", TUBE + ["-integrals_region_volume", "plasma"], "the fluid mesh has no region plasma"),

@@ -88,7 +88,7 @@ def test_robin_coupled():
 
 
 @test("robin support, bad input: no stiffness, a stiffness of zero or below, a negative damping, an interface in a "
-      "structure alone: one line each", quick=True)
+      "structure alone: one line each")
 def test_robin_refused():
     return refused([
         ("no stiffness", CHANNEL + ["-structure_boundary_top", "robin"], "-structure_boundary_top_stiffness"),
