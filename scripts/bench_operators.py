@@ -51,7 +51,7 @@ def case_options(case, steps, mesh_dir):
                 "-fluid_dm_plex_filename", fr.rel(meshes["fluid"]), "-structure_dm_plex_filename", fr.rel(meshes["wall"])]
     if scene == "turek-fsi3":
         fluid, flag = turek.ensure_mesh("fluid", n, mesh_dir), turek.ensure_mesh("flag", n, mesh_dir)
-        dt = 1e-3   # fsi3's default dt (src/scenes/turek_hron.c)
+        dt = 1e-3   # fsi3's dt (options/turek-hron/fsi3.yaml)
         return ["-options_file", "options/turek-hron/fsi3.yaml", "-t_final", fr.fmt_num(steps * dt), "-fluid_dm_plex_filename", fr.rel(fluid),
                 "-structure_dm_plex_filename", fr.rel(flag)]
     raise SystemExit("bench_operators: --cases: unknown case %s (known: %s)" % (case, ", ".join(CASES)))

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The time series of Turek-Hron runs (probes.csv of scene turek-hron): windows, quantities, plots.
+"""The time series of Turek-Hron runs (probes.csv of options/turek-hron/CASE.yaml): windows, quantities, plots.
 
 A run is a directory with probes.csv (a finished or stopped run) or probes.csv.partial (a run
 still going, e.g. a long run of scripts/turek_hron_table.py); its columns are t, the

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The Turek-Hron benchmarks (scene turek-hron) over mesh refinements: our values in a table.
+"""The Turek-Hron benchmarks (options/turek-hron/CASE.yaml) over mesh refinements: our values in a table.
 
 For every case (--cases, default all nine: csm1,csm2,csm3,cfd1,cfd2,cfd3,fsi1,fsi2,fsi3) and
 refinement level n (--levels, default 1,2) generates the meshes the case needs with gmsh
@@ -23,8 +23,7 @@ window (summary.json quantities; "—" Hz when no period was found in it). A sec
 gives, per case, the relative change (%) of each shown value from the case's previous level
 that ran. Values are ours, as measured; the script writes no reference values.
 
-dt, T and the window are the scene's per-case defaults (the cases[] table of
-src/scenes/turek_hron.c) unless changed here:
+dt, T and the window are each case's own (options/turek-hron/CASE.yaml) unless changed here:
   --dt-scale S   passes -dt (the case's default dt) x S; the default is the one the binary
                  reports with -help (which runs no step; it is what a run without -dt would
                  use); the script stops with a message if it cannot answer, and refuses -dt
@@ -116,7 +115,7 @@ GEO_INCLUDES = ["meshes/turek-hron.geoinc"]
 # the benchmark's cases: which parts they have, and whether they are periodic (as the scene's cases[])
 
 
-# ---------------------------------------------------------------------------- the scene's defaults
+# ---------------------------------------------------------------------------- the cases' own values
 class DefaultsError(Exception):
     pass
 
@@ -159,7 +158,7 @@ def outputs_of(kind):
 
 
 def case_run(case, level, meshes, dt, t_final, extra, dt_scale, checkpoint_every=0):
-    """The fsiopt run of a case on level n; dt, t_final: None for the scene's default;
+    """The fsiopt run of a case on level n; dt, t_final: None for the case's own;
     checkpoint_every: -checkpoint_every K (0: none), a run option (not in cmd.txt)."""
     kind = CASES[case][0]
     options = ["-options_file", OPTIONS_FILE % case]
@@ -406,7 +405,7 @@ def main():
           "each with its exact command line in `cmd.txt`, its time series in `probes.csv`." % (
               now, " (source tree at %s)" % state if state else "", rel(args.fsiopt), OPTIONS_FILE % "CASE", ", ".join(cases),
               ", ".join(str(n) for n in args.levels),
-              "; ".join(changes) if changes else "dt, T and window: the scene's per-case defaults",
+              "; ".join(changes) if changes else "dt, T and window: each case's own",
               rel(args.mesh_dir), rel(args.runs_dir)), "",
           "The values are ours, as measured; no reference values are given here. SI units: displacement of the "
           "flag's tip A = (0.6, 0.2) in m, force of the fluid on cylinder and flag per unit depth in N/m. Steady "
