@@ -4,12 +4,8 @@
 The channel: fluid [0,6]x[0,1], elastic wall [0,6]x[1,1.1] on top, inlet pressure pulse,
 dt = 1e-4 to T = 0.1 (options/channel2d.yaml). Reproduces, from bin/fsiopt runs:
 
-  probes RUNDIR...  the probes of any scene's runs against time: the displacement columns
-                    of probes.csv (dx, dy, dz; --columns dx,dz selects), each labelled by its
-                    header as written (name, probe point, unit); one run: a panel per
-                    quantity, a curve per column; several runs: a panel per column, a curve
-                    per run. The y axes give the unit; the title the runs' scene
-                    (summary.json "scene", else the dir name). For channel2d: dx and dy of
+  probes RUNDIR...  scripts/probes_figure.py's figure with the displacement columns by
+                    default (dx, dy, dz; --columns selects). For channel2d: dx and dy of
                     (1.5,1), (3,1), (4.5,1), Figs 3.2-3.5
   (the studies below plot dy, the vertical displacement of the interface points)
   mesh              hy = 0.1, 0.05, 1/30: fluid 30x10, 30x20, 30x30 cells with a wall of
@@ -63,6 +59,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import fsiopt_runs as fr   # noqa: E402
 import fsiopt_tables as ft   # noqa: E402  (probes.csv headers, scenes, units)
 from channel2d_pressure import default_times, pressure_figure  # noqa: E402  (the pressure figure)
+import probes_figure as pf   # noqa: E402  (probes.csv against time, any scene)
+from probes_figure import plot_probes, read_probes   # noqa: E402,F401
 
 ROOT = fr.ROOT
 OPTIONS_FILE = {"linear": "options/channel2d.yaml", "svk": "options/channel2d-svk.opts"}
@@ -130,111 +128,6 @@ def study(args, which):
                 [("%s, %s" % (MODEL_LABEL[m], COUPLING_LABEL[c]), variant(args, order=2, model=m, coupling=c))
                  for m in ("linear", "svk") for c in ("opt", "aitken")])
     raise ValueError(which)
-
-
-# ---------------------------------------------------------------------------- probes
-def probes_path(run_dir):
-    path = os.path.join(run_dir, "probes.csv")
-    if not os.path.isfile(path):
-        extra = " (only probes.csv.partial: the run is unfinished or failed)" \
-            if os.path.isfile(path + ".partial") else ""
-        raise FileNotFoundError("%s: no such file%s" % (fr.rel(path), extra))
-    return path
-
-
-def read_columns(run_dir):
-    """(t, [(name, unit, header, values)]) of run_dir/probes.csv: every column after t, its
-    name ('dz(0.5;0.;1.25)'), unit ('cm', None without one) and header exactly as written."""
-    path = probes_path(run_dir)
-    t, cols = ft.read_probe_columns(path)
-    return np.array(t), [(n, u, h, np.array(v)) for n, u, h, v in cols]
-
-
-def read_probes(run_dir, kind="dy"):
-    """(t, {column header: values}) of the columns of one quantity (default dy, the vertical
-    displacement) of run_dir/probes.csv; the header as written, e.g. 'dy(1.5;1.) [cm]'."""
-    t, cols = read_columns(run_dir)
-    picked = {h: v for n, u, h, v in cols if ft.column_kind(n) == kind}
-    if not picked:
-        raise ValueError("%s: no %s(...) columns" % (fr.rel(probes_path(run_dir)), kind))
-    return t, picked
-
-
-def axis_label(kind, units):
-    """'dy [cm]' from a quantity and the units of its columns (several: all of them)."""
-    units = [u for u in dict.fromkeys(units) if u]
-    return "%s [%s]" % (kind, ", ".join(units)) if units else kind
-
-
-def plot_probes(curves, title, png, csv_path, columns=None):
-    """curves: [(label, run_dir)]. One run: one panel per quantity (dx, dy, dz, ...), one curve
-    per probes.csv column, the legend giving each column's header as written (name, probe
-    point, unit). Several runs: one panel per column, titled by its header as written, one
-    curve per run. The y axes name the quantity and its unit. columns: a filter as in
-    ft.select_columns ('dx,dz', a column's name or header; default: every displacement
-    column dx, dy, dz). Returns (whether a figure was written, the error messages of runs
-    whose probes could not be read and of filter entries that select nothing); a run that
-    lacks a column the others have is a note on stderr."""
-    data, errors = [], []
-    for label, run_dir in curves:
-        try:
-            data.append((label, run_dir) + read_columns(run_dir))
-        except (OSError, ValueError) as e:
-            errors.append("%s: %s" % (label, e))
-    if not data:
-        return False, errors
-    available = []   # (name, header) over the runs, in file order
-    for _, _, _, cols in data:
-        available += [(n, h) for n, _, h, _ in cols if (n, h) not in available]
-    chosen, unused = ft.select_columns(available, columns)
-    for e in unused:
-        errors.append("--columns %s: no such column in %s (columns: %s)"
-                      % (e, ", ".join(fr.rel(d) for _, d, _, _ in data), ", ".join(h for _, h in available)))
-    if not chosen:
-        errors.append("no %s column to plot in %s" % ("selected" if columns else "displacement",
-                                                        ", ".join(fr.rel(d) for _, d, _, _ in data)))
-        return False, errors
-    for label, run_dir, _, cols in data:
-        have = {(n, h) for n, _, h, _ in cols}
-        missing = [h for n, h in chosen if (n, h) not in have]
-        if missing:
-            print("channel2d_figures: note: %s: %s has no column %s" % (label, fr.rel(run_dir), ", ".join(missing)),
-                  file=sys.stderr)
-    if len(data) == 1:   # panels: the quantities; curves: the columns
-        panels = [(None, [c for c in chosen if ft.column_kind(c[0]) == k])
-                  for k in dict.fromkeys(ft.column_kind(n) for n, _ in chosen)]
-    else:                # panels: the columns; curves: the runs
-        panels = [(c[1], [c]) for c in chosen]
-    fig, axes = plt.subplots(len(panels), 1, sharex=True, figsize=(8, 2.5 * len(panels) + 0.9), squeeze=False,
-                             layout="constrained")
-    for ax, (panel_title, panel_columns) in zip(axes[:, 0], panels):
-        units = []
-        for name, header in panel_columns:
-            for label, _, t, cols in data:
-                for n, u, h, v in cols:
-                    if (n, h) == (name, header):
-                        ax.plot(t, v, label=header if len(data) == 1 else label, lw=1.2)
-                        units.append(u)
-        if panel_title:
-            ax.set_title(panel_title, fontsize="medium")
-        ax.set_ylabel(axis_label(ft.column_kind(panel_columns[0][0]), units))
-        ax.grid(True, alpha=0.3)
-        ax.ticklabel_format(axis="y", style="sci", scilimits=(-2, 3))
-        ax.legend(fontsize="small", loc="best")
-    axes[-1, 0].set_xlabel("t [s]")
-    fig.suptitle(textwrap.fill(title, 80), fontsize="medium")
-    fig.savefig(png, dpi=130)
-    plt.close(fig)
-    with open(csv_path, "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow(["label", "run_dir", "t"] + [h for _, h in chosen])
-        for label, run_dir, t, cols in data:
-            by = {(n, h): v for n, _, h, v in cols}
-            for i in range(len(t)):
-                w.writerow([label, fr.rel(run_dir), "%.10g" % t[i]] +
-                           ["%.12e" % by[c][i] if c in by else "" for c in chosen])
-    print("written: %s, %s" % (fr.rel(png), fr.rel(csv_path)))
-    return True, errors
 
 
 def peak_dy(run_dir):
@@ -418,34 +311,8 @@ def pressure_variant(args):
 
 # ---------------------------------------------------------------------------- commands
 def cmd_probes(args):
-    if args.labels and len(args.labels) != len(args.rundirs):
-        sys.exit("channel2d_figures: probes: %d run dirs but %d labels" % (len(args.rundirs), len(args.labels)))
-    labels = args.labels or [os.path.basename(os.path.normpath(d)) for d in args.rundirs]
-    name = args.name
-    if not name:
-        stem = "-".join(os.path.basename(os.path.normpath(d)) for d in args.rundirs)
-        name = (stem if len(stem) <= 80 else "%d-runs" % len(args.rundirs)) + "-probes"
-    base = os.path.join(args.out, name)
-    scenes = list(dict.fromkeys(ft.run_scene(d) for d in args.rundirs))
-    title = args.title or ("%s: probes.csv columns %s" % (", ".join(scenes), args.columns) if args.columns
-                           else "%s: displacement at the probes" % ", ".join(scenes))
-    plotted, errors = plot_probes(list(zip(labels, args.rundirs)), title, base + ".png", base + ".csv",
-                                  columns=args.columns)
-    if not plotted:
-        for e in errors:
-            print("channel2d_figures: probes: %s" % e, file=sys.stderr)
-        return False
-    variants = []
-    for label, d in zip(labels, args.rundirs):
-        v = fr.Variant(os.path.basename(os.path.normpath(d)), label, [])
-        v.run_dir, v.summary = d, fr.read_summary(d)
-        v.status = "reused" if v.summary else "no summary.json"
-        variants.append(v)
-    fr.write_runs_csv(base + "-runs.csv", variants)
-    print("written: %s" % fr.rel(base + "-runs.csv"))
-    for e in errors:
-        print("channel2d_figures: probes: %s" % e, file=sys.stderr)
-    return not errors
+    """the generic figure (probes_figure.py), with this script's displacement default"""
+    return pf.cmd_probes(args, default_columns=None)
 
 
 def cmd_study(args):
