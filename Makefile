@@ -10,6 +10,7 @@ PYTHON := /usr/bin/python3
 # libCEED (the fast FE operators, src/ceed/): PyPI's wheel carries the C library, its headers
 # and ceed.pc; it goes into a private venv, and bin/fsiopt finds it by an rpath
 CEED_VERSION := 0.12.0
+VTK_VERSION := 9.7.2
 VENV := $(CURDIR)/.deps/venv
 CEED_DIR = $(firstword $(wildcard $(VENV)/lib/python3*/site-packages/libceed))
 CEED_PC = PKG_CONFIG_PATH=$(CEED_DIR)/lib/pkgconfig pkg-config --define-variable=prefix=$(CEED_DIR)
@@ -39,6 +40,9 @@ deps:
 	@test -n "$(CEED_DIR)" -a -f "$(CEED_DIR)/lib/libceed.so" || { \
 	  echo "make deps: libCEED $(CEED_VERSION) from PyPI into $(VENV)"; \
 	  $(PYTHON) -m venv $(VENV) && $(VENV)/bin/pip install -q --no-deps libceed==$(CEED_VERSION); }
+	@ls -d $(VENV)/lib/python3*/site-packages/vtkmodules >/dev/null 2>&1 || { \
+	  echo "make deps: VTK $(VTK_VERSION) from PyPI into $(VENV) (ParaView's XDMF reader, for the tests)"; \
+	  $(VENV)/bin/pip install -q --no-deps vtk==$(VTK_VERSION); }
 
 bin/fsiopt: $(OBJ)
 	@test -n "$(CEED_DIR)" || { echo "libCEED is missing: run make deps" >&2; exit 1; }

@@ -8,12 +8,14 @@ twice or out of order, refers to a dataset the HDF5 file lacks or gives it other
 dimensions, declares an attribute ParaView would not colour by (not Center="Node", a
 Vector without 3 components, a Scalar with more than one), when a topology refers to a
 vertex the geometry lacks, or when a value is not finite.
-Then it opens the XDMF with the three readers ParaView offers for it: XDMFReader
+Then it opens the XDMF with the readers ParaView offers for it that this VTK has: XDMFReader
 (vtkXdmfReader, Xdmf2), Xdmf3ReaderS and Xdmf3ReaderT (vtkXdmf3Reader with
 FileSeriesAsTime 0 and 1), and fails unless each gives every time, each grid with its
-points (the geometry), cells and attributes equal to the HDF5 datasets (1e-12). The
-readers come with Debian's python3-paraview; without them (--readers auto) that check is
-skipped and the summary says so; --readers require fails instead, off skips it.
+points (the geometry), cells and attributes equal to the HDF5 datasets (1e-12). XDMFReader
+comes with PyPI's vtk wheel, which `make deps` puts into .deps/venv (run this script with
+PYTHONPATH=.deps/venv/lib/python3.X/site-packages), all three with Debian's python3-paraview;
+without any (--readers auto) that check is skipped and the summary says so; --readers
+require fails instead, off skips it.
 Otherwise prints a summary: times, grids, max |velocity|, the readers' verdict."""
 import argparse
 import math
@@ -118,17 +120,23 @@ def read_series(xdmf, h5name):
 
 
 def paraview_readers():
-    """{ParaView's name: a function making the reader of a file}, or the reason there is none"""
+    """{ParaView's name: a function making the reader of a file} for the XDMF readers this VTK
+    has (PyPI's vtk wheel has XDMFReader only; Debian's python3-paraview all three), or the
+    reason there is none"""
     try:
         from vtkmodules.vtkIOXdmf2 import vtkXdmfReader
-        from vtkmodules.vtkIOXdmf3 import vtkXdmf3Reader
     except ImportError as e:
-        return None, f"no VTK XDMF readers ({e}), Debian: python3-paraview"
+        return None, f"no VTK XDMF reader ({e}): make deps puts PyPI's vtk into .deps/venv"
 
     def xdmf2(path):
         r = vtkXdmfReader()
         r.SetFileName(path)
         return r
+    readers = {"XDMFReader": xdmf2}
+    try:
+        from vtkmodules.vtkIOXdmf3 import vtkXdmf3Reader
+    except ImportError:
+        return readers, None
 
     def xdmf3(as_time):
         def make(path):
@@ -137,7 +145,8 @@ def paraview_readers():
             r.SetFileSeriesAsTime(as_time)  # what ParaView's Xdmf3ReaderS (0) and Xdmf3ReaderT (1) set
             return r
         return make
-    return {"XDMFReader": xdmf2, "Xdmf3ReaderS": xdmf3(0), "Xdmf3ReaderT": xdmf3(1)}, None
+    readers.update({"Xdmf3ReaderS": xdmf3(0), "Xdmf3ReaderT": xdmf3(1)})
+    return readers, None
 
 
 def leaves(data):
@@ -199,7 +208,7 @@ def main():
                         formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("out", metavar="OUTPUT_DIR", help="an fsiopt -output_dir written with -write_fields")
     ap.add_argument("--readers", choices=("auto", "require", "off"), default="auto",
-                    help="the ParaView readers' check: auto (run it when python3-paraview is installed, else skip "
+                    help="the ParaView readers' check: auto (run it when VTK's XDMF readers are there, else skip "
                     "it; default), require (fail without the readers), off (skip it)")
     args = ap.parse_args()
     mode, out = args.readers, args.out
