@@ -66,10 +66,11 @@ PetscErrorCode FluidBodyForce(Fluid, PetscReal force[3]);
    the volume-weighted form; fluid_face_integrals.c). */
 PetscErrorCode FluidBodyForceSurface(Fluid, PetscReal force[3]);
 /* Integrals over face sets of the current state, n the fluid's outward normal: the area
-   (2D: the length), the flow rate int u.n (out of the fluid), int p, and the force
-   -int sigma n of the fluid on what lies beyond (fluid_face_integrals.c); collective. */
+   (2D: the length), the flow rate int u.n (out of the fluid), int p, the force
+   -int sigma n of the fluid on what lies beyond, and int |tau_w| of the wall shear stress
+   tau_w = t - (t.n) n, t = sigma n (fluid_face_integrals.c); collective. */
 typedef struct {
-  PetscReal area, flow_rate, pressure, force[3];
+  PetscReal area, flow_rate, pressure, force[3], shear;
 } FluidFaceIntegral;
 PetscErrorCode FluidFaceSetIntegral(Fluid, PetscInt n, const PetscInt values[], FluidFaceIntegral *);
 /* Integrals over the region `region` ("Cell Sets"; -1: every cell) of the current state: its

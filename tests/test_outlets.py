@@ -190,3 +190,18 @@ def test_rcr_closed_form():
         worst, final)
     return "off the closed form by %.1e at most (Delta t = R_d C/50); %.1e from (R_p + R_d) Q at t = 10 R_d C" % (
         worst, final)
+
+
+@test("wall shear stress (-integrals_wall_shear_stress): Poiseuille flow in the rigid channel has the closed form "
+      "4 mu U/H on both walls, to 1e-12 on 30x10 and 60x20 cells")
+def test_wall_shear_stress():
+    rigid = ["-options_file", os.path.join(ROOT, "options", "examples", "rigid-channel.yaml"),
+             "-integrals_wall_shear_stress", "bottom,top"]
+    exact, worst = 4 * 0.035 * 1.0 / 1.0, 0.0
+    for faces in ("30,10", "60,20"):
+        out = os.path.join(WORK, "wss-" + faces.replace(",", "x"))
+        solve(rigid + ["-fluid_dm_plex_box_faces", faces], out=out)
+        c = columns(out)
+        worst = max(worst, abs(c["tau_w(bottom)"][-1] - exact) / exact, abs(c["tau_w(top)"][-1] - exact) / exact)
+    assert worst <= 1e-12, "off 4 mu U/H by %.1e" % worst
+    return "4 mu U/H = %g to %.1e on both meshes" % (exact, worst)

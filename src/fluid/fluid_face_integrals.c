@@ -133,7 +133,7 @@ PetscErrorCode FluidIntegrateFaces(Fluid f, Vec xlocal, IS faces, FluidFaceInteg
   PetscInt           dim, n, nfields, total, nq, nq_pressure;
   const PetscScalar *constants;
   PetscInt           nconstants;
-  PetscReal          sums[6] = {0, 0, 0, 0, 0, 0}; /* area, flow rate, pressure, force */
+  PetscReal          sums[7] = {0, 0, 0, 0, 0, 0, 0}; /* area, flow rate, pressure, force, |wall shear| */
 
   PetscFunctionBeginUser;
   PetscCall(DMGetDimension(f->dm, &dim));
@@ -219,6 +219,12 @@ PetscErrorCode FluidIntegrateFaces(Fluid f, Vec xlocal, IS faces, FluidFaceInteg
         for (PetscInt c = 0; c < dim; ++c) sums[1] += w * PetscRealPart(u[c]) * normal[c];
         sums[2] += w * PetscRealPart(p);
         for (PetscInt c = 0; c < dim; ++c) sums[3 + c] += w * traction[c];
+        { /* the wall shear stress: the traction's part along the face, t - (t.n) n */
+          PetscReal tn = 0, shear = 0;
+          for (PetscInt c = 0; c < dim; ++c) tn += traction[c] * normal[c];
+          for (PetscInt c = 0; c < dim; ++c) shear += PetscSqr(traction[c] - tn * normal[c]);
+          sums[6] += w * PetscSqrtReal(shear);
+        }
         for (PetscInt b = 0; b < nb_u && element; ++b)
           for (PetscInt c = 0; c < dim; ++c) element[b] += w * Tu[b * dim + c] * normal[c];
       }
@@ -231,11 +237,12 @@ PetscErrorCode FluidIntegrateFaces(Fluid f, Vec xlocal, IS faces, FluidFaceInteg
     PetscCall(PetscFree(element));
     PetscCall(PetscFEGeomDestroy(&geometry));
   }
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums, 6, MPIU_REAL, MPIU_SUM, f->comm));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sums, 7, MPIU_REAL, MPIU_SUM, f->comm));
   integral->area      = sums[0];
   integral->flow_rate = sums[1];
   integral->pressure  = sums[2];
   for (PetscInt c = 0; c < 3; ++c) integral->force[c] = sums[3 + c];
+  integral->shear = sums[6];
   PetscFunctionReturn(0);
 }
 

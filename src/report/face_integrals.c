@@ -13,6 +13,7 @@ typedef enum {
   FLOW_RATE,
   MEAN_PRESSURE,
   FORCE,
+  WALL_SHEAR_STRESS,
   REGION_VOLUME,
   REGION_MEAN_PRESSURE,
   REGION_KINETIC_ENERGY,
@@ -29,6 +30,8 @@ static const struct {
   {"-integrals_mean_pressure", "face sets whose mean pressure (int p over the face set / its area) probes.csv records",
    "p_mean"},
   {"-integrals_force", "face sets whose force from the fluid (-int sigma n) probes.csv records", "F"},
+  {"-integrals_wall_shear_stress", "face sets whose mean wall shear stress int |tau_w| / area (tau_w the traction's "
+   "part along the face) probes.csv records", "tau_w"},
   {"-integrals_region_volume", "regions of the fluid mesh (names or numbers; all: the whole mesh) whose volume (2D: "
    "area) on the moving mesh probes.csv records", "V"},
   {"-integrals_region_mean_pressure", "regions of the fluid mesh (all: the whole mesh) whose mean pressure probes.csv "
@@ -133,7 +136,8 @@ PetscErrorCode FaceIntegralsCreate(MPI_Comm comm, PetscInt dim, Fluid fluid, Fac
                        IsRegionKind(k) ? regions : known, texts[k]));
   PetscOptionsEnd();
   {
-    PetscInt ncolumns = fi->nsets[FLOW_RATE] + fi->nsets[MEAN_PRESSURE] + dim * fi->nsets[FORCE] + 2 * fi->noutlets;
+    PetscInt ncolumns = fi->nsets[FLOW_RATE] + fi->nsets[MEAN_PRESSURE] + dim * fi->nsets[FORCE] + fi->nsets[WALL_SHEAR_STRESS] +
+                        2 * fi->noutlets;
     for (PetscInt k = REGION_VOLUME; k < NUM_KINDS; ++k) ncolumns += fi->nsets[k];
     if (!ncolumns) {
       PetscCall(PetscFree(fi));
@@ -185,6 +189,11 @@ PetscErrorCode FaceIntegralsEvaluate(FaceIntegrals fi, PetscReal out[])
           PetscCall(FluidRegionIntegral(fi->fluid, fi->sets[k][i], &r));
           out[column++] = k == REGION_VOLUME ? r.volume : k == REGION_KINETIC_ENERGY ? r.kinetic
                                                                                     : r.pressure / r.volume;
+          continue;
+        }
+        if (k == WALL_SHEAR_STRESS) {
+          PetscCall(FluidFaceSetIntegral(fi->fluid, 1, &fi->sets[k][i], &integral));
+          out[column++] = integral.area > 0 ? integral.shear / integral.area : 0;
           continue;
         }
         PetscCall(FluidFaceSetIntegral(fi->fluid, 1, &fi->sets[k][i], &integral));
