@@ -156,8 +156,8 @@ def test_fields_restart_after_kill():
            "run; restarted elsewhere %.0e; no fields in the checkpoint refused" % (same, same_other)
 
 
-@test("fields read by VTK's XDMF reader (PyPI's vtk): the wall's displacement at channel2d's interface probe x = 3 "
-      "(a vertex) equals probes.csv's at every written time to 1e-12; at x = 1.5 and 4.5, Q2 edge nodes the "
+@test("fields read by VTK's XDMF reader (PyPI's vtk): the wall's displacement and velocity at channel2d's interface "
+      "probe x = 3 (a vertex) equal probes.csv's at every written time to 1e-12; at x = 1.5 and 4.5, Q2 edge nodes the "
       "vertex-only fields lack, their linear interpolant misses the probe by the interpolation error (measured)")
 def test_fields_vtk_against_probes():
     assert readers_present(), "no VTK XDMF reader: make deps puts PyPI's vtk into .deps/venv"
@@ -165,7 +165,8 @@ def test_fields_vtk_against_probes():
     from vtkmodules.vtkCommonExecutionModel import vtkStreamingDemandDrivenPipeline
     from vtkmodules.util.numpy_support import vtk_to_numpy
     out = os.path.join(WORK, "fields-vtk-probes")
-    solve(CHANNEL + ["-t_final", "0.002", "-write_fields", "-write_fields_interval", "5"], out=out)
+    solve(CHANNEL + ["-t_final", "0.002", "-write_fields", "-write_fields_interval", "5", "-probes_structure_velocity",
+                     "3,1"], out=out)
     rows = probe_rows(out)
     columns = [k for k in rows[0] if k.startswith("dy(")]   # dy at x = 1.5, 3, 4.5 on y = 1
     scale = {k: max(abs(r[k]) for r in rows) for k in columns}
@@ -173,13 +174,15 @@ def test_fields_vtk_against_probes():
     reader.SetFileName(os.path.join(out, "fields.xdmf"))
     reader.UpdateInformation()
     times = reader.GetOutputInformation(0).Get(vtkStreamingDemandDrivenPipeline.TIME_STEPS())
-    vertex, edge = 0.0, 0.0
+    vertex, edge, velocity = 0.0, 0.0, 0.0
+    speed = max(abs(r["etadot_y(3.;1.)"]) for r in rows)
     for t in times[1:]:
         reader.UpdateTimeStep(t)
         blocks = reader.GetOutputDataObject(0)
         wall = [blocks.GetBlock(b) for b in range(blocks.GetNumberOfBlocks())
                 if blocks.GetMetaData(b).Get(blocks.NAME()).startswith("structure")][0]
         eta = vtk_to_numpy(wall.GetPointData().GetArray("displacement"))
+        etadot = vtk_to_numpy(wall.GetPointData().GetArray("velocity"))
         reference = vtk_to_numpy(wall.GetPoints().GetData())[:, :2] - eta[:, :2]   # the geometry is deformed by it
         row = min(rows, key=lambda r: abs(r["t"] - t))
         on_interface = np.abs(reference[:, 1] - 1.0) < 1e-9
@@ -189,9 +192,11 @@ def test_fields_vtk_against_probes():
             gap = abs(np.interp(x, xs[order], dys[order]) - row[column]) / scale[column]
             if x == 3.0:
                 vertex = max(vertex, gap)
+                at = np.flatnonzero(on_interface)[order][int(np.argmin(np.abs(xs[order] - x)))]
+                velocity = max(velocity, abs(etadot[at, 1] - row["etadot_y(3.;1.)"]) / speed)
             else:
                 edge = max(edge, gap)
-    assert len(times) == 5 and vertex <= 1e-12 and edge > 1e3 * max(vertex, 1e-16), \
-        "%d times; at the vertex %.1e, at the edge nodes %.1e" % (len(times), vertex, edge)
-    return "at the vertex x = 3: %.1e; at the Q2 edge nodes x = 1.5, 4.5 the vertex-only fields miss by %.1e of the " \
-        "probe's largest value" % (vertex, edge)
+    assert len(times) == 5 and vertex <= 1e-12 and velocity <= 1e-12 and edge > 1e3 * max(vertex, 1e-16), \
+        "%d times; at the vertex %.1e (its velocity %.1e), at the edge nodes %.1e" % (len(times), vertex, velocity, edge)
+    return "at the vertex x = 3: displacement %.1e, velocity %.1e; at the Q2 edge nodes x = 1.5, 4.5 the vertex-only " \
+        "fields miss by %.1e of the probe's largest value" % (vertex, velocity, edge)

@@ -1,4 +1,5 @@
-/* -write_fields (fields.h): the fluid's and the structure's fields gathered on rank 0 in
+/* -write_fields (fields.h): the fluid's (velocity, pressure, mesh velocity) and the
+   structure's (displacement, velocity) fields gathered on rank 0 in
    each grid's global vertex order, written to fields.h5 every few steps, and fields.xdmf,
    which ParaView opens, written when the run completes. */
 #include <errno.h>
@@ -85,7 +86,11 @@ static PetscErrorCode SourcesGet(FieldWriter w, PetscInt p, PetscBool values, So
   } else if (p == 1 && w->structure) {
     PetscCall(StructureGetDM(w->structure, &s->dm));
     PetscCall(DMGetLocalSection(s->dm, &s->section[0]));
-    if (values) PetscCall(StructureGetDisplacementLocal(w->structure, &s->local[0]));
+    s->section[1] = s->section[0]; /* the velocity's local vector has the displacement's layout */
+    if (values) {
+      PetscCall(StructureGetDisplacementLocal(w->structure, &s->local[0]));
+      PetscCall(StructureGetVelocityLocal(w->structure, &s->local[1]));
+    }
   }
   PetscFunctionReturn(0);
 }
@@ -336,7 +341,11 @@ PetscErrorCode FieldWriterCreate(MPI_Comm comm, const RunParams *params, Fluid f
       .name = "fluid", .field = {"velocity", "pressure", "mesh_velocity"},
            .nfields = moving ? 3 : 2, .nc = {-1,         1,          -1             }
   };
-  w->part[1] = (Part){.name = "structure", .field = {"displacement"}, .nfields = 1, .nc = {-1}, .deform = PETSC_TRUE};
+  w->part[1] = (Part){
+    .name = "structure", .field = {"displacement", "velocity"},
+       .nfields = 2, .nc = {-1, -1},
+       .deform = PETSC_TRUE
+  };
   PetscCall(PetscMalloc1(w->steps + 1, &w->written));
   PetscCall(PetscStrncpy(w->dir, params->output_dir, sizeof(w->dir)));
   PetscCall(PetscSNPrintf(w->path, sizeof(w->path), "%s/fields.h5", w->dir));
