@@ -31,6 +31,9 @@ typedef struct {
   PetscObjectState coordinates_state;
 } FEMTractionCache;
 PetscErrorCode FEMBoundaryTerms(DM dm, PetscReal t, Vec xlocal, Vec flocal, Mat A, FEMTractionCache *cache);
+/* the other natural-boundary terms alone (not the tractions), their residual at xlocal into
+   the global fglobal, which is zeroed first */
+PetscErrorCode FEMNaturalBoundaryResidual(DM dm, PetscReal t, Vec xlocal, Vec fglobal);
 /* the tractions' part alone (where the other terms have libCEED face operators) */
 PetscErrorCode FEMBoundaryTractions(DM dm, PetscReal t, Vec xlocal, Vec flocal, FEMTractionCache *cache);
 PetscErrorCode FEMTractionCacheDestroy(FEMTractionCache *);

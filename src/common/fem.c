@@ -117,6 +117,20 @@ PetscErrorCode FEMBoundaryTerms(DM dm, PetscReal t, Vec xlocal, Vec flocal, Mat 
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode FEMNaturalBoundaryResidual(DM dm, PetscReal t, Vec xlocal, Vec fglobal)
+{
+  Vec flocal;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMGetLocalVector(dm, &flocal));
+  PetscCall(VecZeroEntries(flocal));
+  PetscCall(NaturalBoundaries(dm, t, PETSC_FALSE, xlocal, flocal, NULL));
+  PetscCall(VecZeroEntries(fglobal));
+  PetscCall(DMLocalToGlobal(dm, flocal, ADD_VALUES, fglobal));
+  PetscCall(DMRestoreLocalVector(dm, &flocal));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FEMBoundaryTractions(DM dm, PetscReal t, Vec xlocal, Vec flocal, FEMTractionCache *cache)
 {
   PetscFunctionBeginUser;

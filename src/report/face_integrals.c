@@ -60,7 +60,7 @@ static PetscErrorCode AddColumn(FaceIntegrals fi, const char name[], UnitDimensi
 }
 
 /* The face sets (regions) an option names, checked against the fluid mesh's names; a
-   region "all" is every cell (-1) */
+   region "all" is every cell (ALL_CELLS) */
 static PetscErrorCode ReadSets(FaceIntegrals fi, PetscOptionItems *PetscOptionsObject, IntegralKind k, PetscInt nnames,
                                const MeshPhysicalName known[], char *texts[MAX_SETS])
 {
@@ -181,26 +181,39 @@ PetscErrorCode FaceIntegralsEvaluate(FaceIntegrals fi, PetscReal out[])
   PetscFunctionBeginUser;
   for (PetscInt c = 0; c < fi->ncolumns; ++c) out[c] = 0;
   if (fi->fluid) {
+    /* each face set and region integrated once, whatever the kinds asked of it */
+    PetscInt             nfaces = 0, nregions = 0, faces[NUM_KINDS * MAX_SETS], regions[NUM_KINDS * MAX_SETS];
+    FluidFaceIntegral    face_integral[NUM_KINDS * MAX_SETS];
+    FluidRegionIntegrals region_integral[NUM_KINDS * MAX_SETS];
+
     for (PetscInt k = 0; k < NUM_KINDS; ++k)
       for (PetscInt i = 0; i < fi->nsets[k]; ++i) {
-        FluidFaceIntegral integral;
+        const PetscInt value = fi->sets[k][i];
+        PetscInt       j     = 0;
         if (IsRegionKind(k)) {
-          FluidRegionIntegrals r;
-          PetscCall(FluidRegionIntegral(fi->fluid, fi->sets[k][i], &r));
-          out[column++] = k == REGION_VOLUME ? r.volume : k == REGION_KINETIC_ENERGY ? r.kinetic
-                                                                                    : r.pressure / r.volume;
-          continue;
+          const FluidRegionIntegrals *r;
+          while (j < nregions && regions[j] != value) ++j;
+          if (j == nregions) {
+            regions[nregions] = value;
+            PetscCall(FluidRegionIntegral(fi->fluid, value, &region_integral[nregions++]));
+          }
+          r             = &region_integral[j];
+          out[column++] = k == REGION_VOLUME ? r->volume : k == REGION_KINETIC_ENERGY ? r->kinetic
+                                                                                     : r->pressure / r->volume;
+        } else {
+          const FluidFaceIntegral *f;
+          while (j < nfaces && faces[j] != value) ++j;
+          if (j == nfaces) {
+            faces[nfaces] = value;
+            PetscCall(FluidFaceSetIntegral(fi->fluid, 1, &value, &face_integral[nfaces++]));
+          }
+          f = &face_integral[j];
+          if (k == FLOW_RATE) out[column++] = f->flow_rate;
+          else if (k == MEAN_PRESSURE) out[column++] = f->area > 0 ? f->pressure / f->area : 0;
+          else if (k == WALL_SHEAR_STRESS) out[column++] = f->area > 0 ? f->shear / f->area : 0;
+          else
+            for (PetscInt c = 0; c < fi->dim; ++c) out[column++] = f->force[c];
         }
-        if (k == WALL_SHEAR_STRESS) {
-          PetscCall(FluidFaceSetIntegral(fi->fluid, 1, &fi->sets[k][i], &integral));
-          out[column++] = integral.area > 0 ? integral.shear / integral.area : 0;
-          continue;
-        }
-        PetscCall(FluidFaceSetIntegral(fi->fluid, 1, &fi->sets[k][i], &integral));
-        if (k == FLOW_RATE) out[column++] = integral.flow_rate;
-        else if (k == MEAN_PRESSURE) out[column++] = integral.area > 0 ? integral.pressure / integral.area : 0;
-        else
-          for (PetscInt c = 0; c < fi->dim; ++c) out[column++] = integral.force[c];
       }
     if (fi->noutlets) {
       PetscReal q[FSIOPT_MAX_OUTLETS], p[FSIOPT_MAX_OUTLETS];

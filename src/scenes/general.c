@@ -25,7 +25,6 @@
 #include "general_symbols.h"
 #include "flow_profile.h"
 
-
 #pragma GCC diagnostic ignored "-Wunused-parameter"
 
 #define MAX_FACE_SETS 32

@@ -301,9 +301,9 @@ PetscErrorCode StructureBeginStep(Structure s)
     PetscCall(StructureOperatorResidual(s->op, s->eta_local, s->work));
     PetscCall(VecAXPY(s->history, -1.0, s->work));
     PetscCall(VecAXPY(s->history, -1.0, s->load_old));
-  } else if (s->data.n_robin) {
+  } else if (s->data.n_robin) { /* the supports' faces alone: their only natural-boundary terms in eta */
     PetscCall(StructureSetConstants(s, 0.0, 0.0, 0.0, t_old, -rate));
-    PetscCall(StructureOperatorResidual(s->op, s->eta_local, s->work));
+    PetscCall(FEMNaturalBoundaryResidual(s->dm, t_old, s->eta_local, s->work));
     PetscCall(VecAXPY(s->history, -1.0, s->work));
   }
   s->time += s->dt;
