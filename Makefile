@@ -5,7 +5,7 @@ export OMPI_MCA_rmaps_base_oversubscribe := 1
 
 # libopenblas0-serial: MUMPS's dense kernels; with Debian's reference BLAS the 3D tube's
 # fluid factorization took 28 s instead of 5 s (46k unknowns). Serial: one thread per MPI rank.
-DEB_PACKAGES := petsc-dev liblapack-dev libscotch-dev libyaml-dev libmuparser-dev python3-venv libhdf5-openmpi-dev gmsh pkg-config make python3-numpy python3-matplotlib python3-h5py libopenblas0-serial valgrind
+DEB_PACKAGES := petsc-dev liblapack-dev libscotch-dev libyaml-dev libmuparser-dev python3-venv libhdf5-openmpi-dev gmsh pkg-config make python3-numpy python3-matplotlib python3-h5py libopenblas0-serial valgrind libegl1 libegl-mesa0 libgl1-mesa-dri
 PYTHON := /usr/bin/python3
 # libCEED (the fast FE operators, src/ceed/): PyPI's wheel carries the C library, its headers
 # and ceed.pc; it goes into a private venv, and bin/fsiopt finds it by an rpath

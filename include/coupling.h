@@ -47,6 +47,9 @@ PetscErrorCode CouplingProblemCreateJacobian(CouplingProblem, Mat *);
 PetscErrorCode CouplingProblemGetTikhonov(CouplingProblem, PetscReal *);
 /* Whether the fluid's linear (and linearized) solves iterate; the same on every rank */
 PetscErrorCode CouplingProblemFluidSolverIsKrylov(CouplingProblem, PetscBool *);
+/* The traction g of the control the last step ended with, on all interface nodes (an
+   interface vector; 0 where the fluid's velocity is prescribed, and before a first step). */
+PetscErrorCode CouplingProblemInterfaceTraction(CouplingProblem, Vec all);
 /* The control the first step starts from: the scene's exact traction at t0, or 0. */
 PetscErrorCode CouplingProblemInitialControl(CouplingProblem, PetscReal t0, Vec x);
 

@@ -99,4 +99,17 @@ PetscErrorCode FEMFreeDofs(DM dm, DM dm_all, IS *is);
    with ctx (a NULL closed form gives 0; h1 may be NULL). At most two fields. */
 PetscErrorCode FEMErrors(DM dm, Vec xglobal, PetscReal t, const FieldFn exact[], const GradientFn gradient[], void *ctx,
                          PetscReal l2[], PetscReal h1[]);
+
+/* Nodal values of a pointwise function (a ResidualKernel's signature: the field's values
+   and gradients, the DM's constants and auxiliary fields in, nc values out) in a continuous
+   Lagrange space of the given degree on dm's mesh: each cell's values at the nodes, averaged
+   over the cells that share a node (fem_nodal_average.c). Compute returns a local vector of
+   the object's, valid until the next Compute. */
+typedef struct _n_FEMNodalAverage *FEMNodalAverage;
+PetscErrorCode FEMNodalAverageCreate(DM dm, PetscInt degree, PetscInt nc, const char name[], ResidualKernel,
+                                     FEMNodalAverage *);
+PetscErrorCode FEMNodalAverageCompute(FEMNodalAverage, Vec local_field, PetscReal t, Vec *value);
+PetscErrorCode FEMNodalAverageValue(FEMNodalAverage, Vec *value); /* the last Compute's */
+PetscErrorCode FEMNodalAverageGetSection(FEMNodalAverage, PetscSection *);
+PetscErrorCode FEMNodalAverageDestroy(FEMNodalAverage *);
 #endif

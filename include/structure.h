@@ -73,6 +73,12 @@ PetscErrorCode StructureDestroy(Structure *);
    (St. Venant-Kirchhoff). Scenes use it for manufactured loads. */
 void StructureStress(StructureModel, PetscInt dim, PetscReal mu, PetscReal lambda, const PetscScalar grad_eta[],
                      PetscScalar stress[]);
+/* The Cauchy stress (3 x 3, row-major; the plane strain's sigma_zz in 2D) of the point's
+   material: a pointwise function for FEMNodalAverage (fem.h). */
+void StructureCauchyStress(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],
+                           const PetscScalar[], const PetscScalar[], const PetscInt[], const PetscInt[],
+                           const PetscScalar[], const PetscScalar[], const PetscScalar[], PetscReal, const PetscReal[],
+                           PetscInt, const PetscScalar[], PetscScalar[]);
 
 /* Pointwise kernels (structure_kernels.c). */
 void StructureF0Mass(PetscInt, PetscInt, PetscInt, const PetscInt[], const PetscInt[], const PetscScalar[],

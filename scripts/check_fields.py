@@ -6,7 +6,8 @@ usage: scripts/check_fields.py [--readers auto|require|off] OUTPUT_DIR
 Fails (exit 1, one line) when the XDMF does not parse, names a grid twice, lists a time
 twice or out of order, refers to a dataset the HDF5 file lacks or gives it other
 dimensions, declares an attribute ParaView would not colour by (not Center="Node", a
-Vector without 3 components, a Scalar with more than one), when a topology refers to a
+Vector without 3 components, a Tensor without 9, a Scalar with more than one) or one without
+its unit (<Information Name="unit">), when a topology refers to a
 vertex the geometry lacks, or when a value is not finite.
 Then it opens the XDMF with the readers ParaView offers for it that this VTK has: XDMFReader
 (vtkXdmfReader, Xdmf2), Xdmf3ReaderS and Xdmf3ReaderT (vtkXdmf3Reader with
@@ -108,9 +109,13 @@ def read_series(xdmf, h5name):
                     if a.shape[0] != x.shape[0]:
                         fail(f"{where}: attribute {aname} has {a.shape[0]} values for {x.shape[0]} vertices")
                     columns = a.shape[1] if a.ndim > 1 else 1
-                    if attribute.get("Center") != "Node" or (kind, columns) not in (("Scalar", 1), ("Vector", 3)):
+                    if attribute.get("Center") != "Node" or \
+                            (kind, columns) not in (("Scalar", 1), ("Vector", 3), ("Tensor", 9)):
                         fail(f"{where}: attribute {aname}: Center {attribute.get('Center')}, {kind} of {columns} "
-                             "components; ParaView colours by Node Scalars of 1 and Vectors of 3")
+                             "components; ParaView colours by Node Scalars of 1, Vectors of 3 and Tensors of 9")
+                    unit = attribute.find("Information[@Name='unit']")
+                    if unit is None or not unit.get("Value"):
+                        fail(f"{where}: attribute {aname} has no <Information Name=\"unit\" Value=...>")
                     attributes[aname] = a
                 grids.append((name, cells, x, attributes))
             out.append((t, grids))

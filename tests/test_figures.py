@@ -35,3 +35,34 @@ def test_probes_figure():
         assert len(plotted) == len(probes) and worst <= 1e-10, "%s: plotted values off by %.1e" % (name, worst)
         report.append("%s %d columns" % (name, len(probes[0]) - 1))
     return "; ".join(report)
+
+
+@test("fields figure: scripts/fields_figure.py draws, off-screen with VTK, one PNG per field of every grid of "
+      "channel2d's fields.xdmf (fluid, structure and walls, derived fields included), each coloured over the "
+      "field's range; a time outside the run's refused in one line")
+def test_fields_figure():
+    import numpy as np
+    from matplotlib.image import imread
+    script = os.path.join(ROOT, "scripts", "fields_figure.py")
+    run_dir = os.path.join(WORK, "figure-fields")
+    solve(CHANNEL + ["-t_final", "0.002", "-write_fields", "-write_fields_interval", "10", "-write_fields_derived",
+                     "vorticity,q_criterion,stress,von_mises,wall_shear_stress,interface_traction"], out=run_dir)
+    r = subprocess.run([script, run_dir, "--time", "0.001"], capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, "fields_figure: %s" % r.stderr.strip()[-300:]
+    written = sorted(os.path.basename(p) for p in r.stdout.split())
+    want = sorted(["fluid_%s.png" % f for f in ("velocity", "pressure", "mesh_velocity", "vorticity", "q_criterion")] +
+                  ["structure_%s.png" % f for f in ("displacement", "velocity", "stress", "von_mises")] +
+                  ["walls_%s.png" % f for f in ("wall_shear_stress", "interface_traction")])
+    assert written == want, "wrote %s, expected %s" % (written, want)
+    colours = {}
+    for name in written:
+        image = imread(os.path.join(run_dir, "figures", name))[:, :, :3]
+        top = image[: int(image.shape[0] * 0.7)]   # the field, above the colour bar
+        drawn = top[(top.max(axis=2) < 0.98)]       # not the white background
+        colours[name] = len(np.unique(np.round(drawn * 255).astype(int), axis=0))
+    few = {k: v for k, v in colours.items() if v < 8}
+    assert not few, "figures with fewer than 8 colours where the field is drawn: %s" % few
+    bad = subprocess.run([script, run_dir, "--time", "5"], capture_output=True, text=True, timeout=120)
+    lines = [l for l in bad.stderr.splitlines() if l.strip() and "WARN" not in l]
+    assert bad.returncode == 1 and len(lines) == 1 and "--time" in lines[0], "--time 5: %s %s" % (bad.returncode, lines)
+    return "%d PNGs at t = 0.001, %d to %d colours each" % (len(written), min(colours.values()), max(colours.values()))

@@ -14,6 +14,16 @@ PetscErrorCode CouplingProblemInterfaceDisplacement(CouplingProblem P, Vec all)
   PetscFunctionReturn(0);
 }
 
+/* The interface traction g = P^T W^{-1/2} x of the control the last step ended with, on all
+   interface nodes (0 where the fluid's velocity is prescribed); 0 before a first step. */
+PetscErrorCode CouplingProblemInterfaceTraction(CouplingProblem P, Vec all)
+{
+  PetscFunctionBeginUser;
+  PetscCall(VecPointwiseDivide(P->g, P->accepted, P->weight_sqrt));
+  PetscCall(InterfaceExtend(P->itf, P->g, all));
+  PetscFunctionReturn(0);
+}
+
 /* q = M P^T W^{-1/2} x: the interface load of a scaled control, on all interface nodes. */
 PetscErrorCode CouplingProblemControlToLoad(CouplingProblem P, Vec x, Vec q)
 {

@@ -169,6 +169,7 @@ static PetscErrorCode CouplingProblemCreateVectors(CouplingProblem P)
   PetscCall(VecDuplicate(P->weight_sqrt, &P->g));
   PetscCall(VecDuplicate(P->weight_sqrt, &P->r));
   PetscCall(VecDuplicate(P->weight_sqrt, &P->state_x));
+  PetscCall(VecDuplicate(P->weight_sqrt, &P->accepted));
   PetscCall(VecDuplicate(P->weight_sqrt, &P->state_F));
   PetscCall(VecDuplicate(P->weight_sqrt, &P->jacobian_x));
   PetscCall(VecDuplicate(P->weight_sqrt, &P->control_change));
@@ -270,6 +271,7 @@ PetscErrorCode CouplingProblemDestroy(CouplingProblem *problem)
   PetscCall(VecDestroy(&P->g));
   PetscCall(VecDestroy(&P->r));
   PetscCall(VecDestroy(&P->state_x));
+  PetscCall(VecDestroy(&P->accepted));
   PetscCall(VecDestroy(&P->state_F));
   PetscCall(VecDestroy(&P->jacobian_x));
   PetscCall(VecDestroy(&P->control_change));
@@ -363,6 +365,7 @@ PetscErrorCode CouplingProblemBeginStep(CouplingProblem P, PetscInt step)
 PetscErrorCode CouplingProblemEndStep(CouplingProblem P, Vec x)
 {
   PetscFunctionBeginUser;
+  PetscCall(VecCopy(x, P->accepted));
   if (!P->swept) {
     PetscCall(CouplingProblemEnsureState(P, x));
     if (P->domain == DOMAIN_LAGGED && !StepFailed(&P->failure)) PetscCall(CouplingProblemMoveMesh(P));

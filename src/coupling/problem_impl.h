@@ -26,6 +26,7 @@ struct _p_CouplingProblem {
   Vec                      fluid_vec, fluid_sol, fluid_local, structure_vec, structure_sol, structure_local;
   Mat                      fluid_rhs_block, fluid_sol_block, structure_rhs_block, structure_sol_block; /* J H */
   Vec                      state_x, state_F, jacobian_x;
+  Vec                      accepted; /* the control the last step ended with */
   PetscBool                state_valid, jacobian_valid;
   PetscBool                jacobian_fresh; /* the fluid was factored at jacobian_x, not lagged */
   PetscReal                state_jump;

@@ -1,7 +1,8 @@
-/* -write_fields (fields.h): the fluid's (velocity, pressure, mesh velocity) and the
-   structure's (displacement, velocity) fields gathered on rank 0 in
-   each grid's global vertex order, written to fields.h5 every few steps, and fields.xdmf,
-   which ParaView opens, written when the run completes. */
+/* -write_fields (fields.h): each grid's fields (the fluid's, the structure's, the walls')
+   gathered on rank 0 in the order of the grid's global node numbers (fields_grid.c), with
+   the derived ones computed from their sources at each node (fields_derived.c), written to
+   fields.h5 every few steps, and fields.xdmf, which ParaView opens, written when the run
+   completes. */
 #include <errno.h>
 #include <time.h>
 #include <hdf5.h>
@@ -11,30 +12,7 @@
 #include "options.h"
 #include "error_reporting.h"
 #include "output_files.h"
-
-/* Concatenates every rank's n values on the root, in rank order. */
-static PetscErrorCode GatherOnRoot(MPI_Comm comm, PetscInt n, MPI_Datatype type, const void *send, void **recv,
-                                   PetscInt *total)
-{
-  PetscMPIInt rank, size, mine = (PetscMPIInt)n, *counts = NULL, *displs = NULL, unit;
-
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(comm, &rank));
-  PetscCallMPI(MPI_Comm_size(comm, &size));
-  PetscCallMPI(MPI_Type_size(type, &unit));
-  *recv  = NULL;
-  *total = 0;
-  if (!rank) PetscCall(PetscMalloc2(size, &counts, size, &displs));
-  PetscCallMPI(MPI_Gather(&mine, 1, MPI_INT, counts, 1, MPI_INT, 0, comm));
-  for (PetscMPIInt r = 0; !rank && r < size; ++r) {
-    displs[r] = (PetscMPIInt)*total;
-    *total += counts[r];
-  }
-  if (!rank) PetscCall(PetscMalloc((size_t)PetscMax(*total, 1) * (size_t)unit, recv));
-  PetscCallMPI(MPI_Gatherv(send, mine, type, *recv, counts, displs, type, 0, comm));
-  if (!rank) PetscCall(PetscFree2(counts, displs));
-  PetscFunctionReturn(0);
-}
+#include "units.h"
 
 static PetscErrorCode WriteArray(PetscViewer viewer, const char name[], PetscInt bs, PetscInt n, const PetscScalar a[])
 {
@@ -48,162 +26,88 @@ static PetscErrorCode WriteArray(PetscViewer viewer, const char name[], PetscInt
   PetscFunctionReturn(0);
 }
 
-/* Where a grid's fields live on this rank: each in a local vector with its own section
-   (the fluid's mesh velocity is on a DM of its own). */
-typedef struct {
-  DM           dm; /* NULL: this rank holds no part of the grid */
-  PetscSection section[FIELDS_MAX];
-  PetscInt     number[FIELDS_MAX]; /* the field's number in its section */
-  Vec          local[FIELDS_MAX];
-  Vec          borrowed; /* the fluid's local solution, returned by SourcesRestore */
-} Sources;
-
-/* values = PETSC_FALSE: the sections only */
-static PetscErrorCode SourcesGet(FieldWriter w, PetscInt p, PetscBool values, Sources *s)
+/* The primary fields' sources (the derived ones come from fields_derived.c); values =
+   PETSC_FALSE: the sections only. */
+PetscErrorCode FieldsWriterSources(FieldWriter w, PetscInt p, PetscBool values, Sources *s)
 {
+  FieldsGridSources *g = &s->grid;
+
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(s, sizeof(*s)));
-  if (p == 0 && w->fluid) {
+  for (PetscInt f = 0; f < FIELDS_MAX; ++f) s->number[f][0] = -1;
+  if (p != 1 && w->fluid) {
     DM  aux;
     Vec z, x;
 
-    PetscCall(FluidGetDM(w->fluid, &s->dm));
-    PetscCall(DMGetLocalSection(s->dm, &s->section[0]));
-    s->section[1] = s->section[0];
-    s->number[1]  = 1;
+    PetscCall(FluidGetDM(w->fluid, &g->dm));
+    PetscCall(DMGetLocalSection(g->dm, &s->section[0][0]));
+    s->section[1][0] = s->section[0][0];
+    s->number[0][0]  = 0;
+    s->number[1][0]  = 1;
     if (values) {
       /* the global solution lacks the Dirichlet values */
       PetscCall(FluidGetSolution(w->fluid, &x));
-      PetscCall(DMGetLocalVector(s->dm, &s->borrowed));
-      PetscCall(FEMGlobalToLocal(s->dm, x, s->borrowed));
-      s->local[0] = s->local[1] = s->borrowed;
+      PetscCall(DMGetLocalVector(g->dm, &s->borrowed));
+      PetscCall(FEMGlobalToLocal(g->dm, x, s->borrowed));
+      s->local[0][0] = s->local[1][0] = s->borrowed;
     }
     PetscCall(FluidGetMeshVelocity(w->fluid, &aux, &z));
-    if (aux) {
-      PetscCall(DMGetLocalSection(aux, &s->section[2]));
-      s->local[2] = z;
+    if (aux && p == 0) {
+      PetscCall(DMGetLocalSection(aux, &s->section[2][0]));
+      s->number[2][0] = 0;
+      s->local[2][0]  = z;
     }
+    /* the walls' nodes are those of the velocity */
+    g->nfields = p == 0 ? (s->section[2][0] ? 3 : 2) : 1;
   } else if (p == 1 && w->structure) {
-    PetscCall(StructureGetDM(w->structure, &s->dm));
-    PetscCall(DMGetLocalSection(s->dm, &s->section[0]));
-    s->section[1] = s->section[0]; /* the velocity's local vector has the displacement's layout */
+    PetscCall(StructureGetDM(w->structure, &g->dm));
+    PetscCall(DMGetLocalSection(g->dm, &s->section[0][0]));
+    s->section[1][0] = s->section[0][0]; /* the velocity's local vector has the displacement's layout */
+    s->number[0][0] = s->number[1][0] = 0;
     if (values) {
-      PetscCall(StructureGetDisplacementLocal(w->structure, &s->local[0]));
-      PetscCall(StructureGetVelocityLocal(w->structure, &s->local[1]));
+      PetscCall(StructureGetDisplacementLocal(w->structure, &s->local[0][0]));
+      PetscCall(StructureGetVelocityLocal(w->structure, &s->local[1][0]));
+    }
+    g->nfields = 2;
+  }
+  if (g->dm) {
+    PetscInt dim;
+    PetscCall(DMGetCoordinateDim(g->dm, &dim));
+    for (PetscInt f = 0; f < g->nfields; ++f) {
+      g->section[f] = s->section[f][0];
+      g->number[f]  = s->number[f][0];
+      g->nc[f]      = f == 1 && p == 0 ? 1 : dim; /* the pressure, or a vector */
     }
   }
+  PetscCall(FieldsDerivedSources(w, p, values, s));
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode SourcesRestore(Sources *s)
+PetscErrorCode FieldsWriterSourcesRestore(Sources *s)
 {
   PetscFunctionBeginUser;
-  if (s->borrowed) PetscCall(DMRestoreLocalVector(s->dm, &s->borrowed));
+  if (s->borrowed) PetscCall(DMRestoreLocalVector(s->grid.dm, &s->borrowed));
   PetscFunctionReturn(0);
 }
 
 void FieldsDataset(const Part *P, PetscInt k, const char **name, PetscInt *columns)
 {
+  const PetscInt nc = k ? P->nc[k - 1] : P->dim;
+
   *name    = k ? P->field[k - 1] : "geometry";
-  *columns = k ? (P->nc[k - 1] > 1 ? 3 : P->nc[k - 1]) : P->dim;
-}
-
-#define MAX_CELL_VERTICES 8
-
-/* The grid's cells and owned vertices; its topology is kept on the root for FieldsWriteHeader. */
-static PetscErrorCode PartSetUp(FieldWriter w, Part *P, const Sources *src)
-{
-  PetscInt  info[2] = {0, 0}, ncells = 0, *cells = NULL, *global = NULL, total;
-  PetscBool bad = PETSC_FALSE;
-  DM        dm  = src->dm;
-
-  PetscFunctionBeginUser;
-  if (dm) {
-    IS              vnum, cnum;
-    const PetscInt *vn, *cn;
-    PetscInt        vStart, vEnd, cStart, cEnd;
-
-    PetscCall(DMGetCoordinateDim(dm, &info[0]));
-    PetscCall(DMPlexGetDepthStratum(dm, 0, &vStart, &vEnd));
-    PetscCall(DMPlexGetHeightStratum(dm, 0, &cStart, &cEnd));
-    PetscCall(DMPlexGetVertexNumbering(dm, &vnum));
-    PetscCall(DMPlexGetCellNumbering(dm, &cnum));
-    PetscCall(ISGetIndices(vnum, &vn));
-    PetscCall(ISGetIndices(cnum, &cn));
-    PetscCall(PetscMalloc1(vEnd - vStart, &P->own));
-    PetscCall(PetscMalloc1(vEnd - vStart, &global));
-    for (PetscInt v = vStart; v < vEnd; ++v) {
-      if (vn[v - vStart] < 0) continue; /* another rank writes it */
-      P->own[P->nown]   = v;
-      global[P->nown++] = vn[v - vStart];
-      /* a Lagrange field keeps its vertex value at the vertex point: one dof per component */
-      for (PetscInt f = 0; f < P->nfields; ++f) {
-        PetscInt ndof;
-        PetscCall(PetscSectionGetFieldDof(src->section[f], v, src->number[f], &ndof));
-        if (ndof != (P->nc[f] < 0 ? info[0] : P->nc[f])) bad = PETSC_TRUE;
-      }
-    }
-    PetscCall(PetscMalloc1((cEnd - cStart) * MAX_CELL_VERTICES, &cells));
-    for (PetscInt c = cStart; c < cEnd; ++c) {
-      PetscInt *closure = NULL, n, nv = 0;
-
-      if (cn[c - cStart] < 0) continue;
-      PetscCall(DMPlexGetTransitiveClosure(dm, c, PETSC_TRUE, &n, &closure));
-      for (PetscInt i = 0; i < 2 * n; i += 2) {
-        const PetscInt p = closure[i];
-        if (p < vStart || p >= vEnd) continue;
-        if (nv < MAX_CELL_VERTICES)
-          cells[ncells * MAX_CELL_VERTICES + nv] = vn[p - vStart] < 0 ? -(vn[p - vStart] + 1) : vn[p - vStart];
-        ++nv;
-      }
-      PetscCall(DMPlexRestoreTransitiveClosure(dm, c, PETSC_TRUE, &n, &closure));
-      if (!info[1]) info[1] = nv;
-      if (nv != info[1] || nv > MAX_CELL_VERTICES) bad = PETSC_TRUE;
-      ++ncells;
-    }
-    PetscCall(ISRestoreIndices(vnum, &vn));
-    PetscCall(ISRestoreIndices(cnum, &cn));
-  }
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &bad, 1, MPIU_BOOL, MPI_LOR, w->comm));
-  PetscCheck(!bad, w->comm, PETSC_ERR_SUP,
-             "option -write_fields: the %s needs a mesh of one cell type and Lagrange fields with values at the "
-             "vertices",
-             P->name);
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, info, 2, MPIU_INT, MPI_MAX, w->comm));
-  P->dim = info[0];
-  P->nv  = info[1];
-  PetscCheck((P->dim == 2 && (P->nv == 3 || P->nv == 4)) || (P->dim == 3 && (P->nv == 4 || P->nv == 8)), w->comm,
-             PETSC_ERR_SUP,
-             "option -write_fields: the %s mesh has cells of %" PetscInt_FMT " vertices in %" PetscInt_FMT
-             "D; only triangles, quadrilaterals, tetrahedra and hexahedra are written",
-             P->name, P->nv, P->dim);
-  for (PetscInt f = 0; f < P->nfields; ++f)
-    if (P->nc[f] < 0) P->nc[f] = P->dim;
-  for (PetscInt c = 0; c < ncells; ++c) {
-    for (PetscInt i = 0; i < P->nv; ++i) cells[c * P->nv + i] = cells[c * MAX_CELL_VERTICES + i];
-    /* DMPlex lists a hexahedron's bottom face with its normal outward, XDMF (VTK) inward */
-    if (P->nv == 8) PetscCall(DMPlexInvertCell(DM_POLYTOPE_HEXAHEDRON, &cells[c * P->nv]));
-  }
-  PetscCall(GatherOnRoot(w->comm, ncells * P->nv, MPIU_INT, cells, (void **)&P->cells, &total));
-  P->ncells = total / P->nv;
-  PetscCall(GatherOnRoot(w->comm, P->nown, MPIU_INT, global, (void **)&P->index, &P->nvertices));
-  PetscCallMPI(MPI_Bcast(&P->nvertices, 1, MPIU_INT, 0, w->comm));
-  PetscCallMPI(MPI_Bcast(&P->ncells, 1, MPIU_INT, 0, w->comm));
-  PetscCall(PetscFree(cells));
-  PetscCall(PetscFree(global));
-  PetscFunctionReturn(0);
+  *columns = k == 0 || nc == 1 ? nc : nc <= 3 ? 3 : 9;
 }
 
 PetscErrorCode FieldsWriteHeader(FieldWriter w, PetscViewer viewer)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, "/", "origin", PETSC_STRING, w->origin));
-  for (PetscInt p = 0; p < 2; ++p) {
+  for (PetscInt p = 0; p < 3; ++p) {
     const Part *P = &w->part[p];
     IS          is;
-    char        group[64];
+    char        group[64], unit[64];
 
-    if (!P->nvertices) continue;
+    if (!P->nnodes) continue;
     PetscCall(PetscSNPrintf(group, sizeof(group), "/%s", P->name));
     PetscCall(ISCreateGeneral(PETSC_COMM_SELF, P->ncells * P->nv, P->cells, PETSC_USE_POINTER, &is));
     PetscCall(ISSetBlockSize(is, P->nv));
@@ -212,6 +116,14 @@ PetscErrorCode FieldsWriteHeader(FieldWriter w, PetscViewer viewer)
     PetscCall(ISView(is, viewer));
     PetscCall(PetscViewerHDF5PopGroup(viewer));
     PetscCall(ISDestroy(&is));
+    /* each dataset's unit, as attributes "<dataset> unit" of the grid's group */
+    for (PetscInt k = 0; k <= P->nfields; ++k) {
+      const char *name, *u = k ? P->unit[k - 1] : UnitName(w->units, UNIT_LENGTH);
+      PetscInt    columns;
+      FieldsDataset(P, k, &name, &columns);
+      PetscCall(PetscSNPrintf(unit, sizeof(unit), "%s unit", name));
+      PetscCall(PetscViewerHDF5WriteAttribute(viewer, group, unit, PETSC_STRING, u ? u : "nondimensional"));
+    }
   }
   PetscFunctionReturn(0);
 }
@@ -224,6 +136,26 @@ static PetscErrorCode WriteGroup(PetscViewer viewer, const char group[], PetscIn
   for (PetscInt k = 0; k < nq; ++k) PetscCall(WriteArray(viewer, name[k], bs[k], n, q[k]));
   PetscCall(PetscViewerHDF5PopGroup(viewer));
   PetscCall(PetscViewerHDF5WriteAttribute(viewer, group, "time", PETSC_REAL, &t));
+  PetscFunctionReturn(0);
+}
+
+/* A field's values at own node i, computed from its sources' values there. */
+static PetscErrorCode NodeValue(const Part *P, const Sources *src, const PetscScalar *const u[][FIELD_SOURCES],
+                                PetscInt f, PetscInt i, PetscScalar out[])
+{
+  PetscScalar in[32];
+  PetscInt    n = 0;
+
+  PetscFunctionBeginUser;
+  if (P->transform[f] == FIELD_COPY) {
+    PetscCall(FieldsGridValue(P, i, src->section[f][0], src->number[f][0], P->nc[f], u[f][0], out));
+    PetscFunctionReturn(0);
+  }
+  for (PetscInt k = 0; k < P->nsources[f]; ++k) {
+    PetscCall(FieldsGridValue(P, i, src->section[f][k], src->number[f][k], P->source_nc[f][k], u[f][k], &in[n]));
+    n += P->source_nc[f][k];
+  }
+  FieldsTransform(P->transform[f], P->dim, src->mu, in, out);
   PetscFunctionReturn(0);
 }
 
@@ -240,33 +172,36 @@ static PetscErrorCode PartWrite(FieldWriter w, const Part *P, const Sources *src
     bs[k] = k ? P->nc[k - 1] : P->dim;
     ncomp += bs[k];
   }
-  if (src->dm) {
+  if (src->grid.dm) {
     Vec                X;
     PetscSection       cs;
-    const PetscScalar *x, *u[FIELDS_MAX];
+    const PetscScalar *x, *u[FIELDS_MAX][FIELD_SOURCES] = {{NULL}};
 
-    PetscCall(DMGetCoordinatesLocal(src->dm, &X));
-    PetscCall(DMGetCoordinateSection(src->dm, &cs));
+    PetscCall(DMGetCoordinatesLocal(src->grid.dm, &X));
+    PetscCall(DMGetCoordinateSection(src->grid.dm, &cs));
     PetscCall(VecGetArrayRead(X, &x));
-    for (PetscInt f = 0; f < P->nfields; ++f) PetscCall(VecGetArrayRead(src->local[f], &u[f]));
+    for (PetscInt f = 0; f < P->nfields; ++f)
+      for (PetscInt k = 0; k < FIELD_SOURCES; ++k)
+        if (src->local[f][k]) PetscCall(VecGetArrayRead(src->local[f][k], &u[f][k]));
     PetscCall(PetscMalloc1(P->nown * ncomp, &buf));
     for (PetscInt i = 0; i < P->nown; ++i) {
       PetscScalar *b = buf + i * ncomp;
-      PetscInt     off;
 
-      PetscCall(PetscSectionGetOffset(cs, P->own[i], &off));
-      for (PetscInt d = 0; d < P->dim; ++d) *b++ = x[off + d];
+      PetscCall(FieldsGridValue(P, i, cs, -1, P->dim, x, b));
+      b += P->dim;
       for (PetscInt f = 0; f < P->nfields; ++f) {
-        PetscCall(PetscSectionGetFieldOffset(src->section[f], P->own[i], src->number[f], &off));
-        for (PetscInt c = 0; c < P->nc[f]; ++c) *b++ = u[f][off + c];
+        PetscCall(NodeValue(P, src, (const PetscScalar *const(*)[FIELD_SOURCES])u, f, i, b));
+        b += P->nc[f];
       }
     }
-    for (PetscInt f = 0; f < P->nfields; ++f) PetscCall(VecRestoreArrayRead(src->local[f], &u[f]));
+    for (PetscInt f = 0; f < P->nfields; ++f)
+      for (PetscInt k = 0; k < FIELD_SOURCES; ++k)
+        if (src->local[f][k]) PetscCall(VecRestoreArrayRead(src->local[f][k], &u[f][k]));
     PetscCall(VecRestoreArrayRead(X, &x));
   }
-  PetscCall(GatherOnRoot(w->comm, P->nown * ncomp, MPIU_SCALAR, buf, (void **)&all, &total));
+  PetscCall(FieldsGatherOnRoot(w->comm, P->nown * ncomp, MPIU_SCALAR, buf, (void **)&all, &total));
   if (!w->rank && !w->write_error) {
-    const PetscInt N                 = P->nvertices;
+    const PetscInt N                 = P->nnodes;
     PetscScalar   *q[1 + FIELDS_MAX] = {NULL};
 
     for (PetscInt k = 0; k < nq; ++k) PetscCall(PetscCalloc1(N * obs[k], &q[k]));
@@ -302,13 +237,14 @@ static PetscErrorCode MakeOrigin(FieldWriter w)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FieldWriterCreate(MPI_Comm comm, const RunParams *params, Fluid fluid, Structure structure,
-                                 FieldWriter *writer)
+PetscErrorCode FieldWriterCreate(MPI_Comm comm, const RunParams *params, const char units[], Fluid fluid,
+                                 Structure structure, Interface itf, CouplingProblem problem, FieldWriter *writer)
 {
   FieldWriter w;
   PetscBool   on = PETSC_FALSE, help, moving = PETSC_FALSE,
             exists[2] = {fluid ? PETSC_TRUE : PETSC_FALSE, structure ? PETSC_TRUE : PETSC_FALSE};
-  PetscInt interval   = 10;
+  PetscInt    interval = 10, nodes = 0;
+  const char *node_sets[] = {"all", "vertices"};
 
   PetscFunctionBeginUser;
   *writer = NULL;
@@ -319,6 +255,10 @@ PetscErrorCode FieldWriterCreate(MPI_Comm comm, const RunParams *params, Fluid f
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-write_fields_interval",
                               "write the fields every K-th step (the first and the last always)", 1, PETSC_MAX_INT,
                               &interval));
+  PetscCall(PetscOptionsEList("-write_fields_nodes",
+                              "all: every Lagrange node of a field of degree 2 (each cell written as its once-refined "
+                              "cells); vertices: the vertex values on the mesh's own cells",
+                              NULL, node_sets, 2, node_sets[nodes], &nodes, NULL));
   PetscOptionsEnd();
   help = OptionsHelpRequested();
   if (!on || help) PetscFunctionReturn(0); /* a -help run runs no step: nothing to show */
@@ -333,18 +273,28 @@ PetscErrorCode FieldWriterCreate(MPI_Comm comm, const RunParams *params, Fluid f
   w->comm      = comm;
   w->fluid     = fluid;
   w->structure = structure;
+  w->itf       = itf;
+  w->problem   = problem;
   w->interval  = interval;
   w->steps     = params->steps;
   w->t0        = params->t_start;
   w->dt        = params->dt;
+  w->units     = units;
+  w->all_nodes = nodes == 0 ? PETSC_TRUE : PETSC_FALSE;
   w->part[0]   = (Part){
-      .name = "fluid", .field = {"velocity", "pressure", "mesh_velocity"},
-           .nfields = moving ? 3 : 2, .nc = {-1,         1,          -1             }
+      .name    = "fluid",
+      .field   = {"velocity", "pressure", "mesh_velocity"},
+      .unit    = {UnitName(units, UNIT_VELOCITY), UnitName(units, UNIT_PRESSURE), UnitName(units, UNIT_VELOCITY)},
+      .nfields = moving ? 3 : 2,
+      .nc      = {-1, 1, -1}
   };
   w->part[1] = (Part){
-    .name = "structure", .field = {"displacement", "velocity"},
-       .nfields = 2, .nc = {-1, -1},
-       .deform = PETSC_TRUE
+    .name    = "structure",
+    .field   = {"displacement", "velocity"},
+    .unit    = {UnitName(units, UNIT_LENGTH), UnitName(units, UNIT_VELOCITY)},
+    .nfields = 2,
+    .nc      = {-1, -1},
+    .deform  = PETSC_TRUE
   };
   PetscCall(PetscMalloc1(w->steps + 1, &w->written));
   PetscCall(PetscStrncpy(w->dir, params->output_dir, sizeof(w->dir)));
@@ -358,9 +308,12 @@ PetscErrorCode FieldWriterCreate(MPI_Comm comm, const RunParams *params, Fluid f
   for (PetscInt p = 0; p < 2; ++p) {
     Sources src;
     if (!exists[p]) continue;
-    PetscCall(SourcesGet(w, p, PETSC_FALSE, &src));
-    PetscCall(PartSetUp(w, &w->part[p], &src));
+    PetscCall(FieldsWriterSources(w, p, PETSC_FALSE, &src));
+    PetscCall(FieldsGridSetUp(comm, &w->part[p], &src.grid, w->all_nodes));
+    for (PetscInt f = 0; f < w->part[p].nfields; ++f)
+      if (w->part[p].nc[f] < 0) w->part[p].nc[f] = w->part[p].dim;
   }
+  PetscCall(FieldsDerivedCreate(w));
   PetscFunctionReturn(0);
 }
 
@@ -376,15 +329,15 @@ PetscErrorCode FieldWriterWrite(FieldWriter w, PetscInt step)
     H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
     errno = 0;
   }
-  for (PetscInt p = 0; p < 2; ++p) {
+  for (PetscInt p = 0; p < 3; ++p) {
     Sources src;
     char    group[64];
 
-    if (!w->part[p].nvertices) continue; /* not in this scene */
-    PetscCall(SourcesGet(w, p, PETSC_TRUE, &src));
+    if (!w->part[p].nnodes) continue; /* not in this scene */
+    PetscCall(FieldsWriterSources(w, p, PETSC_TRUE, &src));
     PetscCall(PetscSNPrintf(group, sizeof(group), "/%s/step_%05" PetscInt_FMT, w->part[p].name, step));
     PetscCall(PartWrite(w, &w->part[p], &src, group, w->t0 + step * w->dt));
-    PetscCall(SourcesRestore(&src));
+    PetscCall(FieldsWriterSourcesRestore(&src));
   }
   if (!w->rank && !w->write_error) w->write_error = PetscViewerFlush(w->viewer);
   {
@@ -423,9 +376,11 @@ static PetscErrorCode XdmfItem(MPI_Comm comm, FILE *fp, const char *indent, Pets
    XDMF (Xdmf2) reader and Xdmf3ReaderT list the blocks as fluid, fluid[1], fluid[2], ... */
 static PetscErrorCode XdmfGrid(MPI_Comm comm, FILE *fp, const Part *P, PetscInt step)
 {
-  const char *topology = P->dim == 3 ? (P->nv == 8 ? "Hexahedron" : "Tetrahedron")
-                       : P->nv == 3  ? "Triangle"
-                                     : "Quadrilateral";
+  const char *topology = P->polytope == DM_POLYTOPE_SEGMENT       ? "Polyline"
+                       : P->polytope == DM_POLYTOPE_TRIANGLE      ? "Triangle"
+                       : P->polytope == DM_POLYTOPE_QUADRILATERAL ? "Quadrilateral"
+                       : P->polytope == DM_POLYTOPE_TETRAHEDRON   ? "Tetrahedron"
+                                                                  : "Hexahedron";
   char        path[128];
 
   PetscFunctionBeginUser;
@@ -440,7 +395,7 @@ static PetscErrorCode XdmfGrid(MPI_Comm comm, FILE *fp, const Part *P, PetscInt 
   PetscCall(PetscFPrintf(comm, fp, "        </Topology>\n        <Geometry GeometryType=\"%s\">\n",
                          P->dim == 3 ? "XYZ" : "XY"));
   PetscCall(PetscSNPrintf(path, sizeof(path), "/%s/step_%05" PetscInt_FMT "/geometry", P->name, step));
-  PetscCall(XdmfItem(comm, fp, "          ", P->nvertices, P->dim, "Float", sizeof(PetscScalar), path));
+  PetscCall(XdmfItem(comm, fp, "          ", P->nnodes, P->dim, "Float", sizeof(PetscScalar), path));
   PetscCall(PetscFPrintf(comm, fp, "        </Geometry>\n"));
   for (PetscInt k = 1; k <= P->nfields; ++k) {
     const char *name;
@@ -448,9 +403,11 @@ static PetscErrorCode XdmfGrid(MPI_Comm comm, FILE *fp, const Part *P, PetscInt 
 
     FieldsDataset(P, k, &name, &columns);
     PetscCall(PetscFPrintf(comm, fp, "        <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"Node\">\n", name,
-                           columns > 1 ? "Vector" : "Scalar"));
+                           columns == 9 ? "Tensor" : columns == 3 ? "Vector" : "Scalar"));
+    PetscCall(PetscFPrintf(comm, fp, "          <Information Name=\"unit\" Value=\"%s\"/>\n",
+                           P->unit[k - 1] ? P->unit[k - 1] : "nondimensional"));
     PetscCall(PetscSNPrintf(path, sizeof(path), "/%s/step_%05" PetscInt_FMT "/%s", P->name, step, name));
-    PetscCall(XdmfItem(comm, fp, "          ", P->nvertices, columns, "Float", sizeof(PetscScalar), path));
+    PetscCall(XdmfItem(comm, fp, "          ", P->nnodes, columns, "Float", sizeof(PetscScalar), path));
     PetscCall(PetscFPrintf(comm, fp, "        </Attribute>\n"));
   }
   PetscCall(PetscFPrintf(comm, fp, "      </Grid>\n"));
@@ -485,8 +442,8 @@ PetscErrorCode FieldWriterFinish(FieldWriter w)
                            w->written[i]));
     PetscCall(
       PetscFPrintf(w->comm, xdmf.fp, "      <Time Value=\"%.12g\"/>\n", (double)(w->t0 + w->written[i] * w->dt)));
-    for (PetscInt p = 0; p < 2; ++p)
-      if (w->part[p].nvertices) PetscCall(XdmfGrid(w->comm, xdmf.fp, &w->part[p], w->written[i]));
+    for (PetscInt p = 0; p < 3; ++p)
+      if (w->part[p].nnodes) PetscCall(XdmfGrid(w->comm, xdmf.fp, &w->part[p], w->written[i]));
     PetscCall(PetscFPrintf(w->comm, xdmf.fp, "    </Grid>\n"));
   }
   PetscCall(PetscFPrintf(w->comm, xdmf.fp, "    </Grid>\n  </Domain>\n</Xdmf>\n"));
@@ -502,11 +459,8 @@ PetscErrorCode FieldWriterDestroy(FieldWriter *writer)
   PetscFunctionBeginUser;
   if (!w) PetscFunctionReturn(0);
   PetscCall(PetscViewerDestroy(&w->viewer));
-  for (PetscInt p = 0; p < 2; ++p) {
-    PetscCall(PetscFree(w->part[p].own));
-    PetscCall(PetscFree(w->part[p].index));
-    PetscCall(PetscFree(w->part[p].cells));
-  }
+  for (PetscInt p = 0; p < 3; ++p) PetscCall(FieldsGridDestroy(&w->part[p]));
+  PetscCall(FieldsDerivedDestroy(&w->derived));
   PetscCall(PetscFree(w->written));
   PetscCall(PetscFree(*writer));
   PetscFunctionReturn(0);

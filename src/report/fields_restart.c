@@ -102,11 +102,11 @@ static PetscErrorCode CheckSource(FieldWriter w, PetscViewer in, SourceStatus *s
   if (has) PetscCall(PetscViewerHDF5ReadAttribute(in, "/", "origin", PETSC_STRING, NULL, &origin));
   if (!has || strcmp(origin, w->source_origin)) *status = SOURCE_OTHER_RUN;
   PetscCall(PetscFree(origin));
-  for (PetscInt p = 0; p < 2 && *status == SOURCE_OK; ++p) {
+  for (PetscInt p = 0; p < 3 && *status == SOURCE_OK; ++p) {
     const Part *P = &w->part[p];
     char        path[128];
 
-    if (!P->nvertices) continue;
+    if (!P->nnodes) continue;
     for (PetscInt i = 0; i < w->nwritten && *status == SOURCE_OK; ++i)
       for (PetscInt k = 0; k <= P->nfields && *status == SOURCE_OK; ++k) {
         const char *name;
@@ -211,8 +211,8 @@ static PetscErrorCode BuildOnRoot(FieldWriter w, char source[], size_t len, Sour
   }
   PetscCall(PetscViewerHDF5Open(PETSC_COMM_SELF, tmp, FILE_MODE_WRITE, &out));
   PetscCall(FieldsWriteHeader(w, out));
-  for (PetscInt p = 0; p < 2; ++p)
-    for (PetscInt i = 0; i < w->nwritten && w->part[p].nvertices; ++i)
+  for (PetscInt p = 0; p < 3; ++p)
+    for (PetscInt i = 0; i < w->nwritten && w->part[p].nnodes; ++i)
       PetscCall(CopyStep(&w->part[p], w->written[i], in, out));
   PetscCall(PetscViewerDestroy(&in));
   PetscCall(PetscViewerDestroy(&out));

@@ -117,7 +117,8 @@ PetscErrorCode StepOutputsCreate(const RunParams *params, const Scene *scene, Pe
   out->problem   = problem;
   PetscCall(ProbesSetUp(out, dim, itf));
   PetscCall(SurfaceForceSetUp(out, dim));
-  PetscCall(FieldWriterCreate(PETSC_COMM_WORLD, params, fluid, structure, &out->fields));
+  PetscCall(FieldWriterCreate(PETSC_COMM_WORLD, params, scene->units, fluid, structure, itf, problem,
+                              &out->fields));
   *outputs = out;
   PetscFunctionReturn(0);
 }

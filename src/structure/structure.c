@@ -129,6 +129,7 @@ static PetscErrorCode StructureSetUpWeakForm(Structure s)
   PetscCall(DMCreateDS(s->dm));
   PetscCall(StructureMaterialsSetUp(s));
   if (s->material) PetscCall(DMSetAuxiliaryVec(s->dm, NULL, 0, 0, s->material));
+  PetscCall(StructureSetConstants(s, 0.0, 1.0, 0.0, s->time, 0.0)); /* the stresses written before a first solve */
   PetscCall(DMGetDS(s->dm, &ds));
   if (s->model == STRUCTURE_SVK) {
     PetscCall(PetscDSSetResidual(ds, 0, StructureF0Mass, StructureF1SVKStress));

@@ -179,3 +179,39 @@ static void Tangent(PointMaterial m, PetscInt dim, PetscScalar op, const PetscSc
           g3[((c * dim + e) * dim + d) * dim + f] += op * v;
         }
 }
+
+/* The Cauchy stress as a 3 x 3 tensor, for output: sigma = J^-1 P F^T (P = sigma for the
+   linear model); in 2D the plane strain's sigma_zz, lambda div eta (linear) or
+   J^-1 lambda tr E (St. Venant-Kirchhoff, F_zz = 1). */
+void StructureCauchyStress(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[], const PetscInt uOff_x[],
+                           const PetscScalar u[], const PetscScalar u_t[], const PetscScalar u_x[], const PetscInt aOff[],
+                           const PetscInt aOff_x[], const PetscScalar a[], const PetscScalar a_t[],
+                           const PetscScalar a_x[], PetscReal t, const PetscReal x[], PetscInt numConstants,
+                           const PetscScalar constants[], PetscScalar f[])
+{
+  const PointMaterial m = MaterialAt((StructureModel)PetscRealPart(constants[STRUCTURE_MODEL]), NfAux, aOff, a, constants);
+  const PetscScalar  *G = &u_x[uOff_x[0]];
+  PetscScalar         P[9], F[9], J = 1, zz = 0;
+
+  for (PetscInt i = 0; i < 9; ++i) f[i] = 0;
+  StructureStress(m.model, dim, m.mu, m.lambda, G, P);
+  for (PetscInt i = 0; i < dim * dim; ++i) F[i] = G[i] + (i % (dim + 1) == 0 ? 1.0 : 0.0);
+  if (m.model == STRUCTURE_LINEAR) {
+    for (PetscInt c = 0; c < dim; ++c)
+      for (PetscInt d = 0; d < dim; ++d) f[c * 3 + d] = P[c * dim + d];
+    for (PetscInt d = 0; d < dim; ++d) zz += m.lambda * G[d * dim + d];
+  } else {
+    PetscScalar trace = 0;
+    J = dim == 2 ? F[0] * F[3] - F[1] * F[2]
+                 : F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) + F[2] * (F[3] * F[7] - F[4] * F[6]);
+    for (PetscInt c = 0; c < dim; ++c)
+      for (PetscInt d = 0; d < dim; ++d) {
+        PetscScalar s = 0;
+        for (PetscInt k = 0; k < dim; ++k) s += P[c * dim + k] * F[d * dim + k];
+        f[c * 3 + d] = s / J;
+      }
+    for (PetscInt c = 0; c < dim * dim; ++c) trace += F[c] * F[c];
+    zz = m.lambda * (trace - dim) / 2 / J;
+  }
+  if (dim == 2) f[8] = zz;
+}
