@@ -38,6 +38,9 @@ PetscErrorCode FluidLinearSolveGuess(Fluid, Vec rhs, Vec x); /* forward, a first
    those rows (0 elsewhere): the load a traction-controlled fluid would need there. */
 PetscErrorCode FluidSetUpDirichlet(Fluid, IS rows); /* its solver and options (-fluid_dirichlet_) */
 PetscErrorCode FluidSolveDirichlet(Fluid, IS rows, Vec values, Vec reaction, PetscInt step);
+/* For a method that solves the coupled system at once: the SNES whose function is R(x) (a
+   step solves R(x) = history + load) and its history; FluidGetSolution's x is the state. */
+PetscErrorCode FluidGetNonlinearSystem(Fluid, SNES *, Vec *history);
 PetscErrorCode FluidGetDM(Fluid, DM *);
 PetscErrorCode FluidGetSolution(Fluid, Vec *);
 PetscErrorCode FluidGlobalToLocal(Fluid, Vec x, Vec xlocal); /* with the Dirichlet values of the fluid's time */

@@ -66,6 +66,12 @@ PetscErrorCode StructureGetInfo(Structure, PetscInt *dim, PetscInt *ndofs);
 /* The displacement field StructureSetUp will put on its mesh, for the memory estimate */
 PetscErrorCode StructureGetMeshFields(Structure, MeshFields *);
 PetscErrorCode StructureCheckpoint(Structure, Checkpoint, PetscBool load); /* checkpoint.h */
+/* For a method that solves the coupled system at once: the SNES whose function is R(eta)
+   (a step solves R(eta) = history - load), its history and eta^n (global, NULL: not
+   asked; read only: StructureSetDisplacement sets it); and the step's state set from
+   outside: eta^n (global) and its load (B_s g, NULL: none). */
+PetscErrorCode StructureGetNonlinearSystem(Structure, SNES *, Vec *history, Vec *eta);
+PetscErrorCode StructureSetDisplacement(Structure, Vec eta, Vec load);
 PetscErrorCode StructureDestroy(Structure *);
 
 /* The stress paired with grad xi for the displacement gradient grad_eta (row-major,

@@ -85,7 +85,7 @@ class Method:
 
     @property
     def partitioned(self):
-        return self.name != "opt"
+        return self.name not in ("opt", "monolithic")   # those two read -coupling_tol
 
     def coupling_options(self):
         return ["-coupling", self.name] + self.options

@@ -13,7 +13,8 @@ PetscFunctionList CouplingList = NULL;
   METHOD("dn", CouplingCreate_DN)           /* acceleration_constant.c */ \
   METHOD("aitken", CouplingCreate_Aitken)   /* acceleration_aitken.c */ \
   METHOD("iqnils", CouplingCreate_IQNILS)   /* acceleration_iqnils.c */ \
-  METHOD("iqnimvj", CouplingCreate_IQNIMVJ) /* acceleration_iqnimvj.c */
+  METHOD("iqnimvj", CouplingCreate_IQNIMVJ) /* acceleration_iqnimvj.c */ \
+  METHOD("monolithic", CouplingCreate_Monolithic) /* monolithic.c */
 #define DECLARE(name, create) PetscErrorCode create(Coupling);
 COUPLING_METHODS(DECLARE)
 #undef DECLARE

@@ -64,4 +64,10 @@ PetscErrorCode CouplingProblemMoveMesh(CouplingProblem);
 PetscErrorCode CouplingProblemSolveStructure(CouplingProblem);
 /* the state of the control x (a residual evaluation unless it is the one in hand) */
 PetscErrorCode CouplingProblemEnsureState(CouplingProblem, Vec x);
+/* problem_monolithic.c: the step's coupled system in (x_f, x_s, x) for monolithic.c: its
+   residual (which leaves the state of x in hand, as CouplingProblemResidual does), the
+   coupling blocks of its Jacobian, and a subproblem's assembled Jacobian at a state */
+PetscErrorCode CouplingProblemCoupledResidual(CouplingProblem, Vec xf, Vec xs, Vec x, Vec Ff, Vec Fs, Vec Fx);
+PetscErrorCode CouplingProblemCouplingBlocks(CouplingProblem, Mat *Cfx, Mat *Csx, Mat *Cxf, Mat *Cxs);
+PetscErrorCode CouplingProblemSystemJacobian(SNES, Vec x, Mat *A);
 #endif

@@ -474,6 +474,14 @@ PetscErrorCode FluidGetData(Fluid f, const PhysicsData **data)
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode FluidGetNonlinearSystem(Fluid f, SNES *snes, Vec *history)
+{
+  PetscFunctionBeginUser;
+  *snes    = f->snes;
+  *history = f->history;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FluidGetDM(Fluid f, DM *dm)
 {
   PetscFunctionBeginUser;
