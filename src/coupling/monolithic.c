@@ -23,6 +23,9 @@ typedef struct {
   PetscReal first; /* ||F|| at the step's first iterate */
   PetscReal tol;   /* -coupling_tol: the interface jump a converged iterate is within */
   PetscReal last;  /* ||F|| of the iteration before */
+  PetscInt  lag;   /* -coupling_monolithic_jacobian_lag: Newton iterations a factored Jacobian serves */
+  PetscInt  fresh; /* -coupling_monolithic_jacobian_refresh: a step's iteration from which it is rebuilt */
+  PetscInt  age;   /* iterations the Jacobian in hand has served; 0: none in hand */
 } Monolithic;
 
 /* PETSc's test on ||F|| and, besides, the interface jump within -coupling_tol. ||F|| sums
@@ -84,8 +87,18 @@ static PetscErrorCode Jacobian(SNES snes, Vec X, Mat J, Mat Pmat, void *ctx)
   Vec             history;
   Mat             A;
 
+  PetscInt        k;
+
   PetscFunctionBeginUser;
-  (void)snes;
+  /* the factors in hand serve -coupling_monolithic_jacobian_lag iterations across steps, but
+     not past -coupling_monolithic_jacobian_refresh iterations of one step: left unchanged, the
+     matrix is not factored again */
+  PetscCall(SNESGetIterationNumber(snes, &k));
+  if (m->age > 0 && m->age < m->lag && k < m->fresh) {
+    m->age++;
+    PetscFunctionReturn(0);
+  }
+  m->age = 1;
   PetscCall(Split(m, X, x));
   /* the subproblems' Jacobians at the iterate, on the mesh its residual moved to */
   PetscCall(PetscLogStagePush(FSIOPT_STAGE_FLUID));
@@ -104,6 +117,24 @@ static PetscErrorCode Jacobian(SNES snes, Vec X, Mat J, Mat Pmat, void *ctx)
     PetscCall(MatAssemblyBegin(J, MAT_FINAL_ASSEMBLY));
     PetscCall(MatAssemblyEnd(J, MAT_FINAL_ASSEMBLY));
   }
+  PetscFunctionReturn(0);
+}
+
+/* the whole system's factorization and solves in -log_view's Optimizer stage, the method's
+   own work */
+static PetscErrorCode StagePush(KSP ksp, Vec b, Vec x, void *ctx)
+{
+  PetscFunctionBeginUser;
+  (void)ksp, (void)b, (void)x, (void)ctx;
+  PetscCall(PetscLogStagePush(FSIOPT_STAGE_OPTIMIZER));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode StagePop(KSP ksp, Vec b, Vec x, void *ctx)
+{
+  PetscFunctionBeginUser;
+  (void)ksp, (void)b, (void)x, (void)ctx;
+  PetscCall(PetscLogStagePop());
   PetscFunctionReturn(0);
 }
 
@@ -180,6 +211,17 @@ static PetscErrorCode MonolithicSetUp(Coupling C)
                                 "a Newton iterate has converged when, besides ||F|| <= -coupling_monolithic_snes_rtol "
                                 "||F_0||, the interface jump ||u - v_s||_L2(Gamma_I) is at most this",
                                 &m->tol));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_monolithic_jacobian_lag",
+                              "Newton iterations (across steps) that one assembled and factored Jacobian serves (1: "
+                              "Newton's method itself)",
+                              1, PETSC_MAX_INT, &m->lag));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_monolithic_jacobian_refresh",
+                              "a step's Newton iteration from which the Jacobian is rebuilt whatever its age", 1,
+                              PETSC_MAX_INT, &m->fresh));
+  PetscCall(PetscSNPrintf(C->setting, sizeof(C->setting),
+                          "monolithic Newton on fluid, structure and interface traction (assembled, MUMPS; Jacobian "
+                          "every %" PetscInt_FMT " iterations)",
+                          m->lag));
   PetscOptionsEnd();
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &shared, 1, MPIU_BOOL, MPI_LAND, P->comm));
   PetscCheck(shared, P->comm, PETSC_ERR_SUP,
@@ -208,6 +250,8 @@ static PetscErrorCode MonolithicSetUp(Coupling C)
   PetscCall(SNESSetTolerances(m->snes, 0.0, rtol, 0.0, C->max_it, PETSC_DEFAULT));
   PetscCall(SNESGetKSP(m->snes, &ksp));
   PetscCall(KSPSetType(ksp, KSPPREONLY));
+  PetscCall(KSPSetPreSolve(ksp, StagePush, NULL));
+  PetscCall(KSPSetPostSolve(ksp, StagePop, NULL));
   PetscCall(KSPGetPC(ksp, &pc));
   PetscCall(PCSetType(pc, PCLU));
   PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
@@ -216,8 +260,6 @@ static PetscErrorCode MonolithicSetUp(Coupling C)
   PetscCall(PetscSNPrintf(C->measure, sizeof(C->measure),
                           "Newton's ||F||/||F_0|| (-coupling_monolithic_snes_rtol %g; jump <= -coupling_tol %g)",
                           (double)rtol, (double)m->tol));
-  PetscCall(PetscSNPrintf(C->setting, sizeof(C->setting),
-                          "monolithic Newton on fluid, structure and interface traction (assembled, MUMPS)"));
   PetscFunctionReturn(0);
 }
 
@@ -242,9 +284,15 @@ static const char *MonolithicOptimizer(PETSC_UNUSED Coupling C)
   return "newton";
 }
 
-static PetscErrorCode MonolithicResynchronize(PETSC_UNUSED Coupling C)
+/* after a checkpoint file or a new dt: a fresh Jacobian at the next iteration, on both sides
+   of a restart */
+static PetscErrorCode MonolithicResynchronize(Coupling C)
 {
-  return 0; /* nothing carried from step to step beyond the subproblems' state */
+  Monolithic *m = (Monolithic *)C->data;
+
+  PetscFunctionBeginUser;
+  m->age = 0;
+  PetscFunctionReturn(0);
 }
 
 PetscErrorCode CouplingCreate_Monolithic(Coupling C)
@@ -255,6 +303,8 @@ PetscErrorCode CouplingCreate_Monolithic(Coupling C)
   PetscCall(PetscNew(&m));
   C->data              = m;
   C->max_it            = 50;
+  m->lag               = 50;
+  m->fresh             = 6;
   C->ops.setup         = MonolithicSetUp;
   C->ops.iterate       = MonolithicIterate;
   C->ops.destroy       = MonolithicDestroy;
