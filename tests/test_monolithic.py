@@ -71,3 +71,18 @@ def test_monolithic_restart():
     assert same_file(os.path.join(full, "probes.csv"), os.path.join(restarted, "probes.csv")), \
         "the restarted run's probes.csv differs from the uninterrupted run's"
     return "restart at step 31 = the uninterrupted run byte for byte"
+
+
+@test("monolithic with the Schur-complement field split on the interface traction "
+      "(options/solvers/monolithic-schur.yaml) = with one LU of the whole system: channel2d's 20 steps, every probe "
+      "to 1e-8 of its scale, the same Newton iterations")
+def test_monolithic_fieldsplit():
+    outs, summaries = {}, {}
+    for name, extra in (("lu", []), ("schur", ["-options_file", "options/solvers/monolithic-schur.yaml"])):
+        outs[name] = os.path.join(WORK, "monolithic-split-" + name)
+        summaries[name] = solve(CHANNEL + MONO + ["-t_final", "0.002"] + extra, out=outs[name])
+    lu, schur = probes(outs["lu"])[:, 1:], probes(outs["schur"])[:, 1:]
+    gap = (abs(schur - lu).max(axis=0) / abs(lu).max(axis=0)).max()
+    its = {k: s["coupling_iterations"] for k, s in summaries.items()}
+    assert gap <= 1e-8 and its["lu"] == its["schur"], "gap %.1e of the scale, Newton iterations %s" % (gap, its)
+    return "probes within %.1e of the scale, %d Newton iterations each" % (gap, its["lu"])

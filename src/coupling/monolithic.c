@@ -17,7 +17,8 @@
 typedef struct {
   SNES      snes;
   Mat       block[9], nest, J;
-  IS        is[3]; /* the rows of x_f, x_s and x in the system's vectors */
+  IS        is[3];       /* the rows of x_f, x_s and x in the system's vectors */
+  IS        subproblems; /* those of x_f and x_s together: a field split's first block */
   Vec       X, F;
   PetscInt  step;
   PetscReal first; /* ||F|| at the step's first iterate */
@@ -218,10 +219,7 @@ static PetscErrorCode MonolithicSetUp(Coupling C)
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_monolithic_jacobian_refresh",
                               "a step's Newton iteration from which the Jacobian is rebuilt whatever its age", 1,
                               PETSC_MAX_INT, &m->fresh));
-  PetscCall(PetscSNPrintf(C->setting, sizeof(C->setting),
-                          "monolithic Newton on fluid, structure and interface traction (assembled, MUMPS; Jacobian "
-                          "every %" PetscInt_FMT " iterations)",
-                          m->lag));
+
   PetscOptionsEnd();
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &shared, 1, MPIU_BOOL, MPI_LAND, P->comm));
   PetscCheck(shared, P->comm, PETSC_ERR_SUP,
@@ -256,6 +254,26 @@ static PetscErrorCode MonolithicSetUp(Coupling C)
   PetscCall(PCSetType(pc, PCLU));
   PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
   PetscCall(SNESSetFromOptions(m->snes));
+  /* -coupling_monolithic_pc_type fieldsplit: the fluid and the structure (whose block of the
+     Jacobian is block diagonal, the two not touching) and the interface traction, named
+     "subproblems" and "interface" for their options; PCLU ignores them */
+  PetscCall(ISExpand(m->is[0], m->is[1], &m->subproblems));
+  PetscCall(PCFieldSplitSetIS(pc, "subproblems", m->subproblems));
+  PetscCall(PCFieldSplitSetIS(pc, "interface", m->is[2]));
+  {
+    PetscBool split;
+    PCType    type;
+    PetscCall(PCGetType(pc, &type));
+    PetscCall(PetscSNPrintf(C->setting, sizeof(C->setting),
+                            "monolithic Newton on fluid, structure and interface traction (assembled, %s; Jacobian "
+                            "every %" PetscInt_FMT " iterations)",
+                            type, m->lag));
+    PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCFIELDSPLIT, &split));
+    if (split) { /* the splits' solvers now, so that the run's options check finds their options read */
+      PetscCall(KSPSetOperators(ksp, m->J, m->J));
+      PetscCall(KSPSetUp(ksp));
+    }
+  }
   PetscCall(SNESGetTolerances(m->snes, NULL, &rtol, NULL, NULL, NULL));
   PetscCall(PetscSNPrintf(C->measure, sizeof(C->measure),
                           "Newton's ||F||/||F_0|| (-coupling_monolithic_snes_rtol %g; jump <= -coupling_tol %g)",
@@ -271,6 +289,7 @@ static PetscErrorCode MonolithicDestroy(Coupling C)
   PetscCall(SNESDestroy(&m->snes));
   for (PetscInt k = 0; k < 9; ++k) PetscCall(MatDestroy(&m->block[k]));
   for (PetscInt k = 0; k < 3; ++k) PetscCall(ISDestroy(&m->is[k]));
+  PetscCall(ISDestroy(&m->subproblems));
   PetscCall(MatDestroy(&m->nest));
   PetscCall(MatDestroy(&m->J));
   PetscCall(VecDestroy(&m->X));
