@@ -8,6 +8,10 @@ PetscErrorCode OptionsPositiveReal(PetscOptionItems *, const char opt[], const c
 PetscErrorCode OptionsNonNegativeReal(PetscOptionItems *, const char opt[], const char text[], PetscReal *value);
 PetscErrorCode OptionsRealInRange(PetscOptionItems *, const char opt[], const char text[], PetscReal lo, PetscReal hi,
                                   PetscReal *value);
+/* Refuses an integer option (or a comma-separated list of them) whose text names a value
+   PetscInt cannot hold, or PETSc's words DEFAULT, DECIDE, DETERMINE; expected says what it
+   takes. prefix may be NULL. */
+PetscErrorCode OptionsCheckIntegers(MPI_Comm, const char prefix[], const char opt[], const char expected[]);
 PetscErrorCode OptionsIntInRange(PetscOptionItems *, const char opt[], const char text[], PetscInt lo, PetscInt hi,
                                  PetscInt *value);
 /* The names of a registry (scenes, coupling methods), comma separated, for messages and -help */

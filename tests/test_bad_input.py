@@ -299,3 +299,29 @@ def test_help_order_and_pipe():
             bad.append((i, p.returncode, status, p.stderr.strip()[:200]))
     assert not bad, "-help | head -1: %d of 50 not quiet: %s" % (len(bad), bad[:3])
     return "%d own groups (checks apart) before PETSc's; 50 of 50 -help | head -1 quiet, fsiopt's exit 0" % len(groups)
+
+
+@test("integer options past fsiopt's integers (2^32 + 1, 10^10, 10^20, -10^23) or given PETSc's words DEFAULT, DECIDE, "
+      "DETERMINE: one line naming the option and its range, from the command line and from YAML, before any output")
+def test_integer_overflow():
+    yaml = os.path.join(inputs_dir(), "huge-refine.yaml")
+    with open(yaml, "w") as f:
+        f.write("refine: 4294967297\n")
+    cases = [("refine 2^32 + 1", CHANNEL + ["-refine", "4294967297"], "-refine"),
+             ("refine from YAML", CHANNEL + ["-options_file", yaml], "-refine"),
+             ("max_it 10^10", CHANNEL + ["-coupling_max_it", "10000000000"], "-coupling_max_it"),
+             ("checkpoint interval 2^32", CHANNEL + ["-checkpoint_every", "4294967296"], "-checkpoint_every"),
+             ("fields interval 10^20", CHANNEL + ["-write_fields", "-write_fields_interval", "100000000000000000000"],
+              "-write_fields_interval"),
+             ("extrapolation -10^23", CHANNEL + ["-coupling_extrapolation", "-99999999999999999999999"],
+              "-coupling_extrapolation"),
+             ("box faces 2^32 + 10", CHANNEL + ["-fluid_dm_plex_box_faces", "30,4294967306"], "-fluid_dm_plex_box_faces"),
+             ("backflow faces 10^11", CHANNEL + ["-fluid_backflow_faces", "99999999999"], "-fluid_backflow_faces"),
+             ("test step 2^32 + 7", CHANNEL + ["-interrupt_test_step", "4294967303"], "-interrupt_test_step"),
+             ("max_it DEFAULT", CHANNEL + ["-coupling_max_it", "DEFAULT"], "DEFAULT"),
+             ("fields interval DECIDE", CHANNEL + ["-write_fields", "-write_fields_interval", "DECIDE"], "DECIDE"),
+             ("refine determine", CHANNEL + ["-refine", "determine"], "determine"),
+             ("jacobian lag PETSC_DEFAULT", CHANNEL + ["-coupling", "monolithic", "-coupling_monolithic_jacobian_lag",
+                                                      "PETSC_DEFAULT"], "PETSC_DEFAULT")]
+    return refused(cases)
+

@@ -34,6 +34,47 @@ def test_sigint_sigterm_stop_after_the_step():
     return ", ".join(details)
 
 
+@test("SIGUSR2, SIGALRM, SIGQUIT, SIGXCPU (a batch system's or a limit's warning before its kill): the run stops after "
+      "the step as under SIGTERM, with its checkpoint, complete outputs and one line; the checkpoint continues the run")
+def test_batch_signals_stop_after_the_step():
+    details = []
+    for name, step in (("SIGUSR2", 7), ("SIGALRM", 5), ("SIGQUIT", 6), ("SIGXCPU", 8)):
+        rc, err, out = interrupted(name, step)
+        lines = [l for l in err.splitlines() if l.strip()]
+        assert rc == 1 and len(lines) == 1 and \
+            lines[0].startswith("fsiopt: error: interrupted by %s after step %d " % (name, step)), \
+            "%s: exit %s, stderr %s" % (name, rc, lines)
+        s = fr.read_summary(out)
+        assert s["interrupted"] == name and s["steps_done"] == step and not os.path.exists(os.path.join(out, ".fsiopt.lock")) \
+            and not [f for f in os.listdir(out) if f.endswith(".partial")], "%s: summary %s, left %s" % (
+                name, s, os.listdir(out))
+        assert checkpoint_step(os.path.join(out, "checkpoint.h5")) == step, "%s: the checkpoint is not of step %d" % (name, step)
+        more = solve(CHANNEL + ["-t_final", repr((step + 2) * s["dt"]), "-restart", os.path.join(out, "checkpoint.h5")])
+        assert more["first_step"] == step + 1, "%s: restart %s" % (name, more)
+        details.append("%s after step %d" % (name, step))
+    return ", ".join(details) + ": stopped there, checkpoint restarted"
+
+
+@test("a file-size limit (RLIMIT_FSIZE 8 MB) under a run writing fields every step: SIGXFSZ ignored, the failing "
+      "write reported in one line naming the file and 'File too large', exit 1, no lock left, what was written kept "
+      "as .partial")
+def test_file_size_limit():
+    import resource
+
+    def limit():
+        resource.setrlimit(resource.RLIMIT_FSIZE, (8_000_000, 8_000_000))
+
+    out = os.path.join(WORK, "file-size-limit")
+    cmd = fr.fsiopt_command(CHANNEL + ["-t_final", "0.01", "-write_fields", "-write_fields_interval", "1"], 1, out)
+    p = subprocess.run(cmd, cwd=ROOT, preexec_fn=limit, capture_output=True, text=True, timeout=300)
+    lines = [l for l in (p.stdout + p.stderr).splitlines() if l.startswith("fsiopt: error")]
+    left = os.listdir(out)
+    assert p.returncode == 1 and len(lines) == 1 and "fields.h5" in lines[0] and "File too large" in lines[0], \
+        "exit %s (-25: killed by SIGXFSZ), %s" % (p.returncode, lines or p.stderr[-300:])
+    assert ".fsiopt.lock" not in left and "fields.h5.partial" in left and "summary.json" not in left, "left %s" % left
+    return lines[0]
+
+
 @test("the standard output's reader goes away (a closed pipe): the run stops after the step with a checkpoint and "
       "complete outputs, one line on stderr, exit != 0, and the checkpoint continues the run", quick=True)
 def test_closed_stdout_pipe():

@@ -1,8 +1,14 @@
-/* Signals a run answers between steps (interrupt.h): SIGINT, SIGTERM, SIGHUP and a closed
-   pipe end it after the step in progress, SIGUSR1 asks for a checkpoint; and the
-   -interrupt_test_* options that raise them at a given step for the tests. */
+/* Signals a run answers between steps (interrupt.h): SIGINT, SIGTERM, SIGHUP, the ones batch
+   systems and resource limits send before a kill (SIGUSR2, SIGALRM, SIGQUIT, SIGXCPU) and a
+   closed pipe end it after the step in progress, SIGUSR1 asks for a checkpoint, SIGXFSZ (a
+   file-size limit) is ignored so that the write it stopped fails and is reported as such;
+   and the -interrupt_test_* options that raise them at a given step for the tests. */
 #include <signal.h>
 #include "interrupt.h"
+#include "options.h"
+
+/* the signals that end a run after its step, as SIGTERM does */
+static const int stopping[] = {SIGINT, SIGTERM, SIGHUP, SIGUSR2, SIGALRM, SIGQUIT, SIGXCPU};
 
 static volatile sig_atomic_t caught      = 0;
 static volatile sig_atomic_t requests    = 0; /* SIGUSR1s received */
@@ -38,10 +44,17 @@ PetscErrorCode InterruptInstall(void)
   action.sa_handler = Catch;
   action.sa_flags   = SA_RESETHAND; /* the second signal takes the default action */
   sigemptyset(&action.sa_mask);
-  /* SIGHUP: the terminal or the batch system's session went away, as a SIGTERM */
-  PetscCheck(sigaction(SIGINT, &action, NULL) == 0 && sigaction(SIGTERM, &action, NULL) == 0 &&
-               sigaction(SIGHUP, &action, NULL) == 0,
-             PETSC_COMM_SELF, PETSC_ERR_SYS, "cannot install the SIGINT/SIGTERM/SIGHUP handler");
+  /* SIGHUP: the terminal or the batch system's session went away; SIGUSR2, SIGALRM: a batch
+     system's warning before its kill; SIGQUIT: a user's; SIGXCPU: the CPU-time limit, whose
+     SIGKILL follows: all as a SIGTERM */
+  for (size_t i = 0; i < PETSC_STATIC_ARRAY_LENGTH(stopping); ++i)
+    PetscCheck(sigaction(stopping[i], &action, NULL) == 0, PETSC_COMM_SELF, PETSC_ERR_SYS,
+               "cannot install the handler of %s", InterruptName(stopping[i]));
+  /* SIGXFSZ: a write past the file-size limit then fails with EFBIG, which the writers report */
+  memset(&action, 0, sizeof(action));
+  action.sa_handler = SIG_IGN;
+  sigemptyset(&action.sa_mask);
+  PetscCheck(sigaction(SIGXFSZ, &action, NULL) == 0, PETSC_COMM_SELF, PETSC_ERR_SYS, "cannot ignore SIGXFSZ");
   /* SIGPIPE: whatever read the standard output went away (tee, a log reader), which would
      otherwise end the run at its next line without a checkpoint */
   memset(&action, 0, sizeof(action));
@@ -60,16 +73,17 @@ PetscErrorCode InterruptInstall(void)
 /* Tests need a signal that lands after a known step, on a loaded machine as on an idle one. */
 PetscErrorCode InterruptSetFromOptions(void)
 {
-  const char *const names[]   = {"SIGTERM", "SIGINT", "SIGKILL", "SIGHUP", "SIGUSR1", "SIGPIPE"};
-  const int         numbers[] = {SIGTERM, SIGINT, SIGKILL, SIGHUP, SIGUSR1, SIGPIPE};
+  const char *const names[] = {"SIGTERM", "SIGINT",  "SIGKILL", "SIGHUP",  "SIGUSR1", "SIGPIPE",
+                               "SIGUSR2", "SIGALRM", "SIGQUIT", "SIGXCPU", "SIGXFSZ"};
+  const int numbers[] = {SIGTERM, SIGINT, SIGKILL, SIGHUP, SIGUSR1, SIGPIPE, SIGUSR2, SIGALRM, SIGQUIT, SIGXCPU, SIGXFSZ};
   PetscInt          which     = 0;
   PetscBool         in_setup  = PETSC_FALSE;
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Signals", "fsiopt");
-  PetscCall(PetscOptionsInt("-interrupt_test_step",
-                            "testing: the process sends itself -interrupt_test_signal after this step (0: never)", NULL,
-                            test_step, &test_step, NULL));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-interrupt_test_step",
+                              "testing: the process sends itself -interrupt_test_signal after this step (0: never)", 0,
+                              PETSC_MAX_INT, &test_step));
   PetscCall(PetscOptionsEList("-interrupt_test_signal", "testing: the signal of -interrupt_test_step", NULL, names,
                               (PetscInt)PETSC_STATIC_ARRAY_LENGTH(names), names[which], &which, NULL));
   PetscCall(PetscOptionsBool("-interrupt_test_failure",
@@ -145,5 +159,9 @@ const char *InterruptName(int signum)
          : signum == SIGTERM ? "SIGTERM"
          : signum == SIGHUP  ? "SIGHUP"
          : signum == SIGPIPE ? "SIGPIPE"
+         : signum == SIGUSR2 ? "SIGUSR2"
+         : signum == SIGALRM ? "SIGALRM"
+         : signum == SIGQUIT ? "SIGQUIT"
+         : signum == SIGXCPU ? "SIGXCPU"
                              : "a signal";
 }

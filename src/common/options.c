@@ -1,6 +1,8 @@
 /* Options as fsiopt reads them (options.h): range-checked values, scene defaults the user
    overrides, readable files, and the check of options nothing read. */
 #include <ctype.h>
+#include <errno.h>
+#include <strings.h>
 #include "options.h"
 #include <stdio.h>
 #include <string.h>
@@ -37,10 +39,45 @@ PetscErrorCode OptionsRealInRange(PetscOptionItems *PetscOptionsObject, const ch
   PetscFunctionReturn(0);
 }
 
+/* PETSc reads an integer option by strtoll and a cast to PetscInt, so 2^32 + 1 becomes 1, and
+   takes its words DEFAULT, DECIDE, DETERMINE as -2, -1, -1: refused here before it reads. */
+PetscErrorCode OptionsCheckIntegers(MPI_Comm comm, const char prefix[], const char opt[], const char expected[])
+{
+  char      text[1024], *token, *rest;
+  PetscBool set;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetString(NULL, prefix, opt, text, sizeof(text), &set));
+  if (!set) PetscFunctionReturn(0);
+  for (token = strtok_r(text, ",", &rest); token; token = strtok_r(NULL, ",", &rest)) {
+    const char *words[] = {"DEFAULT", "DECIDE", "DETERMINE", "PETSC_DEFAULT", "PETSC_DECIDE", "PETSC_DETERMINE"};
+    char       *end;
+    long long   v;
+
+    while (isspace((unsigned char)*token)) ++token;
+    for (size_t k = 0; k < sizeof(words) / sizeof(words[0]); ++k)
+      PetscCheck(strcasecmp(token, words[k]), comm, PETSC_ERR_ARG_WRONG,
+                 "option -%s%s: expected %s, got %s (PETSc's word for a value it chooses, which has no meaning here)",
+                 prefix ? prefix : "", opt + 1, expected, token);
+    errno = 0;
+    v     = strtoll(token, &end, 10);
+    while (isspace((unsigned char)*end)) ++end;
+    if (end == token || *end) continue; /* not a plain integer: PETSc's own message names it */
+    PetscCheck(errno != ERANGE && v >= PETSC_MIN_INT && v <= PETSC_MAX_INT, comm, PETSC_ERR_ARG_OUTOFRANGE,
+               "option -%s%s: %s does not fit fsiopt's integers (%" PetscInt_FMT " to %" PetscInt_FMT "); expected %s",
+               prefix ? prefix : "", opt + 1, token, (PetscInt)PETSC_MIN_INT, (PetscInt)PETSC_MAX_INT, expected);
+  }
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode OptionsIntInRange(PetscOptionItems *PetscOptionsObject, const char opt[], const char text[], PetscInt lo,
                                  PetscInt hi, PetscInt *value)
 {
+  char expected[128];
+
   PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(expected, sizeof(expected), "an integer in [%" PetscInt_FMT ", %" PetscInt_FMT "]", lo, hi));
+  PetscCall(OptionsCheckIntegers(PetscOptionsObject->comm, PetscOptionsObject->prefix, opt, expected));
   PetscCall(PetscOptionsInt(opt, text, NULL, *value, value, NULL));
   PetscCheck(*value >= lo && *value <= hi, PetscOptionsObject->comm, PETSC_ERR_ARG_OUTOFRANGE,
              "option %s: expected an integer in [%" PetscInt_FMT ", %" PetscInt_FMT "] (%s), got %" PetscInt_FMT, opt,

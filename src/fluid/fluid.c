@@ -54,6 +54,7 @@ PetscErrorCode FluidSetFromOptions(Fluid f)
                      "Add -1/2 rho ((u-z).n)_- (u, v) on the traction boundaries, against backflow instabilities", NULL,
                      f->backflow, &f->backflow, NULL));
   f->n_backflow_faces = FSIOPT_MAX_BOUNDARIES;
+  PetscCall(OptionsCheckIntegers(PetscOptionsObject->comm, NULL, "-fluid_backflow_faces", "face-set numbers"));
   PetscCall(PetscOptionsIntArray("-fluid_backflow_faces",
                                  "Face sets that get the backflow stabilization (default: every traction face)", NULL,
                                  f->backflow_faces, &f->n_backflow_faces, &f->backflow_faces_given));

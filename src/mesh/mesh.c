@@ -81,6 +81,7 @@ static PetscErrorCode MeshCheckBox(MPI_Comm comm, const char prefix[])
 
   PetscFunctionBeginUser;
   PetscCall(PetscSNPrintf(option, sizeof(option), "-%sdm_plex_box_faces", prefix));
+  PetscCall(OptionsCheckIntegers(comm, NULL, option, "cells per direction, each at least 1"));
   PetscCall(PetscOptionsGetIntArray(NULL, NULL, option, faces, &nfaces, &set));
   for (PetscInt d = 0; set && d < nfaces; ++d)
     PetscCheck(faces[d] >= 1, comm, PETSC_ERR_ARG_OUTOFRANGE,
