@@ -325,3 +325,16 @@ def test_integer_overflow():
                                                       "PETSC_DEFAULT"], "PETSC_DEFAULT")]
     return refused(cases)
 
+
+
+@test("face sets the mesh or the condition lacks: -fluid_backflow_faces naming no traction boundary (a face set "
+      "the mesh lacks, or a wall), -write_fields_walls naming a face-set number the mesh lacks: one line naming the "
+      "option, never applied nowhere")
+def test_face_sets_the_mesh_lacks():
+    fields = ["-write_fields", "-write_fields_derived", "wall_shear_stress", "-write_fields_walls"]
+    cases = [("backflow on a face set the mesh lacks", CHANNEL + ["-fluid_backflow_faces", "7"], "-fluid_backflow_faces"),
+             ("backflow on a wall", CHANNEL + ["-fluid_backflow_faces", "1"], "traction boundaries (2, 4)"),
+             ("backflow on one good, one missing", CHANNEL + ["-fluid_backflow_faces", "4,12"], "face set 12"),
+             ("walls' number the mesh lacks", CHANNEL + fields + ["9"], "-write_fields_walls"),
+             ("walls' name the mesh lacks", CHANNEL + fields + ["roof"], "-write_fields_walls")]
+    return refused(cases)

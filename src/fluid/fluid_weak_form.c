@@ -99,6 +99,21 @@ PetscErrorCode FluidSetUpWeakForm(Fluid f)
   PetscCall(FluidSetVolumeWeakForm(f, f->dm, NULL));
   PetscCall(DMGetDS(f->dm, &ds));
   PetscCall(FEMAddBoundaries(f->dm, 0, &f->data, f->datums, &f->time));
+  /* a listed face set that is no traction boundary would get nothing: refused, not ignored */
+  for (PetscInt i = 0; i < f->n_backflow_faces && f->backflow_faces_given; ++i) {
+    PetscBool traction = PETSC_FALSE;
+    char      list[128] = "";
+    for (PetscInt b = 0; b < f->data.n_traction; ++b) {
+      char number[24];
+      traction = traction || f->backflow_faces[i] == f->data.traction_faces[b] ? PETSC_TRUE : PETSC_FALSE;
+      PetscCall(PetscSNPrintf(number, sizeof(number), "%s%" PetscInt_FMT, b ? ", " : "", f->data.traction_faces[b]));
+      PetscCall(PetscStrlcat(list, number, sizeof(list)));
+    }
+    PetscCheck(traction, PetscObjectComm((PetscObject)f->dm), PETSC_ERR_ARG_WRONG,
+               "option -fluid_backflow_faces: face set %" PetscInt_FMT
+               " is not one of the fluid's traction boundaries (%s)",
+               f->backflow_faces[i], list[0] ? list : "it has none");
+  }
   if (f->backflow && f->model == FLUID_NAVIER_STOKES) {
     DMLabel label;
     PetscCall(DMGetLabel(f->dm, "Face Sets", &label));

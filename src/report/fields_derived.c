@@ -141,9 +141,20 @@ static PetscErrorCode ReadWalls(FieldWriter w, FieldsDerived d)
   }
   PetscCall(MeshFaceSetNames(w->comm, "fluid_", dim, 64, &nnames, known));
   for (PetscInt i = 0; i < n; ++i) {
+    PetscInt faces = 0;
     PetscCall(MeshFaceSetFind(nnames, known, texts[i], &d->walls[i]));
-    PetscCheck(d->walls[i] > 0, w->comm, PETSC_ERR_ARG_WRONG,
-               "option -write_fields_walls: the fluid mesh has no face set %s; expected a name or a number", texts[i]);
+    if (w->fluid && d->walls[i] > 0) { /* a number the mesh lacks would write an empty grid */
+      DM      dm;
+      DMLabel label;
+      PetscCall(FluidGetDM(w->fluid, &dm));
+      PetscCall(DMGetLabel(dm, "Face Sets", &label));
+      if (label) PetscCall(DMLabelGetStratumSize(label, d->walls[i], &faces));
+    }
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &faces, 1, MPIU_INT, MPI_SUM, w->comm));
+    PetscCheck(d->walls[i] > 0 && faces > 0, w->comm, PETSC_ERR_ARG_WRONG,
+               "option -write_fields_walls: the fluid mesh has no face set %s; expected a name or a number of its face "
+               "sets",
+               texts[i]);
     PetscCall(PetscFree(texts[i]));
   }
   d->nwalls = n;
