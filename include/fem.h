@@ -106,6 +106,9 @@ PetscErrorCode FEMErrors(DM dm, Vec xglobal, PetscReal t, const FieldFn exact[],
    over the cells that share a node (fem_nodal_average.c). Compute returns a local vector of
    the object's, valid until the next Compute. */
 typedef struct _n_FEMNodalAverage *FEMNodalAverage;
+/* A local vector's contributions from each rank's cells summed at every point, the sums
+   back in the local vector on every rank that has the point (global: work space). */
+PetscErrorCode FEMSumOverRanks(DM dm, Vec local, Vec global);
 PetscErrorCode FEMNodalAverageCreate(DM dm, PetscInt degree, PetscInt nc, const char name[], ResidualKernel,
                                      FEMNodalAverage *);
 PetscErrorCode FEMNodalAverageCompute(FEMNodalAverage, Vec local_field, PetscReal t, Vec *value);

@@ -26,13 +26,12 @@ static void One(PetscInt dim, PetscInt Nf, PetscInt NfAux, const PetscInt uOff[]
   f[0] = 1.0;
 }
 
-/* Sums a local vector's cell contributions over ranks and hands them back as a local vector. */
-static PetscErrorCode SumOverRanks(FEMNodalAverage avg, Vec local)
+PetscErrorCode FEMSumOverRanks(DM dm, Vec local, Vec global)
 {
   PetscFunctionBeginUser;
-  PetscCall(VecZeroEntries(avg->global));
-  PetscCall(DMLocalToGlobal(avg->dm, local, ADD_VALUES, avg->global));
-  PetscCall(DMGlobalToLocal(avg->dm, avg->global, INSERT_VALUES, local));
+  PetscCall(VecZeroEntries(global));
+  PetscCall(DMLocalToGlobal(dm, local, ADD_VALUES, global));
+  PetscCall(DMGlobalToLocal(dm, global, INSERT_VALUES, local));
   PetscFunctionReturn(0);
 }
 
@@ -71,8 +70,7 @@ PetscErrorCode FEMNodalAverageCreate(DM dm, PetscInt degree, PetscInt nc, const 
     PetscCall(DMCreateLocalVector(scalar, &count));
     PetscCall(DMCreateGlobalVector(scalar, &global));
     PetscCall(DMProjectFieldLocal(scalar, 0.0, ones, &one, ADD_VALUES, count));
-    PetscCall(DMLocalToGlobal(scalar, count, ADD_VALUES, global));
-    PetscCall(DMGlobalToLocal(scalar, global, INSERT_VALUES, count));
+    PetscCall(FEMSumOverRanks(scalar, count, global));
     PetscCall(VecGetLocalSize(count, &n));
     PetscCall(VecGetArrayRead(count, &c));
     PetscCall(VecGetArray(avg->inverse_count, &inv));
@@ -105,7 +103,7 @@ PetscErrorCode FEMNodalAverageCompute(FEMNodalAverage avg, Vec local_field, Pets
   if (n) PetscCall(PetscDSSetConstants(ds, n, (PetscScalar *)constants));
   PetscCall(VecZeroEntries(avg->sum));
   PetscCall(DMProjectFieldLocal(avg->dm, t, local_field, &avg->kernel, ADD_VALUES, avg->sum));
-  PetscCall(SumOverRanks(avg, avg->sum));
+  PetscCall(FEMSumOverRanks(avg->dm, avg->sum, avg->global));
   PetscCall(VecPointwiseMult(avg->value, avg->sum, avg->inverse_count));
   *value = avg->value;
   PetscFunctionReturn(0);

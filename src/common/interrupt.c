@@ -7,8 +7,25 @@
 #include "interrupt.h"
 #include "options.h"
 
-/* the signals that end a run after its step, as SIGTERM does */
-static const int stopping[] = {SIGINT, SIGTERM, SIGHUP, SIGUSR2, SIGALRM, SIGQUIT, SIGXCPU};
+/* The signals a run knows by name: those that end it after its step as SIGTERM does, and the
+   others -interrupt_test_signal may raise. */
+static const struct {
+  const char *name;
+  int         number;
+  PetscBool   stops;
+} known[] = {
+  {"SIGTERM", SIGTERM, PETSC_TRUE },
+  {"SIGINT",  SIGINT,  PETSC_TRUE },
+  {"SIGKILL", SIGKILL, PETSC_FALSE},
+  {"SIGHUP",  SIGHUP,  PETSC_TRUE },
+  {"SIGUSR1", SIGUSR1, PETSC_FALSE},
+  {"SIGPIPE", SIGPIPE, PETSC_FALSE},
+  {"SIGUSR2", SIGUSR2, PETSC_TRUE },
+  {"SIGALRM", SIGALRM, PETSC_TRUE },
+  {"SIGQUIT", SIGQUIT, PETSC_TRUE },
+  {"SIGXCPU", SIGXCPU, PETSC_TRUE },
+  {"SIGXFSZ", SIGXFSZ, PETSC_FALSE}
+};
 
 static volatile sig_atomic_t caught      = 0;
 static volatile sig_atomic_t requests    = 0; /* SIGUSR1s received */
@@ -47,9 +64,9 @@ PetscErrorCode InterruptInstall(void)
   /* SIGHUP: the terminal or the batch system's session went away; SIGUSR2, SIGALRM: a batch
      system's warning before its kill; SIGQUIT: a user's; SIGXCPU: the CPU-time limit, whose
      SIGKILL follows: all as a SIGTERM */
-  for (size_t i = 0; i < PETSC_STATIC_ARRAY_LENGTH(stopping); ++i)
-    PetscCheck(sigaction(stopping[i], &action, NULL) == 0, PETSC_COMM_SELF, PETSC_ERR_SYS,
-               "cannot install the handler of %s", InterruptName(stopping[i]));
+  for (size_t i = 0; i < PETSC_STATIC_ARRAY_LENGTH(known); ++i)
+    PetscCheck(!known[i].stops || sigaction(known[i].number, &action, NULL) == 0, PETSC_COMM_SELF, PETSC_ERR_SYS,
+               "cannot install the handler of %s", known[i].name);
   /* SIGXFSZ: a write past the file-size limit then fails with EFBIG, which the writers report */
   memset(&action, 0, sizeof(action));
   action.sa_handler = SIG_IGN;
@@ -73,13 +90,12 @@ PetscErrorCode InterruptInstall(void)
 /* Tests need a signal that lands after a known step, on a loaded machine as on an idle one. */
 PetscErrorCode InterruptSetFromOptions(void)
 {
-  const char *const names[] = {"SIGTERM", "SIGINT",  "SIGKILL", "SIGHUP",  "SIGUSR1", "SIGPIPE",
-                               "SIGUSR2", "SIGALRM", "SIGQUIT", "SIGXCPU", "SIGXFSZ"};
-  const int numbers[] = {SIGTERM, SIGINT, SIGKILL, SIGHUP, SIGUSR1, SIGPIPE, SIGUSR2, SIGALRM, SIGQUIT, SIGXCPU, SIGXFSZ};
-  PetscInt          which     = 0;
+  const char *names[PETSC_STATIC_ARRAY_LENGTH(known)];
+  PetscInt    which = 0;
   PetscBool         in_setup  = PETSC_FALSE;
 
   PetscFunctionBeginUser;
+  for (size_t i = 0; i < PETSC_STATIC_ARRAY_LENGTH(known); ++i) names[i] = known[i].name;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Signals", "fsiopt");
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-interrupt_test_step",
                               "testing: the process sends itself -interrupt_test_signal after this step (0: never)", 0,
@@ -93,7 +109,7 @@ PetscErrorCode InterruptSetFromOptions(void)
                              "testing: the process sends itself -interrupt_test_signal during its set-up", NULL,
                              in_setup, &in_setup, NULL));
   PetscOptionsEnd();
-  test_signal = numbers[which];
+  test_signal = known[which].number;
   if (in_setup)
     PetscCheck(raise(test_signal) == 0, PETSC_COMM_SELF, PETSC_ERR_SYS,
                "option -interrupt_test_setup: cannot raise the signal");
@@ -155,13 +171,7 @@ PetscErrorCode InterruptCheckSetUp(const char where[])
 
 const char *InterruptName(int signum)
 {
-  return signum == SIGINT    ? "SIGINT"
-         : signum == SIGTERM ? "SIGTERM"
-         : signum == SIGHUP  ? "SIGHUP"
-         : signum == SIGPIPE ? "SIGPIPE"
-         : signum == SIGUSR2 ? "SIGUSR2"
-         : signum == SIGALRM ? "SIGALRM"
-         : signum == SIGQUIT ? "SIGQUIT"
-         : signum == SIGXCPU ? "SIGXCPU"
-                             : "a signal";
+  for (size_t i = 0; i < PETSC_STATIC_ARRAY_LENGTH(known); ++i)
+    if (known[i].number == signum) return known[i].name;
+  return "a signal";
 }

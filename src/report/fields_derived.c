@@ -318,9 +318,7 @@ static PetscErrorCode WallNormals(FieldWriter w, FieldsDerived d, const FieldsGr
   }
   PetscCall(VecRestoreArray(d->normal_local, &a));
   PetscCall(PetscFree(faces));
-  PetscCall(VecZeroEntries(d->normal_global));
-  PetscCall(DMLocalToGlobal(d->normals, d->normal_local, ADD_VALUES, d->normal_global));
-  PetscCall(DMGlobalToLocal(d->normals, d->normal_global, INSERT_VALUES, d->normal_local));
+  PetscCall(FEMSumOverRanks(d->normals, d->normal_local, d->normal_global));
   PetscCall(VecGetLocalSize(d->normal_local, &n));
   PetscCall(VecGetArray(d->normal_local, &a));
   for (PetscInt i = 0; i + dim <= n; i += dim) {

@@ -307,10 +307,7 @@ PetscErrorCode FieldsGridSetUp(MPI_Comm comm, Part *P, const FieldsGridSources *
   }
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &info[2], 1, MPIU_INT, MPI_MAX, comm));
   P->refined = info[2] ? PETSC_TRUE : PETSC_FALSE;
-  if (ct != DM_POLYTOPE_UNKNOWN) {
-    PetscInt masks[8][MAX_CORNERS];
-    P->nv = P->refined ? (RefinedMasks(ct, masks), Corners(ct)) : Corners(ct);
-  }
+  P->nv       = Corners(ct); /* a refined cell has its parent's number of corners */
   P->polytope = ct;
   if (dm) {
     PetscInt masks[8][MAX_CORNERS], nsub = P->refined ? RefinedMasks(ct, masks) : 1;
