@@ -13,7 +13,10 @@ lu,iterative):
 lu adds nothing (MUMPS LU, the default); iterative adds options/solvers/fluid-schur-gamg.yaml,
 structure-cg-gamg.yaml and mesh-cg-gamg.yaml; iterative-ilu is fluid-schur-gamg.yaml with
 fluid-velocity-ilu.yaml, structure-cg-ilu.yaml and mesh-cg-gamg.yaml (ILU(0) on the fluid's
-velocity block and on the wall, for small time steps). The meshes of level n are generated with gmsh
+velocity block and on the wall, for small time steps); monolithic is -coupling monolithic (one
+MUMPS LU of the whole coupled Jacobian) and monolithic-schur the same with
+options/solvers/monolithic-schur.yaml (the fluid and the wall factored apart, GMRES on the
+interface traction's Schur complement). The meshes of level n are generated with gmsh
 into out/meshes/ (as by scripts/tube3d_table.py; bend3d's from meshes/bend3d-*.geo). --ranks
 gives the ranks per level, one number for all or one per level ("1,8,64": a weak-scaling
 series, a level per rank count);
@@ -60,6 +63,9 @@ SOLVERS = {
                       "-options_file", "options/solvers/fluid-velocity-ilu.yaml",
                       "-options_file", "options/solvers/structure-cg-ilu.yaml",
                       "-options_file", "options/solvers/mesh-cg-gamg.yaml"],
+    "monolithic": ["-coupling", "monolithic", "-options_allow_unused"],
+    "monolithic-schur": ["-coupling", "monolithic", "-options_allow_unused",
+                         "-options_file", "options/solvers/monolithic-schur.yaml"],
 }
 REASONS = ["-fluid_ksp_converged_reason", "-structure_ksp_converged_reason", "-mesh_ksp_converged_reason"]
 SUBPROBLEMS = ("fluid", "structure", "mesh")

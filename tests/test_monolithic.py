@@ -29,14 +29,19 @@ def agreement(args, tag, nproc=1):
     return abs(mono - opt).max(axis=0), abs(opt8 - opt).max(axis=0), abs(opt).max(axis=0), per_step
 
 
-@test("monolithic = opt: channel2d's 50 steps on 1 and 2 ranks and Turek-Hron fsi1 (level 1, 5 steps): every probe "
-      "of monolithic Newton within 10 x the tolerance (1e-9) of the probe's largest value, or within opt's own change "
-      "from -coupling_tol 1e-8 to 1e-9, of opt's at 1e-9")
+@test("monolithic = opt: channel2d's 50 steps on 1 and 2 ranks, Turek-Hron fsi1 (level 1, 5 steps), fsi3's ramp "
+      "(level 1, 10 steps of 0.01) and tube3d (5 steps): every probe of monolithic Newton within 10 x the tolerance "
+      "(1e-9) of the probe's largest value, or within opt's own change from -coupling_tol 1e-8 to 1e-9, of opt's at 1e-9")
 def test_monolithic_agrees_with_opt():
     details = []
+    unused = ["-options_allow_unused"]   # the scenes' files also set opt's own options
+    tight_fluid = ["-fluid_snes_rtol", "1e-10", "-fluid_rhs_rtol", "1e-11"]  # tube3d's own 1e-7 is opt's error there
     for tag, args, nproc in (("channel2d", CHANNEL + ["-t_final", "0.005"], 1),
                              ("channel2d", CHANNEL + ["-t_final", "0.005"], 2),
-                             ("fsi1", turek("fsi1") + ["-t_final", "0.5", "-options_allow_unused"], 1)):
+                             ("fsi1", turek("fsi1") + ["-t_final", "0.5"] + unused, 1),
+                             ("fsi3", turek("fsi3") + ["-dt", "0.01", "-t_final", "0.1"] + unused, 1),
+                             ("tube3d", ["-options_file", "options/tube3d.yaml", "-t_final", "0.0005"] + tight_fluid + unused,
+                              1)):
         gap, decade, scale, its = agreement(args, tag, nproc)
         bound = np.maximum(decade, 1e-8 * scale)
         assert (gap <= bound).all() and its <= 8, "%s on %d: monolithic - opt %s, bound %s, %.2f Newton its per step" % (
@@ -47,14 +52,20 @@ def test_monolithic_agrees_with_opt():
 
 
 @test("monolithic on mms-ns (one step, convective control): spatial rates u_L2, eta_L2 >= 2.8, u_H1, p_L2, eta_H1 "
-      ">= 1.8, each error within 1e-4 of opt's")
+      ">= 1.8, each error within 1e-4 of opt's; on mms-stokes (ten steps) each error within 1e-4 of opt's")
 def test_monolithic_mms_rates():
     mono = [solve(NS_STEP + MONO + ["-refine", str(r)]) for r in range(1, 4)]
     opt = [solve(NS_STEP + ["-refine", str(r)]) for r in range(1, 4)]
     worst = max(abs(m["errors"][k] - o["errors"][k]) / o["errors"][k] for m, o in zip(mono, opt) for k in o["errors"])
     assert worst <= 1e-4, "monolithic's errors differ from opt's by %.1e, relative" % worst
+    # Stokes and linear elasticity over ten steps of the manufactured solution (options/mms-stokes.yaml)
+    stokes = {name: solve(["-options_file", "options/mms-stokes.yaml"] + extra)["errors"]
+              for name, extra in (("mono", MONO), ("opt", []))}
+    worst_stokes = max(abs(stokes["mono"][k] - stokes["opt"][k]) / stokes["opt"][k] for k in stokes["opt"])
+    assert worst_stokes <= 1e-4, "mms-stokes: monolithic's errors differ from opt's by %.1e, relative" % worst_stokes
     return check_rates([s["errors"] for s in mono], {"u_L2": 2.8, "eta_L2": 2.8, "u_H1": 1.8, "p_L2": 1.8,
-                                                      "eta_H1": 1.8}) + "; relative to opt's %.0e" % worst
+                                                      "eta_H1": 1.8}) + "; relative to opt's %.0e; mms-stokes %.0e" % (
+        worst, worst_stokes)
 
 
 @test("monolithic restarts exactly: killed after step 33, restarted from its checkpoint of step 30, probes.csv byte "

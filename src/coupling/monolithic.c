@@ -274,6 +274,15 @@ static PetscErrorCode MonolithicSetUp(Coupling C)
       PetscCall(KSPSetUp(ksp));
     }
   }
+  { /* -snes_mf_operator's differencing matrix reads its -coupling_monolithic_mat_mffd_* options when SNES
+       sets up: now, before the run's options check */
+    PetscBool mf_operator, mf;
+    PetscCall(SNESGetUseMatrixFree(m->snes, &mf_operator, &mf));
+    if (mf_operator || mf) {
+      PetscCall(SNESSetSolution(m->snes, m->X));
+      PetscCall(SNESSetUp(m->snes));
+    }
+  }
   PetscCall(SNESGetTolerances(m->snes, NULL, &rtol, NULL, NULL, NULL));
   PetscCall(PetscSNPrintf(C->measure, sizeof(C->measure),
                           "Newton's ||F||/||F_0|| (-coupling_monolithic_snes_rtol %g; jump <= -coupling_tol %g)",
