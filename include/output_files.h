@@ -45,7 +45,15 @@ PetscBool OutputHDF5Failed(void);
    error before its first step is recorded and its options checked: a refused set-up leaves
    no outputs. After OutputSetUpDone they stay, the record of the steps done. */
 PetscErrorCode OutputRegisterSetUpFile(const char path[]);
-void           OutputSetUpDone(void);
+/* The set-up is done: the finished outputs an earlier run left in dir go (rank 0). */
+void OutputSetUpDone(const char dir[]);
+/* The names of the files a run writes in its -output_dir, each also as NAME.partial or NAME.tmp
+   while it is written; NULL-terminated. */
+extern const char *const OutputFileNames[];
+/* An option asking PETSc to write a file (a viewer's type:FILE, -log_view's :FILE) that is one
+   of the run's own (an output in output_dir, the checkpoint) is refused with one line naming
+   it, before the first step rather than overwritten after the last. Collective. */
+PetscErrorCode OutputCheckViewerFiles(MPI_Comm, const char output_dir[], const char checkpoint[]);
 void           OutputRemoveSetUpFiles(void); /* main's error path: no PETSc calls */
 PetscErrorCode PartialFileClose(PartialFile *, PetscBool complete);
 #endif

@@ -204,10 +204,12 @@ def main(argv):
 F, S = ["-scene", "mms-fluid"], ["-scene", "mms-structure"]
 
 
-def refused(cases):
+def refused(cases, out=None):
+    """Each case (name, args, token) refused with one line 'fsiopt: error: ...' holding token, a
+    non-zero exit, no traceback and no summary.json (out: the -output_dir of every run)."""
     problems = []
     for name, args, token in cases:
-        rc, stdout, err, summary = run(args, tag="bad")
+        rc, stdout, err, summary = run(args, tag="bad", out=out)
         lines = [l for l in (stdout + err).splitlines() if l.strip()]
         why = []
         if rc == 0: why.append("exit 0")

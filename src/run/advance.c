@@ -111,7 +111,7 @@ PetscErrorCode RunAdvance(Run run)
     if (step == run->first_step) {
       /* options PETSc reads in its solves have been read now; a refusal still leaves no outputs */
       PetscCall(OptionsCheckUnused(PETSC_COMM_WORLD, PETSC_TRUE));
-      OutputSetUpDone();
+      OutputSetUpDone(run->params.output_dir);
     }
     PetscCall(ProgressStep(run->progress, step, run->coupling));
     PetscCall(InterruptTestAfterStep(step));

@@ -10,11 +10,7 @@
 #include "checkpoint.h"
 #include "options.h"
 #include "mesh.h"
-
-/* The files a run writes in its -output_dir (step_outputs.c, history.c, summary.c, fields.c,
-   output_dir.c), each also as NAME.partial or NAME.tmp while it is written. */
-static const char *const output_files[] = {"probes.csv",  "history.csv",       "summary.json", "fields.h5",
-                                           "fields.xdmf", "force_surface.csv", ".fsiopt.lock", NULL};
+#include "output_files.h"
 
 /* Whether the checkpoint is in the run's -output_dir (which the run owns), and then the
    output file it would overwrite (it would replace the run's lock or probes and be
@@ -28,8 +24,8 @@ static PetscBool InOutputDir(const char path[], const char output_dir[], const c
   (void)snprintf(parent, sizeof(parent), "%.*s", slash ? (int)(slash - path) : 1, slash ? path : ".");
   if (!parent[0]) (void)snprintf(parent, sizeof(parent), "/");
   if (!realpath(parent, dir) || !realpath(output_dir, out) || strcmp(dir, out)) return PETSC_FALSE;
-  for (int i = 0; output_files[i] && !*clash; ++i)
-    if (!strncmp(base, output_files[i], strlen(output_files[i]))) *clash = output_files[i];
+  for (int i = 0; OutputFileNames[i] && !*clash; ++i)
+    if (!strncmp(base, OutputFileNames[i], strlen(OutputFileNames[i]))) *clash = OutputFileNames[i];
   return PETSC_TRUE;
 }
 

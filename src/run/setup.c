@@ -207,6 +207,7 @@ static PetscErrorCode CheckpointOrStart(Run run)
   PetscCall(StepOutputsGetFields(run->outputs, &fields));
   PetscCall(RunCheckpointSetFromOptions(&run->params, separate ? run->summary.structure_ranks : 0, restartable,
                                         &run->checkpoint));
+  if (!run->help) PetscCall(OutputCheckViewerFiles(PETSC_COMM_WORLD, run->params.output_dir, run->checkpoint.file));
   restart = run->checkpoint.restarting && !run->help;
   if (run->checkpoint.possible) PetscCall(RunCheckpointSetLayouts(&run->checkpoint, run->fluid, run->structure));
   run->first_step = 1;

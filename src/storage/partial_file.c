@@ -22,9 +22,26 @@ PetscErrorCode OutputRegisterSetUpFile(const char path[])
   PetscFunctionReturn(0);
 }
 
-void OutputSetUpDone(void)
+const char *const OutputFileNames[] = {"probes.csv", "history.csv", "summary.json", "fields.h5", "fields.xdmf",
+                                       "force_surface.csv", ".fsiopt.lock", NULL};
+
+void OutputSetUpDone(const char dir[])
 {
+  int rank = 0;
+
   setup_done = PETSC_TRUE;
+  (void)MPI_Comm_rank(PETSC_COMM_WORLD, &rank);
+  if (rank || !dir) return;
+  /* This run writes its files as NAME.partial; a finished NAME in the directory it owns is an
+     earlier run's and would sit beside this run's outputs as if it were one of them (fields
+     of a run that wrote fields, a summary of a run that ended otherwise). A restart has
+     copied what it needed from them by now. */
+  for (int i = 0; OutputFileNames[i]; ++i) {
+    char path[PETSC_MAX_PATH_LEN];
+    if (OutputFileNames[i][0] == '.') continue; /* the lock: this run's own */
+    (void)snprintf(path, sizeof(path), "%s/%s", dir, OutputFileNames[i]);
+    (void)unlink(path);
+  }
 }
 
 void OutputRemoveSetUpFiles(void)

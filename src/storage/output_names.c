@@ -1,0 +1,81 @@
+/* Files PETSc writes on request (output_files.h): a viewer option's "type:FILE[:format[:mode]]"
+   or -log_view's ":FILE". PETSc writes them at the end of a solve or of the run, so one that
+   names a file of the run's own (its outputs in -output_dir, its checkpoint) would replace it,
+   or be replaced by it, only after the last step. They are checked before the first. */
+#include <libgen.h>
+#include <limits.h>
+#include <stdlib.h>
+#include <string.h>
+#include "output_files.h"
+#include "option_pairs.h"
+
+/* The real path of the directory a file would be in (the file need not exist), or 0 */
+static int ParentReal(const char file[], char real[PATH_MAX])
+{
+  char copy[PATH_MAX];
+
+  (void)snprintf(copy, sizeof(copy), "%s", file);
+  return realpath(dirname(copy), real) != NULL;
+}
+
+static int StartsWith(const char s[], const char head[])
+{
+  return !strncmp(s, head, strlen(head));
+}
+
+/* Rank 0: the run's own file that `file` would overwrite (a name of OutputFileNames in
+   output_dir, or the checkpoint), else NULL. */
+static const char *OwnFile(const char file[], const char output_dir[], const char checkpoint[])
+{
+  char        dir[PATH_MAX], out[PATH_MAX], copy[PATH_MAX];
+  const char *base;
+
+  if (!ParentReal(file, dir)) return NULL;
+  (void)snprintf(copy, sizeof(copy), "%s", file);
+  base = basename(copy);
+  if (checkpoint && checkpoint[0]) {
+    char cp_dir[PATH_MAX], cp_copy[PATH_MAX];
+    (void)snprintf(cp_copy, sizeof(cp_copy), "%s", checkpoint);
+    if (ParentReal(checkpoint, cp_dir) && !strcmp(dir, cp_dir) && StartsWith(base, basename(cp_copy)))
+      return "checkpoint (-checkpoint_file)";
+  }
+  if (!realpath(output_dir, out) || strcmp(dir, out)) return NULL;
+  for (int i = 0; OutputFileNames[i]; ++i)
+    if (StartsWith(base, OutputFileNames[i])) return OutputFileNames[i];
+  return NULL;
+}
+
+PetscErrorCode OutputCheckViewerFiles(MPI_Comm comm, const char output_dir[], const char checkpoint[])
+{
+  PetscMPIInt rank;
+  char        message[2 * PETSC_MAX_PATH_LEN + 256] = "";
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  if (!rank) {
+    char        *all;
+    OptionPairs *pairs;
+    PetscCall(PetscNew(&pairs));
+    PetscCall(PetscOptionsGetAll(NULL, &all));
+    OptionPairsParse(all, pairs);
+    for (PetscInt i = 0; i < pairs->n && !message[0]; ++i) {
+      char        value[PATH_MAX], *file, *end;
+      const char *own;
+      (void)snprintf(value, sizeof(value), "%.*s", (int)pairs->value_len[i], pairs->value[i]);
+      if (!(file = strchr(value, ':'))) continue; /* a viewer type alone writes to the screen */
+      /* a viewer's type is one word (ascii, binary, hdf5, ...) or none: an expression's ": " is no file */
+      if (strspn(value, "abcdefghijklmnopqrstuvwxyz0123456789_") != (size_t)(file - value)) continue;
+      ++file;
+      if ((end = strchr(file, ':'))) *end = 0;
+      if (!file[0] || !(own = OwnFile(file, output_dir, checkpoint))) continue;
+      (void)snprintf(message, sizeof(message),
+                     "option %.*s: PETSc would write %s over the run's own %s; choose another file name",
+                     (int)pairs->name_len[i], pairs->name[i], file, own);
+    }
+    PetscCall(PetscFree(all));
+    PetscCall(PetscFree(pairs));
+  }
+  PetscCallMPI(MPI_Bcast(message, sizeof(message), MPI_CHAR, 0, comm));
+  PetscCheck(!message[0], comm, PETSC_ERR_ARG_WRONG, "%s", message);
+  PetscFunctionReturn(0);
+}
