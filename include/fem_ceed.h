@@ -2,17 +2,25 @@
 #define FSIOPT_FEM_CEED_H
 #include <petscdmplex.h>
 #include <ceed.h>
+#include <string.h>
+#include "memory_estimate.h"
 
 /* libCEED, the fast backend of the finite-element operators (docs/design.md §5): the pieces of a
    CeedOperator taken from a DMPlex and its PetscFE, so that an operator integrates what
    PETSc's integration does, at the same quadrature points with the same basis values. */
 
 /* A libCEED call checked: its error becomes a PETSc error with libCEED's message. */
+/* Without a message on its Ceed the error was raised without one, as libCEED raises a failed
+   allocation (its other such errors come from CeedInit, which is called with no Ceed). */
 #define PetscCallCeed(ceed, call) \
   do { \
     if ((call) != CEED_ERROR_SUCCESS) { \
       const char *ceed_message = "(no message)"; \
       if (ceed) CeedGetErrorMessage(ceed, &ceed_message); \
+      PetscCheck(!(ceed) || !strstr(ceed_message, "No error message"), PETSC_COMM_SELF, PETSC_ERR_MEM, \
+                 "out of memory: a libCEED allocation failed; this rank's estimate was %.3g GiB: use more nodes, " \
+                 "fewer cells, or the iterative solvers of options/solvers/", \
+                 (double)(MemoryEstimateThisRank() / 1073741824.0)); \
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "libCEED: %s", ceed_message); \
     } \
   } while (0)

@@ -120,6 +120,9 @@ typedef struct {
   char reason[512];
 } StepFailure;
 PetscErrorCode StepFailureSet(StepFailure *, const char format[], ...) PETSC_ATTRIBUTE_FORMAT(2, 3);
+/* A failed solve whose factorization ran out of memory stops the run (no retry mends it),
+   with one line naming `solver` and the estimate. Collective on the SNES. */
+PetscErrorCode StepFailureCheckMemory(SNES, const char solver[]);
 #define StepFailed(failure) ((failure)->reason[0] != 0)
 static inline void StepFailureClear(StepFailure *failure)
 {

@@ -19,6 +19,13 @@ PetscErrorCode MemoryEstimateDofs(DM coarse, PetscInt refine, const MeshFields *
    on one node would need more than that node has (-memory_per_node_gib, else its available
    memory), unless -force. Collective on `comm`. */
 PetscErrorCode MemoryEstimateAdd(MPI_Comm, const char prefix[], PetscInt dim, PetscReal dofs, const char source[]);
+/* A mesh of `points` points (cells, faces, edges, vertices) built on one rank before it is
+   distributed (a box): refused, with one line naming `source`, when PETSc's integers cannot
+   number its points, or when building it needs more memory than the node has (unless -force).
+   Collective. */
+PetscErrorCode MemoryEstimateCheckMeshPoints(MPI_Comm, const char source[], PetscReal points);
+/* This rank's estimate so far, bytes (not collective: for an error message). */
+PetscReal MemoryEstimateThisRank(void);
 /* The estimate and the peak resident memory (getrusage), each summed over the ranks of
    PETSC_COMM_WORLD, in bytes. Collective. */
 PetscErrorCode MemoryEstimateGetTotals(PetscReal *estimate, PetscReal *peak);

@@ -2,6 +2,8 @@
    main reads like the table of contents: a run is set up (src/run/setup.c), advanced
    (advance.c) and reported (report.c); errors end it with one line. */
 #include <signal.h>
+#include <string.h>
+#include <sys/resource.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
@@ -74,6 +76,27 @@ static int CheckOptionsFiles(int argc, char **argv)
   return 1;
 }
 
+/* Under an address-space limit (ulimit -v) below what a run needs to start, OpenBLAS's first
+   call waits forever for the buffers it reserves (and MPI's start-up fails with its own
+   lines): one line instead. 400 MiB hung in OpenBLAS on channel2d, 512 MiB started it. */
+#define MIN_ADDRESS_SPACE_MIB 512
+
+static int CheckAddressSpace(void)
+{
+  struct rlimit limit;
+  const char   *rank = getenv("OMPI_COMM_WORLD_RANK") ? getenv("OMPI_COMM_WORLD_RANK") : getenv("PMI_RANK");
+
+  if (getrlimit(RLIMIT_AS, &limit) || limit.rlim_cur == RLIM_INFINITY ||
+      limit.rlim_cur >= (rlim_t)MIN_ADDRESS_SPACE_MIB << 20)
+    return 0;
+  if (!rank || !strcmp(rank, "0"))
+    fprintf(stderr,
+            "fsiopt: error: the address-space limit (ulimit -v) is %lu MiB; fsiopt needs at least %d MiB to start (MPI, "
+            "BLAS and PETSc reserve that much), more for its meshes and factors\n",
+            (unsigned long)(limit.rlim_cur >> 20), MIN_ADDRESS_SPACE_MIB);
+  return 1;
+}
+
 /* -help [all] on the command line, taken out of it: PETSc would print its banner and its
    general options during PetscInitialize, before fsiopt's, and a reader that stops early
    (fsiopt -help | head) could meet PETSc's signal handler there. Returns 0 (none), 1
@@ -107,7 +130,7 @@ int main(int argc, char **argv)
   PetscErrorCode ierr;
   int            help;
 
-  if (CheckOptionsFiles(argc, argv)) return 1;
+  if (CheckAddressSpace() || CheckOptionsFiles(argc, argv)) return 1;
   help = TakeHelp(&argc, argv);
   /* the listing's reader may go away: its writes then fail quietly, and the set-up, which
      runs no step, ends as usual */

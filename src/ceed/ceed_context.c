@@ -87,6 +87,9 @@ PetscErrorCode FEMCeedGet(Ceed *ceed)
   }
   PetscCheck(found, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG, "option -ceed %s: expected one of %s", choice.resource,
              known);
+  /* an error libCEED raises without a Ceed (a failed allocation) takes the handler this names,
+     and its default aborts with a backtrace: returned instead, it reaches PetscCallCeed */
+  if (setenv("CEED_ERROR_HANDLER", "return", 0)) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_SYS, "setenv CEED_ERROR_HANDLER failed");
   PetscCallCeed(NULL, CeedInit(choice.resource, &run_ceed));
   PetscCallCeed(run_ceed, CeedSetErrorHandler(run_ceed, CeedErrorStore));
   PetscCall(PetscRegisterFinalize(DestroyCeed));

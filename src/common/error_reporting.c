@@ -4,6 +4,8 @@
    shared by all ranks. */
 #include "error_reporting.h"
 #include "option_pairs.h"
+#include "memory_estimate.h"
+#include <ctype.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -61,6 +63,29 @@ static PetscBool NameTheOption(const char *mess, char out[], size_t len)
   return PETSC_FALSE;
 }
 
+/* An allocation that failed (PETSc's malloc, MUMPS's workspace) says so, with the estimate the
+   run was refused or admitted by, rather than naming only the library's function. */
+static PetscBool NameTheMemory(int n, const char *func, const char *mess, char out[], size_t len)
+{
+  static const char *const mumps_memory[] = {"INFOG(1)=-8", "INFOG(1)=-9", "INFOG(1)=-13", "INFOG(1)=-14",
+                                             "INFOG(1)=-15", "INFOG(1)=-17", "INFOG(1)=-19", "INFOG(1)=-20"};
+  const PetscReal          gib            = MemoryEstimateThisRank() / 1073741824.0;
+  const char              *what           = NULL;
+
+  if (n == PETSC_ERR_MEM || (func && (!strcmp(func, "PetscMallocAlign") || !strcmp(func, "PetscReallocAlign"))))
+    what = "an allocation failed";
+  for (size_t i = 0; !what && mess && i < sizeof(mumps_memory) / sizeof(*mumps_memory); ++i) {
+    const char *at = strstr(mess, mumps_memory[i]);
+    if (at && !isdigit((unsigned char)at[strlen(mumps_memory[i])])) what = "MUMPS's workspace could not be allocated";
+  }
+  if (!what) return PETSC_FALSE;
+  snprintf(out, len,
+           "out of memory: %s (%s in %s()); this rank's estimate was %.3g GiB (memory_gib in summary.json of a run that "
+           "completes): use more nodes, fewer cells, or the iterative solvers of options/solvers/",
+           what, mess && mess[0] ? mess : "PETSc error", func ? func : "?", (double)gib);
+  return PETSC_TRUE;
+}
+
 static PetscErrorCode RecordFirstMessage(MPI_Comm comm, int line, const char *func, const char *file, PetscErrorCode n,
                                          PetscErrorType p, const char *mess, void *ctx)
 {
@@ -71,6 +96,7 @@ static PetscErrorCode RecordFirstMessage(MPI_Comm comm, int line, const char *fu
     const PetscBool ours = file && strncmp(file, "src/", 4) == 0 ? PETSC_TRUE : PETSC_FALSE;
     first_comm           = comm;
     if (mess && mess[0] && ours) PetscSNPrintf(first_message, sizeof(first_message), "%s", mess);
+    else if (NameTheMemory((int)n, func, mess, first_message, sizeof(first_message))) (void)0;
     else if (!(mess && NameTheOption(mess, first_message, sizeof(first_message))))
       PetscSNPrintf(first_message, sizeof(first_message), "%s (PETSc error %d in %s() at %s:%d)",
                     mess && mess[0] ? mess : "PETSc error", (int)n, func, file, line);

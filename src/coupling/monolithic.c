@@ -179,6 +179,7 @@ static PetscErrorCode MonolithicIterate(Coupling C, PetscInt step, CouplingItera
   it->iterations       = its;
   it->linearized_pairs = its;
   if (reason <= 0) {
+    PetscCall(StepFailureCheckMemory(m->snes, "monolithic system"));
     PetscCall(StepFailureSet(&C->failure,
                              "coupling monolithic did not converge at step %" PetscInt_FMT " after %" PetscInt_FMT
                              " Newton iterations: SNES reason %s, ||F|| %.3e of its first %.3e",

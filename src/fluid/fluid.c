@@ -322,6 +322,7 @@ PetscErrorCode FluidNonlinearSolve(Fluid f, SNES snes, Vec rhs, PetscBool chord,
   }
   if (f->newton_ksp_rtol > 0) PetscCall(KSPSetTolerances(ksp, rtol, abstol, dtol, maxits));
   f->counts.nonlinear_solves += 1;
+  if (reason <= 0) PetscCall(StepFailureCheckMemory(snes, "fluid"));
   if (reason <= 0)
     PetscCall(StepFailureSet(&f->failure,
                              "fluid solve%s failed at step %" PetscInt_FMT " (t = %g) after %" PetscInt_FMT

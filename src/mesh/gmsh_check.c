@@ -57,8 +57,25 @@ static int Seek(FILE *fp, const char header[])
   return 0;
 }
 
+/* A declared count the file cannot hold (each node or element takes a line of at least a few
+   bytes) or PETSc's integers cannot number: refused before anything is allocated for it. */
+static int CountTooLarge(const char section[], const char what[], long declared, long file_bytes, char why[], size_t len)
+{
+  const long fit = file_bytes / 6; /* "1 0 0\n": the shortest line a node or an element takes */
+
+  if (declared > PETSC_MAX_INT)
+    snprintf(why, len, "its %s section declares %ld %s, more than PETSc's integers number (at most %d)", section,
+             declared, what, (int)PETSC_MAX_INT);
+  else if (declared > fit)
+    snprintf(why, len, "its %s section declares %ld %s, more than its %ld bytes can hold (a count is wrong)", section,
+             declared, what, file_bytes);
+  else return 0;
+  return 1;
+}
+
 /* The $Nodes section into *nodes (sorted by tag, tags positive and unique); 1 and why set on a fault. */
-static int ReadNodes(FILE *fp, double version, Node **nodes_out, long *nnodes_out, char why[], size_t len)
+static int ReadNodes(FILE *fp, double version, long file_bytes, Node **nodes_out, long *nnodes_out, char why[],
+                     size_t len)
 {
   long  nnodes = 0, read = 0;
   Node *nodes  = NULL;
@@ -72,7 +89,11 @@ static int ReadNodes(FILE *fp, double version, Node **nodes_out, long *nnodes_ou
       snprintf(why, len, "its $Nodes section does not start with a positive node count");
       return 1;
     }
-    nodes = calloc((size_t)nnodes, sizeof(Node));
+    if (CountTooLarge("$Nodes", "nodes", nnodes, file_bytes, why, len)) return 1;
+    if (!(nodes = calloc((size_t)nnodes, sizeof(Node)))) {
+      snprintf(why, len, "its %ld nodes do not fit in memory", nnodes);
+      return 1;
+    }
     for (; read < nnodes; ++read)
       if (fscanf(fp, "%ld %lf %lf %lf", &nodes[read].tag, &nodes[read].x[0], &nodes[read].x[1], &nodes[read].x[2]) != 4)
         break;
@@ -82,7 +103,13 @@ static int ReadNodes(FILE *fp, double version, Node **nodes_out, long *nnodes_ou
       snprintf(why, len, "its $Nodes section does not start with its block and node counts");
       return 1;
     }
-    nodes = calloc((size_t)nnodes, sizeof(Node));
+    if (CountTooLarge("$Nodes", "nodes", nnodes, file_bytes, why, len) ||
+        CountTooLarge("$Nodes", "node blocks", blocks, file_bytes, why, len))
+      return 1;
+    if (!(nodes = calloc((size_t)nnodes, sizeof(Node)))) {
+      snprintf(why, len, "its %ld nodes do not fit in memory", nnodes);
+      return 1;
+    }
     for (long b = 0; b < blocks && read <= nnodes; ++b) {
       int  edim, etag, parametric;
       long inblock;
@@ -180,7 +207,8 @@ static int CheckElement(FILE *fp, double version, long tag, int type, int dim, N
 }
 
 /* The $Elements section: its counts, each element, and cells of the scene's dimension. */
-static int CheckElements(FILE *fp, double version, int dim, Node *nodes, long nnodes, char why[], size_t len)
+static int CheckElements(FILE *fp, double version, long file_bytes, int dim, Node *nodes, long nnodes, char why[],
+                         size_t len)
 {
   long nelem = 0, seen = 0, blocks = 1, minTag, maxTag;
   int  top = 0;
@@ -194,6 +222,9 @@ static int CheckElements(FILE *fp, double version, int dim, Node *nodes, long nn
     snprintf(why, len, "its $Elements section does not start with its counts");
     return 1;
   }
+  if (CountTooLarge("$Elements", "elements", nelem, file_bytes, why, len) ||
+      CountTooLarge("$Elements", "element blocks", blocks, file_bytes, why, len))
+    return 1;
   for (long b = 0; b < blocks; ++b) {
     int  type    = 0;
     long inblock = nelem;
@@ -264,9 +295,14 @@ static int Check(const char path[], int dim, char why[], size_t len)
   if (!Seek(fp, "$MeshFormat") || fscanf(fp, "%lf %d %d", &version, &binary, &datasize) != 3)
     snprintf(why, len, "not a gmsh mesh (no readable $MeshFormat section)");
   else if (binary || (version != 2.2 && version != 4.1)) result = 0;
-  else
-    result = ReadNodes(fp, version, &nodes, &nnodes, why, len) || CheckElements(fp, version, dim, nodes, nnodes, why, len) ||
-             CheckCracks(nodes, nnodes, why, len);
+  else {
+    long bytes;
+    (void)fseek(fp, 0, SEEK_END);
+    bytes = ftell(fp);
+    rewind(fp);
+    result = ReadNodes(fp, version, bytes, &nodes, &nnodes, why, len) ||
+             CheckElements(fp, version, bytes, dim, nodes, nnodes, why, len) || CheckCracks(nodes, nnodes, why, len);
+  }
   free(nodes);
   fclose(fp);
   return result;

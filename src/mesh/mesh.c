@@ -2,6 +2,7 @@
    inverted cells, memory), refined and distributed; and a signature of its partition for
    checkpoints. */
 #include "mesh.h"
+#include "memory_estimate.h"
 #include "options.h"
 #include "error_reporting.h"
 #include "logging.h"
@@ -88,6 +89,20 @@ static PetscErrorCode MeshCheckBox(MPI_Comm comm, const char prefix[])
                "option %s: expected at least 1 cell in every direction, got %" PetscInt_FMT
                " in direction %" PetscInt_FMT,
                option, faces[d], d + 1);
+  if (set) { /* PETSc builds the box, refined by -<prefix>dm_refine, on one rank: its points first */
+    PetscInt  refine = 0;
+    PetscReal points = 1;
+    char      refine_option[256], source[512], value[128] = "";
+    PetscCall(PetscSNPrintf(refine_option, sizeof(refine_option), "-%sdm_refine", prefix));
+    PetscCall(PetscOptionsGetInt(NULL, NULL, refine_option, &refine, NULL));
+    PetscCall(PetscOptionsGetString(NULL, NULL, option, value, sizeof(value), NULL));
+    /* a box of n_1 x ... cells has about 2^dim points (cell, faces, edges, vertex) per vertex */
+    for (PetscInt d = 0; d < nfaces; ++d)
+      points *= 2.0 * ((PetscReal)faces[d] * PetscPowReal(2.0, (PetscReal)refine) + 1);
+    PetscCall(PetscSNPrintf(source, sizeof(source), "option %s %s%s%s", option, value, refine ? " with " : "",
+                            refine ? refine_option : ""));
+    PetscCall(MemoryEstimateCheckMeshPoints(comm, source, points));
+  }
   PetscCall(PetscSNPrintf(lower_option, sizeof(lower_option), "-%sdm_plex_box_lower", prefix));
   PetscCall(PetscSNPrintf(upper_option, sizeof(upper_option), "-%sdm_plex_box_upper", prefix));
   PetscCall(PetscOptionsGetRealArray(NULL, NULL, lower_option, lower, &nlower, NULL));

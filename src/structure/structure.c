@@ -327,6 +327,7 @@ PetscErrorCode StructureSolve(Structure s, Vec load, PetscInt step)
   PetscCall(SNESGetConvergedReason(s->snes, &reason));
   s->counts.nonlinear_solves += 1;
   if (reason <= 0) {
+    PetscCall(StepFailureCheckMemory(s->snes, "structure"));
     PetscCall(SNESGetIterationNumber(s->snes, &newton_its));
     PetscCall(StepFailureSet(&s->failure,
                              "structure solve failed at step %" PetscInt_FMT " (t = %g) after %" PetscInt_FMT
