@@ -173,6 +173,113 @@ def test_malformed_options_files():
     return "%d malformed files refused with one line each" % len(MALFORMED)
 
 
+def laughs():
+    """mappings of ten aliases of the mapping before, nine deep: 10^9 options once expanded"""
+    lines, prev = ["a: &a {%s}" % ", ".join("x%d: 1" % j for j in range(10))], "a"
+    for n in "bcdefghij":
+        lines.append("%s: &%s {%s}" % (n, n, ", ".join("k%d: *%s" % (j, prev) for j in range(10))))
+        prev = n
+    return ("\n".join(lines) + "\n").encode()
+
+
+def nested(levels):
+    """a key under `levels` mappings below the top: levels prefixes"""
+    return "".join("  " * i + "l%d:\n" % i for i in range(levels)).encode() + b"  " * levels + b"v: 1\n"
+
+
+# (file name, its bytes, words the line must contain): YAML that PETSc 3.18's reader crashes on
+# (a loop), spends minutes on (aliases expanded, deep flow nesting, many anchors), answers
+# with its banner (depth, list items, merge lists) or reads otherwise than YAML means
+# (a merge key after the keys it would replace, a second document giving an option again)
+YAML_LIMITS = [
+    ("loop.yaml", b"a: &x\n  b: *x\n", ["line 2", "alias *x refers to its own anchor", "line 1", "loop"]),
+    ("loop-list.yaml", b"scene: mms-ns\na: &x [{k: *x}]\n", ["line 2", "alias *x", "the list of line 2"]),
+    ("loop-merge.yaml", b"a: &a {<<: *a}\n", ["line 1", "alias *a refers to its own anchor"]),
+    ("laughs.yaml", laughs(), ["more than 256 options given in all", "PETSc holds 512"]),
+    ("laughs-list.yaml", b"$$v: &v [%s]\n" % b", ".join([b"1"] * 1000) + b"".join(b"k%d: *v\n" % i for i in range(200)),
+     ["more than 100000 keys and values once its aliases and merge keys are expanded"]),
+    ("laughs-bytes.yaml", b'$$v: &v "%s"\na: [%s]\n' % (b"x" * (1 << 20), b", ".join([b"*v"] * 20)),
+     ["more than 16 MiB of keys and values"]),
+    ("two-documents.yaml", b"t_final: 0.001\n---\nt_final: 0.5\n", ["line 3", "option -t_final given again", "line 1"]),
+    ("second-document-list.yaml", b"scene: mms-ns\n---\n- dt\n", ["line 3", "at the top", "found a list"]),
+    ("merge-after.yaml", b"fluid:\n  density: 7\n  <<: {density: 3}\n",
+     ["line 3", "merge key '<<' comes after key 'density'", "put '<<' first"]),
+    ("merge-list.yaml", b"a: &a {x: 1}\nb: &b {x: 2}\nfluid:\n  <<: [*a, *b]\n", ["line 4", "'<<' takes one mapping", "list"]),
+    ("merge-scalar.yaml", b"fluid:\n  <<: 5\n", ["line 2", "'<<' takes one mapping", "single value"]),
+    ("merge-mapping.yaml", b"$$b: &b {snes: {rtol: 1}}\nfluid:\n  <<: *b\n  snes: {atol: 2}\n",
+     ["line 4", "key 'snes' replaces the mapping", "line 1"]),
+    ("merge-in-list.yaml", b"fluid: [{<<: {a: 1}}]\n", ["line 1", "no merge key"]),
+    ("list-item-keys.yaml", b"fluid: [{a: 1, b: 2}]\n", ["line 1", "holds one key", "found 2"]),
+    ("deep26.yaml", nested(26), ["line 27", "key 'l25'", "26 deep below the top", "at most 25"]),
+    ("deep200.yaml", nested(200), ["line 27", "at most 25"]),
+    ("flow-lists.yaml", b"a: " + b"[" * 1000000 + b"]" * 1000000 + b"\n", ["line 1", "list inside a list"]),
+    ("flow-mappings.yaml", b"a: " + b"{b: " * 500000 + b"1" + b"}" * 500000 + b"\n", ["line 1", "26 deep", "at most 25"]),
+    ("anchors.yaml", b"a:\n" + b"".join(b"  k%d: &a%d 1\n" % (i, i) for i in range(1001)), ["line 1002", "more than 1000 anchors"]),
+    ("anchor-twice.yaml", b"a: &x 1\nb: &x 2\n", ["line 2", "duplicate anchor", "line 1"]),
+    ("long-key.yaml", b"k" * 600 + b": 1\n", ["line 1", "PETSc's 511 characters"]),
+    ("null-key.yaml", b"~: 1\n", ["line 1", "key '~' is not an option name"]),
+    ("number-key.yaml", b"1: {a: 2}\n", ["line 1", "key '1' is not an option name"]),
+    ("merged-number-key.yaml", b"$$m: &m {1: {a: 2}}\n<<: *m\n", ["line 1", "key '1' is not an option name at the top"]),
+    ("complex-key.yaml", b"? [a]\n: 1\n", ["line 1", "expected a name as the key, found a list"]),
+    ("include-self.yaml", b"$$i: !include include-self.yaml\n", ["line 1", "'!include' is not followed"]),
+    ("include-value.yaml", b"fluid: !include other.yaml\n", ["line 1", "'!include' is not followed"]),
+    ("spelled-twice.yaml", b"fluid: {density: 1}\nfluid_density: 2\n", ["line 2", "option -fluid_density given again"]),
+    ("yaml2.yaml", b"%YAML 2.0\n---\ndt: 1\n", ["line 1", "incompatible YAML document"]),
+    ("huge.yaml", b"# x\n" * (5 << 20), ["too large for an options file"]),
+    ("a-fifo.yaml", "fifo", ["expected a regular file"]),
+    ("/dev/zero", None, ["expected a regular file"]),
+]
+
+
+@test("YAML options files PETSc's reader would crash, stall on or misread (loops, expanded aliases, merge keys, documents, depth, keys): one line, no banner")
+def test_yaml_reader_limits():
+    base = os.path.join(WORK, "yaml-limits")
+    os.makedirs(base, exist_ok=True)
+    problems = []
+    for name, text, words in YAML_LIMITS:
+        path = name if name.startswith("/") else os.path.join(base, name)
+        if text == "fifo":
+            os.mkfifo(path)
+        elif text is not None:
+            open(path, "wb").write(text)
+        out = out_dir("yaml-limits")
+        rc, stdout, err, summary = run(CHANNEL + ["-options_file", path, "-t_final", "0.0002"], out=out, timeout=60)
+        lines = [l for l in (stdout + err).splitlines() if l.strip()]
+        why = []
+        if rc == 0 or rc < 0 or rc > 128:
+            why.append("exit %d" % rc)
+        if "PETSC ERROR" in stdout + err:
+            why.append("PETSc's banner")
+        if len(lines) != 1:
+            why.append("%d lines: %s" % (len(lines), " | ".join(lines[:3])[:300]))
+        elif not lines[0].startswith("fsiopt: error: options file %s" % path) and \
+                not lines[0].startswith("fsiopt: error: option -options_file %s:" % path) or \
+                not all(w in lines[0] for w in words):
+            why.append("line '%s' lacks the file name or one of %s" % (lines[0][:300], words))
+        if summary is not None or (os.path.isdir(out) and os.listdir(out)):
+            why.append("left %s" % ", ".join(os.listdir(out)))
+        if why:
+            problems.append("%s: %s" % (name, "; ".join(why)))
+    assert not problems, "; ".join(problems)
+    # what fsiopt takes, read as YAML means: 25 prefixes (PETSc's limit: the option reaches the
+    # check of unread options), a merge key first with a key replacing a merged value, an anchor
+    # under a $$ key (no options of its own) and a second document
+    deep = os.path.join(base, "deep25.yaml")
+    open(deep, "wb").write(nested(25))
+    rc, stdout, err, _ = run(CHANNEL + ["-options_file", deep], timeout=60)
+    option = "-" + "_".join("l%d" % i for i in range(25)) + "_v"
+    assert rc == 1 and (stdout + err).strip() == "fsiopt: error: option %s: nothing reads it; " \
+        "-options_allow_unused lets it through" % option, "25 prefixes: exit %d, %s" % (rc, (stdout + err)[-300:])
+    merged = os.path.join(base, "merge-first.yaml")
+    open(merged, "w").write("$$fluid: &f {density: 3, viscosity: 0.5}\nfluid:\n  <<: *f\n  density: 7\n---\nt_final: 0.0002\n")
+    rc, stdout, err, s = run(CHANNEL + ["-options_file", merged], timeout=300)
+    assert rc == 0 and s is not None, "merge key first: %s" % (stdout + err)[-300:]
+    given = s["options_given"]
+    assert (given.get("-fluid_density"), given.get("-fluid_viscosity"), given.get("-t_final")) == ("7", "0.5", "0.0002") \
+        and not [o for o in given if "$" in o], "merged and second document's options: %s" % sorted(given.items())
+    return "%d files refused with one line each; 25 prefixes, a merge key first and a second document taken" % len(YAML_LIMITS)
+
+
 @test("an option given without its value (-fluid_density alone, a YAML key with nothing after it) is refused", quick=True)
 def test_option_without_value():
     rc, stdout, err, _ = run(NS_STEP + ["-fluid_density"])

@@ -1,27 +1,18 @@
 /* The options files a run will read, checked before PetscInitialize: PETSc reads them inside
    it, answers a malformed one with its traceback banner and follows a file that includes
-   itself until the stack overflows. Plain C and libyaml only: nothing of PETSc exists yet. */
+   itself until the stack overflows. Plain C only: nothing of PETSc exists yet; YAML files are
+   checked in options_yaml.c. All of them count against PETSc's table of options. */
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <ctype.h>
 #include <unistd.h>
-#include <yaml.h>
+#include <strings.h>
 #include "options.h"
+#include "options_files.h"
 
-#define MAX_INCLUDE_DEPTH 16
-#define MAX_FILE_BYTES    (16 << 20)
-
-typedef struct {
-  char        message[2 * 4096];
-  const char *stack[MAX_INCLUDE_DEPTH]; /* the real paths of the files being read, outermost first */
-  int         depth;
-} Check;
-
-static int Fail(Check *check, const char *format, ...) __attribute__((format(printf, 2, 3)));
-
-static int Fail(Check *check, const char *format, ...)
+int CheckFail(Check *check, const char *format, ...)
 {
   va_list args;
 
@@ -29,6 +20,44 @@ static int Fail(Check *check, const char *format, ...)
   vsnprintf(check->message, sizeof(check->message), format, args);
   va_end(args);
   return 1;
+}
+
+/* The rule of PETSc's PetscOptionsValidKey: what a token on the command line or in a plain
+   file is, a name or a value (-1e-3 and -inf are values) */
+static int IsOptionName(const char token[])
+{
+  char *end;
+
+  if (token[0] != '-') return 0;
+  if (token[1] == '-') ++token;
+  if (!isalpha((unsigned char)token[1])) return 0;
+  (void)strtod(token, &end);
+  return end == token || *end == '_' || isalnum((unsigned char)*end);
+}
+
+int CheckOption(Check *check, const char path[], const char name[], int line, int unique, long from, long to)
+{
+  for (int i = 0; i < check->noptions; ++i) {
+    CheckedOption *o = &check->options[i];
+    if (strcasecmp(o->name, name)) continue; /* PETSc's names ignore case */
+    if (unique && o->file == check->file && !(from <= o->time && o->time < to))
+      return CheckFail(check, "options file %s line %d: option -%s given again (first on line %d)", path, line, name,
+                       o->line);
+    o->file = check->file;
+    o->line = line;
+    o->time = check->time++;
+    return 0;
+  }
+  if (check->noptions == MAX_GIVEN_OPTIONS) {
+    char where[4096 + 64] = "";
+    if (path) snprintf(where, sizeof(where), "options file %s line %d: ", path, line);
+    return CheckFail(check,
+                     "%soption -%.60s: more than %d options given in all (files and command line); PETSc holds %d, "
+                     "fsiopt's defaults among them",
+                     where, name, MAX_GIVEN_OPTIONS, PETSC_MAX_OPTIONS);
+  }
+  check->options[check->noptions++] = (CheckedOption){strdup(name), check->file, line, check->time++};
+  return 0;
 }
 
 static int EndsWith(const char s[], const char tail[])
@@ -74,15 +103,15 @@ static int ReadFile(Check *check, const char path[], const char origin[], char *
   FILE     *fp;
   long      size;
 
-  if (problem) return Fail(check, "%s %s: %s", origin, path, OptionsFileProblemText(problem));
-  if (!(fp = fopen(path, "rb"))) return Fail(check, "%s %s: %s", origin, path, OptionsFileProblemText(1));
+  if (problem) return CheckFail(check, "%s %s: %s", origin, path, OptionsFileProblemText(problem));
+  if (!(fp = fopen(path, "rb"))) return CheckFail(check, "%s %s: %s", origin, path, OptionsFileProblemText(1));
   fseek(fp, 0, SEEK_END);
   size = ftell(fp);
   fseek(fp, 0, SEEK_SET);
   if (size > MAX_FILE_BYTES) {
     fclose(fp);
-    return Fail(check, "%s %s: %ld bytes, too large for an options file (at most %d)", origin, path, size,
-                MAX_FILE_BYTES);
+    return CheckFail(check, "%s %s: %ld bytes, too large for an options file (at most %d)", origin, path, size,
+                     MAX_FILE_BYTES);
   }
   *text = malloc((size_t)size + 1);
   *n    = fread(*text, 1, (size_t)size, fp);
@@ -91,102 +120,28 @@ static int ReadFile(Check *check, const char path[], const char origin[], char *
   return 0;
 }
 
-/* PETSc's YAML reader takes a mapping at the top; below, mappings (prefixes), scalars and
-   sequences of scalars or mappings. It includes no other file. */
-static int CheckYAMLNode(Check *check, const char path[], yaml_document_t *doc, yaml_node_t *node, int top)
-{
-  const int line = (int)node->start_mark.line + 1;
-
-  switch (node->type) {
-  case YAML_MAPPING_NODE:
-    for (yaml_node_pair_t *pair = node->data.mapping.pairs.start; pair < node->data.mapping.pairs.top; ++pair) {
-      yaml_node_t *key = yaml_document_get_node(doc, pair->key), *value = yaml_document_get_node(doc, pair->value);
-      if (!key || key->type != YAML_SCALAR_NODE)
-        return Fail(check, "options file %s line %d: expected a name as the key, found a %s", path,
-                    key ? (int)key->start_mark.line + 1 : line,
-                    key && key->type == YAML_SEQUENCE_NODE ? "list" : "mapping");
-      if (top && !strcmp((const char *)key->data.scalar.value, "options_file"))
-        return Fail(check,
-                    "options file %s line %d: a YAML file cannot include another (PETSc's YAML reader does not follow "
-                    "options_file); give -options_file on the command line",
-                    path, (int)key->start_mark.line + 1);
-      /* YAML keeps the last of two equal keys without a word: one of them is a mistake */
-      for (yaml_node_pair_t *earlier = node->data.mapping.pairs.start; earlier < pair; ++earlier) {
-        yaml_node_t *other = yaml_document_get_node(doc, earlier->key);
-        if (other && other->type == YAML_SCALAR_NODE &&
-            !strcmp((const char *)other->data.scalar.value, (const char *)key->data.scalar.value))
-          return Fail(check, "options file %s line %d: key '%s' given again (first on line %d)", path,
-                      (int)key->start_mark.line + 1, (const char *)key->data.scalar.value,
-                      (int)other->start_mark.line + 1);
-      }
-      if (value && CheckYAMLNode(check, path, doc, value, 0)) return 1;
-    }
-    return 0;
-  case YAML_SEQUENCE_NODE:
-    if (top)
-      return Fail(check,
-                  "options file %s line %d: expected a mapping of option names to values at the top, found a list",
-                  path, line);
-    for (yaml_node_item_t *item = node->data.sequence.items.start; item < node->data.sequence.items.top; ++item) {
-      yaml_node_t *element = yaml_document_get_node(doc, *item);
-      if (element && element->type == YAML_SEQUENCE_NODE)
-        return Fail(check, "options file %s line %d: a list inside a list; expected values or mappings", path,
-                    (int)element->start_mark.line + 1);
-      if (element && element->type == YAML_MAPPING_NODE && CheckYAMLNode(check, path, doc, element, 0)) return 1;
-    }
-    return 0;
-  default:
-    if (top)
-      return Fail(check,
-                  "options file %s line %d: expected a mapping of option names to values, found the single value "
-                  "'%.40s'",
-                  path, line, (const char *)node->data.scalar.value);
-    return 0;
-  }
-}
-
-/* A tab before the first character of the line the parser stopped on: say so, YAML's own
-   message ("found character that cannot start any token") does not. */
-static const char *TabHint(const char *text, size_t line)
-{
-  const char *c = text;
-
-  for (size_t l = 0; l < line && c; ++l) {
-    c = strchr(c, '\n');
-    if (c) ++c;
-  }
-  if (!c) return "";
-  for (; *c == ' ' || *c == '\t'; ++c)
-    if (*c == '\t') return " (a tab indents this line: YAML indents with spaces)";
-  return "";
-}
-
-static int CheckYAML(Check *check, const char path[], const char *text, size_t n)
-{
-  yaml_parser_t   parser;
-  yaml_document_t doc;
-  yaml_node_t    *root;
-  int             failed = 0;
-
-  yaml_parser_initialize(&parser);
-  yaml_parser_set_input_string(&parser, (const unsigned char *)text, n);
-  if (!yaml_parser_load(&parser, &doc)) {
-    const size_t line = parser.problem_mark.line;
-    failed            = Fail(check, "options file %s line %zu: not valid YAML: %s%s%s%s", path, line + 1,
-                  parser.problem ? parser.problem : "parse error", parser.context ? " " : "",
-                  parser.context ? parser.context : "", TabHint(text, line));
-    yaml_parser_delete(&parser);
-    return failed;
-  }
-  root = yaml_document_get_root_node(&doc);
-  if (!root) failed = Fail(check, "options file %s: no options in it (an empty YAML document)", path);
-  else failed = CheckYAMLNode(check, path, &doc, root, 1);
-  yaml_document_delete(&doc);
-  yaml_parser_delete(&parser);
-  return failed;
-}
-
 static int CheckFile(Check *check, const char path[], int yaml, const char origin[]);
+
+/* PETSc compares these names ignoring case */
+static int IsFileOption(const char name[])
+{
+  return !strcasecmp(name, "-options_file") || !strcasecmp(name, "-options_file_yaml");
+}
+
+/* PETSc sets no option of these, it acts on them */
+static int IsAction(const char name[])
+{
+  return IsFileOption(name) || !strcasecmp(name, "-options_string_yaml") || !strcasecmp(name, "-prefix_push") ||
+         !strcasecmp(name, "-prefix_pop");
+}
+
+/* The command line's options and PETSC_OPTIONS's, for the count of all options */
+static int CheckArguments(Check *check, int argc, char **argv)
+{
+  for (int i = 0; i < argc; ++i)
+    if (IsOptionName(argv[i]) && !IsAction(argv[i]) && CheckOption(check, NULL, argv[i] + 1, 0, 0, 0, 0)) return 1;
+  return 0;
+}
 
 static int IsNumber(const char *token)
 {
@@ -218,19 +173,20 @@ static int CheckPlain(Check *check, const char path[], char *text)
       }
       if (after_alias) continue;
       if (is_name) {
+        if (IsOptionName(token) && CheckOption(check, path, token + 1, line_number, 0, 0, 0)) return 1;
         snprintf(option, sizeof(option), "%s", token);
         expect_value = 1;
         continue;
       }
       if (!expect_value)
-        return Fail(check, "options file %s line %d: expected -option [value], found '%.40s'%s", path, line_number,
-                    token, tokens ? " after a value" : " (option names start with -)");
+        return CheckFail(check, "options file %s line %d: expected -option [value], found '%.40s'%s", path, line_number,
+                         token, tokens ? " after a value" : " (option names start with -)");
       expect_value = 0;
-      if (!strcmp(option, "-options_file") || !strcmp(option, "-options_file_yaml"))
-        if (CheckFile(check, token, !strcmp(option, "-options_file_yaml") || IsYAMLName(token), path)) return 1;
+      if (IsFileOption(option))
+        if (CheckFile(check, token, !strcasecmp(option, "-options_file_yaml") || IsYAMLName(token), path)) return 1;
     }
-    if (expect_value && (!strcmp(option, "-options_file") || !strcmp(option, "-options_file_yaml")))
-      return Fail(check, "options file %s line %d: option %s: expected a file name", path, line_number, option);
+    if (expect_value && IsFileOption(option))
+      return CheckFail(check, "options file %s line %d: option %s: expected a file name", path, line_number, option);
   }
   return 0;
 }
@@ -248,23 +204,26 @@ static int CheckFile(Check *check, const char path[], int yaml, const char origi
   for (int d = 0; d < check->depth; ++d)
     if (real && !strcmp(real, check->stack[d])) {
       free(text);
-      failed = d == check->depth - 1
-               ? Fail(check, "options file %s includes itself", path)
-               : Fail(check, "options file %s includes %s, which includes it again (a loop)", check->stack[d], origin);
+      failed = d == check->depth - 1 ? CheckFail(check, "options file %s includes itself", path)
+                                     : CheckFail(check, "options file %s includes %s, which includes it again (a loop)",
+                                                 check->stack[d], origin);
       free(real);
       return failed;
     }
   if (check->depth == MAX_INCLUDE_DEPTH) {
     free(text);
     free(real);
-    return Fail(check, "options file %s: included more than %d deep", path, MAX_INCLUDE_DEPTH);
+    return CheckFail(check, "options file %s: included more than %d deep", path, MAX_INCLUDE_DEPTH);
   }
   if ((binary = BinaryLine((const unsigned char *)text, n)))
-    failed = Fail(check, "options file %s line %d: binary bytes; expected a text file of options", path, binary);
+    failed = CheckFail(check, "options file %s line %d: binary bytes; expected a text file of options", path, binary);
   else {
+    const int outer              = check->file;
+    check->file                  = ++check->files;
     check->stack[check->depth++] = real;
     failed                       = yaml ? CheckYAML(check, path, text, n) : CheckPlain(check, path, text);
     --check->depth;
+    check->file = outer;
   }
   free(text);
   free(real);
@@ -296,25 +255,27 @@ int OptionsFilesCheck(int argc, char **argv, char message[], size_t len)
     char *save;
     env_copy = strdup(env);
     for (char *t = strtok_r(env_copy, " \t", &save); t && !failed; t = strtok_r(NULL, " \t", &save))
-      if (!strcmp(t, "-options_file") || !strcmp(t, "-options_file_yaml")) {
+      if (IsFileOption(t)) {
         char *file = strtok_r(NULL, " \t", &save);
-        if (!file) failed = Fail(&check, "environment variable PETSC_OPTIONS: option %s: expected a file name", t);
+        if (!file) failed = CheckFail(&check, "environment variable PETSC_OPTIONS: option %s: expected a file name", t);
         else
-          failed = CheckFile(&check, file, !strcmp(t, "-options_file_yaml") || IsYAMLName(file),
+          failed = CheckFile(&check, file, !strcasecmp(t, "-options_file_yaml") || IsYAMLName(file),
                              "environment variable PETSC_OPTIONS: option -options_file");
-      }
+      } else failed = CheckArguments(&check, 1, &t);
     free(env_copy);
   }
   for (int i = 1; i < argc && !failed; ++i) {
-    const int yaml_option = !strcmp(argv[i], "-options_file_yaml");
+    const int yaml_option = !strcasecmp(argv[i], "-options_file_yaml");
     char      origin[64];
-    if (strcmp(argv[i], "-options_file") && !yaml_option) continue;
-    if (i + 1 >= argc) failed = Fail(&check, "option %s: expected a file name", argv[i]);
+    if (!IsFileOption(argv[i])) continue;
+    if (i + 1 >= argc) failed = CheckFail(&check, "option %s: expected a file name", argv[i]);
     else {
       snprintf(origin, sizeof(origin), "option %s", argv[i]);
       failed = CheckFile(&check, argv[i + 1], yaml_option || IsYAMLName(argv[i + 1]), origin);
     }
   }
+  if (!failed) failed = CheckArguments(&check, argc - 1, argv + 1);
+  for (int i = 0; i < check.noptions; ++i) free(check.options[i].name);
   if (failed) snprintf(message, len, "%s", check.message);
   return failed;
 }
