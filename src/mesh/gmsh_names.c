@@ -3,6 +3,7 @@
    does, read on the first rank and handed to all (a file without names has none; ASCII files
    of format 2.2 and 4.1), or the sides of a 2D box. */
 #include "mesh.h"
+#include "options.h"
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -61,6 +62,8 @@ PetscErrorCode MeshFaceSetNames(MPI_Comm comm, const char prefix[], PetscInt dim
   PetscCall(PetscSNPrintf(option, sizeof(option), "-%sdm_plex_filename", prefix));
   PetscCall(PetscOptionsGetString(NULL, NULL, option, path, sizeof(path), &file));
   *n = 0;
+  /* before its names are read: a device or a FIFO would be read forever, a directory as empty */
+  if (file) PetscCall(OptionsCheckReadableFile(comm, option, path));
   if (file) PetscCall(MeshGmshPhysicalNames(comm, path, dim - 1, max, n, sets));
   else if (dim == 2 && max >= 4) {
     const char *box[] = {"bottom", "right", "top", "left"}; /* FACE_BOTTOM, ... */

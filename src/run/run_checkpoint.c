@@ -44,7 +44,9 @@ static PetscErrorCode CheckWritable(const char path[], const char output_dir[])
     struct stat st;
     int         fd;
     PetscBool   owned;
-    directory = !stat(path, &st) && S_ISDIR(st.st_mode);
+    /* the checkpoint is written beside the file and renamed over it: over a device (/dev/null)
+       or a FIFO that would replace the device's node */
+    directory = !stat(path, &st) && !S_ISREG(st.st_mode);
     owned     = InOutputDir(path, output_dir, &clash);
     /* a killed run's temporary in the directory this run owns goes; elsewhere another run
        may be writing it */
@@ -61,7 +63,9 @@ static PetscErrorCode CheckWritable(const char path[], const char output_dir[])
   }
   PetscCallMPI(MPI_Bcast(&directory, 1, MPI_INT, 0, PETSC_COMM_WORLD));
   PetscCheck(!directory, PETSC_COMM_WORLD, PETSC_ERR_FILE_OPEN,
-             "option -checkpoint_file %s: a directory; expected the name of a file", path);
+             "option -checkpoint_file %s: a directory, device or FIFO; expected the name of a regular file (written "
+             "beside it and renamed over it)",
+             path);
   cause = clash ? -1 : cause;
   PetscCallMPI(MPI_Bcast(&cause, 1, MPI_INT, 0, PETSC_COMM_WORLD));
   PetscCheck(cause != -1, PETSC_COMM_WORLD, PETSC_ERR_ARG_WRONG,
