@@ -24,7 +24,7 @@ def gmsh_with_count(name, section, count):
 
 @test("sizes that overflow or do not fit: a box of 10^10 cells, a box refined past 2^31 points, a box the node's "
       "memory cannot build (-memory_per_node_gib), gmsh files declaring 10^15 nodes, 10^12 elements, or more nodes "
-      "than their bytes hold: one line naming the option or file and the size")
+      "than their bytes hold, a subnormal density (1e-320): one line naming the option or file and the size")
 def test_sizes_refused():
     tube = ["-options_file", "options/tube3d.yaml", "-structure_dm_plex_filename"]
     cases = [("box of 10^10 cells", SHORT + ["-fluid_dm_plex_box_faces", "100000,100000"],
@@ -37,7 +37,9 @@ def test_sizes_refused():
              ("10^12 elements", tube + [gmsh_with_count("elements-1e12.msh", "Elements", 10 ** 12)],
               "declares 1000000000000 elements"),
              ("more nodes than the file holds", tube + [gmsh_with_count("nodes-1e8.msh", "Nodes", 10 ** 8)],
-              "bytes can hold")]
+              "bytes can hold"),
+             ("a subnormal density", SHORT + ["-fluid_density", "1e-320"], "-fluid_density: expected a positive number "
+              "of at least 2.22507e-308")]
     return refused(cases)
 
 
