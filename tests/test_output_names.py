@@ -69,7 +69,8 @@ def times(xdmf):
 
 
 @test("a file PETSc would write over the run's own (-log_view :DIR/summary.json, a viewer's ascii:DIR/probes.csv, "
-      "the checkpoint, a path through ..): one line naming the option before the first step, no outputs")
+      "the checkpoint, a path through ..) or in a directory that is not there: one line naming the option before the "
+      "first step (not PETSc's banner after the last), no outputs")
 def test_viewer_files_over_own_outputs():
     out = os.path.join(WORK, "viewer-clash")
     shutil.rmtree(out, ignore_errors=True)
@@ -81,7 +82,11 @@ def test_viewer_files_over_own_outputs():
              ("log over the checkpoint", SHORT + ["-checkpoint_every", "1", "-log_view", ":%s/checkpoint.h5" % out],
               "checkpoint (-checkpoint_file)"),
              ("through ..", SHORT + ["-log_view", ":%s/../%s/fields.xdmf" % (out, os.path.basename(out))],
-              "fields.xdmf")]
+              "fields.xdmf"),
+             ("log in a directory that is not there", SHORT + ["-log_view", ":/nonexistent-dir/log.txt"],
+              "-log_view: PETSc could not write /nonexistent-dir/log.txt (No such file or directory)"),
+             ("viewer in a directory that is not there", SHORT + ["-fluid_snes_view", "ascii:/nonexistent-dir/x"],
+              "-fluid_snes_view")]
     detail = refused(cases, out=out)
     assert not os.path.exists(out), "refused runs left %s: %s" % (out, os.listdir(out))
     return detail

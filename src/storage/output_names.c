@@ -1,11 +1,14 @@
 /* Files PETSc writes on request (output_files.h): a viewer option's "type:FILE[:format[:mode]]"
    or -log_view's ":FILE". PETSc writes them at the end of a solve or of the run, so one that
    names a file of the run's own (its outputs in -output_dir, its checkpoint) would replace it,
-   or be replaced by it, only after the last step. They are checked before the first. */
+   or be replaced by it, and one in a directory that is not there would fail with PETSc's
+   banner, only after the last step. They are checked before the first. */
+#include <errno.h>
 #include <libgen.h>
 #include <limits.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include "output_files.h"
 #include "option_pairs.h"
 
@@ -45,6 +48,26 @@ static const char *OwnFile(const char file[], const char output_dir[], const cha
   return NULL;
 }
 
+/* The viewer types that write a file named after the colon (draw and socket viewers name a
+   display or a host there) */
+static int WritesFile(const char type[])
+{
+  static const char *const types[] = {"", "ascii", "binary", "hdf5", "vtk", NULL};
+
+  for (int i = 0; types[i]; ++i)
+    if (!strcmp(type, types[i])) return 1;
+  return 0;
+}
+
+/* Whether a file could be written there (its directory exists and takes files); errno says why not */
+static int Writable(const char file[])
+{
+  char copy[PATH_MAX];
+
+  (void)snprintf(copy, sizeof(copy), "%s", file);
+  return access(dirname(copy), W_OK | X_OK) == 0;
+}
+
 PetscErrorCode OutputCheckViewerFiles(MPI_Comm comm, const char output_dir[], const char checkpoint[])
 {
   PetscMPIInt rank;
@@ -65,12 +88,16 @@ PetscErrorCode OutputCheckViewerFiles(MPI_Comm comm, const char output_dir[], co
       if (!(file = strchr(value, ':'))) continue; /* a viewer type alone writes to the screen */
       /* a viewer's type is one word (ascii, binary, hdf5, ...) or none: an expression's ": " is no file */
       if (strspn(value, "abcdefghijklmnopqrstuvwxyz0123456789_") != (size_t)(file - value)) continue;
-      ++file;
+      *file++ = 0;
       if ((end = strchr(file, ':'))) *end = 0;
-      if (!file[0] || !(own = OwnFile(file, output_dir, checkpoint))) continue;
-      (void)snprintf(message, sizeof(message),
-                     "option %.*s: PETSc would write %s over the run's own %s; choose another file name",
-                     (int)pairs->name_len[i], pairs->name[i], file, own);
+      if (!file[0]) continue;
+      if ((own = OwnFile(file, output_dir, checkpoint)))
+        (void)snprintf(message, sizeof(message),
+                       "option %.*s: PETSc would write %s over the run's own %s; choose another file name",
+                       (int)pairs->name_len[i], pairs->name[i], file, own);
+      else if (WritesFile(value) && !Writable(file))
+        (void)snprintf(message, sizeof(message), "option %.*s: PETSc could not write %s (%s)",
+                       (int)pairs->name_len[i], pairs->name[i], file, strerror(errno));
     }
     PetscCall(PetscFree(all));
     PetscCall(PetscFree(pairs));
