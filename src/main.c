@@ -65,14 +65,18 @@ static PetscBool EveryRankStopped(MPI_Comm comm)
   return done ? PETSC_TRUE : PETSC_FALSE;
 }
 
-/* One line from the first rank only: MPI is not running yet, the launcher says which rank we are. */
+/* On the first rank only: PETSc reads the options files there and hands their options to the
+   others, so a file the other ranks cannot see (a node's local disk) serves the run, and a
+   rank that failed alone would end it with no line at all (MPI is not running yet, so it
+   could not say so to the first; the launcher says which rank we are). */
 static int CheckOptionsFiles(int argc, char **argv)
 {
   char        message[8192];
   const char *rank = getenv("OMPI_COMM_WORLD_RANK") ? getenv("OMPI_COMM_WORLD_RANK") : getenv("PMI_RANK");
 
+  if (rank && strcmp(rank, "0")) return 0;
   if (!OptionsFilesCheck(argc, argv, message, sizeof(message))) return 0;
-  if (!rank || !strcmp(rank, "0")) fprintf(stderr, "fsiopt: error: %s\n", message);
+  fprintf(stderr, "fsiopt: error: %s\n", message);
   return 1;
 }
 

@@ -31,7 +31,7 @@ static PetscBool InOutputDir(const char path[], const char output_dir[], const c
 
 /* Before the first step: a checkpoint that cannot be written would stop the run at its
    first checkpoint (or at a SIGTERM's), hours in. */
-static PetscErrorCode CheckWritable(const char path[], const char output_dir[])
+static PetscErrorCode CheckWritable(const char path[], const char output_dir[], PetscBool scheduled)
 {
   PetscMPIInt rank;
   int         cause = 0, directory = 0;
@@ -73,6 +73,25 @@ static PetscErrorCode CheckWritable(const char path[], const char output_dir[])
              path, output_dir);
   PetscCheck(!cause, PETSC_COMM_WORLD, PETSC_ERR_FILE_OPEN, "option -checkpoint_file %s: cannot write there (%s)", path,
              strerror(cause));
+  if (scheduled) { /* every rank opens the checkpoint (MPI-IO): a directory only the first rank's
+                     node sees would fail the first checkpoint, hours in */
+    char        dir[PETSC_MAX_PATH_LEN];
+    const char *slash = strrchr(path, '/');
+    PetscMPIInt size, first, mine;
+    PetscCall(PetscSNPrintf(dir, sizeof(dir), "%.*s", slash ? (int)(slash - path) : 1, slash ? path : "."));
+    if (!dir[0]) PetscCall(PetscStrncpy(dir, "/", sizeof(dir)));
+    PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
+    cause = access(dir, W_OK | X_OK) ? errno : 0;
+    mine  = cause ? rank : size;
+    PetscCallMPI(MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, PETSC_COMM_WORLD));
+    if (first < size) {
+      PetscCallMPI(MPI_Bcast(&cause, 1, MPI_INT, first, PETSC_COMM_WORLD));
+      SETERRQ(PETSC_COMM_WORLD, PETSC_ERR_FILE_OPEN,
+              "option -checkpoint_file %s: rank %d cannot write in %s (%s); every rank writes the checkpoint: put it "
+              "on a file system all the run's nodes share",
+              path, (int)first, dir, strerror(cause));
+    }
+  }
   PetscFunctionReturn(0);
 }
 
@@ -112,7 +131,8 @@ PetscErrorCode RunCheckpointSetFromOptions(const RunParams *params, PetscInt str
              "option -restart_change: expected with -restart FILE");
   cp->possible = restartable;
   /* with -checkpoint_every, and for the checkpoint a SIGTERM or SIGUSR1 writes */
-  if ((cp->every || cp->possible) && !OptionsHelpRequested()) PetscCall(CheckWritable(cp->file, params->output_dir));
+  if ((cp->every || cp->possible) && !OptionsHelpRequested())
+    PetscCall(CheckWritable(cp->file, params->output_dir, cp->every ? PETSC_TRUE : PETSC_FALSE));
   PetscFunctionReturn(0);
 }
 
