@@ -3,7 +3,6 @@
 #include <petscdmplex.h>
 #include <ceed.h>
 #include <string.h>
-#include "memory_estimate.h"
 
 /* libCEED, the fast backend of the finite-element operators (docs/design.md §5): the pieces of a
    CeedOperator taken from a DMPlex and its PetscFE, so that an operator integrates what
@@ -18,9 +17,7 @@
       const char *ceed_message = "(no message)"; \
       if (ceed) CeedGetErrorMessage(ceed, &ceed_message); \
       PetscCheck(!(ceed) || !strstr(ceed_message, "No error message"), PETSC_COMM_SELF, PETSC_ERR_MEM, \
-                 "out of memory: a libCEED allocation failed; this rank's estimate was %.3g GiB: use more nodes, " \
-                 "fewer cells, or the iterative solvers of options/solvers/", \
-                 (double)(MemoryEstimateThisRank() / 1073741824.0)); \
+                 "out of memory: a libCEED allocation failed"); \
       SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "libCEED: %s", ceed_message); \
     } \
   } while (0)

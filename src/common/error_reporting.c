@@ -63,14 +63,22 @@ static PetscBool NameTheOption(const char *mess, char out[], size_t len)
   return PETSC_FALSE;
 }
 
-/* An allocation that failed (PETSc's malloc, MUMPS's workspace) says so, with the estimate the
-   run was refused or admitted by, rather than naming only the library's function. */
+/* An allocation that failed says so (PETSc's malloc, MUMPS's workspace, rather than only the
+   library's function), with the estimate the run was admitted by and what to change. */
+static void OutOfMemory(char out[], size_t len, const char what[])
+{
+  snprintf(out, len,
+           "out of memory: %s; this rank's estimate was %.3g GiB (memory_gib in summary.json of a run that "
+           "completes): use more nodes, fewer cells, or the iterative solvers of options/solvers/",
+           what, (double)(MemoryEstimateThisRank() / 1073741824.0));
+}
+
 static PetscBool NameTheMemory(int n, const char *func, const char *mess, char out[], size_t len)
 {
   static const char *const mumps_memory[] = {"INFOG(1)=-8", "INFOG(1)=-9", "INFOG(1)=-13", "INFOG(1)=-14",
                                              "INFOG(1)=-15", "INFOG(1)=-17", "INFOG(1)=-19", "INFOG(1)=-20"};
-  const PetscReal          gib            = MemoryEstimateThisRank() / 1073741824.0;
   const char              *what           = NULL;
+  char                     where[512];
 
   if (n == PETSC_ERR_MEM || (func && (!strcmp(func, "PetscMallocAlign") || !strcmp(func, "PetscReallocAlign"))))
     what = "an allocation failed";
@@ -79,10 +87,8 @@ static PetscBool NameTheMemory(int n, const char *func, const char *mess, char o
     if (at && !isdigit((unsigned char)at[strlen(mumps_memory[i])])) what = "MUMPS's workspace could not be allocated";
   }
   if (!what) return PETSC_FALSE;
-  snprintf(out, len,
-           "out of memory: %s (%s in %s()); this rank's estimate was %.3g GiB (memory_gib in summary.json of a run that "
-           "completes): use more nodes, fewer cells, or the iterative solvers of options/solvers/",
-           what, mess && mess[0] ? mess : "PETSc error", func ? func : "?", (double)gib);
+  snprintf(where, sizeof(where), "%s (%s in %s())", what, mess && mess[0] ? mess : "PETSc error", func ? func : "?");
+  OutOfMemory(out, len, where);
   return PETSC_TRUE;
 }
 
@@ -95,7 +101,8 @@ static PetscErrorCode RecordFirstMessage(MPI_Comm comm, int line, const char *fu
        Ours are compiled as src/... (the Makefile's paths); Debian's PETSc as ./src/... */
     const PetscBool ours = file && strncmp(file, "src/", 4) == 0 ? PETSC_TRUE : PETSC_FALSE;
     first_comm           = comm;
-    if (mess && mess[0] && ours) PetscSNPrintf(first_message, sizeof(first_message), "%s", mess);
+    if (mess && ours && !strncmp(mess, "out of memory: ", 15)) OutOfMemory(first_message, sizeof(first_message), mess + 15);
+    else if (mess && mess[0] && ours) PetscSNPrintf(first_message, sizeof(first_message), "%s", mess);
     else if (NameTheMemory((int)n, func, mess, first_message, sizeof(first_message))) (void)0;
     else if (!(mess && NameTheOption(mess, first_message, sizeof(first_message))))
       PetscSNPrintf(first_message, sizeof(first_message), "%s (PETSc error %d in %s() at %s:%d)",

@@ -3,7 +3,6 @@
    factorization out of memory. */
 #include <stdarg.h>
 #include "fsiopt.h"
-#include "memory_estimate.h"
 
 PetscErrorCode StepFailureSet(StepFailure *failure, const char format[], ...)
 {
@@ -34,9 +33,7 @@ PetscErrorCode StepFailureCheckMemory(SNES snes, const char solver[])
   PetscCall(PCGetFailedReasonRank(pc, &reason));
   out_of_memory = reason == PC_FACTOR_OUTMEMORY ? PETSC_TRUE : PETSC_FALSE;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &out_of_memory, 1, MPIU_BOOL, MPI_LOR, comm));
-  PetscCheck(!out_of_memory, comm, PETSC_ERR_MEM,
-             "out of memory: the %s's factorization could not allocate its factors; this rank's estimate was %.3g GiB: "
-             "use more nodes, fewer cells, or the iterative solvers of options/solvers/",
-             solver, (double)(MemoryEstimateThisRank() / 1073741824.0));
+  PetscCheck(!out_of_memory, comm, PETSC_ERR_MEM, "out of memory: the %s's factorization could not allocate its factors",
+             solver);
   PetscFunctionReturn(0);
 }

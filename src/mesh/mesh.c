@@ -2,7 +2,6 @@
    inverted cells, memory), refined and distributed; and a signature of its partition for
    checkpoints. */
 #include "mesh.h"
-#include "memory_estimate.h"
 #include "options.h"
 #include "error_reporting.h"
 #include "logging.h"
