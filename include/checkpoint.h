@@ -27,6 +27,11 @@ PetscErrorCode CheckpointEnsureSpace(MPI_Comm, const char path[], double at_leas
 PetscErrorCode CheckpointCreateInMemory(Checkpoint *);
 PetscErrorCode CheckpointDestroy(Checkpoint *);
 PetscBool      CheckpointIsFile(Checkpoint);
+/* A file whose values carry checksums (checksum.h): false for a file read that an fsiopt
+   without checksums wrote, whose values are read unchecked. */
+PetscBool CheckpointHasChecksums(Checkpoint);
+/* Whether a file holds the group (a path from the root, or below the current group). */
+PetscErrorCode CheckpointHasGroup(Checkpoint, const char group[], PetscBool *has);
 /* Whether the solvers rebuild their factors after this save or load (see above). */
 PetscBool CheckpointResynchronizes(Checkpoint, PetscBool load);
 

@@ -15,6 +15,16 @@ int OutputMakeDirectoriesWhy(const char dir[], char why[], size_t len);
    directory made for the run removed if empty) by OutputLockRelease, also on main's error
    path (no PETSc calls). Collective. */
 PetscErrorCode OutputLockTake(MPI_Comm, const char dir[]);
+/* One writer for a file the run writes (its -checkpoint_file), refused with one line naming
+   `option`, the file and the run that holds it; `noun` names the file in the notice of a
+   take-over. In the run's own -output_dir (`in_output_dir`) the directory's lock covers it:
+   only another live run's <file>.lock is refused (a dead run's removed). Elsewhere the run
+   takes <file>.lock, released with the directory's, and refuses a file in another live
+   run's output directory. A lock that cannot be created (no such directory) is neither
+   taken nor refused: the run's own check of the file says why it cannot write there.
+   Collective. */
+PetscErrorCode OutputLockTakeFile(MPI_Comm, const char option[], const char file[], const char noun[],
+                                  PetscBool in_output_dir);
 void           OutputLockRelease(void);
 /* A rank that ends the whole job (its error is not the others'): the job's lock goes. */
 void OutputLockReleaseForJob(void);

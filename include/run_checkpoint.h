@@ -23,6 +23,11 @@ typedef struct {
   PetscInt  structure_ranks; /* of a fluid | structure split, 0: both on every rank */
 } RunCheckpointParams;
 
+/* The run's -checkpoint_file is its own from the start (OutputLockTakeFile; in its
+   -output_dir through the directory's lock): a second run writing it would replace the
+   first's checkpoints with its own. Even a run that writes none unless stopped by a signal
+   takes it. */
+PetscErrorCode RunCheckpointLock(const RunParams *);
 /* structure_ranks: K of a fluid | structure split, 0 for both on every rank; restartable:
    the coupling method (if any) keeps all its state in checkpoints. */
 PetscErrorCode RunCheckpointSetFromOptions(const RunParams *, PetscInt structure_ranks, PetscBool restartable,

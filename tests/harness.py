@@ -148,6 +148,66 @@ def same_file(a, b):
     return open(a, "rb").read() == open(b, "rb").read()
 
 
+# A checkpoint's checksums (include/checksum.h, kind fsiopt-mix64-1): its table, the root's
+# attribute "checksums", and the checksum of a value, for tests that change a value together
+# with its checksum (what a damage that a checksum cannot see looks like) or recompute them.
+_MASK = (1 << 64) - 1
+
+
+def _entry(index, bits):
+    z = bits ^ (((index + 1) * 0x9e3779b97f4a7c15) & _MASK)
+    z = ((z ^ (z >> 30)) * 0xbf58476d1ce4e5b9) & _MASK
+    z = ((z ^ (z >> 27)) * 0x94d049bb133111eb) & _MASK
+    return z ^ (z >> 31)
+
+
+def checkpoint_checksum(value):
+    """The checksum fsiopt stores of an attribute's value (an integer, a float or a string)
+    or a dataset's (an array of floats), as the 16 hex digits it writes."""
+    import numpy as np
+    if isinstance(value, (str, bytes)):
+        h = 0xcbf29ce484222325   # FNV-1a 64 of the string's bytes
+        for c in value.encode() if isinstance(value, str) else value:
+            h = ((h ^ c) * 0x100000001b3) & _MASK
+        return "%016x" % _entry(0, h)
+    a = np.asarray(value)
+    if a.ndim:
+        bits = a.astype("<f8").view("<u8")
+        return "%016x" % (sum(_entry(i, int(b)) for i, b in enumerate(bits)) & _MASK)
+    if np.issubdtype(a.dtype, np.integer):
+        return "%016x" % _entry(0, int(a) & _MASK)
+    return "%016x" % _entry(0, int(a.astype("<f8").view("<u8")))
+
+
+def checkpoint_checksums(f):
+    """An open h5py file's table of checksums (with its parts "checksums 1", ... of fluid |
+    structure ranks): (kind, {item: 16 hex digits}), the items as fsiopt names them
+    ("dataset /fluid/state", "attribute 'step' in /run")."""
+    lines, k = f.attrs["checksums"].decode().splitlines(), 1
+    while "checksums %d" % k in f.attrs:
+        lines += f.attrs["checksums %d" % k].decode().splitlines()
+        k += 1
+    return lines[0], {l[17:]: l[:16] for l in lines[1:]}
+
+
+def write_checkpoint_checksums(f, kind, table):
+    """Replaces an open h5py file's table of checksums (its parts joined to it), a
+    fixed-length string as fsiopt's."""
+    text = "\n".join([kind] + ["%s %s" % (v, k) for k, v in table.items()]) + "\n"
+    for name in [n for n in f.attrs if n.startswith("checksums")]:
+        del f.attrs[name]
+    f.attrs.create("checksums", text.encode(), dtype="S%d" % (len(text) + 1))
+
+
+def set_checkpoint_attribute(f, group, name, value):
+    """Rewrites attribute `name` of `group` in an open h5py file with its type kept, and its
+    checksum in the table to match."""
+    f[group].attrs.modify(name, value)
+    kind, table = checkpoint_checksums(f)
+    table["attribute '%s' in /%s" % (name, group)] = checkpoint_checksum(f[group].attrs[name])
+    write_checkpoint_checksums(f, kind, table)
+
+
 def selected(argv):
     """(tests to run, quick): --quick keeps the fast tier; the other arguments (but --list)
     keep the tests whose title or function name contains one of them (all without)."""

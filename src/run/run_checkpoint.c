@@ -9,6 +9,7 @@
 #include "run_checkpoint.h"
 #include "checkpoint.h"
 #include "options.h"
+#include "output_files.h"
 #include "mesh.h"
 #include "output_files.h"
 
@@ -95,6 +96,27 @@ static PetscErrorCode CheckWritable(const char path[], const char output_dir[], 
   PetscFunctionReturn(0);
 }
 
+static PetscErrorCode DefaultFile(const RunParams *params, char file[], size_t len)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(file, len, "%s/checkpoint.h5", params->output_dir));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode RunCheckpointLock(const RunParams *params)
+{
+  char        file[PETSC_MAX_PATH_LEN];
+  const char *clash;
+  PetscBool   own;
+
+  PetscFunctionBeginUser;
+  PetscCall(DefaultFile(params, file, sizeof(file)));
+  PetscCall(PetscOptionsGetString(NULL, NULL, "-checkpoint_file", file, sizeof(file), NULL));
+  own = InOutputDir(file, params->output_dir, &clash);
+  PetscCall(OutputLockTakeFile(PETSC_COMM_WORLD, "-checkpoint_file", file, "checkpoint file", own));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode RunCheckpointSetFromOptions(const RunParams *params, PetscInt structure_ranks, PetscBool restartable,
                                            RunCheckpointParams *cp)
 {
@@ -105,7 +127,7 @@ PetscErrorCode RunCheckpointSetFromOptions(const RunParams *params, PetscInt str
   cp->restart[0]      = 0;
   cp->change_dt       = PETSC_FALSE;
   cp->change[0]       = 0;
-  PetscCall(PetscSNPrintf(cp->file, sizeof(cp->file), "%s/checkpoint.h5", params->output_dir));
+  PetscCall(DefaultFile(params, cp->file, sizeof(cp->file)));
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Checkpoints and restarts", "fsiopt");
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-checkpoint_every", "write the state every K steps (0: never)", 0,
                               PETSC_MAX_INT, &cp->every));
@@ -211,6 +233,44 @@ static PetscErrorCode CheckpointStructureRanks(Checkpoint cp, const char path[],
   PetscFunctionReturn(0);
 }
 
+/* The times the modules' groups record against the step /run records: each was written
+   from the same state, so they agree to round-off (each module adds its dt step by step).
+   A checksum does not see a file whose values were changed with their checksums, or one an
+   fsiopt without checksums wrote and that was damaged since; disagreeing times are refused
+   before the state is read. */
+static PetscErrorCode CheckpointTimesAgree(Checkpoint cp, const char path[], PetscInt step, PetscReal dt,
+                                           PetscReal t_start)
+{
+  const char *groups[2] = {"/fluid", "/structure"};
+  PetscReal   t         = t_start + step * dt;
+
+  PetscFunctionBeginUser;
+  for (PetscInt k = 0; k < 2; ++k) {
+    PetscBool group, has_time, has_step = PETSC_FALSE;
+    PetscReal time        = t;
+    PetscInt  module_step = step;
+    PetscCall(CheckpointHasGroup(cp, groups[k], &group));
+    if (!group) continue;
+    PetscCall(CheckpointPushGroup(cp, groups[k]));
+    PetscCall(CheckpointHasAttribute(cp, "time", &has_time));
+    if (has_time) PetscCall(CheckpointReal(cp, "time", &time, PETSC_TRUE));
+    if (!k) PetscCall(CheckpointHasAttribute(cp, "step", &has_step));
+    if (has_step) PetscCall(CheckpointInt(cp, "step", &module_step, PETSC_TRUE));
+    PetscCall(CheckpointPopGroup(cp));
+    PetscCheck(module_step == step, PETSC_COMM_WORLD, PETSC_ERR_FILE_UNEXPECTED,
+               "option -restart %s: its attributes disagree: step %" PetscInt_FMT " in /run, %" PetscInt_FMT
+               " in %s (damaged)",
+               path, step, module_step, groups[k]);
+    /* a millionth of a step: far above the round-off of a sum of steps, far below a step */
+    PetscCheck(PetscAbsReal(time - t) <= 1e-6 * dt + 1e-12 * PetscAbsReal(t), PETSC_COMM_WORLD,
+               PETSC_ERR_FILE_UNEXPECTED,
+               "option -restart %s: its attributes disagree: time in %s is %.16g, step %" PetscInt_FMT
+               " in /run ends at t = t_start + step dt = %.16g (damaged)",
+               path, groups[k], (double)time, step, (double)t);
+  }
+  PetscFunctionReturn(0);
+}
+
 #define FINGERPRINT_LEN 65536
 
 /* On fluid | structure ranks each side's state is a part of the file its ranks write alone. */
@@ -240,7 +300,7 @@ PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, 
   PetscReal  dt = params->dt, t_start = params->t_start;
   PetscInt   dofs[2] = {summary->fluid_dofs, summary->structure_dofs}, fluid_dofs, structure_dofs,
            ranks = summary->total_ranks;
-  PetscBool  has_fingerprint = PETSC_TRUE, other_dt;
+  PetscBool  has_fingerprint = PETSC_TRUE, other_dt, unchecked;
   char      *fingerprint, *written;
 
   PetscFunctionBeginUser;
@@ -273,6 +333,7 @@ PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, 
              path);
   PetscCall(CheckpointString(cp, "problem_options", written, FINGERPRINT_LEN, load));
   PetscCall(CheckpointPopGroup(cp));
+  if (load) PetscCall(CheckpointTimesAgree(cp, path, *step, dt, t_start));
   other_dt = load && PetscAbsReal(dt - params->dt) > 1e-12 * params->dt ? PETSC_TRUE : PETSC_FALSE;
   if (load) {
     PetscCheck(!other_dt || cpp->change_dt, PETSC_COMM_WORLD, PETSC_ERR_ARG_INCOMP,
@@ -318,8 +379,16 @@ PetscErrorCode RunCheckpoint(const char path[], PetscBool load, PetscInt *step, 
       return ierr;
     }
   }
+  unchecked = load && !CheckpointHasChecksums(cp);
   PetscCall(CheckpointClose(PETSC_COMM_WORLD, path, load, &cp));
   PetscCall(PetscFree2(fingerprint, written));
+  /* accepted: refusing would end the runs whose last checkpoint an fsiopt without checksums
+     wrote; the file's damage shows only if it breaks the checks of type, shape and times */
+  if (unchecked)
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD,
+                          "fsiopt: warning: option -restart %s: the checkpoint has no checksums (written by an fsiopt "
+                          "without them): its values are read unchecked\n",
+                          path));
   if (other_dt) {
     PetscCall(StepRetrySetTimeStep(retry, params->dt));
     PetscCall(PetscPrintf(PETSC_COMM_WORLD,

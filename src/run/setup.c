@@ -287,6 +287,7 @@ PetscErrorCode RunCreate(Run *created)
   PetscCall(SceneCreate(run->params.scene, &run->scene));
   PetscCall(RunParamsSetFromOptions(&run->params));
   if (!run->help) PetscCall(OutputLockTake(PETSC_COMM_WORLD, run->params.output_dir));
+  if (!run->help) PetscCall(RunCheckpointLock(&run->params));
   PetscCall(InterruptSetFromOptions());
   run->coupled = run->scene.has_fluid && run->scene.has_structure;
   PetscCall(InterruptCheckSetUp("options read"));

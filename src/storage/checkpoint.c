@@ -2,6 +2,8 @@
    in it is each module's (FluidCheckpoint, StructureCheckpoint, CouplingCheckpoint,
    ProbesCheckpoint). */
 #include "checkpoint.h"
+#include "checksum.h"
+#include "logging.h"
 #include "output_files.h"
 #include <stdio.h>
 #include <string.h>
@@ -19,15 +21,18 @@ typedef struct {
 } MemoryEntry;
 
 struct _p_Checkpoint {
-  PetscViewer  viewer; /* NULL: in memory, or in a part this rank does not hold */
-  PetscBool    file, load;
-  MPI_Comm     comm;                          /* a file's: the ranks that open it */
-  char         open_name[PETSC_MAX_PATH_LEN]; /* the file open: path, or its temporary while written */
-  PetscBool    in_part;                       /* between CheckpointBeginPart and CheckpointEndPart */
-  char         path[PETSC_MAX_PATH_LEN];
-  char         group[64];
-  MemoryEntry *entries;
-  PetscInt     n, max;
+  PetscViewer   viewer; /* NULL: in memory, or in a part this rank does not hold */
+  PetscBool     file, load;
+  MPI_Comm      comm;                          /* a file's: the ranks that open it */
+  char          open_name[PETSC_MAX_PATH_LEN]; /* the file open: path, or its temporary while written */
+  PetscBool     in_part;                       /* between CheckpointBeginPart and CheckpointEndPart */
+  ChecksumTable checksums; /* a file's (NULL: one an fsiopt without checksums wrote, read unchecked) */
+  PetscInt      parts;     /* parts begun, and where the part in progress's checksums begin */
+  PetscInt      part_first;
+  char          path[PETSC_MAX_PATH_LEN];
+  char          group[64];
+  MemoryEntry  *entries;
+  PetscInt      n, max;
 };
 
 PetscBool CheckpointResynchronizes(Checkpoint cp, PetscBool load)
@@ -38,6 +43,19 @@ PetscBool CheckpointResynchronizes(Checkpoint cp, PetscBool load)
 PetscBool CheckpointIsFile(Checkpoint cp)
 {
   return cp->file;
+}
+
+PetscBool CheckpointHasChecksums(Checkpoint cp)
+{
+  return cp->checksums ? PETSC_TRUE : PETSC_FALSE;
+}
+
+PetscErrorCode CheckpointHasGroup(Checkpoint cp, const char group[], PetscBool *has)
+{
+  PetscFunctionBeginUser;
+  *has = PETSC_FALSE;
+  if (cp->viewer) PetscCall(PetscViewerHDF5HasGroup(cp->viewer, group, has));
+  PetscFunctionReturn(0);
 }
 
 PetscErrorCode CheckpointCreateInMemory(Checkpoint *cp)
@@ -54,6 +72,7 @@ PetscErrorCode CheckpointDestroy(Checkpoint *cp)
   for (PetscInt i = 0; i < (*cp)->n; ++i) PetscCall(VecDestroy(&(*cp)->entries[i].vec));
   PetscCall(PetscFree((*cp)->entries));
   PetscCall(PetscViewerDestroy(&(*cp)->viewer));
+  PetscCall(ChecksumTableDestroy(&(*cp)->checksums));
   PetscCall(PetscFree(*cp));
   PetscFunctionReturn(0);
 }
@@ -218,6 +237,29 @@ static PetscErrorCode CheckStoredType(Checkpoint cp, const char name[], PetscBoo
   PetscFunctionReturn(0);
 }
 
+/* A dataset's (of its vector v) or an attribute's checksum (sum): into the table of a file
+   written, against it in a file read. */
+static PetscErrorCode ItemChecksum(Checkpoint cp, const char name[], PetscBool dataset, Vec v, uint64_t sum,
+                                   PetscBool load)
+{
+  char item[PETSC_MAX_PATH_LEN + 64];
+
+  PetscFunctionBeginUser;
+  if (!cp->checksums) PetscFunctionReturn(0);
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CHECKSUM, 0, 0, 0, 0));
+  PetscCall(ChecksumItem(cp->group, name, dataset, item, sizeof(item)));
+  if (load) {
+    /* at once, before the module's own checks of the values */
+    if (dataset) PetscCall(ChecksumVec(v, &sum));
+    PetscCall(ChecksumTableCheck(cp->checksums, PetscObjectComm((PetscObject)cp->viewer), cp->path, item, sum));
+  } else {
+    if (dataset) PetscCall(ChecksumVecLocal(v, &sum));
+    PetscCall(ChecksumTableAdd(cp->checksums, item, sum, dataset ? PETSC_FALSE : PETSC_TRUE));
+  }
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CHECKSUM, 0, 0, 0, 0));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode CheckpointVec(Checkpoint cp, const char name[], Vec v, PetscBool load)
 {
   PetscViewer viewer = cp->viewer;
@@ -257,10 +299,12 @@ PetscErrorCode CheckpointVec(Checkpoint cp, const char name[], Vec v, PetscBool 
                "diverged)",
                cp->path, group, name);
     PetscCall(PetscFree(group));
+    PetscCall(ItemChecksum(cp, name, PETSC_TRUE, plain, 0, load));
     PetscCall(VecCopy(plain, v));
   } else {
     PetscCall(VecCopy(v, plain));
     PetscCall(VecView(plain, viewer));
+    PetscCall(ItemChecksum(cp, name, PETSC_TRUE, plain, 0, load));
   }
   PetscCall(VecDestroy(&plain));
   PetscFunctionReturn(0);
@@ -291,6 +335,10 @@ static PetscErrorCode CheckpointAttribute(Checkpoint cp, const char name[], Pets
     PetscCall(CheckStoredType(cp, name, PETSC_TRUE, type == PETSC_INT ? H5T_INTEGER : H5T_FLOAT));
     PetscCall(PetscViewerHDF5ReadAttribute(viewer, NULL, name, type, NULL, value));
   } else PetscCall(PetscViewerHDF5WriteAttribute(viewer, NULL, name, type, value));
+  if (viewer) {
+    const uint64_t sum = type == PETSC_INT ? ChecksumInt(*(PetscInt *)value) : ChecksumReal(*(PetscReal *)value);
+    PetscCall(ItemChecksum(cp, name, PETSC_FALSE, NULL, sum, load));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -332,6 +380,7 @@ PetscErrorCode CheckpointString(Checkpoint cp, const char name[], char value[], 
   PetscCheck(viewer, PETSC_COMM_SELF, PETSC_ERR_SUP, "a checkpoint in memory keeps no strings ('%s')", name);
   if (!load) {
     PetscCall(PetscViewerHDF5WriteAttribute(viewer, NULL, name, PETSC_STRING, value));
+    PetscCall(ItemChecksum(cp, name, PETSC_FALSE, NULL, ChecksumString(value), load));
     PetscFunctionReturn(0);
   }
   PetscCall(PetscViewerHDF5HasAttribute(viewer, NULL, name, &has));
@@ -339,6 +388,8 @@ PetscErrorCode CheckpointString(Checkpoint cp, const char name[], char value[], 
              "option -restart: the checkpoint has no attribute '%s': not an fsiopt checkpoint of this set-up", name);
   PetscCall(CheckStoredType(cp, name, PETSC_TRUE, H5T_STRING));
   PetscCall(PetscViewerHDF5ReadAttribute(viewer, NULL, name, PETSC_STRING, NULL, &read));
+  /* of the whole string read, before a cut to len */
+  PetscCall(ItemChecksum(cp, name, PETSC_FALSE, NULL, ChecksumString(read), load));
   PetscCall(PetscStrncpy(value, read, len));
   PetscCall(PetscFree(read));
   PetscFunctionReturn(0);
@@ -371,7 +422,8 @@ static PetscErrorCode TemporaryName(const char path[], char tmp[], size_t len)
 PetscErrorCode CheckpointOpen(MPI_Comm comm, const char path[], PetscBool load, Checkpoint *cp)
 {
   char        tmp[PETSC_MAX_PATH_LEN] = "";
-  PetscViewer viewer;
+  PetscViewer   viewer;
+  ChecksumTable checksums;
 
   PetscFunctionBeginUser;
   if (load) {
@@ -397,12 +449,15 @@ PetscErrorCode CheckpointOpen(MPI_Comm comm, const char path[], PetscBool load, 
        own diagnostic stack */
     H5Eset_auto2(H5E_DEFAULT, NULL, NULL);
     PetscCall(PetscViewerHDF5Open(comm, tmp, FILE_MODE_WRITE, &viewer));
+    PetscCall(ChecksumTableCreate(&checksums));
   }
+  if (load) PetscCall(ChecksumTableRead(viewer, path, &checksums));
   PetscCall(PetscNew(cp));
-  (*cp)->viewer = viewer;
-  (*cp)->file   = PETSC_TRUE;
-  (*cp)->load   = load;
-  (*cp)->comm   = comm;
+  (*cp)->viewer    = viewer;
+  (*cp)->file      = PETSC_TRUE;
+  (*cp)->load      = load;
+  (*cp)->comm      = comm;
+  (*cp)->checksums = checksums;
   PetscCall(PetscStrncpy((*cp)->path, path, sizeof((*cp)->path)));
   PetscCall(PetscStrncpy((*cp)->open_name, load ? path : tmp, sizeof((*cp)->open_name)));
   PetscFunctionReturn(0);
@@ -427,6 +482,8 @@ PetscErrorCode CheckpointBeginPart(Checkpoint cp, MPI_Comm part)
   if (part != MPI_COMM_NULL) PetscCallMPI(MPI_Comm_size(part, &part_size));
   if (part_size == size) PetscFunctionReturn(0); /* every rank holds it */
   cp->in_part = PETSC_TRUE;
+  ++cp->parts;
+  if (cp->checksums && !cp->load) cp->part_first = ChecksumTablePending(cp->checksums);
   PetscCall(PetscViewerDestroy(&cp->viewer));
   PetscCallMPI(MPI_Barrier(cp->comm)); /* closed on every rank before it opens on some */
   if (part != MPI_COMM_NULL) PetscCall(Reopen(cp, part));
@@ -443,7 +500,15 @@ PetscErrorCode CheckpointEndPart(Checkpoint cp, PetscErrorCode part_error)
     PetscFunctionReturn(0);
   }
   cp->in_part = PETSC_FALSE;
-  closing     = PetscViewerDestroy(&cp->viewer);
+  if (cp->checksums && !cp->load && cp->viewer) {
+    /* the part's checksums, written by its ranks while they hold the file: shared with the
+       others instead, they would cost collectives of every rank per part (once all its
+       ranks have written it: one that failed would not join) */
+    int failed = part_error != 0;
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &failed, 1, MPI_INT, MPI_MAX, PetscObjectComm((PetscObject)cp->viewer)));
+    if (!failed) part_error = ChecksumTableWritePart(cp->checksums, cp->viewer, cp->part_first, cp->parts);
+  }
+  closing = PetscViewerDestroy(&cp->viewer);
   PetscCall(ErrorReportingAgree(cp->comm, part_error ? part_error : closing));
   PetscCall(Reopen(cp, cp->comm));
   PetscFunctionReturn(0);
@@ -493,6 +558,7 @@ PetscErrorCode CheckpointClose(MPI_Comm comm, const char path[], PetscBool load,
   PetscMPIInt rank;
 
   PetscFunctionBeginUser;
+  if (!load) PetscCall(ChecksumTableWrite((*cp)->checksums, (*cp)->viewer));
   PetscCall(CheckpointDestroy(cp));
   if (load) PetscFunctionReturn(0);
   PetscCall(TemporaryName(path, tmp, sizeof(tmp)));
