@@ -31,7 +31,7 @@ def test_sizes_refused():
               "-fluid_dm_plex_box_faces 100000,100000: 4e+10 mesh points"),
              ("box refined 14 times", SHORT + ["-fluid_dm_refine", "14"], "more than PETSc's integers number"),
              ("box the node cannot build", SHORT + ["-fluid_dm_plex_box_faces", "2000,2000", "-memory_per_node_gib",
-                                                    "0.5"], "building it on one rank takes about 1.87 GiB (16 million mesh points)"),
+                                                    "0.5"], "building it on one rank takes about 1.79 GiB (16 million mesh points)"),
              ("10^15 nodes", tube + [gmsh_with_count("nodes-1e15.msh", "Nodes", 10 ** 15)],
               "declares 1000000000000000 nodes, more than PETSc's integers"),
              ("10^12 elements", tube + [gmsh_with_count("elements-1e12.msh", "Elements", 10 ** 12)],

@@ -231,7 +231,7 @@ static const PetscReal box_bytes_per_point = 120.0;
 PetscErrorCode MemoryEstimateCheckMeshPoints(MPI_Comm comm, const char source[], PetscReal points)
 {
   PetscBool force    = PETSC_FALSE;
-  PetscReal node_gib = 0, has, need = points * box_bytes_per_point + rank_baseline_bytes;
+  PetscReal node_gib = 0, has, need = points * box_bytes_per_point; /* the baseline is MemoryEstimateAdd's */
 
   PetscFunctionBeginUser;
   PetscCheck(points <= (PetscReal)PETSC_MAX_INT, comm, PETSC_ERR_ARG_OUTOFRANGE,
