@@ -54,4 +54,7 @@ PetscBool      OptionsInDeclaredFamily(const char name[]);
    YAML with a mapping at the top or PETSc's -name value lines, and includes no file that
    includes it. Returns 0, or 1 with one line in message naming the file and the line. */
 int OptionsFilesCheck(int argc, char **argv, char message[], size_t len);
+/* The length of the well-formed UTF-8 sequence at text (at most n bytes), 0 if it is not one
+   (plain C: the options files are checked with it before PETSc starts, summary.json written) */
+size_t UTF8SequenceLength(const unsigned char *text, size_t n);
 #endif

@@ -60,6 +60,10 @@ void OutputSetUpDone(const char dir[]);
 /* The names of the files a run writes in its -output_dir, each also as NAME.partial or NAME.tmp
    while it is written; NULL-terminated. */
 extern const char *const OutputFileNames[];
+/* Whether `file` would lie in output_dir (their real paths), and then the name of the run's
+   own output it would overwrite or be overwritten by (its name starts with one of
+   OutputFileNames), else NULL. Not collective. */
+PetscBool OutputDirHolds(const char file[], const char output_dir[], const char **clash);
 /* An option asking PETSc to write a file (a viewer's type:FILE, -log_view's :FILE) that is one
    of the run's own (an output in output_dir, the checkpoint) is refused with one line naming
    it, before the first step rather than overwritten after the last. Collective. */

@@ -65,16 +65,24 @@ static PetscBool EveryRankStopped(MPI_Comm comm)
   return done ? PETSC_TRUE : PETSC_FALSE;
 }
 
+/* Whether this process is the job's first rank, before MPI runs: the launcher says (Open MPI,
+   or a PMI launcher such as srun); without one it is the only rank. */
+static int FirstRank(void)
+{
+  const char *rank = getenv("OMPI_COMM_WORLD_RANK") ? getenv("OMPI_COMM_WORLD_RANK") : getenv("PMI_RANK");
+
+  return !rank || !strcmp(rank, "0");
+}
+
 /* On the first rank only: PETSc reads the options files there and hands their options to the
    others, so a file the other ranks cannot see (a node's local disk) serves the run, and a
    rank that failed alone would end it with no line at all (MPI is not running yet, so it
    could not say so to the first; the launcher says which rank we are). */
 static int CheckOptionsFiles(int argc, char **argv)
 {
-  char        message[8192];
-  const char *rank = getenv("OMPI_COMM_WORLD_RANK") ? getenv("OMPI_COMM_WORLD_RANK") : getenv("PMI_RANK");
+  char message[8192];
 
-  if (rank && strcmp(rank, "0")) return 0;
+  if (!FirstRank()) return 0;
   if (!OptionsFilesCheck(argc, argv, message, sizeof(message))) return 0;
   fprintf(stderr, "fsiopt: error: %s\n", message);
   return 1;
@@ -88,12 +96,11 @@ static int CheckOptionsFiles(int argc, char **argv)
 static int CheckAddressSpace(void)
 {
   struct rlimit limit;
-  const char   *rank = getenv("OMPI_COMM_WORLD_RANK") ? getenv("OMPI_COMM_WORLD_RANK") : getenv("PMI_RANK");
 
   if (getrlimit(RLIMIT_AS, &limit) || limit.rlim_cur == RLIM_INFINITY ||
       limit.rlim_cur >= (rlim_t)MIN_ADDRESS_SPACE_MIB << 20)
     return 0;
-  if (!rank || !strcmp(rank, "0"))
+  if (FirstRank())
     fprintf(stderr,
             "fsiopt: error: the address-space limit (ulimit -v) is %lu MiB; fsiopt needs at least %d MiB to start (MPI, "
             "BLAS and PETSc reserve that much), more for its meshes and factors\n",

@@ -142,6 +142,19 @@ static PetscReal SubproblemBytes(const char prefix[], PetscInt dim, PetscReal do
   return dofs * lu_bytes_per_dof[dim] * PetscPowReal(PetscMax(dofs, 1.0) / reference_dofs, lu_exponent[dim]);
 }
 
+/* -force and -memory_per_node_gib, which both checks obey */
+static PetscErrorCode ReadNodeLimit(MPI_Comm comm, PetscBool *force, PetscReal *node_gib)
+{
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(comm, NULL, "Memory estimate", "fsiopt");
+  PetscCall(PetscOptionsBool("-force", "run even when the estimated memory exceeds what a node has", NULL, *force,
+                             force, NULL));
+  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-memory_per_node_gib",
+                                   "memory a node may use, GiB (0: what the node has available)", node_gib));
+  PetscOptionsEnd();
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode MemoryEstimateAdd(MPI_Comm comm, const char prefix[], PetscInt dim, PetscReal dofs, const char source[])
 {
   PetscBool   force    = PETSC_FALSE, direct;
@@ -152,12 +165,7 @@ PetscErrorCode MemoryEstimateAdd(MPI_Comm comm, const char prefix[], PetscInt di
 
   PetscFunctionBeginUser;
   if (dofs < 0 || dim < 1 || dim > 3) PetscFunctionReturn(0);
-  PetscOptionsBegin(comm, NULL, "Memory estimate", "fsiopt");
-  PetscCall(PetscOptionsBool("-force", "run even when the estimated memory exceeds what a node has", NULL, force,
-                             &force, NULL));
-  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-memory_per_node_gib",
-                                   "memory a node may use, GiB (0: what the node has available)", &node_gib));
-  PetscOptionsEnd();
+  PetscCall(ReadNodeLimit(comm, &force, &node_gib));
   PetscCallMPI(MPI_Comm_size(comm, &size));
   bytes = SubproblemBytes(prefix, dim, dofs, &direct);
   promised += bytes / size;
@@ -237,12 +245,7 @@ PetscErrorCode MemoryEstimateCheckMeshPoints(MPI_Comm comm, const char source[],
   PetscCheck(points <= (PetscReal)PETSC_MAX_INT, comm, PETSC_ERR_ARG_OUTOFRANGE,
              "%s: %.3g mesh points (cells, faces, edges, vertices), more than PETSc's integers number (at most %d)",
              source, (double)points, (int)PETSC_MAX_INT);
-  PetscOptionsBegin(comm, NULL, "Memory estimate", "fsiopt");
-  PetscCall(PetscOptionsBool("-force", "run even when the estimated memory exceeds what a node has", NULL, force,
-                             &force, NULL));
-  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-memory_per_node_gib",
-                                   "memory a node may use, GiB (0: what the node has available)", &node_gib));
-  PetscOptionsEnd();
+  PetscCall(ReadNodeLimit(comm, &force, &node_gib));
   has = node_gib > 0 ? node_gib * 1073741824.0 : NodeAvailableBytes();
   PetscCallMPI(MPI_Bcast(&has, 1, MPIU_REAL, 0, comm));
   PetscCheck(force || has <= 0 || need <= has, comm, PETSC_ERR_MEM,

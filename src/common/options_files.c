@@ -72,27 +72,32 @@ static int IsYAMLName(const char path[])
   return EndsWith(path, ".yaml") || EndsWith(path, ".yml");
 }
 
+size_t UTF8SequenceLength(const unsigned char *text, size_t n)
+{
+  size_t follow;
+
+  if (text[0] < 0x80) return 1;
+  if (text[0] >= 0xc2 && text[0] <= 0xdf) follow = 1;
+  else if (text[0] >= 0xe0 && text[0] <= 0xef) follow = 2;
+  else if (text[0] >= 0xf0 && text[0] <= 0xf4) follow = 3;
+  else return 0;
+  if (follow >= n) return 0;
+  for (size_t k = 1; k <= follow; ++k)
+    if ((text[k] & 0xc0) != 0x80) return 0;
+  return follow + 1;
+}
+
 /* The line of the first byte that cannot be in a text file (NUL, other control characters,
    invalid UTF-8), or 0. */
 static int BinaryLine(const unsigned char *text, size_t n)
 {
   int line = 1;
 
-  for (size_t i = 0; i < n; ++i) {
+  for (size_t i = 0, len; i < n; i += len) {
     const unsigned char c = text[i];
-    size_t              follow;
     if (c == '\n') ++line;
-    if (c < 0x80) {
-      if (c < 0x20 && c != '\n' && c != '\r' && c != '\t') return line;
-      continue;
-    }
-    if (c >= 0xc2 && c <= 0xdf) follow = 1;
-    else if (c >= 0xe0 && c <= 0xef) follow = 2;
-    else if (c >= 0xf0 && c <= 0xf4) follow = 3;
-    else return line;
-    for (size_t k = 1; k <= follow; ++k)
-      if (i + k >= n || (text[i + k] & 0xc0) != 0x80) return line;
-    i += follow;
+    if (c < 0x20 && c != '\n' && c != '\r' && c != '\t') return line;
+    if (!(len = UTF8SequenceLength(text + i, n - i))) return line;
   }
   return 0;
 }

@@ -15,22 +15,6 @@
 extern const char fsiopt_version[]; /* build/version.c, made by make: git describe of the build */
 #include <stdio.h>
 
-/* The length of the well-formed UTF-8 sequence at text (at most n bytes), 0 if it is not one */
-static size_t UTF8Length(const unsigned char *text, size_t n)
-{
-  size_t follow;
-
-  if (text[0] < 0x80) return 1;
-  if (text[0] >= 0xc2 && text[0] <= 0xdf) follow = 1;
-  else if (text[0] >= 0xe0 && text[0] <= 0xef) follow = 2;
-  else if (text[0] >= 0xf0 && text[0] <= 0xf4) follow = 3;
-  else return 0;
-  if (follow >= n) return 0;
-  for (size_t k = 1; k <= follow; ++k)
-    if ((text[k] & 0xc0) != 0x80) return 0;
-  return follow + 1;
-}
-
 /* A JSON string of the first n bytes of text (up to a NUL): a path or a message may hold any
    bytes, JSON only UTF-8 without raw control characters. A byte that is not UTF-8 becomes
    U+FFFD, so that the file stays readable and says that something was replaced. */
@@ -40,7 +24,7 @@ static void WriteEscaped(FILE *fp, const char *text, size_t n)
 
   fputc('"', fp);
   for (size_t i = 0, len; i < n && t[i]; i += len) {
-    len = UTF8Length(t + i, n - i);
+    len = UTF8SequenceLength(t + i, n - i);
     if (!len) {
       fputs("\\ufffd", fp);
       len = 1;

@@ -1,6 +1,7 @@
 /* The run's checkpoint: which options, and which modules' states, in one HDF5 file. */
 #include <errno.h>
 #include <fcntl.h>
+#include <libgen.h>
 #include <limits.h>
 #include <stdlib.h>
 #include <string.h>
@@ -11,24 +12,6 @@
 #include "options.h"
 #include "output_files.h"
 #include "mesh.h"
-#include "output_files.h"
-
-/* Whether the checkpoint is in the run's -output_dir (which the run owns), and then the
-   output file it would overwrite (it would replace the run's lock or probes and be
-   replaced by them), or NULL */
-static PetscBool InOutputDir(const char path[], const char output_dir[], const char **clash)
-{
-  char        dir[PATH_MAX], out[PATH_MAX], parent[PETSC_MAX_PATH_LEN];
-  const char *slash = strrchr(path, '/'), *base = slash ? slash + 1 : path;
-
-  *clash = NULL;
-  (void)snprintf(parent, sizeof(parent), "%.*s", slash ? (int)(slash - path) : 1, slash ? path : ".");
-  if (!parent[0]) (void)snprintf(parent, sizeof(parent), "/");
-  if (!realpath(parent, dir) || !realpath(output_dir, out) || strcmp(dir, out)) return PETSC_FALSE;
-  for (int i = 0; OutputFileNames[i] && !*clash; ++i)
-    if (!strncmp(base, OutputFileNames[i], strlen(OutputFileNames[i]))) *clash = OutputFileNames[i];
-  return PETSC_TRUE;
-}
 
 /* Before the first step: a checkpoint that cannot be written would stop the run at its
    first checkpoint (or at a SIGTERM's), hours in. */
@@ -48,7 +31,7 @@ static PetscErrorCode CheckWritable(const char path[], const char output_dir[], 
     /* the checkpoint is written beside the file and renamed over it: over a device (/dev/null)
        or a FIFO that would replace the device's node */
     directory = !stat(path, &st) && !S_ISREG(st.st_mode);
-    owned     = InOutputDir(path, output_dir, &clash);
+    owned     = OutputDirHolds(path, output_dir, &clash);
     /* a killed run's temporary in the directory this run owns goes; elsewhere another run
        may be writing it */
     PetscCall(PetscSNPrintf(tmp, sizeof(tmp), "%s.tmp", path));
@@ -76,11 +59,11 @@ static PetscErrorCode CheckWritable(const char path[], const char output_dir[], 
              strerror(cause));
   if (scheduled) { /* every rank opens the checkpoint (MPI-IO): a directory only the first rank's
                      node sees would fail the first checkpoint, hours in */
-    char        dir[PETSC_MAX_PATH_LEN];
-    const char *slash = strrchr(path, '/');
+    char        copy[PETSC_MAX_PATH_LEN];
+    const char *dir;
     PetscMPIInt size, first, mine;
-    PetscCall(PetscSNPrintf(dir, sizeof(dir), "%.*s", slash ? (int)(slash - path) : 1, slash ? path : "."));
-    if (!dir[0]) PetscCall(PetscStrncpy(dir, "/", sizeof(dir)));
+    PetscCall(PetscStrncpy(copy, path, sizeof(copy)));
+    dir = dirname(copy);
     PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
     cause = access(dir, W_OK | X_OK) ? errno : 0;
     mine  = cause ? rank : size;
@@ -112,7 +95,7 @@ PetscErrorCode RunCheckpointLock(const RunParams *params)
   PetscFunctionBeginUser;
   PetscCall(DefaultFile(params, file, sizeof(file)));
   PetscCall(PetscOptionsGetString(NULL, NULL, "-checkpoint_file", file, sizeof(file), NULL));
-  own = InOutputDir(file, params->output_dir, &clash);
+  own = OutputDirHolds(file, params->output_dir, &clash);
   PetscCall(OutputLockTakeFile(PETSC_COMM_WORLD, "-checkpoint_file", file, "checkpoint file", own));
   PetscFunctionReturn(0);
 }

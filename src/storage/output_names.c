@@ -26,26 +26,36 @@ static int StartsWith(const char s[], const char head[])
   return !strncmp(s, head, strlen(head));
 }
 
-/* Rank 0: the run's own file that `file` would overwrite (a name of OutputFileNames in
-   output_dir, or the checkpoint), else NULL. */
-static const char *OwnFile(const char file[], const char output_dir[], const char checkpoint[])
+PetscBool OutputDirHolds(const char file[], const char output_dir[], const char **clash)
 {
   char        dir[PATH_MAX], out[PATH_MAX], copy[PATH_MAX];
   const char *base;
 
-  if (!ParentReal(file, dir)) return NULL;
+  *clash = NULL;
+  if (!ParentReal(file, dir) || !realpath(output_dir, out) || strcmp(dir, out)) return PETSC_FALSE;
   (void)snprintf(copy, sizeof(copy), "%s", file);
   base = basename(copy);
+  for (int i = 0; OutputFileNames[i] && !*clash; ++i)
+    if (StartsWith(base, OutputFileNames[i])) *clash = OutputFileNames[i];
+  return PETSC_TRUE;
+}
+
+/* Rank 0: the run's own file that `file` would overwrite (a name of OutputFileNames in
+   output_dir, or the checkpoint), else NULL. */
+static const char *OwnFile(const char file[], const char output_dir[], const char checkpoint[])
+{
+  const char *clash;
+
   if (checkpoint && checkpoint[0]) {
-    char cp_dir[PATH_MAX], cp_copy[PATH_MAX];
+    char dir[PATH_MAX], cp_dir[PATH_MAX], copy[PATH_MAX], cp_copy[PATH_MAX];
+    (void)snprintf(copy, sizeof(copy), "%s", file);
     (void)snprintf(cp_copy, sizeof(cp_copy), "%s", checkpoint);
-    if (ParentReal(checkpoint, cp_dir) && !strcmp(dir, cp_dir) && StartsWith(base, basename(cp_copy)))
+    if (ParentReal(file, dir) && ParentReal(checkpoint, cp_dir) && !strcmp(dir, cp_dir) &&
+        StartsWith(basename(copy), basename(cp_copy)))
       return "checkpoint (-checkpoint_file)";
   }
-  if (!realpath(output_dir, out) || strcmp(dir, out)) return NULL;
-  for (int i = 0; OutputFileNames[i]; ++i)
-    if (StartsWith(base, OutputFileNames[i])) return OutputFileNames[i];
-  return NULL;
+  (void)OutputDirHolds(file, output_dir, &clash);
+  return clash;
 }
 
 /* The viewer types that write a file named after the colon (draw and socket viewers name a
