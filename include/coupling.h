@@ -68,6 +68,16 @@ PetscErrorCode CouplingProblemSetConvergedJump(CouplingProblem, PetscReal);
 PetscErrorCode CouplingProblemJacobianMult(CouplingProblem, Vec h, Vec y);
 PetscErrorCode CouplingProblemJacobianMultBlock(CouplingProblem, Mat H, Mat Y); /* dense columns */
 PetscErrorCode CouplingProblemJacobianMultTranspose(CouplingProblem, Vec rho, Vec y);
+/* A sparse J0 by probing (jacobian_probing.c): J's blocks between interface nodes within
+   `rings` rings of each other, from one product per colour and component of a colouring of
+   the interface's nodes; the number of colours does not grow with the mesh. */
+typedef struct _p_InterfaceProbing *InterfaceProbing;
+PetscErrorCode CouplingProblemCreateProbing(CouplingProblem, PetscInt rings, InterfaceProbing *);
+PetscErrorCode InterfaceProbingGetColors(InterfaceProbing, PetscInt *ncolors);
+/* J0's pattern, no values, on the ranks that hold controls (NULL elsewhere) */
+PetscErrorCode InterfaceProbingCreateMatrix(InterfaceProbing, Mat *J0);
+PetscErrorCode InterfaceProbingBuild(InterfaceProbing, Mat J, PetscInt block, Mat J0);
+PetscErrorCode InterfaceProbingDestroy(InterfaceProbing *);
 /* the products of the run so far: J h (a block's columns each) and J^T rho, one linearized
    solve of each subproblem apiece */
 PetscErrorCode CouplingProblemGetProductCounts(CouplingProblem, PetscInt *forward, PetscInt *adjoint);

@@ -139,8 +139,8 @@ def test_solver_option_files():
 
 
 @test("-coupling_inner defaults to gmres where the fluid's solves iterate, chord where they factor: tube3d with the "
-      "iterative solver files, three steps, is then the gmres run byte for byte, with at most half the fluid linear "
-      "solves of cgls at the same Gauss-Newton iterations")
+      "iterative solver files, three steps, is then the gmres run byte for byte, with at most 0.8 x the fluid linear "
+      "solves of cgls (both preconditioned by the probed J0) at the same Gauss-Newton iterations")
 def test_inner_default_iterative():
     args = ["-options_file", "options/tube3d.yaml", "-t_final", "0.0003"]
     runs = {}
@@ -155,7 +155,7 @@ def test_inner_default_iterative():
     assert same_file(os.path.join(runs["default"][1], "probes.csv"), os.path.join(runs["gmres"][1], "probes.csv")), \
         "the default's probes differ from the gmres run's"
     assert gmres["coupling_iterations"] == cgls["coupling_iterations"] and \
-        gmres["fluid_linear_solves"] <= 0.5 * cgls["fluid_linear_solves"], \
+        gmres["fluid_linear_solves"] <= 0.8 * cgls["fluid_linear_solves"], \
         "gmres %d Gauss-Newton iterations, %d fluid linear solves; cgls %d, %d" % (
             gmres["coupling_iterations"], gmres["fluid_linear_solves"], cgls["coupling_iterations"],
             cgls["fluid_linear_solves"])
@@ -236,9 +236,11 @@ def test_lagged_preconditioner_only():
 def test_inexact_products():
     # one step from rest: the absolute tolerance alone (the relative one would hold this first
     # step to a fraction of a velocity still near zero, and the products to its Krylov tolerance)
+    # unpreconditioned: the probed J0's build, whose products have their own tolerance, would
+    # dilute the products' relaxation measured here
     args = ["-options_file", "options/tube3d.yaml", "-t_final", "0.0001", "-coupling_inner", "gmres",
-            "-coupling_tol_relative", "0", "-fluid_ksp_converged_reason"] + SOLVER_FILES["fluid-schur-gamg"] + SOLVER_FILES["structure-cg-gamg"] + \
-        SOLVER_FILES["mesh-cg-gamg"]
+            "-coupling_explicit_jacobian", "0", "-coupling_tol_relative", "0", "-fluid_ksp_converged_reason"] + \
+        SOLVER_FILES["fluid-schur-gamg"] + SOLVER_FILES["structure-cg-gamg"] + SOLVER_FILES["mesh-cg-gamg"]
     found = {}
     # exact products and exact Newton steps; inexact products; both inexact (the file's
     # -fluid_newton_ksp_rtol)
@@ -276,7 +278,8 @@ def test_recycled_products():
     args = ["-options_file", "options/tube3d.yaml", "-coupling_inner", "gmres", "-coupling_tol", "1e-6"] + ITERATIVE_ILU
     recycle = ["-coupling_inner_recycle", "3", "-checkpoint_every", "3"]
     found = {}
-    for name, extra in (("plain", ["-t_final", "0.0006"]), ("recycled", ["-t_final", "0.0006"] + recycle),
+    for name, extra in (("plain", ["-t_final", "0.0006", "-coupling_explicit_jacobian", "0"]),
+                        ("recycled", ["-t_final", "0.0006"] + recycle),
                         ("first half", ["-t_final", "0.0003"] + recycle)):
         out = out_dir("recycle-%s" % name.split()[0])
         found[name] = (solve(args + extra, out=out), out)

@@ -150,11 +150,16 @@ PetscErrorCode FEMLinearSolve(SNES snes, Vec rhs, Vec x, PetscBool transpose)
    block (KSPMatSolve falls back to one solve per column for an iterative KSP). */
 PetscErrorCode FEMLinearSolveBlock(SNES snes, Mat rhs, Mat x)
 {
-  KSP ksp;
+  KSP       ksp;
+  PetscReal rtol, abstol, dtol;
+  PetscInt  maxits;
 
   PetscFunctionBeginUser;
   PetscCall(SNESGetKSP(snes, &ksp));
+  PetscCall(KSPGetTolerances(ksp, &rtol, &abstol, &dtol, &maxits));
+  if (linearized_rtol > rtol) PetscCall(KSPSetTolerances(ksp, linearized_rtol, abstol, dtol, maxits));
   PetscCall(KSPMatSolve(ksp, rhs, x));
+  if (linearized_rtol > rtol) PetscCall(KSPSetTolerances(ksp, rtol, abstol, dtol, maxits));
   PetscCall(CheckConverged(ksp, "a block"));
   PetscFunctionReturn(0);
 }

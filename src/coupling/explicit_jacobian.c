@@ -1,12 +1,22 @@
-/* The explicitly built Jacobian J0 of the coupling residual, one sensitivity product per
-   control, as a preconditioner (explicit_jacobian.h): its dense LU, rebuilt on request,
-   with Broyden secant corrections in between. */
+/* The explicitly built Jacobian J0 of the coupling residual as a preconditioner
+   (explicit_jacobian.h): dense, one sensitivity product per control, and its LU on every
+   rank; or sparse, by probing (jacobian_probing.c), a few products whatever the mesh, and a
+   parallel sparse LU (-coupling_explicit_jacobian_ksp_type, _pc_type: MUMPS by default).
+   Rebuilt on request, with Broyden secant corrections in between. */
 #include "explicit_jacobian.h"
+#include "coupling.h"
+#include "fem.h"
 
 struct _p_ExplicitJacobian {
   Mat        J;            /* the Jacobian shell */
-  Mat        J0;           /* dense, sequential, the same on every rank */
+  Mat        J0;           /* dense, sequential, the same on every rank; or sparse, parallel (probing) */
+  InterfaceProbing probing; /* NULL: dense */
+  KSP              solver;  /* the sparse J0's */
+  PC               pc;      /* the shell that applies J0^-1 */
   Vec        e, all, y, z; /* e: the control layout */
+  Vec        e_full, x_part, y_part; /* the probed J0's: the control layout, its part on J0's ranks */
+  PetscBool  probed_set_up;
+  PetscReal  build_rtol; /* the probed build's subproblem solves' relative tolerance */
   VecScatter to_all;
   PetscBool  rebuild, factored;
   PetscBool  normal_equations; /* apply (J0^T J0)^{-1}, else J0^{-1} */
@@ -19,11 +29,57 @@ struct _p_ExplicitJacobian {
   Vec     *secant_a, *secant_b;
 };
 
+static PetscErrorCode BuildProbed(ExplicitJacobian E)
+{
+  PetscFunctionBeginUser;
+  if (!E->probed_set_up) {
+    MPI_Comm comm;
+    PetscInt n, N;
+    E->probed_set_up = PETSC_TRUE;
+    PetscCall(InterfaceProbingCreateMatrix(E->probing, &E->J0));
+    if (E->J0) {
+      PetscCall(PetscObjectGetComm((PetscObject)E->J0, &comm));
+      PetscCall(MatGetLocalSize(E->J0, &n, NULL));
+      PetscCall(MatGetSize(E->J0, &N, NULL));
+      PetscCall(VecCreateMPIWithArray(comm, 1, n, N, NULL, &E->x_part));
+      PetscCall(VecDuplicate(E->x_part, &E->y_part));
+    }
+  }
+  if (E->J0 && !E->solver) {
+    PC pc;
+    PetscCall(KSPCreate(PetscObjectComm((PetscObject)E->J0), &E->solver));
+    PetscCall(KSPSetOptionsPrefix(E->solver, "coupling_explicit_jacobian_"));
+    PetscCall(KSPSetType(E->solver, KSPPREONLY));
+    PetscCall(KSPGetPC(E->solver, &pc));
+    PetscCall(PCSetType(pc, PCLU));
+    PetscCall(PCFactorSetMatSolverType(pc, MATSOLVERMUMPS));
+    PetscCall(KSPSetFromOptions(E->solver));
+  }
+  /* a preconditioner's entries need a few digits: iterative subproblem solves to
+     E->build_rtol (a factored one is exact anyway) */
+  PetscCall(FEMSetLinearizedRtol(E->build_rtol));
+  PetscCall(InterfaceProbingBuild(E->probing, E->J, E->block, E->J0));
+  PetscCall(FEMSetLinearizedRtol(0));
+  if (E->J0) {
+    PetscCall(KSPSetOperators(E->solver, E->J0, E->J0));
+    PetscCall(KSPSetUp(E->solver));
+  }
+  E->factored = PETSC_TRUE;
+  E->rebuild  = PETSC_FALSE;
+  E->nsecants = 0;
+  E->builds++;
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode Build(ExplicitJacobian E)
 {
   PetscInt N, n, rstart, rend;
 
   PetscFunctionBeginUser;
+  if (E->probing) {
+    PetscCall(BuildProbed(E));
+    PetscFunctionReturn(0);
+  }
   PetscCall(VecGetSize(E->e, &N));
   PetscCall(VecGetLocalSize(E->e, &n));
   PetscCall(VecGetOwnershipRange(E->e, &rstart, &rend));
@@ -64,17 +120,41 @@ static PetscErrorCode Build(ExplicitJacobian E)
   PetscFunctionReturn(0);
 }
 
+/* out = J0^{-1} x or J0^{-T} x with the probed J0, on the ranks that hold it */
+static PetscErrorCode SolveProbed(ExplicitJacobian E, PetscBool transpose, Vec x, Vec out)
+{
+  const PetscScalar *xa;
+  PetscScalar       *ya;
+
+  PetscFunctionBeginUser;
+  if (!E->J0) PetscFunctionReturn(0);
+  PetscCall(VecGetArrayRead(x, &xa));
+  PetscCall(VecGetArray(out, &ya));
+  PetscCall(VecPlaceArray(E->x_part, xa));
+  PetscCall(VecPlaceArray(E->y_part, ya));
+  if (transpose) PetscCall(KSPSolveTranspose(E->solver, E->x_part, E->y_part));
+  else PetscCall(KSPSolve(E->solver, E->x_part, E->y_part));
+  PetscCall(VecResetArray(E->x_part));
+  PetscCall(VecResetArray(E->y_part));
+  PetscCall(VecRestoreArray(out, &ya));
+  PetscCall(VecRestoreArrayRead(x, &xa));
+  PetscFunctionReturn(0);
+}
+
 /* out = (J0^{-1} + sum_i a_i b_i^T) x, J0 factored */
 static PetscErrorCode ApplyInverse(ExplicitJacobian E, Vec x, Vec out)
 {
   PetscScalar dots[64];
 
   PetscFunctionBeginUser;
-  PetscCall(VecScatterBegin(E->to_all, x, E->all, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(VecScatterEnd(E->to_all, x, E->all, INSERT_VALUES, SCATTER_FORWARD));
-  PetscCall(MatSolve(E->J0, E->all, E->z));
-  PetscCall(VecScatterBegin(E->to_all, E->z, out, INSERT_VALUES, SCATTER_REVERSE));
-  PetscCall(VecScatterEnd(E->to_all, E->z, out, INSERT_VALUES, SCATTER_REVERSE));
+  if (E->probing) PetscCall(SolveProbed(E, PETSC_FALSE, x, out));
+  else {
+    PetscCall(VecScatterBegin(E->to_all, x, E->all, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(VecScatterEnd(E->to_all, x, E->all, INSERT_VALUES, SCATTER_FORWARD));
+    PetscCall(MatSolve(E->J0, E->all, E->z));
+    PetscCall(VecScatterBegin(E->to_all, E->z, out, INSERT_VALUES, SCATTER_REVERSE));
+    PetscCall(VecScatterEnd(E->to_all, E->z, out, INSERT_VALUES, SCATTER_REVERSE));
+  }
   if (E->nsecants) {
     PetscCall(VecMDot(x, E->nsecants, E->secant_b, dots));
     PetscCall(VecMAXPY(out, E->nsecants, dots, E->secant_a));
@@ -91,6 +171,12 @@ static PetscErrorCode Apply(PC pc, Vec x, Vec out)
   if (E->rebuild || !E->factored) PetscCall(Build(E));
   if (!E->normal_equations) {
     PetscCall(ApplyInverse(E, x, out));
+    PetscFunctionReturn(0);
+  }
+  if (E->probing) {
+    if (!E->e_full) PetscCall(VecDuplicate(E->e, &E->e_full));
+    PetscCall(SolveProbed(E, PETSC_TRUE, x, E->e_full)); /* J0^{-T} x */
+    PetscCall(SolveProbed(E, PETSC_FALSE, E->e_full, out)); /* J0^{-1} J0^{-T} x */
     PetscFunctionReturn(0);
   }
   PetscCall(VecScatterBegin(E->to_all, x, E->all, INSERT_VALUES, SCATTER_FORWARD));
@@ -117,12 +203,25 @@ PetscErrorCode ExplicitJacobianCreate(Mat J, PetscInt block, PetscBool normal_eq
   PetscCall(MatCreateVecs(J, &E->e, NULL));
   PetscCall(VecScatterCreateToAll(E->e, &E->to_all, &E->all));
   PetscCall(KSPGetPC(ksp, &pc));
+  E->pc = pc;
   PetscCall(PCSetType(pc, PCSHELL));
   PetscCall(PCShellSetContext(pc, E));
   PetscCall(PCShellSetApply(pc, Apply));
   PetscCall(PCShellSetName(pc, normal_equations ? "explicit Gauss-Newton Jacobian (LU of J0, applied as (J0^T J0)^-1)"
                                                 : "explicit Jacobian (LU of J0, applied as J0^-1)"));
   *explicit_jacobian = E;
+  PetscFunctionReturn(0);
+}
+
+/* J0 by probing, with the colouring and pattern of `probing` (taken over) */
+PetscErrorCode ExplicitJacobianSetProbing(ExplicitJacobian E, InterfaceProbing probing, PetscReal build_rtol)
+{
+  PetscFunctionBeginUser;
+  E->probing    = probing;
+  E->build_rtol = build_rtol;
+  PetscCall(PCShellSetName(E->pc, E->normal_equations
+                                    ? "probed Gauss-Newton Jacobian (sparse LU of J0, applied as (J0^T J0)^-1)"
+                                    : "probed Jacobian (sparse LU of J0, applied as J0^-1)"));
   PetscFunctionReturn(0);
 }
 
@@ -207,6 +306,11 @@ PetscErrorCode ExplicitJacobianDestroy(ExplicitJacobian *explicit_jacobian)
   PetscCall(VecDestroy(&E->all));
   PetscCall(VecDestroy(&E->y));
   PetscCall(VecDestroy(&E->z));
+  PetscCall(VecDestroy(&E->e_full));
+  PetscCall(VecDestroy(&E->x_part));
+  PetscCall(VecDestroy(&E->y_part));
+  PetscCall(KSPDestroy(&E->solver));
+  PetscCall(InterfaceProbingDestroy(&E->probing));
   if (E->secant_a) {
     PetscCall(VecDestroyVecs(E->max_secants, &E->secant_a));
     PetscCall(VecDestroyVecs(E->max_secants, &E->secant_b));

@@ -11,6 +11,10 @@
 typedef struct _p_ExplicitJacobian *ExplicitJacobian;
 
 PetscErrorCode ExplicitJacobianCreate(Mat J, PetscInt block, PetscBool normal_equations, KSP ksp, ExplicitJacobian *);
+/* J0 sparse, by probing with the colouring and pattern of `probing` (coupling.h), which it
+   takes over; its products' iterative subproblem solves to the relative tolerance build_rtol */
+typedef struct _p_InterfaceProbing *InterfaceProbing;
+PetscErrorCode ExplicitJacobianSetProbing(ExplicitJacobian, InterfaceProbing probing, PetscReal build_rtol);
 /* x = J0^{-1} b with the J0 in hand; solved is false when none has been built */
 PetscErrorCode ExplicitJacobianSolve(ExplicitJacobian, Vec b, Vec x, PetscBool *solved);
 /* For J d = -F (not the normal equations): correct the inverse by a Broyden secant update

@@ -246,6 +246,21 @@ static PetscErrorCode OptEndStep(Coupling C)
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode OptExplicitJacobianCreate(Coupling C, Mat J, PetscBool normal_equations, KSP ksp)
+{
+  Opt *opt = (Opt *)C->data;
+
+  PetscFunctionBeginUser;
+  PetscCall(ExplicitJacobianCreate(J, opt->build_block, normal_equations, ksp, &opt->explicit_jacobian));
+  if (opt->probing_rings > 0) {
+    InterfaceProbing probing;
+    PetscCall(CouplingProblemCreateProbing(C->problem, opt->probing_rings, &probing));
+    PetscCall(InterfaceProbingGetColors(probing, &opt->probing_colors));
+    PetscCall(ExplicitJacobianSetProbing(opt->explicit_jacobian, probing, opt->probing_rtol));
+  }
+  PetscFunctionReturn(0);
+}
+
 /* "brgn", or the Newton-Krylov inner method ("gmres") */
 static const char *OptOptimizer(Coupling C)
 {
@@ -265,7 +280,11 @@ static PetscErrorCode OptDescribe(Coupling C, PetscBool fluid_krylov)
   const char *how;
 
   PetscFunctionBeginUser;
-  if (opt->rebuild_every > 0)
+  if (opt->rebuild_every > 0 && opt->probing_colors > 0)
+    PetscCall(PetscSNPrintf(j0, sizeof(j0), "%s J0 probed with %" PetscInt_FMT " colours every %" PetscInt_FMT " steps",
+                            opt->inner_type == OPT_INNER_CHORD ? "on" : "preconditioned by", opt->probing_colors,
+                            opt->rebuild_every));
+  else if (opt->rebuild_every > 0)
     PetscCall(PetscSNPrintf(j0, sizeof(j0), "%s J0 every %" PetscInt_FMT " steps",
                             opt->inner_type == OPT_INNER_CHORD ? "on" : "preconditioned by", opt->rebuild_every));
   else PetscCall(PetscStrncpy(j0, opt->inner_type == OPT_INNER_CGLS ? "" : "unpreconditioned", sizeof(j0)));
@@ -318,9 +337,9 @@ static PetscErrorCode OptSetUp(Coupling C)
   PetscCall(VecDuplicate(C->x, &opt->F));
   PetscCall(VecDuplicate(C->x, &opt->correction));
   PetscCall(CouplingProblemCreateJacobian(C->problem, &opt->J));
-  PetscCall(OptDescribe(C, fluid_krylov));
   if (opt->inner_type != OPT_INNER_CGLS) {
     PetscCall(OptNewtonKrylovSetUp(C));
+    PetscCall(OptDescribe(C, fluid_krylov));
     PetscFunctionReturn(0);
   }
   PetscCall(TaoRegister("sdrelaxed", TaoCreate_RelaxedSteepestDescent));
@@ -368,8 +387,9 @@ static PetscErrorCode OptSetUp(Coupling C)
     PetscCall(TaoGetKSP(opt->inner, &ksp));
     PetscCheck(ksp, PETSC_COMM_WORLD, PETSC_ERR_SUP,
                "option -coupling_explicit_jacobian: the Gauss-Newton subsolver has no KSP");
-    PetscCall(ExplicitJacobianCreate(opt->J, opt->build_block, PETSC_TRUE, ksp, &opt->explicit_jacobian));
+    PetscCall(OptExplicitJacobianCreate(C, opt->J, PETSC_TRUE, ksp));
   }
+  PetscCall(OptDescribe(C, fluid_krylov));
   PetscFunctionReturn(0);
 }
 

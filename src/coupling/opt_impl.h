@@ -45,6 +45,9 @@ typedef struct {
   /* the explicit-Jacobian preconditioner of the inner Krylov method (explicit_jacobian.c) */
   ExplicitJacobian explicit_jacobian;
   PetscInt         rebuild_every, build_block;
+  PetscInt         probing_rings;  /* -coupling_explicit_jacobian_probing: 0 dense, else J0 by probing */
+  PetscInt         probing_colors; /* the colouring's (0: dense) */
+  PetscReal        probing_rtol;   /* -coupling_explicit_jacobian_probing_rtol */
   PetscInt         rebuild_inner; /* and when a Gauss-Newton iteration's CG needed more than this */
   PetscInt         last_iteration;
   PetscInt         linearized_iterations; /* this step's iterations that solved linearized problems */
@@ -79,6 +82,9 @@ PetscErrorCode OptSetFromOptions(Coupling, PetscBool *fluid_krylov);
 /* The stopping test of an iteration (docs/design.md §3): writes its history row, counts its inner
    iterations (the solver's running total `inner_total`) and decides. */
 PetscErrorCode OptTestIteration(Coupling, PetscInt its, PetscReal objective, PetscInt inner_total, OptVerdict *);
+
+/* The explicit J0 of J (dense, or probed) as ksp's preconditioner */
+PetscErrorCode OptExplicitJacobianCreate(Coupling, Mat J, PetscBool normal_equations, KSP ksp);
 
 /* opt_krylov_recycle.c */
 PetscErrorCode OptRecycleSetUp(Coupling, KSP);

@@ -209,7 +209,7 @@ PetscErrorCode OptNewtonKrylovSetUp(Coupling C)
   if (opt->inner_type != OPT_INNER_CHORD) PetscCall(KSPSetPCSide(ksp, PC_RIGHT)); /* the true ||F + J h|| */
   PetscCall(KSPSetTolerances(ksp, 1e-12, opt->krylov_jump_fraction * opt->tol, PETSC_DEFAULT, 100));
   if (opt->rebuild_every > 0) {
-    PetscCall(ExplicitJacobianCreate(opt->J_newton, opt->build_block, PETSC_FALSE, ksp, &opt->explicit_jacobian));
+    PetscCall(OptExplicitJacobianCreate(C, opt->J_newton, PETSC_FALSE, ksp));
     PetscCall(ExplicitJacobianSetSecants(opt->explicit_jacobian, opt->secants));
     PetscCall(VecDuplicate(C->x, &opt->x_previous));
     PetscCall(VecDuplicate(C->x, &opt->F_previous));

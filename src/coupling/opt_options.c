@@ -4,6 +4,9 @@
 #include "opt_impl.h"
 #include "options.h"
 
+/* the rings of the probed J0 with an iterative fluid */
+#define OPT_DEFAULT_PROBING_RINGS 2
+
 /* The defaults that do not depend on the fluid's solver, and the coupling tolerance. */
 static PetscErrorCode OptOptionsTolerances(PetscOptionItems *PetscOptionsObject, Opt *opt)
 {
@@ -45,13 +48,21 @@ static PetscErrorCode OptOptionsInner(PetscOptionItems *PetscOptionsObject, Coup
   PetscFunctionBeginUser;
   /* with the fluid factored, J0's columns are triangular solves in blocks of 32 (tube3d level
      1: 1024 controls, 32 block solves); with a fluid whose solves iterate each column is a
-     Krylov solve, and GMRES on J itself is the measured faster way */
-  opt->rebuild_every = fluid_krylov ? 0 : 50;
+     Krylov solve, so J0 is probed there: a few products whatever the mesh, and GMRES
+     preconditioned by it (tube3d levels 2-4, docs/coupling-and-solvers.md). A recycled
+     preconditioner, when asked for, takes J0's place. */
+  {
+    PetscBool recycle;
+    PetscCall(PetscOptionsHasName(NULL, NULL, "-coupling_inner_recycle", &recycle));
+    opt->rebuild_every = fluid_krylov && recycle ? 0 : 50;
+    opt->probing_rings = fluid_krylov ? OPT_DEFAULT_PROBING_RINGS : 0;
+  }
   PetscCall(
     OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian",
                       "build the explicit Jacobian J0 (the chord steps' matrix, the Krylov methods' preconditioner) "
                       "every K steps, and when a step contracts the jump by less than -coupling_chord_contraction "
-                      "(0: none, Kuberry 2015's plain CGLS); default 50 with a factored fluid, 0 with an iterative one",
+                      "(0: none, Kuberry 2015's plain CGLS); default 50 (0 with an iterative fluid and "
+                      "-coupling_inner_recycle)",
                       0, 1000000, &opt->rebuild_every));
   {
     /* The default is the fastest inner solver measured at the scene's accuracy
@@ -88,6 +99,18 @@ static PetscErrorCode OptOptionsInner(PetscOptionItems *PetscOptionsObject, Coup
                               "build that J from products J [e_j ...] of at most this many columns (all blocks of one "
                               "width), one multi-right-hand-side solve each (1: one solve per control)",
                               1, 100000, &opt->build_block));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian_probing",
+                              "build that J sparse, by probing: its blocks between interface nodes within R rings of "
+                              "each other (nodes sharing an interface face are one ring apart), from one product per "
+                              "colour and component of a colouring of the nodes (a number that does not grow with the "
+                              "mesh), factored by -coupling_explicit_jacobian_pc_type (MUMPS LU) (0: dense, one "
+                              "product per control); default 0 with a factored fluid, 2 with an iterative one",
+                              0, 4, &opt->probing_rings));
+  opt->probing_rtol = 1e-4;
+  PetscCall(OptionsRealInRange(PetscOptionsObject, "-coupling_explicit_jacobian_probing_rtol",
+                               "the probing products' relative tolerance of iterative subproblem solves (a "
+                               "preconditioner's entries need a few digits; a factored solve is exact)",
+                               1e-14, 0.1, &opt->probing_rtol));
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian_rebuild_its",
                               "also rebuild that J after a Gauss-Newton iteration whose CG needed more than N "
                               "iterations (0: only every K steps)",
