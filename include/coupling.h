@@ -70,7 +70,7 @@ PetscErrorCode CouplingProblemJacobianMultBlock(CouplingProblem, Mat H, Mat Y); 
 PetscErrorCode CouplingProblemJacobianMultTranspose(CouplingProblem, Vec rho, Vec y);
 /* A sparse J0 by probing (jacobian_probing.c): J's blocks between interface nodes within
    `rings` rings of each other, from one product per colour and component of a colouring of
-   the interface's nodes; the number of colours does not grow with the mesh. */
+   the interface's nodes, whose number is set by the interface's connectivity, not its size. */
 typedef struct _p_InterfaceProbing *InterfaceProbing;
 PetscErrorCode CouplingProblemCreateProbing(CouplingProblem, PetscInt rings, InterfaceProbing *);
 PetscErrorCode InterfaceProbingGetColors(InterfaceProbing, PetscInt *ncolors);

@@ -9,9 +9,9 @@
    and component, J sum_{j of colour c} e_(j,k), holds the column (j,k) of every node j of
    that colour in the rows of j's neighbours. The number of colours depends on the
    interface's connectivity, not on its size: the build's cost does not grow with the mesh,
-   where the dense J0 costs a product per control. Where the response is global (a stiff
-   wall bending as a whole), the neglected blocks are not small and the probed J0 is a poor
-   preconditioner (docs/coupling-and-solvers.md measures both).
+   where the dense J0 costs a product per control. The blocks it leaves out are the
+   preconditioner's error: GMRES's iterations with it, against none and against the dense
+   J0, are in docs/coupling-and-solvers.md.
    The colouring and the pattern are computed on every rank alike from the interface's
    whole graph (two integers per pair of neighbours). */
 #include "problem_impl.h"

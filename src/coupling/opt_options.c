@@ -102,8 +102,8 @@ static PetscErrorCode OptOptionsInner(PetscOptionItems *PetscOptionsObject, Coup
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_explicit_jacobian_probing",
                               "build that J sparse, by probing: its blocks between interface nodes within R rings of "
                               "each other (nodes sharing an interface face are one ring apart), from one product per "
-                              "colour and component of a colouring of the nodes (a number that does not grow with the "
-                              "mesh), factored by -coupling_explicit_jacobian_pc_type (MUMPS LU) (0: dense, one "
+                              "colour and component of a colouring of the nodes (a number set by the interface's "
+                              "connectivity, not its size), factored by -coupling_explicit_jacobian_pc_type (MUMPS LU) (0: dense, one "
                               "product per control); default 0 with a factored fluid, 2 with an iterative one",
                               0, 4, &opt->probing_rings));
   opt->probing_rtol = 1e-4;
