@@ -108,18 +108,41 @@ PetscErrorCode FEMSetLinearizedRtol(PetscReal rtol)
   PetscFunctionReturn(0);
 }
 
-/* KSPSolve or KSPSolveTranspose at the larger of the KSP's rtol and linearized_rtol */
-static PetscErrorCode SolveAtTolerance(KSP ksp, Vec rhs, Vec x, PetscBool transpose, const char what[])
+/* The KSP's rtol raised to linearized_rtol where that is larger (*rtol: its own, for
+   RestoreTolerance) */
+static PetscErrorCode RelaxTolerance(KSP ksp, PetscReal *rtol)
 {
-  PetscReal rtol, abstol, dtol;
+  PetscReal abstol, dtol;
   PetscInt  maxits;
 
   PetscFunctionBeginUser;
-  PetscCall(KSPGetTolerances(ksp, &rtol, &abstol, &dtol, &maxits));
-  if (linearized_rtol > rtol) PetscCall(KSPSetTolerances(ksp, linearized_rtol, abstol, dtol, maxits));
+  PetscCall(KSPGetTolerances(ksp, rtol, &abstol, &dtol, &maxits));
+  if (linearized_rtol > *rtol) PetscCall(KSPSetTolerances(ksp, linearized_rtol, abstol, dtol, maxits));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode RestoreTolerance(KSP ksp, PetscReal rtol)
+{
+  PetscReal relaxed, abstol, dtol;
+  PetscInt  maxits;
+
+  PetscFunctionBeginUser;
+  if (!(linearized_rtol > rtol)) PetscFunctionReturn(0);
+  PetscCall(KSPGetTolerances(ksp, &relaxed, &abstol, &dtol, &maxits));
+  PetscCall(KSPSetTolerances(ksp, rtol, abstol, dtol, maxits));
+  PetscFunctionReturn(0);
+}
+
+/* KSPSolve or KSPSolveTranspose at the larger of the KSP's rtol and linearized_rtol */
+static PetscErrorCode SolveAtTolerance(KSP ksp, Vec rhs, Vec x, PetscBool transpose, const char what[])
+{
+  PetscReal rtol;
+
+  PetscFunctionBeginUser;
+  PetscCall(RelaxTolerance(ksp, &rtol));
   if (transpose) PetscCall(KSPSolveTranspose(ksp, rhs, x));
   else PetscCall(KSPSolve(ksp, rhs, x));
-  if (linearized_rtol > rtol) PetscCall(KSPSetTolerances(ksp, rtol, abstol, dtol, maxits));
+  PetscCall(RestoreTolerance(ksp, rtol));
   PetscCall(CheckConverged(ksp, what));
   PetscFunctionReturn(0);
 }
@@ -151,15 +174,13 @@ PetscErrorCode FEMLinearSolve(SNES snes, Vec rhs, Vec x, PetscBool transpose)
 PetscErrorCode FEMLinearSolveBlock(SNES snes, Mat rhs, Mat x)
 {
   KSP       ksp;
-  PetscReal rtol, abstol, dtol;
-  PetscInt  maxits;
+  PetscReal rtol;
 
   PetscFunctionBeginUser;
   PetscCall(SNESGetKSP(snes, &ksp));
-  PetscCall(KSPGetTolerances(ksp, &rtol, &abstol, &dtol, &maxits));
-  if (linearized_rtol > rtol) PetscCall(KSPSetTolerances(ksp, linearized_rtol, abstol, dtol, maxits));
+  PetscCall(RelaxTolerance(ksp, &rtol));
   PetscCall(KSPMatSolve(ksp, rhs, x));
-  if (linearized_rtol > rtol) PetscCall(KSPSetTolerances(ksp, rtol, abstol, dtol, maxits));
+  PetscCall(RestoreTolerance(ksp, rtol));
   PetscCall(CheckConverged(ksp, "a block"));
   PetscFunctionReturn(0);
 }

@@ -80,6 +80,8 @@ static PetscErrorCode Build(ExplicitJacobian E)
     PetscCall(BuildProbed(E));
     PetscFunctionReturn(0);
   }
+  /* the dense J0 lives on every rank: the controls gathered there (the probed one needs none) */
+  if (!E->to_all) PetscCall(VecScatterCreateToAll(E->e, &E->to_all, &E->all));
   PetscCall(VecGetSize(E->e, &N));
   PetscCall(VecGetLocalSize(E->e, &n));
   PetscCall(VecGetOwnershipRange(E->e, &rstart, &rend));
@@ -201,7 +203,6 @@ PetscErrorCode ExplicitJacobianCreate(Mat J, PetscInt block, PetscBool normal_eq
   E->normal_equations = normal_equations;
   E->rebuild          = PETSC_TRUE;
   PetscCall(MatCreateVecs(J, &E->e, NULL));
-  PetscCall(VecScatterCreateToAll(E->e, &E->to_all, &E->all));
   PetscCall(KSPGetPC(ksp, &pc));
   E->pc = pc;
   PetscCall(PCSetType(pc, PCSHELL));

@@ -234,13 +234,7 @@ PetscErrorCode CouplingProblemCreateProbing(CouplingProblem P, PetscInt rings, I
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&ip));
   PetscCall(InterfaceCreateControlVector(P->itf, &control));
-  PetscCall(VecGetBlockSize(control, &ip->dim));
-  if (ip->dim < 2) { /* the control's block size may be unset: the fluid's dimension, on every rank */
-    PetscInt dim = 0;
-    if (P->fluid) PetscCall(FluidGetInfo(P->fluid, &dim, NULL));
-    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &dim, 1, MPIU_INT, MPI_MAX, P->comm));
-    ip->dim = dim;
-  }
+  PetscCall(VecGetBlockSize(control, &ip->dim)); /* the interface's dimension (interface.c) */
   PetscCall(VecGetLocalSize(control, &ip->nlocal));
   PetscCall(VecGetSize(control, &ip->nglobal));
   PetscCall(VecGetOwnershipRange(control, &rstart, NULL));
