@@ -1,5 +1,6 @@
-"""The probed J0 (-coupling_explicit_jacobian_probing): a sparse explicit Jacobian from a few
-products with coloured unit loads, as the preconditioner of GMRES on J."""
+"""GMRES on the interface Jacobian J: the probed J0 (-coupling_explicit_jacobian_probing), a
+sparse explicit Jacobian from a few products with coloured unit loads, as its preconditioner,
+and the Eisenstat-Walker forcing that stops each of its solves."""
 import os
 
 from harness import (CHANNEL, adjoint_difference, difference_to_largest, fail_text, read_probes, run, out_dir, solve,
@@ -66,3 +67,28 @@ def test_probing_colours():
     assert diff <= 1e-10, "probes %.2e apart" % diff
     return "colours %d (%d fluid unknowns) and %d (%d); fluid | structure = 1 rank (probes within %.1e)" % (
         found[0][0], found[0][1], found[1][0], found[1][1], diff)
+
+
+@test("Eisenstat-Walker forcing (on by default with GMRES on J: a step's GMRES stops at a fraction of the "
+      "linearized jump the Newton step leaves anyway): tube3d with the iterative solver files, five steps: the "
+      "Gauss-Newton iterations of GMRES run to the tolerance, probes within 10 x the coupling tolerance, at most "
+      "0.8 x its GMRES iterations and fewer fluid linear solves")
+def test_forcing():
+    args = ["-options_file", "options/tube3d.yaml", "-t_final", "0.0005"] + ITERATIVE_ILU
+    found = {}
+    for name, extra in (("forced", []), ("to the tolerance", ["-coupling_snes_ksp_ew", "false"])):
+        out = out_dir("forcing-%s" % name.split()[0])
+        found[name] = (solve(args + extra, out=out), out)
+    (forced, forced_out), (full, full_out) = found["forced"], found["to the tolerance"]
+    assert forced["coupling_iterations"] == full["coupling_iterations"], "Gauss-Newton iterations %d, without %d" % (
+        forced["coupling_iterations"], full["coupling_iterations"])
+    assert forced["inner_iterations"] <= 0.8 * full["inner_iterations"], "GMRES iterations %d, without %d" % (
+        forced["inner_iterations"], full["inner_iterations"])
+    assert forced["fluid_linear_solves"] < full["fluid_linear_solves"], "fluid linear solves %d, without %d" % (
+        forced["fluid_linear_solves"], full["fluid_linear_solves"])
+    diff = difference_to_largest(read_probes(os.path.join(forced_out, "probes.csv"))[1],
+                                 read_probes(os.path.join(full_out, "probes.csv"))[1])
+    assert diff <= 1e-3, "probes %.2e apart, above 10 x the coupling tolerance 1e-4" % diff
+    return "%d GN both; GMRES its %d -> %d, fluid linear solves %d -> %d; probes within %.1e" % (
+        full["coupling_iterations"], full["inner_iterations"], forced["inner_iterations"], full["fluid_linear_solves"],
+        forced["fluid_linear_solves"], diff)

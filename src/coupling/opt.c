@@ -163,15 +163,20 @@ static PetscErrorCode OptResynchronize(Coupling C)
 
 /* The relative tolerance's scale is the largest wall velocity of the run so far: a run from
    rest is held to a fraction of its own motion, and a wall that comes to rest (a steady state)
-   is not held to a vanishing tolerance. A restart carries it on. */
+   is not held to a vanishing tolerance. A restart carries it on, and the forcing's quadratic
+   constant (opt_newton_krylov.c) with it, so that it repeats the run. */
 static PetscErrorCode OptCheckpoint(Coupling C, Checkpoint cp, PetscBool load)
 {
-  Opt      *opt = (Opt *)C->data;
-  PetscBool has = PETSC_TRUE;
+  Opt               *opt     = (Opt *)C->data;
+  const char *const  names[] = {"velocity_scale", "newton_quadratic_constant"};
+  PetscReal         *values[] = {&opt->velocity_scale, &opt->quadratic_constant};
 
   PetscFunctionBeginUser;
-  if (load) PetscCall(CheckpointHasAttribute(cp, "velocity_scale", &has));
-  if (has) PetscCall(CheckpointReal(cp, "velocity_scale", &opt->velocity_scale, load));
+  for (int i = 0; i < 2; ++i) {
+    PetscBool has = PETSC_TRUE;
+    if (load) PetscCall(CheckpointHasAttribute(cp, names[i], &has));
+    if (has) PetscCall(CheckpointReal(cp, names[i], values[i], load));
+  }
   PetscFunctionReturn(0);
 }
 

@@ -60,6 +60,8 @@ typedef struct {
   PetscReal inexact_products;       /* theta of the relaxed product tolerance; 0: exact products */
   PetscReal inexact_products_last;  /* theta for a Gauss-Newton step expected to be the last */
   PetscReal fnorm, fnorm_previous;  /* ||F|| at this Gauss-Newton iterate and the one before (0: none) */
+  PetscBool forcing_first_adaptive; /* the first Krylov solve of a step aims at gamma C ||F_0|| */
+  PetscReal quadratic_constant;     /* C in ||F_1|| = C ||F_0||^2, measured on the last step (0: none) */
   PetscReal chord_contraction;      /* a chord step that shrinks the jump less than this rebuilds J0 */
   PetscBool start_correction;       /* -coupling_start_correction */
   PetscInt  secants;                /* -coupling_secant_updates */

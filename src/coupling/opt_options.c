@@ -130,7 +130,8 @@ static PetscErrorCode OptOptionsNewtonKrylov(PetscOptionItems *PetscOptionsObjec
     PetscCall(
       OptionsRealInRange(PetscOptionsObject, "-coupling_inner_jump_fraction",
                          "gmres, bicgstab: stop the Krylov method when the linearized jump ||F + J h|| is below "
-                         "this fraction of -coupling_tol",
+                         "this fraction of -coupling_tol, or below the forcing term x ||F|| (-coupling_snes_ksp_ew, "
+                         "on by default without -coupling_inner_recycle)",
                          1e-12, 1.0, &opt->krylov_jump_fraction));
     PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-coupling_inexact_products",
                                      "gmres, bicgstab: theta of the relaxed products: the product at Krylov residual r "
