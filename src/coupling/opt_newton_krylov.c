@@ -6,7 +6,7 @@
    Krylov iteration, no adjoint solve, the conditioning of J instead of J^T J), or as the
    chord step h = -J0^{-1} F, which costs no linearized solve at all. The Krylov method stops
    when the linearized jump ||F + J h|| is below -coupling_inner_jump_fraction x -coupling_tol,
-   or earlier, at the Eisenstat-Walker forcing term (below): solving further only sharpens a
+   or sooner, at the Eisenstat-Walker forcing term (below): solving further only sharpens a
    prediction the next residual replaces. */
 #include "opt_impl.h"
 #include "options.h"
