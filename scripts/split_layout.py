@@ -55,12 +55,10 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import tube3d_table as T   # noqa: E402
 import fsiopt_runs as fr   # noqa: E402
 from fsiopt_runs import rel, say   # noqa: E402
-from strong_scaling import parse_layouts   # noqa: E402
+from strong_scaling import layouts_argument   # noqa: E402
+from cost_growth import REASONS, SOLVERS   # noqa: E402
 
-ITERATIVE = ["-options_file", "options/solvers/fluid-schur-gamg.yaml", "-options_file",
-             "options/solvers/fluid-velocity-ilu.yaml", "-options_file", "options/solvers/structure-cg-ilu.yaml",
-             "-options_file", "options/solvers/mesh-cg-gamg.yaml"]
-REASONS = ["-fluid_ksp_converged_reason", "-structure_ksp_converged_reason", "-mesh_ksp_converged_reason"]
+ITERATIVE = SOLVERS["iterative-ilu"]
 STAGES = ("Setup", "Fluid", "Structure", "MeshMotion", "Sensitivity", "Adjoint", "Optimizer", "Main Stage")
 STEP_STAGES = STAGES[1:]   # the time stepping: the model leaves the one-off Setup out
 LOGVIEW = "logview.py"
@@ -288,10 +286,7 @@ def main():
     ap.add_argument("--reduction", type=float, default=5e-6, help="model: s per reduction and log2 P "
                                                                    "(default 5e-6)")
     args = ap.parse_args()
-    try:
-        layouts = parse_layouts(args.layouts)
-    except ValueError as e:
-        ap.error("--layouts: %s" % e)
+    layouts = layouts_argument(ap, args.layouts)
     launcher, extra = T.check_study_args(ap, args, "split_layout")
     extra = (ITERATIVE if args.iterative else []) + extra
     runs_dir = os.path.join(args.out, "runs")

@@ -81,6 +81,17 @@ def parse_layouts(text):
     return layouts
 
 
+def layouts_argument(ap, text):
+    """--layouts parsed, or the parser's one-line error"""
+    try:
+        layouts = parse_layouts(text)
+    except ValueError as e:
+        ap.error("--layouts: %s" % e)
+    if not layouts:
+        ap.error("--layouts: no layout")
+    return layouts
+
+
 def stepping_time(row):
     """wall time minus the Setup stage (s), or None."""
     wall, setup = number(row.get("wall_time_s")), number(row.get(B.stage_key("Setup")))
@@ -194,12 +205,7 @@ def main():
     ap.add_argument("--retries", type=int, default=2, help="retries of a run that dies without an fsiopt error "
                                                            "(default 2)")
     args = ap.parse_args()
-    try:
-        layouts = parse_layouts(args.layouts)
-    except ValueError as e:
-        ap.error("--layouts: %s" % e)
-    if not layouts:
-        ap.error("--layouts: no layout")
+    layouts = layouts_argument(ap, args.layouts)
     if args.level < 1:
         ap.error("--level: at least 1")
     launcher, extra = T.check_study_args(ap, args, "strong_scaling")

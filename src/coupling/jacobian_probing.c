@@ -10,9 +10,9 @@
    that colour in the rows of j's neighbours. The number of colours depends on the
    interface's connectivity, not on its size, if the colouring is good enough (below): the
    build's cost per control then does not grow with the mesh, where the dense J0 costs a
-   product per control. The blocks it leaves out are the
-   preconditioner's error: GMRES's iterations with it, against none and against the dense
-   J0, are in docs/coupling-and-solvers.md.
+   product per control. The blocks it leaves out are the preconditioner's error: GMRES's
+   iterations with it, against none and against the dense J0, are in
+   docs/coupling-and-solvers.md.
    The colouring and the pattern are computed on every rank alike from the interface's
    whole graph (two integers per pair of neighbours). */
 #include "problem_impl.h"
@@ -296,17 +296,17 @@ PetscErrorCode CouplingProblemCreateProbing(CouplingProblem P, PetscInt rings, I
   PetscCall(GreedyColour(ip->nglobal, offset, adjacency, 2 * rings, order, ip->nglobal, stamp, queue, used, ip->color,
                          &ip->ncolors));
   for (PetscInt pass = 0; pass < PROBING_RECOLOUR_PASSES; ++pass) {
-    PetscInt ncolors, k = 0;
+    PetscInt k = 0;
     PetscCall(PetscArraycpy(previous, order, ip->nglobal));
     for (PetscInt c = ip->ncolors - 1; c >= 0; --c)
       for (PetscInt i = 0; i < ip->nglobal; ++i)
         if (ip->color[previous[i]] == c) order[k++] = previous[i];
     PetscCall(GreedyColour(ip->nglobal, offset, adjacency, 2 * rings, order, (pass + 2) * ip->nglobal, stamp, queue,
-                           used, ip->color, &ncolors));
-    ip->ncolors = ncolors;
+                           used, ip->color, &ip->ncolors));
   }
   for (PetscInt v = 0; v < ip->nglobal; ++v) stamp[v] = -1; /* the marks below start afresh */
   PetscCall(PetscFree(previous));
+  PetscCall(PetscFree(order));
   /* this rank's nodes' pattern: their neighbours within `rings` rings */
   PetscCall(PetscMalloc1(ip->nlocal + 1, &ip->pattern_offset));
   ip->pattern_offset[0] = 0;
