@@ -63,6 +63,7 @@ def test_bad_input_numbers():
         ("chord step without an explicit Jacobian", ["-scene", "mms-stokes", "-coupling_inner", "chord", "-coupling_explicit_jacobian", "0"], "-coupling_inner"),
         ("unknown inner solver", ["-scene", "mms-stokes", "-coupling_inner", "cg"], "-coupling_inner"),
         ("forcing's first tolerance above 1", CHANNEL + ["-coupling_inner", "gmres", "-coupling_snes_ksp_ew_rtol0", "2"], "-coupling_snes_ksp_ew_rtol0"),
+        ("chord refresh rate 1", CHANNEL + ["-fluid_chord_refresh_rate", "1"], "-fluid_chord_refresh_rate"),
         ("forcing's exponent 3", CHANNEL + ["-coupling_inner", "gmres", "-coupling_snes_ksp_ew_alpha", "3"], "-coupling_snes_ksp_ew_alpha"),
         ("recurrence fitted to too few controls", CHANNEL + ["-coupling_extrapolation_points", "6", "-coupling_extrapolation_recurrence", "4"], "-coupling_extrapolation_recurrence"),
         ("start correction without an explicit Jacobian", ["-scene", "mms-stokes", "-coupling_start_correction", "-coupling_explicit_jacobian", "0"], "-coupling_start_correction"),

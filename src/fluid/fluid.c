@@ -78,6 +78,15 @@ PetscErrorCode FluidSetFromOptions(Fluid f)
                                    "linearized solves of the coupling's products (which keep -fluid_ksp_rtol); 0: "
                                    "-fluid_ksp_rtol for both. With LU it changes nothing",
                                    &f->newton_ksp_rtol));
+  PetscCall(OptionsNonNegativeReal(PetscOptionsObject, "-fluid_chord_refresh_rate",
+                                   "with a Krylov solver, a chord iteration of the nonlinear solves that reduces the "
+                                   "residual by less than this factor makes the next one assemble the Jacobian at its "
+                                   "iterate, the preconditioner staying the one in hand; 0: never. With LU it changes "
+                                   "nothing",
+                                   &f->refresh.rate));
+  PetscCheck(f->refresh.rate < 1, f->comm, PETSC_ERR_ARG_OUTOFRANGE,
+             "option -fluid_chord_refresh_rate: expected a contraction factor in [0, 1), got %g",
+             (double)f->refresh.rate);
   PetscCall(PetscOptionsBool("-fluid_initial_projection",
                              "Start from the Stokes projection of the scene's exact solution (discretely divergence "
                              "free) instead of its interpolant",
@@ -175,6 +184,7 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
   else if (f->interface_face) policy = FEM_JACOBIAN_ON_REQUEST;
   f->chord = policy == FEM_JACOBIAN_ON_REQUEST ? PETSC_TRUE : PETSC_FALSE;
   PetscCall(FEMCreateSNES(f->dm, "fluid_", policy, &f->counts.factorizations, &f->snes));
+  PetscCall(FluidNonlinearSolveSetUp(f));
   PetscCall(SNESGetTolerances(f->snes, &f->atol, NULL, NULL, NULL, NULL));
   if (data->mesh_displacement) f->moving = PETSC_TRUE;
   PetscCall(DMCreateGlobalVector(f->dm, &f->x));
@@ -279,56 +289,6 @@ PetscErrorCode FluidGetMeshFields(Fluid f, MeshFields *fields)
   fields->components[1] = 1;
   fields->degree[2]     = 1; /* the mesh displacement (motion.c) */
   fields->components[2] = -1;
-  PetscFunctionReturn(0);
-}
-
-/* A nonlinear solve from f->x. Chord iterations (factors from another state) that fail
-   are retried once from the same start by Newton with fresh Jacobians and backtracking. */
-PetscErrorCode FluidNonlinearSolve(Fluid f, SNES snes, Vec rhs, PetscBool chord, PetscInt step, const char what[])
-{
-  SNESConvergedReason reason;
-  PetscInt            its;
-  KSP                 ksp;
-  PetscReal           rtol, abstol, dtol;
-  PetscInt            maxits;
-
-  PetscFunctionBeginUser;
-  /* A Newton step needs only to reduce the residual, which the next step measures again; the
-     products' linearized solves are the derivative itself and keep the solver's tolerance */
-  PetscCall(SNESGetKSP(snes, &ksp));
-  PetscCall(KSPGetTolerances(ksp, &rtol, &abstol, &dtol, &maxits));
-  if (f->newton_ksp_rtol > 0) PetscCall(KSPSetTolerances(ksp, f->newton_ksp_rtol, abstol, dtol, maxits));
-  if (chord) PetscCall(VecCopy(f->x, f->x_start));
-  PetscCall(SNESSolve(snes, rhs, f->x));
-  if (snes == f->snes && f->lag_after_rebuild) {
-    PetscCall(SNESSetLagJacobian(snes, f->lag_after_rebuild));
-    f->lag_after_rebuild = 0;
-  }
-  PetscCall(SNESGetConvergedReason(snes, &reason));
-  PetscCall(SNESGetIterationNumber(snes, &its));
-  if (reason < 0 && chord) {
-    SNESLineSearch ls;
-    f->counts.linear_solves += PetscMax(its, 1);
-    f->chord_restarts++;
-    PetscCall(VecCopy(f->x_start, f->x));
-    PetscCall(SNESGetLineSearch(snes, &ls));
-    PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBT));
-    PetscCall(SNESSetLagJacobian(snes, 1));
-    PetscCall(SNESSolve(snes, rhs, f->x));
-    PetscCall(SNESGetConvergedReason(snes, &reason));
-    PetscCall(SNESGetIterationNumber(snes, &its));
-    PetscCall(SNESLineSearchSetType(ls, SNESLINESEARCHBASIC));
-    PetscCall(SNESSetLagJacobian(snes, -1)); /* the fresh factors serve from now on */
-  }
-  if (f->newton_ksp_rtol > 0) PetscCall(KSPSetTolerances(ksp, rtol, abstol, dtol, maxits));
-  f->counts.nonlinear_solves += 1;
-  if (reason <= 0) PetscCall(StepFailureCheckMemory(snes, "fluid"));
-  if (reason <= 0)
-    PetscCall(StepFailureSet(&f->failure,
-                             "fluid solve%s failed at step %" PetscInt_FMT " (t = %g) after %" PetscInt_FMT
-                             " Newton iterations: SNES reason %s",
-                             what, step, (double)f->time, its, SNESConvergedReasons[reason]));
-  f->counts.linear_solves += PetscMax(its, 1);
   PetscFunctionReturn(0);
 }
 

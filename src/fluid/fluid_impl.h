@@ -48,6 +48,11 @@ struct _p_Fluid {
   PetscBool  steady;            /* no time derivative: each step is a steady solve at its time */
   PetscBool  chord;             /* nonlinear solves on factors from another state */
   PetscInt   chord_restarts;    /* solves that needed fresh factors */
+  struct {                      /* chord iterations' Jacobian refreshed (fluid_nonlinear.c) */
+    PetscReal rate;             /* -fluid_chord_refresh_rate: refresh above this contraction */
+    PetscBool active;           /* in this solve: chord on f->snes with a Krylov solver */
+    PetscReal first, last;      /* this solve's initial and latest residual norms */
+  } refresh;
   PetscInt   interface_face;    /* 0: no interface */
   PetscBool  interface_convective_term; /* -1/2 rho ((u.n) u, v) on the interface: the control absorbs it */
   PetscBool  initial_projection;
@@ -74,6 +79,8 @@ struct _p_Fluid {
 
 PetscErrorCode FluidSetConstants(Fluid, PetscReal mass, PetscReal op, PetscReal load);
 PetscErrorCode FluidSetVolumeWeakForm(Fluid, DM, DMLabel region);
+/* fluid_nonlinear.c */
+PetscErrorCode FluidNonlinearSolveSetUp(Fluid);
 PetscErrorCode FluidNonlinearSolve(Fluid, SNES, Vec rhs, PetscBool chord, PetscInt step, const char what[]);
 
 /* fluid_operator.c: the solver's operator from -fem_backend (and the check's), after the
