@@ -6,6 +6,7 @@
    output component, input node, output node); FEMCeedElementPattern gives the pattern in
    that order. Standard (unoriented) restrictions with one active basis each way only. */
 #include "fem_ceed.h"
+#include "logging.h"
 #include <petscblaslapack.h>
 #include <ceed/backend.h>
 
@@ -95,8 +96,11 @@ PetscErrorCode FEMCeedElementMatrices(Ceed ceed, CeedOperator op, CeedScalar *va
   PetscCall(GetLayout(ceed, op, &l));
   /* D at each point: entry ((a c_in + ci) m_out + b) c_out + co couples input mode a of
      component ci with output mode b of component co */
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CEED_LINEARIZE, 0, 0, 0, 0));
   PetscCallCeed(ceed, CeedOperatorLinearAssembleQFunctionBuildOrUpdate(op, &linearized, &r_linearized,
                                                                        CEED_REQUEST_IMMEDIATE));
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CEED_LINEARIZE, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CEED_ELEMENT_MATRICES, 0, 0, 0, 0));
   PetscCallCeed(ceed, CeedElemRestrictionGetELayout(r_linearized, &stride));
   PetscCallCeed(ceed, CeedVectorGetArrayRead(linearized, CEED_MEM_HOST, &d));
   const CeedInt k = l.q * l.m_out, rows_per_elem = l.c_in * l.c_out * l.p_in;
@@ -130,6 +134,7 @@ PetscErrorCode FEMCeedElementMatrices(Ceed ceed, CeedOperator op, CeedScalar *va
                                         values + (CeedSize)e0 * rows_per_elem * l.p_out, &n_blas));
   }
   PetscCall(PetscFree(h));
+  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CEED_ELEMENT_MATRICES, 0, 0, 0, 0));
   PetscCallCeed(ceed, CeedVectorRestoreArrayRead(linearized, &d));
   PetscCallCeed(ceed, CeedVectorDestroy(&linearized));
   PetscCallCeed(ceed, CeedElemRestrictionDestroy(&r_linearized));
