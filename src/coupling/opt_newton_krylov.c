@@ -63,8 +63,8 @@ static PetscErrorCode Jacobian(SNES snes, Vec x, Mat A, Mat B, void *ctx)
    against 3.0e-3, the second step's first 0.50 against 0.27). The converged jump is the
    nonlinear residual's, so inexact products change the iterations, not the answer. The step
    expected to be the last (||F_k|| shrunk once more by the ratio ||F_k|| / ||F_k-1|| lands
-   within 20 x abstol, 10 x -coupling_tol) must reach abstol itself, so its products use the smaller
-   theta of -coupling_inexact_products_last: the earlier steps' errors are swamped by the
+   within 20 x abstol, 10 x -coupling_tol) must reach abstol itself, so its products use the
+   smaller theta of -coupling_inexact_products_last: the earlier steps' errors are swamped by the
    nonlinearity the next iteration corrects anyway. The prediction is linear convergence's:
    with the fluid's Jacobian at the current state (-coupling_lag_preconditioner_only) Newton
    converges faster and the rule may miss a last step (tube3d level 1: jumps 10.7, 0.11,

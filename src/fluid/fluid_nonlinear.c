@@ -5,10 +5,10 @@
    to the solution: the larger the coupling's step (and the finer the mesh, whose convective
    and moving-mesh terms weigh more against rho/dt M), the slower. With a Krylov solver a
    fresh Jacobian costs one assembly, its preconditioner staying the lagged one, and the
-   iterations after it contract far faster; with LU it would cost a factorization. So with a Krylov solver,
-   an iteration that reduced the residual by less than -fluid_chord_refresh_rate, and that
-   leaves more than one iteration to go at that rate, makes the next one assemble the
-   Jacobian at the iterate in hand. */
+   iterations after it contract far faster; with LU it would cost a factorization. So with
+   a Krylov solver, an iteration that reduced the residual by less than
+   -fluid_chord_refresh_rate, and that leaves more than one iteration to go at that rate,
+   makes the next one assemble the Jacobian at the iterate in hand. */
 #include "fluid.h"
 #include "fem.h"
 #include "fluid_impl.h"
