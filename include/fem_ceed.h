@@ -119,6 +119,15 @@ PetscErrorCode FEMCeedElementMatrices(Ceed, CeedOperator, CeedScalar *values);
    whose operator is NULL in an assembly gets zeros. */
 PetscErrorCode FEMCeedAssemblySetUp(Ceed, DM dm, PetscInt n, const CeedOperator ops[], Mat A, CeedSize counts[]);
 PetscErrorCode FEMCeedAssemble(Ceed, PetscInt n, const CeedOperator ops[], const CeedSize counts[], Mat A);
+/* the same, block b's values from custom[b].values where custom is not NULL and that
+   function is set (in the order of FEMCeedElementPattern: element, input component, output
+   component, input node, output node) */
+typedef struct {
+  PetscErrorCode (*values)(void *ctx, CeedScalar *values);
+  void *ctx;
+} FEMCeedBlockValues;
+PetscErrorCode FEMCeedAssembleBlocks(Ceed, PetscInt n, const CeedOperator ops[], const FEMCeedBlockValues custom[],
+                                     const CeedSize counts[], Mat A);
 
 /* y = sum of ops[k] x (n >= 1) on PETSc local vectors, through the CeedVectors x and y that
    borrow their arrays */

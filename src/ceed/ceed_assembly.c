@@ -123,6 +123,14 @@ static PetscErrorCode COOValues(Mat A, CeedSize total, PetscScalar **values)
 
 PetscErrorCode FEMCeedAssemble(Ceed ceed, PetscInt n, const CeedOperator ops[], const CeedSize counts[], Mat A)
 {
+  PetscFunctionBeginUser;
+  PetscCall(FEMCeedAssembleBlocks(ceed, n, ops, NULL, counts, A));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMCeedAssembleBlocks(Ceed ceed, PetscInt n, const CeedOperator ops[], const FEMCeedBlockValues custom[],
+                                     const CeedSize counts[], Mat A)
+{
   PetscScalar *values;
   CeedSize     total = 0, at = 0;
   PetscInt     nextra;
@@ -134,7 +142,8 @@ PetscErrorCode FEMCeedAssemble(Ceed ceed, PetscInt n, const CeedOperator ops[], 
   PetscCall(PetscArrayzero(values + total, nextra));
   for (PetscInt b = 0; b < n; ++b) {
     /* a block of the pattern with no values in this assembly gets zeros */
-    if (ops[b]) PetscCall(FEMCeedElementMatrices(ceed, ops[b], values + at));
+    if (ops[b] && custom && custom[b].values) PetscCall(custom[b].values(custom[b].ctx, values + at));
+    else if (ops[b]) PetscCall(FEMCeedElementMatrices(ceed, ops[b], values + at));
     else PetscCall(PetscArrayzero(values + at, counts[b]));
     at += counts[b];
   }

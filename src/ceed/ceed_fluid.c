@@ -1,9 +1,9 @@
 /* The fluid's volume operators through libCEED (fem_ceed.h): the residual of the weak form
    of fluid_kernels.c in one operator, its Jacobian one operator per block (libCEED
-   assembles an operator with one active input and one active output restriction), the
-   pressure stabilization of equal-order pairs as operators of its own, built only when
-   tau > 0, and the mesh velocity as an input only on moving meshes. The geometry is
-   recomputed when the coordinates change. */
+   assembles an operator with one active input and one active output restriction;
+   ceed_fluid_jacobian.c assembles them), the pressure stabilization of equal-order pairs as
+   operators of its own, built only when tau > 0, and the mesh velocity as an input only on
+   moving meshes. The geometry is recomputed when the coordinates change. */
 #include "ceed_fluid_impl.h"
 #include "logging.h"
 #include "qfunctions_fluid.h"
@@ -134,6 +134,7 @@ static PetscErrorCode JacobianCreate(FEMCeedFluid o)
 {
   PetscFunctionBeginUser;
   PetscCall(BlockQFunctionsCreate(o));
+  PetscCall(FEMCeedFluidVelocityBlockCreate(o));
   PetscCall(FEMCeedFluidBlockOperatorsCreate(o, o->qf_block[0], o->state, o->mesh_velocity, o->qdata, o->op_block));
   /* PETSc's boundary integration adds whole element matrices, zeros of the pressure-pressure
      block included: without a stabilization that block is in the pattern with zeros */
@@ -169,15 +170,11 @@ static PetscErrorCode MassCreate(FEMCeedFluid o)
   PetscCallCeed(ceed, CeedQFunctionAddInput(o->qf_mass, "m", 1, CEED_EVAL_NONE));
   PetscCallCeed(ceed, CeedQFunctionAddOutput(o->qf_mass, "v", dim, CEED_EVAL_INTERP));
   PetscCallCeed(ceed, CeedQFunctionSetContext(o->qf_mass, o->context));
-  /* two operators of one mass: libCEED 0.12 assembles an operator wrongly in some elements
-     after it was applied to another vector (seen on tube3d: -fem_backend_check) */
-  for (PetscInt k = 0; k < 2; ++k) {
-    CeedOperator *op = k ? &o->op_mass_block : &o->op_mass;
-    PetscCallCeed(ceed, CeedOperatorCreate(ceed, o->qf_mass, NULL, NULL, op));
-    PetscCallCeed(ceed, CeedOperatorSetField(*op, "u", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
-    PetscCallCeed(ceed, CeedOperatorSetField(*op, "m", o->r_w, CEED_BASIS_NONE, o->mass_weight));
-    PetscCallCeed(ceed, CeedOperatorSetField(*op, "v", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
-  }
+  /* applied only: the Jacobian's velocity-velocity block holds the assembled mass */
+  PetscCallCeed(ceed, CeedOperatorCreate(ceed, o->qf_mass, NULL, NULL, &o->op_mass));
+  PetscCallCeed(ceed, CeedOperatorSetField(o->op_mass, "u", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
+  PetscCallCeed(ceed, CeedOperatorSetField(o->op_mass, "m", o->r_w, CEED_BASIS_NONE, o->mass_weight));
+  PetscCallCeed(ceed, CeedOperatorSetField(o->op_mass, "v", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
   PetscFunctionReturn(0);
 }
 
@@ -233,6 +230,21 @@ PetscErrorCode FEMCeedFluidMeshVelocitySet(FEMCeedFluid o, Vec z)
   if (!o->volume.moving) PetscFunctionReturn(0);
   PetscCheck(z, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "libCEED fluid: a moving mesh needs its mesh velocity");
   PetscCall(FEMCeedVectorCopyFrom(o->ceed, o->mesh_velocity, z));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode FEMCeedFluidPointsSet(FEMCeedFluid o, Vec z, PetscBool old_mass)
+{
+  FluidVolume *fv;
+
+  PetscFunctionBeginUser;
+  PetscCheck(!old_mass || o->volume.moving, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG,
+             "libCEED fluid: no old-domain mass on a fixed mesh");
+  PetscCallCeed(o->ceed, CeedQFunctionContextGetData(o->context, CEED_MEM_HOST, &fv));
+  fv->old_mass = old_mass ? 1 : 0;
+  PetscCallCeed(o->ceed, CeedQFunctionContextRestoreData(o->context, &fv));
+  PetscCall(FEMCeedGeometryFollow(o->ceed, o->dm, o->velocity_fe, &o->geometry, &o->r_q, &o->qdata));
+  PetscCall(FEMCeedFluidMeshVelocitySet(o, z));
   PetscFunctionReturn(0);
 }
 
@@ -318,7 +330,10 @@ PetscErrorCode FEMCeedFluidDestroy(FEMCeedFluid *fluid)
   PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_stabilization));
   PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_pressure_pattern));
   PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_mass));
-  PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_mass_block));
+  PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_uu_coefficients));
+  PetscCallCeed(ceed, CeedQFunctionDestroy(&o->qf_uu_coefficients));
+  PetscCallCeed(ceed, CeedElemRestrictionDestroy(&o->r_uu_coefficients));
+  PetscCallCeed(ceed, CeedVectorDestroy(&o->uu_coefficients));
   PetscCallCeed(ceed, CeedOperatorDestroy(&o->op_domain));
   PetscCallCeed(ceed, CeedQFunctionDestroy(&o->qf_mass));
   PetscCallCeed(ceed, CeedQFunctionDestroy(&o->qf_domain));
@@ -354,19 +369,12 @@ PetscErrorCode FEMCeedFluidDestroy(FEMCeedFluid *fluid)
 PetscErrorCode FEMCeedFluidResidual(FEMCeedFluid o, Vec xlocal, Vec zlocal, PetscBool old_mass, PetscBool faces,
                                     Vec flocal)
 {
-  FluidVolume *fv;
   CeedOperator ops[2 + FEM_CEED_MAX_FACE_SETS * FEM_CEED_MAX_CELL_FACES];
   PetscInt     n = 0;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CEED_RESIDUAL, 0, 0, 0, 0));
-  PetscCheck(!old_mass || o->volume.moving, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG,
-             "libCEED fluid: no old-domain mass on a fixed mesh");
-  PetscCallCeed(o->ceed, CeedQFunctionContextGetData(o->context, CEED_MEM_HOST, &fv));
-  fv->old_mass = old_mass ? 1 : 0;
-  PetscCallCeed(o->ceed, CeedQFunctionContextRestoreData(o->context, &fv));
-  PetscCall(FEMCeedGeometryFollow(o->ceed, o->dm, o->velocity_fe, &o->geometry, &o->r_q, &o->qdata));
-  PetscCall(FEMCeedFluidMeshVelocitySet(o, zlocal));
+  PetscCall(FEMCeedFluidPointsSet(o, zlocal, old_mass));
   ops[n++] = o->op_residual;
   if (o->op_stabilization) ops[n++] = o->op_stabilization;
   if (faces) {
@@ -375,41 +383,5 @@ PetscErrorCode FEMCeedFluidResidual(FEMCeedFluid o, Vec xlocal, Vec zlocal, Pets
   }
   PetscCall(FEMCeedApply(o->ceed, n, ops, o->x, o->f, xlocal, flocal));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CEED_RESIDUAL, 0, 0, 0, 0));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode FEMCeedFluidCreateMatrix(FEMCeedFluid o, Mat *A)
-{
-  CeedOperator   pattern[5 + FEM_CEED_MAX_FACE_SETS * FEM_CEED_MAX_CELL_FACES] = {o->op_block[0], o->op_block[1],
-                                                                                  o->op_block[2],
-                                                                                o->op_block[3] ? o->op_block[3]
-                                                                                                 : o->op_pressure_pattern,
-                                                                                  o->op_mass_block};
-  const PetscInt n                                                             = 5 + o->n_face_ops;
-
-  PetscFunctionBeginUser;
-  for (PetscInt k = 0; k < o->n_face_ops; ++k) pattern[5 + k] = o->face_jacobian[k];
-  if (!o->counts) PetscCall(PetscMalloc1(n, &o->counts));
-  PetscCall(FEMCeedCreateCOOMatrix(o->dm, A));
-  PetscCall(FEMCeedAssemblySetUp(o->ceed, o->dm, n, pattern, *A, o->counts));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode FEMCeedFluidJacobian(FEMCeedFluid o, Vec xlocal, Vec zlocal, PetscBool old_mass, Mat A)
-{
-  CeedOperator   blocks[5 + FEM_CEED_MAX_FACE_SETS * FEM_CEED_MAX_CELL_FACES] = {o->op_block[0], o->op_block[1],
-                                                                                 o->op_block[2], o->op_block[3],
-                                                                               old_mass ? o->op_mass_block : NULL};
-  const PetscInt n                                                            = 5 + o->n_face_ops;
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CEED_JACOBIAN, 0, 0, 0, 0));
-  for (PetscInt k = 0; k < o->n_face_ops; ++k) blocks[5 + k] = o->face_jacobian[k];
-  PetscCall(FEMCeedGeometryFollow(o->ceed, o->dm, o->velocity_fe, &o->geometry, &o->r_q, &o->qdata));
-  PetscCall(FEMCeedFluidFacesGeometry(o));
-  PetscCall(FEMCeedFluidMeshVelocitySet(o, zlocal));
-  PetscCall(FEMCeedVectorCopyFrom(o->ceed, o->state, xlocal));
-  PetscCall(FEMCeedAssemble(o->ceed, n, blocks, o->counts, A));
-  PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CEED_JACOBIAN, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }

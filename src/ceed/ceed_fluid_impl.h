@@ -1,5 +1,6 @@
-/* The libCEED fluid's object, shared by ceed_fluid.c (volume terms), ceed_fluid_faces.c
-   (face terms) and ceed_fluid_matfree.c (the Jacobian without a matrix). */
+/* The libCEED fluid's object, shared by ceed_fluid.c (volume terms), ceed_fluid_jacobian.c
+   (the assembled Jacobian), ceed_fluid_faces.c (face terms) and ceed_fluid_matfree.c (the
+   Jacobian without a matrix). */
 #ifndef FSIOPT_CEED_FLUID_IMPL_H
 #define FSIOPT_CEED_FLUID_IMPL_H
 #include "fem_ceed.h"
@@ -19,13 +20,19 @@ struct _n_FEMCeedFluid {
   CeedQFunctionContext context;
   CeedQFunction        qf_residual, qf_stabilization, qf_block[3], qf_uu_transpose;
   CeedOperator         op_residual, op_stabilization, op_block[4];
+  /* the velocity-velocity block's coefficients at the points (ceed_fluid_jacobian.c), the
+     old domains' mass in them */
+  CeedQFunction       qf_uu_coefficients;
+  CeedOperator        op_uu_coefficients;
+  CeedElemRestriction r_uu_coefficients;
+  CeedVector          uu_coefficients;
   /* the matrix-free products of the last Jacobian, made at the first: operators of their own
      (see MassCreate), the transpose only changing the velocity-velocity block */
   CeedOperator op_apply[5], op_apply_uu_transpose; /* [4]: the old domains' mass */
   CeedVector   apply_state, apply_mesh_velocity, apply_qdata, apply_mass_weight;
   PetscBool    apply_old_mass;
   CeedOperator op_pressure_pattern; /* without a stabilization: the pressure-pressure block's pattern only */
-  CeedSize    *counts;              /* of the COO pattern's blocks: the five volume ones, then the faces' */
+  CeedSize    *counts;              /* of the COO pattern's blocks: the four volume ones, then the faces' */
   /* face terms: per set its faces, per group of a set a residual and a Jacobian operator */
   DM            dm_mesh_velocity;
   PetscInt      n_face_sets, n_face_ops;
@@ -38,7 +45,7 @@ struct _n_FEMCeedFluid {
   CeedBasis           b_x;
   CeedVector          coordinates, domain_weight[2], mass_weight;
   CeedQFunction       qf_mass, qf_domain;
-  CeedOperator        op_mass, op_mass_block, op_domain; /* the mass applied, and assembled */
+  CeedOperator        op_mass, op_domain;                /* the mass applied */
   FEMCeedGeometryKey  geometry;                          /* the coordinates qdata is of */
 };
 
@@ -47,6 +54,11 @@ struct _n_FEMCeedFluid {
 PetscErrorCode FEMCeedFluidBlockOperatorsCreate(FEMCeedFluid, CeedQFunction qf_uu, CeedVector state, CeedVector z,
                                                 CeedVector qdata, CeedOperator ops[4]);
 PetscErrorCode FEMCeedFluidMeshVelocitySet(FEMCeedFluid, Vec z);
+/* what the volume operators read at the points besides the state: the geometry, the mesh
+   velocity z, and whether the old domains' mass is in (refused on a fixed mesh) */
+PetscErrorCode FEMCeedFluidPointsSet(FEMCeedFluid, Vec z, PetscBool old_mass);
+/* the operator of the velocity-velocity block's coefficients (ceed_fluid_jacobian.c) */
+PetscErrorCode FEMCeedFluidVelocityBlockCreate(FEMCeedFluid);
 /* the face sets' geometry follows the coordinates */
 PetscErrorCode FEMCeedFluidFacesGeometry(FEMCeedFluid);
 #endif

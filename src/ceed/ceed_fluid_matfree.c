@@ -41,7 +41,7 @@ PetscErrorCode FEMCeedFluidJacobianApplySetUp(FEMCeedFluid o, Vec xlocal, Vec zl
     if (o->volume.moving) PetscCallCeed(ceed, CeedOperatorSetField(t, "z", o->r_z, o->b_z, o->apply_mesh_velocity));
     PetscCallCeed(ceed, CeedOperatorSetField(t, "v", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
     PetscCallCeed(ceed, CeedOperatorSetField(t, "dv", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
-    if (o->volume.moving) { /* the mass applied (the assembled one is op_mass_block) */
+    if (o->volume.moving) { /* the old domains' mass, at the weights of this Jacobian's step */
       PetscCallCeed(ceed, CeedOperatorCreate(ceed, o->qf_mass, NULL, NULL, &o->op_apply[4]));
       PetscCallCeed(ceed, CeedOperatorSetField(o->op_apply[4], "u", o->r_u, o->b_u, CEED_VECTOR_ACTIVE));
       PetscCallCeed(ceed, CeedOperatorSetField(o->op_apply[4], "m", o->r_w, CEED_BASIS_NONE, o->apply_mass_weight));

@@ -39,8 +39,9 @@ PetscErrorCode LoggingRegister(void)
   PetscCall(PetscLogEventRegister("StepStartKeep", classid, &FSIOPT_EVENT_STEP_START));
   PetscCall(PetscLogEventRegister("CeedResidual", classid, &FSIOPT_EVENT_CEED_RESIDUAL));
   PetscCall(PetscLogEventRegister("CeedJacobian", classid, &FSIOPT_EVENT_CEED_JACOBIAN));
-  /* inside CeedJacobian: libCEED's linearization of the pointwise function (D at each
-     point), and the element matrices B^T D B formed from it */
+  /* inside CeedJacobian: the pointwise data at each point (libCEED's linearization of a
+     pointwise function, D, or the fluid velocity block's coefficients), and the element
+     matrices formed from it */
   PetscCall(PetscLogEventRegister("CeedLinearize", classid, &FSIOPT_EVENT_CEED_LINEARIZE));
   PetscCall(PetscLogEventRegister("CeedElemMats", classid, &FSIOPT_EVENT_CEED_ELEMENT_MATRICES));
   PetscCall(PetscLogEventRegister("BoundaryTerms", classid, &FSIOPT_EVENT_BOUNDARY_TERMS));

@@ -135,6 +135,10 @@ PetscErrorCode CouplingProblemSystemJacobian(SNES snes, Vec x, Mat *A)
 
   PetscFunctionBeginUser;
   PetscCall(SNESGetJacobian(snes, &J, A, &fn, &ctx));
+  if (!*A) { /* PETSc's integration leaves the matrices to the SNES's set-up (the DM's) */
+    PetscCall(SNESSetUp(snes));
+    PetscCall(SNESGetJacobian(snes, &J, A, &fn, &ctx));
+  }
   PetscCall((*fn)(snes, x, J, *A, ctx));
   PetscFunctionReturn(0);
 }
