@@ -134,7 +134,6 @@ static PetscErrorCode JacobianCreate(FEMCeedFluid o)
 {
   PetscFunctionBeginUser;
   PetscCall(BlockQFunctionsCreate(o));
-  PetscCall(FEMCeedFluidVelocityBlockCreate(o));
   PetscCall(FEMCeedFluidBlockOperatorsCreate(o, o->qf_block[0], o->state, o->mesh_velocity, o->qdata, o->op_block));
   /* PETSc's boundary integration adds whole element matrices, zeros of the pressure-pressure
      block included: without a stabilization that block is in the pattern with zeros */

@@ -57,8 +57,6 @@ PetscErrorCode FEMCeedFluidMeshVelocitySet(FEMCeedFluid, Vec z);
 /* what the volume operators read at the points besides the state: the geometry, the mesh
    velocity z, and whether the old domains' mass is in (refused on a fixed mesh) */
 PetscErrorCode FEMCeedFluidPointsSet(FEMCeedFluid, Vec z, PetscBool old_mass);
-/* the operator of the velocity-velocity block's coefficients (ceed_fluid_jacobian.c) */
-PetscErrorCode FEMCeedFluidVelocityBlockCreate(FEMCeedFluid);
 /* the face sets' geometry follows the coordinates */
 PetscErrorCode FEMCeedFluidFacesGeometry(FEMCeedFluid);
 #endif

@@ -14,7 +14,8 @@
    velocity-velocity one, then the faces' */
 #define FLUID_VOLUME_BLOCKS 4
 
-PetscErrorCode FEMCeedFluidVelocityBlockCreate(FEMCeedFluid o)
+/* the operator of the velocity-velocity block's coefficients, made with the matrix's pattern */
+static PetscErrorCode VelocityBlockCreate(FEMCeedFluid o)
 {
   Ceed          ceed = o->ceed;
   const CeedInt dim = o->volume.dim, size = 2 + 2 * dim * dim + dim;
@@ -127,6 +128,7 @@ PetscErrorCode FEMCeedFluidCreateMatrix(FEMCeedFluid o, Mat *A)
 
   PetscFunctionBeginUser;
   for (PetscInt k = 0; k < o->n_face_ops; ++k) pattern[FLUID_VOLUME_BLOCKS + k] = o->face_jacobian[k];
+  if (!o->op_uu_coefficients) PetscCall(VelocityBlockCreate(o));
   if (!o->counts) PetscCall(PetscMalloc1(n, &o->counts));
   PetscCall(FEMCeedCreateCOOMatrix(o->dm, A));
   PetscCall(FEMCeedAssemblySetUp(o->ceed, o->dm, n, pattern, *A, o->counts));
@@ -145,6 +147,7 @@ PetscErrorCode FEMCeedFluidJacobian(FEMCeedFluid o, Vec xlocal, Vec zlocal, Pets
   const PetscInt n = FLUID_VOLUME_BLOCKS + o->n_face_ops;
 
   PetscFunctionBeginUser;
+  PetscCheck(o->counts, PETSC_COMM_SELF, PETSC_ERR_ORDER, "libCEED fluid: a Jacobian before its matrix's pattern");
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CEED_JACOBIAN, 0, 0, 0, 0));
   for (PetscInt k = 0; k < o->n_face_ops; ++k) blocks[FLUID_VOLUME_BLOCKS + k] = o->face_jacobian[k];
   PetscCall(FEMCeedFluidPointsSet(o, zlocal, old_mass));
