@@ -57,7 +57,7 @@ static PetscErrorCode VelocityBlockValues(void *ctx, CeedScalar *values)
   const CeedInt     dim = o->volume.dim, size = 2 + 2 * dim * dim + dim;
   CeedInt           n_elem, P, Q;
   const CeedScalar *interp, *grad, *coefficients;
-  CeedScalar       *g, *convection, *shared, *pairs, *products;
+  CeedScalar       *g, *convection, *shared, *products;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(FSIOPT_EVENT_CEED_LINEARIZE, 0, 0, 0, 0));
@@ -70,11 +70,12 @@ static PetscErrorCode VelocityBlockValues(void *ctx, CeedScalar *values)
   PetscCallCeed(ceed, CeedBasisGetNumQuadraturePoints(o->b_u, &Q));
   PetscCallCeed(ceed, CeedBasisGetInterp(o->b_u, &interp)); /* [q][node] */
   PetscCallCeed(ceed, CeedBasisGetGrad(o->b_u, &grad));     /* [direction][q][node] */
-  PetscCall(PetscMalloc5(P * dim, &g, P, &convection, P * P, &shared, dim * dim * P * P, &pairs, P * P, &products));
+  PetscCall(PetscMalloc4(P * dim, &g, P, &convection, P * P, &shared, P * P, &products));
   PetscCallCeed(ceed, CeedVectorGetArrayRead(o->uu_coefficients, CEED_MEM_HOST, &coefficients));
   for (CeedInt e = 0; e < n_elem; ++e) {
+    CeedScalar *element = values + (CeedSize)e * dim * dim * P * P;
     PetscCall(PetscArrayzero(shared, P * P));
-    PetscCall(PetscArrayzero(pairs, dim * dim * P * P));
+    PetscCall(PetscArrayzero(element, dim * dim * P * P));
     for (CeedInt q = 0; q < Q; ++q) {
       /* the point's coefficients: FEMCeedPointRestriction's layout, points fastest */
       const CeedScalar *c = coefficients + (CeedSize)e * Q * size + q, *phi = interp + q * P;
@@ -100,22 +101,18 @@ static PetscErrorCode VelocityBlockValues(void *ctx, CeedScalar *values)
       for (CeedInt ci = 0; ci < dim; ++ci)
         for (CeedInt co = 0; co < dim; ++co) {
           const CeedScalar r     = RG0[(co * dim + ci) * Q];
-          CeedScalar      *block = pairs + (ci * dim + co) * P * P;
+          CeedScalar      *block = element + (ci * dim + co) * P * P;
           for (CeedInt j = 0; j < P; ++j) {
             const CeedScalar gj = viscous * g[j * dim + co];
             for (CeedInt i = 0; i < P; ++i) block[j * P + i] += r * products[j * P + i] + gj * g[i * dim + ci];
           }
         }
     }
-    CeedScalar *element = values + (CeedSize)e * dim * dim * P * P;
-    for (CeedInt ci = 0; ci < dim; ++ci)
-      for (CeedInt co = 0; co < dim; ++co) {
-        const CeedInt at = (ci * dim + co) * P * P;
-        for (CeedInt k = 0; k < P * P; ++k) element[at + k] = pairs[at + k] + (ci == co ? shared[k] : 0.0);
-      }
+    for (CeedInt c = 0; c < dim; ++c)
+      for (CeedInt k = 0; k < P * P; ++k) element[(c * dim + c) * P * P + k] += shared[k];
   }
   PetscCallCeed(ceed, CeedVectorRestoreArrayRead(o->uu_coefficients, &coefficients));
-  PetscCall(PetscFree5(g, convection, shared, pairs, products));
+  PetscCall(PetscFree4(g, convection, shared, products));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CEED_ELEMENT_MATRICES, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
