@@ -146,7 +146,7 @@ def test_partitioned_restart():
 
 
 @test("fluid | structure ranks write checkpoints and restart from them: 2 and 3 ranks (the fluid on 1 and 2, the "
-      "structure on 1 and 2) continue the run that wrote them as closely as two such runs agree (1e-12 or 10 x), a SIGTERM's checkpoint too; a damaged part "
+      "structure on 1 and 2) continue the run that wrote them as closely as two such runs agree (1e-12 on one fluid rank, 1e-9 on two, or 10 x), a SIGTERM's checkpoint too; a damaged part "
       "or another -structure_ranks is refused in one line")
 def test_split_restart():
     details = []
@@ -160,13 +160,16 @@ def test_split_restart():
         assert checkpoint_step(ck) == 10, "checkpoint of step %d, not 10" % checkpoint_step(ck)
         s = solve(args + ["-t_final", "0.002", "-restart", ck], nproc=nproc, out=restarted)
         assert s["first_step"] == 11 and s["steps_done"] == 20, "restart at step %s, done %s" % (s["first_step"], s["steps_done"])
-        # to round-off: two fluid ranks may add in another order from run to run, so the bound is
-        # what two uninterrupted runs differ by (10 x, and at least 1e-12)
+        # to round-off. On two fluid ranks the factorization (MUMPS) does not add in one order from
+        # run to run on a loaded machine: with two busy loops beside it, two uninterrupted runs
+        # measured 1e-10 apart and a restart 3e-11, where fluid solves stopped at 1e-6 instead of
+        # 1e-7 move the probes by 1.7e-7. One fluid rank adds in one order: 1e-12.
         reference = read_probes(os.path.join(full, "probes.csv"))[1]
         gap = fr.probes_difference(read_probes(os.path.join(restarted, "probes.csv"))[1], reference)
         itself = fr.probes_difference(read_probes(os.path.join(full + "-again", "probes.csv"))[1], reference)
-        assert gap <= max(1e-12, 10 * itself), "%d ranks, -structure_ranks %d: the restarted probes differ from the " \
-            "uninterrupted run's by %.1e, two uninterrupted runs by %.1e" % (nproc, structure, gap, itself)
+        bound = max(1e-12 if nproc - structure == 1 else 1e-9, 10 * itself)
+        assert gap <= bound, "%d ranks, -structure_ranks %d: the restarted probes differ from the uninterrupted " \
+            "run's by %.1e (bound %.0e), two uninterrupted runs by %.1e" % (nproc, structure, gap, bound, itself)
         details.append("%d:%d %.0e (runs %.0e)" % (nproc, structure, gap, itself))
     rc, err, out = interrupted("SIGTERM", 10, 2, extra=["-structure_ranks", "1", "-t_final", "0.002"])
     ck = os.path.join(out, "checkpoint.h5")

@@ -85,7 +85,7 @@ static PetscErrorCode KeyChanged(FEMDirichletValues dv, PetscBool *changed)
   PetscCall(VecGetArrayRead(coordinates, &x));
   for (PetscInt i = 0; i < dv->n_coords; ++i) {
     const PetscScalar xi = x[dv->coord_offsets[i]];
-    if (xi != dv->coords[i]) {
+    if (!dv->valid || xi != dv->coords[i]) {
       *changed     = PETSC_TRUE;
       dv->coords[i] = xi;
     }

@@ -116,7 +116,7 @@ static PetscErrorCode ResolveFromRoot(const char option[])
 
 PetscErrorCode MeshFromGeo(MPI_Comm comm, const char prefix[], PetscInt dim)
 {
-  char        option[128], set_option[128], geo[PETSC_MAX_PATH_LEN], msh[PETSC_MAX_PATH_LEN], message[512] = "";
+  char        option[128], set_option[128], geo[PETSC_MAX_PATH_LEN] = "", msh[PETSC_MAX_PATH_LEN], message[512] = "";
   char       *set[16];
   PetscInt    nset = 16;
   size_t      len;
