@@ -1,9 +1,12 @@
-"""The fluid's nonlinear solves with a Krylov solver: chord iterations on the coupling's last
-Jacobian, the Jacobian assembled again (its preconditioner kept) after an iteration that
-contracted the residual too little (-fluid_chord_refresh_rate, in the iterative fluid files)."""
+"""The fluid's solves with a Krylov solver: chord iterations on the coupling's last Jacobian,
+the Jacobian assembled again (its preconditioner kept) after an iteration that contracted
+the residual too little (-fluid_chord_refresh_rate, in the iterative fluid files); the
+field split's Schur complement preconditioned by a pressure Laplacian
+(-fluid_schur_pressure_laplacian)."""
 import os
 
-from harness import difference_to_largest, read_probes, out_dir, solve, test, ITERATIVE_ILU
+from harness import (WORK, adjoint_difference, difference_to_largest, fail_text, read_probes, out_dir, run, solve,
+                     test, ITERATIVE_ILU)
 
 
 @test("fluid chord iterations with the Jacobian refreshed (-fluid_chord_refresh_rate 0.005): tube3d level 1 with "
@@ -42,3 +45,59 @@ def test_chord_refresh():
     return "%d GN both; fluid Jacobians %d against %d, linear solves %d against %d; probes within %.1e (2 ranks: " \
         "%d Jacobians, %.1e)" % (refreshed["coupling_iterations"], assembled[0], assembled[1], solves[0], solves[1],
                                 diff, two["factorizations"]["fluid"], diff2)
+
+
+def stage_counts(log, stage, events=("KSPSolve_FS_Schu", "FluidLinSolve")):
+    """{event: count} of a -log_view stage (by its name); KSPSolve_FS_Schu: the field split's
+    Schur solves, one per FGMRES iteration of the fluid"""
+    counts, inside = {}, False
+    for line in open(log):
+        if line.startswith("--- Event Stage"):
+            inside = line.split(":")[1].strip() == stage
+        elif inside and line.split()[:1] and line.split()[0] in events:
+            counts[line.split()[0]] = int(line.split()[1])
+    return counts
+
+
+@test("the Schur complement preconditioned by the pressure Laplacian (-fluid_schur_pressure_laplacian): tube3d "
+      "level 1 with the iterative solver files, three steps, 1 and 2 ranks (the fluid on both): selfp's Gauss-Newton "
+      "iterations and probes (10 x the coupling tolerance) with more Schur applications (the stand-in is farther "
+      "from the Schur complement); the adjoint identity to 10 x the Krylov tolerance, the transposed "
+      "solves taking no more Schur applications than the forward ones")
+def test_schur_pressure_laplacian():
+    args = ["-options_file", "options/tube3d.yaml"] + ITERATIVE_ILU
+    details = []
+    for nproc in (1, 2):
+        found = {}
+        for name, extra in (("selfp", []), ("laplacian", ["-fluid_schur_pressure_laplacian"])):
+            out, log = out_dir("schur-%s-%d" % (name, nproc)), os.path.join(WORK, "schur-%s-%d.log" % (name, nproc))
+            summary = solve(args + extra + ["-t_final", "0.0003", "-log_view", ":" + log], nproc=nproc, out=out)
+            schur = sum(stage_counts(log, stage).get("KSPSolve_FS_Schu", 0) for stage in ("Fluid", "Sensitivity"))
+            found[name] = (summary, read_probes(os.path.join(out, "probes.csv"))[1], schur)
+        (selfp, selfp_probes, selfp_schur), (laplacian, probes, schur) = found["selfp"], found["laplacian"]
+        assert laplacian["coupling_iterations"] == selfp["coupling_iterations"], "%d rank(s): %d Gauss-Newton " \
+            "iterations, selfp %d" % (nproc, laplacian["coupling_iterations"], selfp["coupling_iterations"])
+        diff = difference_to_largest(probes, selfp_probes)
+        assert diff <= 1e-3, "%d rank(s): probes %.2e from selfp's, above 10 x the coupling tolerance 1e-4" % (nproc,
+                                                                                                             diff)
+        applications = (schur, selfp_schur)
+        assert applications[0] > 1.2 * applications[1], "%d rank(s): %d Schur applications, selfp %d: is the " \
+            "Laplacian in use?" % ((nproc,) + applications)
+        log = os.path.join(WORK, "schur-adjoint-%d.log" % nproc)
+        rc, stdout, err, summary = run(args + ["-fluid_schur_pressure_laplacian", "-t_final", "0.0001",
+                                               "-coupling_test_adjoint", "-coupling_inner", "cgls", "-log_view",
+                                               ":" + log], nproc=nproc, tag="schur-adjoint")
+        assert rc == 0 and summary, fail_text(rc, stdout, err)
+        adjoint = adjoint_difference(stdout)
+        assert adjoint <= 1e-9, "%d rank(s): adjoint identity %.2e, above 10 x the Krylov tolerance 1e-10" % (nproc,
+                                                                                                            adjoint)
+        forward, transposed = stage_counts(log, "Sensitivity"), stage_counts(log, "Adjoint")
+        per = (transposed["KSPSolve_FS_Schu"] / transposed["FluidLinSolve"],
+               forward["KSPSolve_FS_Schu"] / forward["FluidLinSolve"])
+        assert per[0] <= per[1], "%d rank(s): %.1f applications per transposed solve, %.1f per forward one" % (
+            (nproc,) + per)
+        details.append("%d rank%s: %d GN both, probes within %.1e, %d applications against selfp's %d; adjoint %.1e, "
+                       "%.0f/%.0f per transposed/forward solve" % (
+                           nproc, "s" if nproc > 1 else "", selfp["coupling_iterations"], diff, applications[0],
+                           applications[1], adjoint, per[0], per[1]))
+    return "; ".join(details)

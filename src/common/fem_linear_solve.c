@@ -52,6 +52,13 @@ static PetscErrorCode TransposedSolverGet(SNES snes, KSP ksp, TransposedSolver *
       PetscCall(KSPSetDMActive(ts->ksp, PETSC_FALSE));
     }
     PetscCall(KSPSetFromOptions(ts->ksp));
+    { /* a Schur preconditioning matrix of the forward split's (symmetric: fluid_schur_laplacian.c) */
+      Mat schur;
+      PC  pc;
+      PetscCall(PetscObjectQuery((PetscObject)snes, "fsiopt_schur_preconditioning_matrix", (PetscObject *)&schur));
+      PetscCall(KSPGetPC(ts->ksp, &pc));
+      if (schur) PetscCall(PCFieldSplitSetSchurPre(pc, PC_FIELDSPLIT_SCHUR_PRE_USER, schur));
+    }
     PetscCall(PetscContainerCreate(PetscObjectComm((PetscObject)ksp), &container));
     PetscCall(PetscContainerSetPointer(container, ts));
     PetscCall(PetscContainerSetUserDestroy(container, TransposedSolverDestroy));

@@ -91,6 +91,12 @@ PetscErrorCode FluidSetFromOptions(Fluid f)
                              "Start from the Stokes projection of the scene's exact solution (discretely divergence "
                              "free) instead of its interpolant",
                              NULL, f->initial_projection, &f->initial_projection, NULL));
+  PetscCall(PetscOptionsBool("-fluid_schur_pressure_laplacian",
+                             "With -fluid_pc_fieldsplit_type schur: precondition the Schur complement with the "
+                             "pressure Laplacian -(tau + dt/rho)(grad p, grad q), its pressure fixed where a traction "
+                             "is given, instead of -fluid_pc_fieldsplit_schur_precondition's matrix (time-dependent "
+                             "flows whose velocity block is dominated by rho/dt M)",
+                             NULL, f->schur_laplacian.use, &f->schur_laplacian.use, NULL));
   PetscCall(PetscOptionsBool("-fluid_matfree",
                              "The solver's operator is libCEED's matrix-free Jacobian, preconditioned by the "
                              "assembled one: for Krylov solvers (-fluid_ksp_type gmres); -fem_backend ceed only",
@@ -185,6 +191,7 @@ PetscErrorCode FluidSetUp(Fluid f, DM mesh, const PhysicsData *data, PetscReal t
   f->chord = policy == FEM_JACOBIAN_ON_REQUEST ? PETSC_TRUE : PETSC_FALSE;
   PetscCall(FEMCreateSNES(f->dm, "fluid_", policy, &f->counts.factorizations, &f->snes));
   PetscCall(FluidNonlinearSolveSetUp(f));
+  PetscCall(FluidSchurLaplacianSetUp(f));
   PetscCall(SNESGetTolerances(f->snes, &f->atol, NULL, NULL, NULL, NULL));
   if (data->mesh_displacement) f->moving = PETSC_TRUE;
   PetscCall(DMCreateGlobalVector(f->dm, &f->x));
@@ -242,6 +249,7 @@ PetscErrorCode FluidBeginStep(Fluid f, PetscInt step)
 
     if (mass != f->mass_coefficient && f->mass_coefficient > 0) PetscCall(FluidJacobianIsStale(f));
     f->mass_coefficient = mass;
+    PetscCall(FluidSchurLaplacianBeginStep(f));
     if (f->moving) PetscCall(FluidALEBeginStep(f));
     else {
       if (bdf2) {
@@ -513,6 +521,7 @@ PetscErrorCode FluidDestroy(Fluid *fluid)
   PetscCall(VecDestroy(&f->xlocal_work));
   PetscCall(VecDestroy(&f->xlocal_previous));
   PetscCall(SNESDestroy(&f->snes));
+  PetscCall(MatDestroy(&f->schur_laplacian.matrix));
   PetscCall(DMDestroy(&f->dm));
   PetscCall(PetscFree(*fluid));
   PetscFunctionReturn(0);

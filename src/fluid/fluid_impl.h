@@ -63,6 +63,11 @@ struct _p_Fluid {
   PetscReal  newton_ksp_rtol; /* the Krylov tolerance of the Newton steps (0: the solver's own) */
   PetscBool  moving;          /* the mesh moves (fluid_ale.c) */
   PetscBool  use_matfree;     /* -fluid_matfree */
+  struct {                    /* the field split's Schur preconditioning matrix (fluid_schur_laplacian.c) */
+    PetscBool use;            /* -fluid_schur_pressure_laplacian */
+    Mat       matrix;         /* -(tau + 1/m) K with Dirichlet rows */
+    PetscReal scale;          /* tau + 1/m it holds */
+  } schur_laplacian;
   /* the operators (fluid_operator.c): the solver's, and with -fem_backend_check the other
      backend's beside it */
   FluidOperator  op, check;
@@ -157,6 +162,8 @@ PetscErrorCode FluidMatFreeDestroy(FluidMatFree *);
 PetscErrorCode FluidSetConstantsFull(Fluid, PetscReal mass, PetscReal op, PetscReal load, PetscReal convection,
                                      PetscReal projection);
 PetscErrorCode FluidSetUpWeakForm(Fluid);
+PetscErrorCode FluidSchurLaplacianSetUp(Fluid);
+PetscErrorCode FluidSchurLaplacianBeginStep(Fluid);
 PetscErrorCode FluidProjectExact(
   Fluid); /* adds its kernel to the weak form; the Stokes projection of the exact solution at f->time into f->x */
 PetscErrorCode FluidSetPressureStabilization(Fluid);
