@@ -201,7 +201,8 @@ static PetscErrorCode RigidBodyModes(DM dm, PetscInt field_ignored, PetscInt fie
 
 /* GAMG builds its coarse spaces from the operator's near-nullspace, which for elasticity
    are the rigid-body modes; without them it takes the translations only. A factorization
-   needs none. */
+   needs none. A composite preconditioner gets them too: its GAMG part reads them from the
+   same matrix. */
 static PetscErrorCode SetRigidBodyModes(Structure s)
 {
   KSP       ksp;
@@ -212,7 +213,7 @@ static PetscErrorCode SetRigidBodyModes(Structure s)
   PetscFunctionBeginUser;
   PetscCall(SNESGetKSP(s->snes, &ksp));
   PetscCall(KSPGetPC(ksp, &pc));
-  PetscCall(PetscObjectTypeCompare((PetscObject)pc, PCGAMG, &gamg));
+  PetscCall(PetscObjectTypeCompareAny((PetscObject)pc, &gamg, PCGAMG, PCCOMPOSITE, ""));
   if (!gamg) PetscFunctionReturn(0);
   PetscCall(SNESGetJacobian(s->snes, &A, NULL, NULL, NULL));
   if (A) {
