@@ -9,7 +9,10 @@
    Laplacian scaled by tau + 1/m, whose pressure is fixed where a traction is given. selfp's
    B diag(A)^-1 B^T is one too, with the stencil of B B^T (twice as wide as K's) and no
    coarse hierarchy from GAMG. Where viscosity or convection dominate the velocity block
-   (steady flows, large dt) it is no such Laplacian: the option is refused for steady fluids. */
+   (steady flows, large dt) it is no such Laplacian: the option is refused for steady fluids.
+   Measured on tube3d it stands for the Schur complement less well than selfp: 1.6x the
+   FGMRES iterations at a third of the cost per application, slower overall
+   (docs/coupling-and-solvers.md); it stays an option to measure on other flows. */
 #include "fluid.h"
 #include "fluid_impl.h"
 
