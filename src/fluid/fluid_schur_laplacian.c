@@ -11,7 +11,7 @@
    coarse hierarchy from GAMG. Where viscosity or convection dominate the velocity block
    (steady flows, large dt) it is no such Laplacian: the option is refused for steady fluids.
    Measured on tube3d it stands for the Schur complement less well than selfp: 1.6x the
-   FGMRES iterations at a third of the cost per application, slower overall
+   FGMRES iterations at about a quarter of the cost per application, slower overall
    (docs/coupling-and-solvers.md); it stays an option to measure on other flows. */
 #include "fluid.h"
 #include "fluid_impl.h"
