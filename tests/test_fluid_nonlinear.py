@@ -2,11 +2,12 @@
 the Jacobian assembled again (its preconditioner kept) after an iteration that contracted
 the residual too little (-fluid_chord_refresh_rate, in the iterative fluid files); the
 field split's Schur complement preconditioned by a pressure Laplacian
-(-fluid_schur_pressure_laplacian)."""
+(-fluid_schur_pressure_laplacian); the velocity block by additive Schwarz
+(options/solvers/fluid-velocity-asm.yaml)."""
 import os
 
 from harness import (WORK, adjoint_difference, difference_to_largest, fail_text, read_probes, out_dir, run, solve,
-                     test, ITERATIVE_ILU)
+                     test, ITERATIVE_ILU, SOLVER_FILES)
 
 
 @test("fluid chord iterations with the Jacobian refreshed (-fluid_chord_refresh_rate 0.005): tube3d level 1 with "
@@ -101,3 +102,42 @@ def test_schur_pressure_laplacian():
                            nproc, "s" if nproc > 1 else "", selfp["coupling_iterations"], diff, applications[0],
                            applications[1], adjoint, per[0], per[1]))
     return "; ".join(details)
+
+
+def fluid_krylov_iterations(stdout):
+    """the FGMRES iterations of every fluid solve that -fluid_ksp_converged_reason reported"""
+    lines = [l for l in stdout.splitlines() if l.lstrip().startswith("Linear fluid_ solve converged")]
+    assert lines, "no converged-reason line of the fluid's solves"
+    return sum(int(l.split()[-1]) for l in lines)
+
+
+@test("the velocity block by additive Schwarz (options/solvers/fluid-velocity-asm.yaml): tube3d level 1 with the "
+      "iterative solver files, three steps: on 1 rank block Jacobi's FGMRES iterations exactly (one block, the same "
+      "ILU(0)); on 2 ranks (the fluid on both) at most 0.95 x them, the same Gauss-Newton iterations, probes within "
+      "10 x the coupling tolerance, the adjoint identity to 10 x the Krylov tolerance")
+def test_velocity_asm():
+    args = ["-options_file", "options/tube3d.yaml", "-t_final", "0.0003", "-fluid_ksp_converged_reason"] + ITERATIVE_ILU
+    asm = SOLVER_FILES["fluid-velocity-asm"]
+    found = {}
+    for nproc in (1, 2):
+        for name, extra in (("bjacobi", []), ("asm", asm)):
+            out = out_dir("velocity-%s-%d" % (name, nproc))
+            rc, stdout, err, summary = run(args + extra, nproc=nproc, out=out, tag="velocity-asm")
+            assert rc == 0 and summary, fail_text(rc, stdout, err)
+            found[name, nproc] = (summary, fluid_krylov_iterations(stdout),
+                                  read_probes(os.path.join(out, "probes.csv"))[1])
+    one = (found["asm", 1][1], found["bjacobi", 1][1])
+    assert one[0] == one[1], "1 rank: %d FGMRES iterations with ASM, %d with block Jacobi" % one
+    (asm2, its, probes), (bjacobi2, bjacobi_its, bjacobi_probes) = found["asm", 2], found["bjacobi", 2]
+    assert its <= 0.95 * bjacobi_its, "2 ranks: %d FGMRES iterations with ASM, %d with block Jacobi" % (its, bjacobi_its)
+    assert asm2["coupling_iterations"] == bjacobi2["coupling_iterations"], "2 ranks: %d Gauss-Newton iterations, " \
+        "block Jacobi %d" % (asm2["coupling_iterations"], bjacobi2["coupling_iterations"])
+    diff = difference_to_largest(probes, bjacobi_probes)
+    assert diff <= 1e-3, "2 ranks: probes %.2e from block Jacobi's, above 10 x the coupling tolerance 1e-4" % diff
+    rc, stdout, err, summary = run(["-options_file", "options/tube3d.yaml", "-t_final", "0.0001", "-coupling_test_adjoint",
+                                    "-coupling_inner", "cgls"] + ITERATIVE_ILU + asm, nproc=2, tag="velocity-asm-adjoint")
+    assert rc == 0 and summary, fail_text(rc, stdout, err)
+    adjoint = adjoint_difference(stdout)
+    assert adjoint <= 1e-9, "2 ranks: adjoint identity %.2e, above 10 x the Krylov tolerance 1e-10" % adjoint
+    return "1 rank: %d FGMRES iterations both; 2 ranks: %d against %d, %d GN both, probes within %.1e, adjoint %.1e" % (
+        one[0], its, bjacobi_its, asm2["coupling_iterations"], diff, adjoint)
