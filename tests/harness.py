@@ -136,6 +136,13 @@ def krylov_iterations(stdout, prefix):
     return [int(l.split()[-1]) for l in stdout.splitlines() if l.strip().startswith("Linear %s_ solve" % prefix)]
 
 
+def stage_count(log, stage, event):
+    """how many times `event` ran in the -log_view stage `stage` of the report in file `log`
+    (0 when it did not)"""
+    from fsiopt_logview import parse_stage_event_table
+    return parse_stage_event_table(open(log).read()).get(stage, {}).get(event, (0,))[0]
+
+
 def adjoint_difference(stdout):
     """The relative difference <J h, r> - <h, J^T r> that the one "adjoint test:" line of
     -coupling_test_adjoint reports."""

@@ -5,7 +5,7 @@ import csv, math, os
 
 from harness import (CHANNEL, NS_STEP, SHORT, WORK, adjoint_difference, check_rates, difference_to_largest,  # noqa: F401
                      fail_text, krylov_iterations, last_rows, out_dir, printed, probes_difference, read_probes, run,
-                     same_file, solve, test, ITERATIVE_ILU, SOLVER_FILES)
+                     same_file, solve, stage_count, test, ITERATIVE_ILU, SOLVER_FILES)
 
 
 # LU refactored at every Gauss-Newton iteration: exact products, as the iterative solvers'
@@ -67,13 +67,7 @@ FIELD_SPLIT = ["-fluid_ksp_type", "fgmres", "-fluid_ksp_rtol", "1e-10", "-fluid_
 
 def preconditioner_applications(log, stage):
     """PCApply count per FluidLinSolve in a -log_view stage (by its name)"""
-    counts, inside = {}, False
-    for line in open(log):
-        if line.startswith("--- Event Stage"):
-            inside = line.split(":")[1].strip() == stage
-        elif inside and line.split()[:1] in (["PCApply"], ["FluidLinSolve"]):
-            counts[line.split()[0]] = int(line.split()[1])
-    return counts["PCApply"] / counts["FluidLinSolve"]
+    return stage_count(log, stage, "PCApply") / stage_count(log, stage, "FluidLinSolve")
 
 
 @test("iterative fluid (FGMRES, Schur field split, GAMG on the velocity): the split's options are read, the adjoint "

@@ -6,8 +6,11 @@ field split's Schur complement preconditioned by a pressure Laplacian
 (options/solvers/fluid-velocity-asm.yaml)."""
 import os
 
-from harness import (WORK, adjoint_difference, difference_to_largest, fail_text, read_probes, out_dir, run, solve,
-                     test, ITERATIVE_ILU, SOLVER_FILES)
+from harness import (WORK, adjoint_difference, difference_to_largest, fail_text, krylov_iterations, read_probes,
+                     out_dir, run, solve, stage_count, test, ITERATIVE_ILU, SOLVER_FILES)
+
+# KSPSolve_FS_Schu: the field split's Schur solves, one per FGMRES iteration of the fluid
+SCHUR = "KSPSolve_FS_Schu"
 
 
 @test("fluid chord iterations with the Jacobian refreshed (-fluid_chord_refresh_rate 0.005): tube3d level 1 with "
@@ -48,18 +51,6 @@ def test_chord_refresh():
                                 diff, two["factorizations"]["fluid"], diff2)
 
 
-def stage_counts(log, stage, events=("KSPSolve_FS_Schu", "FluidLinSolve")):
-    """{event: count} of a -log_view stage (by its name); KSPSolve_FS_Schu: the field split's
-    Schur solves, one per FGMRES iteration of the fluid"""
-    counts, inside = {}, False
-    for line in open(log):
-        if line.startswith("--- Event Stage"):
-            inside = line.split(":")[1].strip() == stage
-        elif inside and line.split()[:1] and line.split()[0] in events:
-            counts[line.split()[0]] = int(line.split()[1])
-    return counts
-
-
 @test("the Schur complement preconditioned by the pressure Laplacian (-fluid_schur_pressure_laplacian): tube3d "
       "level 1 with the iterative solver files, three steps, 1 and 2 ranks (the fluid on both): selfp's Gauss-Newton "
       "iterations and probes (10 x the coupling tolerance) with more Schur applications (the stand-in is farther "
@@ -73,7 +64,7 @@ def test_schur_pressure_laplacian():
         for name, extra in (("selfp", []), ("laplacian", ["-fluid_schur_pressure_laplacian"])):
             out, log = out_dir("schur-%s-%d" % (name, nproc)), os.path.join(WORK, "schur-%s-%d.log" % (name, nproc))
             summary = solve(args + extra + ["-t_final", "0.0003", "-log_view", ":" + log], nproc=nproc, out=out)
-            schur = sum(stage_counts(log, stage).get("KSPSolve_FS_Schu", 0) for stage in ("Fluid", "Sensitivity"))
+            schur = sum(stage_count(log, stage, SCHUR) for stage in ("Fluid", "Sensitivity"))
             found[name] = (summary, read_probes(os.path.join(out, "probes.csv"))[1], schur)
         (selfp, selfp_probes, selfp_schur), (laplacian, probes, schur) = found["selfp"], found["laplacian"]
         assert laplacian["coupling_iterations"] == selfp["coupling_iterations"], "%d rank(s): %d Gauss-Newton " \
@@ -92,9 +83,8 @@ def test_schur_pressure_laplacian():
         adjoint = adjoint_difference(stdout)
         assert adjoint <= 1e-9, "%d rank(s): adjoint identity %.2e, above 10 x the Krylov tolerance 1e-10" % (nproc,
                                                                                                             adjoint)
-        forward, transposed = stage_counts(log, "Sensitivity"), stage_counts(log, "Adjoint")
-        per = (transposed["KSPSolve_FS_Schu"] / transposed["FluidLinSolve"],
-               forward["KSPSolve_FS_Schu"] / forward["FluidLinSolve"])
+        per = tuple(stage_count(log, stage, SCHUR) / stage_count(log, stage, "FluidLinSolve")
+                    for stage in ("Adjoint", "Sensitivity"))
         assert per[0] <= per[1], "%d rank(s): %.1f applications per transposed solve, %.1f per forward one" % (
             (nproc,) + per)
         details.append("%d rank%s: %d GN both, probes within %.1e, %d applications against selfp's %d; adjoint %.1e, "
@@ -102,13 +92,6 @@ def test_schur_pressure_laplacian():
                            nproc, "s" if nproc > 1 else "", selfp["coupling_iterations"], diff, applications[0],
                            applications[1], adjoint, per[0], per[1]))
     return "; ".join(details)
-
-
-def fluid_krylov_iterations(stdout):
-    """the FGMRES iterations of every fluid solve that -fluid_ksp_converged_reason reported"""
-    lines = [l for l in stdout.splitlines() if l.lstrip().startswith("Linear fluid_ solve converged")]
-    assert lines, "no converged-reason line of the fluid's solves"
-    return sum(int(l.split()[-1]) for l in lines)
 
 
 @test("the velocity block by additive Schwarz (options/solvers/fluid-velocity-asm.yaml): tube3d level 1 with the "
@@ -124,7 +107,9 @@ def test_velocity_asm():
             out = out_dir("velocity-%s-%d" % (name, nproc))
             rc, stdout, err, summary = run(args + extra, nproc=nproc, out=out, tag="velocity-asm")
             assert rc == 0 and summary, fail_text(rc, stdout, err)
-            found[name, nproc] = (summary, fluid_krylov_iterations(stdout),
+            its = krylov_iterations(stdout, "fluid")
+            assert its, "no converged-reason line of the fluid's solves"
+            found[name, nproc] = (summary, sum(its),
                                   read_probes(os.path.join(out, "probes.csv"))[1])
     one = (found["asm", 1][1], found["bjacobi", 1][1])
     assert one[0] == one[1], "1 rank: %d FGMRES iterations with ASM, %d with block Jacobi" % one

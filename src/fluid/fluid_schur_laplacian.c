@@ -34,7 +34,7 @@ static PetscErrorCode FreeVelocityRows(Fluid f, DM dm, PetscInt *n, PetscInt **r
 {
   DMLabel      label;
   PetscSection global;
-  PetscInt     faces[FSIOPT_MAX_BOUNDARIES + 1], n_faces = 0, capacity = 0, count = 0;
+  PetscInt     faces[FSIOPT_MAX_BOUNDARIES + 1], n_faces = 0, count = 0;
   PetscInt    *found = NULL;
 
   PetscFunctionBeginUser;
@@ -71,10 +71,7 @@ static PetscErrorCode FreeVelocityRows(Fluid f, DM dm, PetscInt *n, PetscInt **r
       PetscCall(ISRestoreIndices(points, &face));
       PetscCall(ISDestroy(&points));
     }
-    if (!pass) {
-      capacity = count;
-      PetscCall(PetscMalloc1(capacity, &found));
-    }
+    if (!pass) PetscCall(PetscMalloc1(count, &found));
   }
   PetscCall(PetscSortRemoveDupsInt(&count, found));
   *n    = count;
