@@ -13,7 +13,9 @@ lu,iterative):
 lu adds nothing (MUMPS LU, the default); iterative adds options/solvers/fluid-schur-gamg.yaml,
 structure-cg-gamg.yaml and mesh-cg-gamg.yaml; iterative-ilu is fluid-schur-gamg.yaml with
 fluid-velocity-ilu.yaml, structure-cg-ilu.yaml and mesh-cg-gamg.yaml (ILU(0) on the fluid's
-velocity block and on the wall, for small time steps); monolithic is -coupling monolithic (one
+velocity block and on the wall, for small time steps); iterative-ilu-cholesky the same with
+structure-cholesky.yaml in place of structure-cg-ilu.yaml (the wall by MUMPS's Cholesky,
+factored once); monolithic is -coupling monolithic (one
 MUMPS LU of the whole coupled Jacobian) and monolithic-schur the same with
 options/solvers/monolithic-schur.yaml (the fluid and the wall factored apart, GMRES on the
 interface traction's Schur complement). The meshes of level n are generated with gmsh
@@ -63,6 +65,10 @@ SOLVERS = {
                       "-options_file", "options/solvers/fluid-velocity-ilu.yaml",
                       "-options_file", "options/solvers/structure-cg-ilu.yaml",
                       "-options_file", "options/solvers/mesh-cg-gamg.yaml"],
+    "iterative-ilu-cholesky": ["-options_file", "options/solvers/fluid-schur-gamg.yaml",
+                               "-options_file", "options/solvers/fluid-velocity-ilu.yaml",
+                               "-options_file", "options/solvers/structure-cholesky.yaml",
+                               "-options_file", "options/solvers/mesh-cg-gamg.yaml"],
     "monolithic": ["-coupling", "monolithic", "-options_allow_unused"],
     "monolithic-schur": ["-coupling", "monolithic", "-options_allow_unused",
                          "-options_file", "options/solvers/monolithic-schur.yaml"],

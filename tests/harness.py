@@ -112,7 +112,7 @@ def difference_to_largest(rows, reference):
 # options/solvers/: the iterative solvers' files, by name
 SOLVER_FILES = {name: ["-options_file", "options/solvers/%s.yaml" % name]
                 for name in ("fluid-schur-gamg", "fluid-velocity-ilu", "fluid-velocity-asm", "structure-cg-gamg",
-                             "structure-cg-ilu", "mesh-cg-gamg")}
+                             "structure-cg-ilu", "structure-cholesky", "mesh-cg-gamg")}
 # the set for small time steps (scripts/cost_growth.py's iterative-ilu): ILU(0) on the fluid's
 # velocity block and on the wall, GAMG on the pressure and the mesh motion
 ITERATIVE_ILU = SOLVER_FILES["fluid-schur-gamg"] + SOLVER_FILES["fluid-velocity-ilu"] + \

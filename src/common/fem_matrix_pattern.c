@@ -1,7 +1,8 @@
 /* Entries beyond the weak form's stencil that every Jacobian of a DM must hold (fem.h): a
    0D outlet's dense block couples every velocity node of its face set. Kept with the DM, so
    that whichever backend makes the matrix puts them in its pattern: libCEED's COO pattern
-   (ceed_assembly.c) is fixed once made, and an entry outside it cannot be added later. */
+   (ceed_assembly.c) is fixed once made, and an entry outside it cannot be added later.
+   And the other way round: a copy of a matrix without the entries its pattern holds at zero. */
 #include "fem.h"
 
 typedef struct {
@@ -60,5 +61,62 @@ PetscErrorCode FEMGetExtraPattern(DM dm, PetscInt *n, const PetscInt **rows, con
   *n = p->n;
   if (rows) *rows = p->rows;
   if (cols) *cols = p->cols;
+  PetscFunctionReturn(0);
+}
+
+/* A copy of A without its stored zeros. A vector Laplacian assembled on a vector field's
+   pattern stores the couplings between components, all zero: two thirds of its entries in
+   3D, which every product and every multigrid level would read. */
+PetscErrorCode FEMMatrixDropZeros(Mat A, Mat *B)
+{
+  PetscInt     rstart, rend, cstart, cend, m, n, M, N, *d_nnz, *o_nnz, *keep_cols, max_row = 0;
+  PetscScalar *keep_values;
+  PetscBool    set, flag;
+
+  PetscFunctionBeginUser;
+  PetscCall(MatGetOwnershipRange(A, &rstart, &rend));
+  PetscCall(MatGetOwnershipRangeColumn(A, &cstart, &cend));
+  PetscCall(MatGetLocalSize(A, &m, &n));
+  PetscCall(MatGetSize(A, &M, &N));
+  PetscCall(PetscCalloc2(m, &d_nnz, m, &o_nnz));
+  for (PetscInt r = rstart; r < rend; ++r) {
+    PetscInt           nc;
+    const PetscInt    *cols;
+    const PetscScalar *values;
+    PetscCall(MatGetRow(A, r, &nc, &cols, &values));
+    max_row = PetscMax(max_row, nc);
+    for (PetscInt k = 0; k < nc; ++k) {
+      if (values[k] == 0.0) continue;
+      if (cols[k] >= cstart && cols[k] < cend) d_nnz[r - rstart]++;
+      else o_nnz[r - rstart]++;
+    }
+    PetscCall(MatRestoreRow(A, r, &nc, &cols, &values));
+  }
+  PetscCall(MatCreate(PetscObjectComm((PetscObject)A), B));
+  PetscCall(MatSetSizes(*B, m, n, M, N));
+  PetscCall(MatSetBlockSizesFromMats(*B, A, A));
+  PetscCall(MatSetType(*B, MATAIJ));
+  PetscCall(MatSeqAIJSetPreallocation(*B, 0, d_nnz));
+  PetscCall(MatMPIAIJSetPreallocation(*B, 0, d_nnz, 0, o_nnz));
+  PetscCall(PetscFree2(d_nnz, o_nnz));
+  PetscCall(PetscMalloc2(max_row, &keep_cols, max_row, &keep_values));
+  for (PetscInt r = rstart; r < rend; ++r) {
+    PetscInt           nc, kept = 0;
+    const PetscInt    *cols;
+    const PetscScalar *values;
+    PetscCall(MatGetRow(A, r, &nc, &cols, &values));
+    for (PetscInt k = 0; k < nc; ++k) {
+      if (values[k] == 0.0) continue;
+      keep_cols[kept]     = cols[k];
+      keep_values[kept++] = values[k];
+    }
+    PetscCall(MatSetValues(*B, 1, &r, kept, keep_cols, keep_values, INSERT_VALUES));
+    PetscCall(MatRestoreRow(A, r, &nc, &cols, &values));
+  }
+  PetscCall(PetscFree2(keep_cols, keep_values));
+  PetscCall(MatAssemblyBegin(*B, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(*B, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatIsSymmetricKnown(A, &set, &flag));
+  if (set) PetscCall(MatSetOption(*B, MAT_SYMMETRIC, flag));
   PetscFunctionReturn(0);
 }

@@ -1,0 +1,74 @@
+"""The wall's and the mesh motion's linear solves in the large-run solver files: the wall by
+MUMPS's Cholesky factorization (options/solvers/structure-cholesky.yaml), and the harmonic
+mesh motion's operator without the zero couplings between components that the vector
+field's pattern stores (src/mesh/motion.c)."""
+import re
+
+from harness import (adjoint_difference, difference_to_largest, fail_text, read_probes, out_dir, run, test,
+                     ITERATIVE_ILU, SOLVER_FILES)
+import os
+
+TUBE = ["-options_file", "options/tube3d.yaml"]
+
+
+@test("options/solvers/structure-cholesky.yaml: tube3d level 1 with the other iterative-ilu files, two steps, the "
+      "wall by MUMPS Cholesky against MUMPS LU: the same Gauss-Newton iterations, probes within 1e-9 (both are direct "
+      "solves of the same system); the adjoint identity to 10 x the Krylov tolerance, 1 and 2 ranks")
+def test_wall_cholesky():
+    cholesky = SOLVER_FILES["structure-cholesky"]
+    # the iterative-ilu set without its wall file: the wall by the default MUMPS LU
+    wall_lu = [a for a in ITERATIVE_ILU if "structure-cg-ilu" not in a]
+    wall_lu = [a for i, a in enumerate(wall_lu) if not (a == "-options_file" and i + 1 < len(wall_lu)
+                                                          and wall_lu[i + 1] == "-options_file")]
+    assert len(wall_lu) == len(ITERATIVE_ILU) - 2, wall_lu
+    details = []
+    for nproc in (1, 2):
+        found = {}
+        for name, files in (("lu", wall_lu), ("cholesky", wall_lu + cholesky)):
+            out = out_dir("wall-%s-%d" % (name, nproc))
+            rc, stdout, err, summary = run(TUBE + ["-t_final", "0.0002", "-structure_ksp_view"] + files, nproc=nproc,
+                                           out=out, tag="wall-cholesky")
+            assert rc == 0 and summary, fail_text(rc, stdout, err)
+            found[name] = (summary, read_probes(os.path.join(out, "probes.csv"))[1], stdout)
+        for name, kind in (("cholesky", "cholesky"), ("lu", "lu")):
+            assert re.search(r"PC Object: \(structure_\) \d+ MPI process\w*\n\s+type: %s\n" % kind, found[name][2]), \
+                "the %s run's -structure_ksp_view shows no %s preconditioner" % (name, kind)
+        its = (found["cholesky"][0]["coupling_iterations"], found["lu"][0]["coupling_iterations"])
+        assert its[0] == its[1], "%d rank(s): %d Gauss-Newton iterations with Cholesky, %d with LU" % ((nproc,) + its)
+        diff = difference_to_largest(found["cholesky"][1], found["lu"][1])
+        assert diff <= 1e-9, "%d rank(s): probes %.2e from LU's" % (nproc, diff)
+        rc, stdout, err, summary = run(TUBE + ["-t_final", "0.0001", "-coupling_test_adjoint", "-coupling_inner", "cgls"]
+                                       + wall_lu + cholesky, nproc=nproc, tag="wall-cholesky-adjoint")
+        assert rc == 0 and summary, fail_text(rc, stdout, err)
+        adjoint = adjoint_difference(stdout)
+        assert adjoint <= 1e-9, "%d rank(s): adjoint identity %.2e, above 10 x the Krylov tolerance 1e-10" % (
+            nproc, adjoint)
+        details.append("%d rank%s: %d GN both, probes within %.1e, adjoint %.1e" % (
+            nproc, "s" if nproc > 1 else "", its[0], diff, adjoint))
+    return "; ".join(details)
+
+
+@test("harmonic mesh motion: the free block holds only each component's own couplings, at most 27 entries a row on "
+      "tube3d's hexahedra (the vector pattern's 81 less the zero couplings between components), and CG with GAMG "
+      "(options/solvers/mesh-cg-gamg.yaml) solves it in as many iterations per solve on 2 ranks as on 1, give or take one")
+def test_mesh_operator_compact():
+    per_solve = {}
+    for nproc in (1, 2):
+        rc, stdout, err, summary = run(TUBE + ["-t_final", "0.0001", "-mesh_ksp_view", "-mesh_ksp_converged_reason"]
+                                       + ITERATIVE_ILU, nproc=nproc, tag="mesh-compact")
+        assert rc == 0 and summary, fail_text(rc, stdout, err)
+        # the KSP's own operator: the last 'linear system matrix' block of the mesh KSP's view
+        view = stdout[stdout.index("KSP Object: (mesh_)"):]
+        tail = view[view.rindex("linear system matrix"):]
+        rows = int(re.search(r"rows=(\d+)", tail).group(1))
+        nonzeros = int(re.search(r"total: nonzeros=(\d+)", tail).group(1))
+        if nproc == 1:
+            assert nonzeros <= 27 * rows, "1 rank: %d entries in %d rows of the mesh operator" % (nonzeros, rows)
+            density = nonzeros / rows
+        its = [int(m) for m in re.findall(r"Linear mesh_ solve converged due to \w+ iterations (\d+)", stdout)]
+        assert its, "no converged-reason line of the mesh solves"
+        per_solve[nproc] = sum(its) / len(its)
+    assert abs(per_solve[2] - per_solve[1]) <= 1.0, "CG iterations per mesh solve: %.2f on 1 rank, %.2f on 2" % (
+        per_solve[1], per_solve[2])
+    return "%.1f entries a row; CG %.2f iterations per solve on 1 rank, %.2f on 2" % (
+        density, per_solve[1], per_solve[2])
