@@ -10,8 +10,8 @@
    after each assembly, for the caller to add to. */
 PetscErrorCode FEMAddExtraPattern(DM dm, PetscInt n, const PetscInt rows[], const PetscInt cols[]);
 PetscErrorCode FEMGetExtraPattern(DM dm, PetscInt *n, const PetscInt **rows, const PetscInt **cols);
-/* a copy of an AIJ matrix without the entries that are exactly zero */
-PetscErrorCode FEMMatrixDropZeros(Mat A, Mat *B);
+/* the entries of A (dofs in groups of bs components) that couple a component with itself */
+PetscErrorCode FEMMatrixSameComponentPart(Mat A, PetscInt bs, MatReuse reuse, Mat *B);
 PetscErrorCode FEMCreateField(DM dm, PetscInt field, const char name[], PetscInt Nc, PetscInt degree,
                               PetscFE quadrature_from);
 /* Registers the essential and natural boundaries of `data` on field `field`.

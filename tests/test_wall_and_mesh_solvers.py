@@ -4,9 +4,10 @@ mesh motion's operator without the zero couplings between components that the ve
 field's pattern stores (src/mesh/motion.c)."""
 import re
 
-from harness import (adjoint_difference, difference_to_largest, fail_text, read_probes, out_dir, run, test,
-                     ITERATIVE_ILU, SOLVER_FILES)
 import os
+
+from harness import (CHANNEL, adjoint_difference, difference_to_largest, fail_text, read_probes, out_dir, run,
+                     stage_count, test, ITERATIVE_ILU, SOLVER_FILES)
 
 TUBE = ["-options_file", "options/tube3d.yaml"]
 
@@ -50,7 +51,9 @@ def test_wall_cholesky():
 
 @test("harmonic mesh motion: the free block holds only each component's own couplings, at most 27 entries a row on "
       "tube3d's hexahedra (the vector pattern's 81 less the zero couplings between components), and CG with GAMG "
-      "(options/solvers/mesh-cg-gamg.yaml) solves it in as many iterations per solve on 2 ranks as on 1, give or take one")
+      "(options/solvers/mesh-cg-gamg.yaml) solves it in as many iterations per solve on 2 ranks as on 1, give or take one; "
+      "the incremental motion's operator, assembled each step, keeps its pattern: one symbolic LU factorization, "
+      "a numeric one per step (channel2d, five steps)")
 def test_mesh_operator_compact():
     per_solve = {}
     for nproc in (1, 2):
@@ -70,5 +73,13 @@ def test_mesh_operator_compact():
         per_solve[nproc] = sum(its) / len(its)
     assert abs(per_solve[2] - per_solve[1]) <= 1.0, "CG iterations per mesh solve: %.2f on 1 rank, %.2f on 2" % (
         per_solve[1], per_solve[2])
-    return "%.1f entries a row; CG %.2f iterations per solve on 1 rank, %.2f on 2" % (
-        density, per_solve[1], per_solve[2])
+    out = out_dir("mesh-compact-incremental")
+    log = os.path.join(out, "log_view.txt")
+    rc, stdout, err, summary = run(CHANNEL + ["-mesh_motion_incremental", "-t_final", "0.0005",
+                                              "-log_view", ":" + log], out=out, tag="mesh-compact")
+    assert rc == 0 and summary, fail_text(rc, stdout, err)
+    numeric, symbolic = stage_count(log, "MeshMotion", "MatLUFactorNum"), stage_count(log, "MeshMotion", "MatLUFactorSym")
+    assert numeric == 5 and symbolic == 0, "incremental motion, five steps: %d numeric and %d symbolic LU " \
+        "factorizations of the mesh operator after the set-up's" % (numeric, symbolic)
+    return "%.1f entries a row; CG %.2f iterations per solve on 1 rank, %.2f on 2; incremental: %d numeric, %d " \
+        "symbolic factorizations after the set-up's" % (density, per_solve[1], per_solve[2], numeric, symbolic)

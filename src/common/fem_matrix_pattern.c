@@ -2,7 +2,8 @@
    0D outlet's dense block couples every velocity node of its face set. Kept with the DM, so
    that whichever backend makes the matrix puts them in its pattern: libCEED's COO pattern
    (ceed_assembly.c) is fixed once made, and an entry outside it cannot be added later.
-   And the other way round: a copy of a matrix without the entries its pattern holds at zero. */
+   And the other way round: the part of a vector operator that couples each component with
+   itself, without the zero couplings between components its pattern holds. */
 #include "fem.h"
 
 typedef struct {
@@ -64,41 +65,45 @@ PetscErrorCode FEMGetExtraPattern(DM dm, PetscInt *n, const PetscInt **rows, con
   PetscFunctionReturn(0);
 }
 
-/* A copy of A without its stored zeros. A vector Laplacian assembled on a vector field's
-   pattern stores the couplings between components, all zero: two thirds of its entries in
-   3D, which every product and every multigrid level would read. */
-PetscErrorCode FEMMatrixDropZeros(Mat A, Mat *B)
+/* The couplings of each component with itself, of a matrix whose dofs come in groups of
+   bs components (a vector field on vertices). A vector Laplacian assembled on the vector
+   field's pattern stores the couplings between components, all zero: two thirds of its
+   entries in 3D, which every product and every multigrid level would read. The pattern is
+   the rule's, not the values', so a B in hand keeps it (and a factorization of it its
+   symbolic part): MAT_REUSE_MATRIX refills its values. */
+PetscErrorCode FEMMatrixSameComponentPart(Mat A, PetscInt bs, MatReuse reuse, Mat *B)
 {
-  PetscInt     rstart, rend, cstart, cend, m, n, M, N, *d_nnz, *o_nnz, *keep_cols, max_row = 0;
+  PetscInt     rstart, rend, cstart, cend, m, n, M, N, *d_nnz = NULL, *o_nnz = NULL, *keep_cols, max_row = 0;
   PetscScalar *keep_values;
   PetscBool    set, flag;
 
   PetscFunctionBeginUser;
   PetscCall(MatGetOwnershipRange(A, &rstart, &rend));
   PetscCall(MatGetOwnershipRangeColumn(A, &cstart, &cend));
-  PetscCall(MatGetLocalSize(A, &m, &n));
-  PetscCall(MatGetSize(A, &M, &N));
-  PetscCall(PetscCalloc2(m, &d_nnz, m, &o_nnz));
+  if (reuse == MAT_INITIAL_MATRIX) PetscCall(PetscCalloc2(rend - rstart, &d_nnz, rend - rstart, &o_nnz));
   for (PetscInt r = rstart; r < rend; ++r) {
-    PetscInt           nc;
-    const PetscInt    *cols;
-    const PetscScalar *values;
-    PetscCall(MatGetRow(A, r, &nc, &cols, &values));
+    PetscInt        nc;
+    const PetscInt *cols;
+    PetscCall(MatGetRow(A, r, &nc, &cols, NULL));
     max_row = PetscMax(max_row, nc);
-    for (PetscInt k = 0; k < nc; ++k) {
-      if (values[k] == 0.0) continue;
+    for (PetscInt k = 0; k < nc && d_nnz; ++k) {
+      if (cols[k] % bs != r % bs) continue;
       if (cols[k] >= cstart && cols[k] < cend) d_nnz[r - rstart]++;
       else o_nnz[r - rstart]++;
     }
-    PetscCall(MatRestoreRow(A, r, &nc, &cols, &values));
+    PetscCall(MatRestoreRow(A, r, &nc, &cols, NULL));
   }
-  PetscCall(MatCreate(PetscObjectComm((PetscObject)A), B));
-  PetscCall(MatSetSizes(*B, m, n, M, N));
-  PetscCall(MatSetBlockSizesFromMats(*B, A, A));
-  PetscCall(MatSetType(*B, MATAIJ));
-  PetscCall(MatSeqAIJSetPreallocation(*B, 0, d_nnz));
-  PetscCall(MatMPIAIJSetPreallocation(*B, 0, d_nnz, 0, o_nnz));
-  PetscCall(PetscFree2(d_nnz, o_nnz));
+  if (reuse == MAT_INITIAL_MATRIX) {
+    PetscCall(MatGetLocalSize(A, &m, &n));
+    PetscCall(MatGetSize(A, &M, &N));
+    PetscCall(MatCreate(PetscObjectComm((PetscObject)A), B));
+    PetscCall(MatSetSizes(*B, m, n, M, N));
+    PetscCall(MatSetBlockSizesFromMats(*B, A, A));
+    PetscCall(MatSetType(*B, MATAIJ));
+    PetscCall(MatSeqAIJSetPreallocation(*B, 0, d_nnz));
+    PetscCall(MatMPIAIJSetPreallocation(*B, 0, d_nnz, 0, o_nnz));
+    PetscCall(PetscFree2(d_nnz, o_nnz));
+  }
   PetscCall(PetscMalloc2(max_row, &keep_cols, max_row, &keep_values));
   for (PetscInt r = rstart; r < rend; ++r) {
     PetscInt           nc, kept = 0;
@@ -106,7 +111,7 @@ PetscErrorCode FEMMatrixDropZeros(Mat A, Mat *B)
     const PetscScalar *values;
     PetscCall(MatGetRow(A, r, &nc, &cols, &values));
     for (PetscInt k = 0; k < nc; ++k) {
-      if (values[k] == 0.0) continue;
+      if (cols[k] % bs != r % bs) continue;
       keep_cols[kept]     = cols[k];
       keep_values[kept++] = values[k];
     }

@@ -30,8 +30,8 @@ static const char *const MotionTypes[] = {"harmonic", "elastic", "biharmonic", "
 
 struct _p_MeshMotion {
   DM                dm, dm_all; /* Q1 vector field(s) with (without) the Dirichlet constraints */
-  Mat               operator_all, operator_free; /* as assembled; the free block without zeros */
-  Mat               operator_compact;            /* operator_all without its zero entries */
+  Mat               operator_all, operator_free; /* as assembled; operator_compact's free block */
+  Mat               operator_compact;            /* harmonic: operator_all's same-component part */
   IS                free_in_all;
   KSP               ksp;
   Vec               d, rhs, bc_local, bc_all, operator_bc_all;
@@ -178,14 +178,13 @@ static PetscErrorCode CheckBackends(MeshMotion mm)
   PetscFunctionReturn(0);
 }
 
-/* the free block A_ff of the compact operator, to the solver if it has one */
+/* the free block A_ff of the compact operator, in the pattern it had (a factorization then
+   keeps its symbolic part) */
 static PetscErrorCode ExtractFreeBlock(MeshMotion mm)
 {
   PetscFunctionBeginUser;
-  PetscCall(MatDestroy(&mm->operator_free));
-  PetscCall(
-    MatCreateSubMatrix(mm->operator_compact, mm->free_in_all, mm->free_in_all, MAT_INITIAL_MATRIX, &mm->operator_free));
-  if (mm->ksp) PetscCall(KSPSetOperators(mm->ksp, mm->operator_free, mm->operator_free));
+  PetscCall(MatCreateSubMatrix(mm->operator_compact, mm->free_in_all, mm->free_in_all,
+                               mm->operator_free ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX, &mm->operator_free));
   PetscFunctionReturn(0);
 }
 
@@ -207,9 +206,17 @@ static PetscErrorCode AssembleOperator(MeshMotion mm)
   }
   /* the vector field's pattern holds couplings between components that the harmonic
      extension leaves zero: two thirds of its entries in 3D, read by every product and
-     every multigrid level */
-  PetscCall(MatDestroy(&mm->operator_compact));
-  PetscCall(FEMMatrixDropZeros(mm->operator_all, &mm->operator_compact));
+     every multigrid level. The elastic one couples them; the biharmonic one has two fields */
+  if (mm->type == MOTION_HARMONIC) {
+    PetscInt dim;
+    PetscCall(DMGetDimension(mm->dm_all, &dim));
+    PetscCall(FEMMatrixSameComponentPart(mm->operator_all, dim,
+                                         mm->operator_compact ? MAT_REUSE_MATRIX : MAT_INITIAL_MATRIX,
+                                         &mm->operator_compact));
+  } else if (!mm->operator_compact) {
+    PetscCall(PetscObjectReference((PetscObject)mm->operator_all));
+    mm->operator_compact = mm->operator_all;
+  }
   if (mm->free_in_all) PetscCall(ExtractFreeBlock(mm));
   PetscFunctionReturn(0);
 }
