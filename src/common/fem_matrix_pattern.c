@@ -86,11 +86,12 @@ PetscErrorCode FEMMatrixSameComponentPart(Mat A, PetscInt bs, MatReuse reuse, Ma
     const PetscInt *cols;
     PetscCall(MatGetRow(A, r, &nc, &cols, NULL));
     max_row = PetscMax(max_row, nc);
-    for (PetscInt k = 0; k < nc && d_nnz; ++k) {
-      if (cols[k] % bs != r % bs) continue;
-      if (cols[k] >= cstart && cols[k] < cend) d_nnz[r - rstart]++;
-      else o_nnz[r - rstart]++;
-    }
+    if (reuse == MAT_INITIAL_MATRIX)
+      for (PetscInt k = 0; k < nc; ++k) {
+        if (cols[k] % bs != r % bs) continue;
+        if (cols[k] >= cstart && cols[k] < cend) d_nnz[r - rstart]++;
+        else o_nnz[r - rstart]++;
+      }
     PetscCall(MatRestoreRow(A, r, &nc, &cols, NULL));
   }
   if (reuse == MAT_INITIAL_MATRIX) {

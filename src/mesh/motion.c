@@ -30,7 +30,7 @@ static const char *const MotionTypes[] = {"harmonic", "elastic", "biharmonic", "
 
 struct _p_MeshMotion {
   DM                dm, dm_all; /* Q1 vector field(s) with (without) the Dirichlet constraints */
-  Mat               operator_all, operator_free; /* as assembled; operator_compact's free block */
+  Mat               operator_all, operator_free; /* as assembled (incremental only); operator_compact's free block */
   Mat               operator_compact;            /* harmonic: operator_all's same-component part */
   IS                free_in_all;
   KSP               ksp;
@@ -312,6 +312,8 @@ PetscErrorCode MeshMotionCreate(DM fluid, PetscInt interface_face, PetscInt nfix
   PetscCall(FEMAddBoundaries(mm->dm, 0, &data, mm->datums, &mm->time));
   PetscCall(FEMFreeDofs(mm->dm, mm->dm_all, &mm->free_in_all));
   PetscCall(ExtractFreeBlock(mm));
+  /* only the incremental motion assembles A again; the harmonic one's compact copy holds it */
+  if (!mm->incremental) PetscCall(MatDestroy(&mm->operator_all));
   PetscCall(KSPCreate(PetscObjectComm((PetscObject)fluid), &mm->ksp));
   PetscCall(KSPSetOptionsPrefix(mm->ksp, "mesh_"));
   PetscCall(KSPSetOperators(mm->ksp, mm->operator_free, mm->operator_free));
