@@ -128,6 +128,12 @@ typedef struct {
 } FEMCeedBlockValues;
 PetscErrorCode FEMCeedAssembleBlocks(Ceed, PetscInt n, const CeedOperator ops[], const FEMCeedBlockValues custom[],
                                      const CeedSize counts[], Mat A);
+/* One rank's pattern and assembly without COO (done: FALSE across ranks, or for a matrix
+   whose pattern was not set up here): rows and columns global, negative ones dropped */
+PetscErrorCode FEMCeedDirectSetUp(Mat A, PetscCount total, const PetscInt rows[], const PetscInt cols[],
+                                  PetscBool *done);
+PetscErrorCode FEMCeedDirectAssemble(Ceed, PetscInt n, const CeedOperator ops[], const FEMCeedBlockValues custom[],
+                                     const CeedSize counts[], Mat A, PetscBool *done);
 
 /* y = sum of ops[k] x (n >= 1) on PETSc local vectors, through the CeedVectors x and y that
    borrow their arrays */

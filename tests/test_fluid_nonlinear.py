@@ -3,7 +3,7 @@ the Jacobian assembled again (its preconditioner kept) after an iteration that c
 the residual too little (-fluid_chord_refresh_rate, in the iterative fluid files); the
 field split's Schur complement preconditioned by a pressure Laplacian
 (-fluid_schur_pressure_laplacian); the velocity block by additive Schwarz
-(options/solvers/fluid-velocity-asm.yaml)."""
+(options/solvers/fluid-velocity-asm.yaml); tube3d's fluid tolerance against the coupling's."""
 import os
 
 from harness import (WORK, adjoint_difference, difference_to_largest, fail_text, krylov_iterations, read_probes,
@@ -126,3 +126,26 @@ def test_velocity_asm():
     assert adjoint <= 1e-9, "2 ranks: adjoint identity %.2e, above 10 x the Krylov tolerance 1e-10" % adjoint
     return "1 rank: %d FGMRES iterations both; 2 ranks: %d against %d, %d GN both, probes within %.1e, adjoint %.1e" % (
         one[0], its, bjacobi_its, asm2["coupling_iterations"], diff, adjoint)
+
+
+@test("tube3d's fluid tolerance (-fluid_rhs_rtol 1e-6, -fluid_snes_rtol 1e-5) is below the coupling's: level 1, five "
+      "steps, iterative files, against the fluid solved to 1e-11: the same Gauss-Newton iterations, fewer fluid "
+      "linear solves, probes moved by less than a fifth of what the coupling tolerance 1e-5 instead of 1e-4 moves them")
+def test_scene_fluid_tolerance():
+    args = ["-options_file", "options/tube3d.yaml", "-t_final", "0.0005"] + ITERATIVE_ILU
+    tight = ["-fluid_snes_rtol", "1e-10", "-fluid_rhs_rtol", "1e-11"]
+    found = {}
+    for name, extra in (("scene", []), ("tight", tight), ("tight-coupling", tight + ["-coupling_tol", "1e-5"])):
+        out = out_dir("fluid-tolerance-%s" % name)
+        found[name] = (solve(args + extra, out=out), read_probes(os.path.join(out, "probes.csv"))[1])
+    (scene, scene_probes), (exact, exact_probes) = found["scene"], found["tight"]
+    assert scene["coupling_iterations"] == exact["coupling_iterations"], "Gauss-Newton iterations %d, tight fluid %d" % (
+        scene["coupling_iterations"], exact["coupling_iterations"])
+    solves = (scene["fluid_linear_solves"], exact["fluid_linear_solves"])
+    assert solves[0] < solves[1], "fluid linear solves %d, tight fluid %d" % solves
+    fluid_error = difference_to_largest(scene_probes, exact_probes)
+    coupling_error = difference_to_largest(found["tight-coupling"][1], exact_probes)
+    assert fluid_error <= 0.2 * coupling_error, "probes %.2e from the tight fluid's, the coupling tolerance 1e-5 " \
+        "moves them %.2e" % (fluid_error, coupling_error)
+    return "%d GN both, %d against %d fluid linear solves, probes %.1e apart against the coupling's %.1e" % (
+        scene["coupling_iterations"], solves[0], solves[1], fluid_error, coupling_error)

@@ -54,7 +54,9 @@ INTERFACE = re.compile(r"fsiopt: backend check: interface mass ([0-9.e+-]+), lib
 @test("libCEED operators (-fem_backend ceed) = PETSc's to 1e-12 at the first steps' states and at random states: fluid (moving meshes, BDF2, loads, Stokes, (Q1,Q1), 3D, forces, face terms, moving triangles and tetrahedra), structure (linear, St. Venant-Kirchhoff, loads), mesh motion (harmonic, elastic, stiffened), interface mass; 2 ranks")
 def test_backends_agree():
     three = ["-t_final", "3e-4"]
-    # (options, ranks, checked steps of the fluid, of the structure, mesh motion checks)
+    # (options, ranks, checked steps of the fluid, of the structure, mesh motion checks). One
+    # rank's libCEED Jacobians are added straight into the matrix, two ranks' by COO
+    # (src/ceed/ceed_assembly_direct.c): both paths are compared with PETSc's
     cases = [(CHANNEL + three + ["-fem_backend", "petsc"], 2, 3, 3, 1),                      # PETSc's backend, 2 ranks
              (CHANNEL + three + ["-fluid_time_order", "2", "-fem_backend", "ceed", "-mesh_motion", "elastic",
                                  "-mesh_motion_stiffening", "1"], 1, 3, 3, 1),               # BDF2, elastic stiffened

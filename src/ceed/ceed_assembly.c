@@ -1,5 +1,6 @@
-/* Assembly of libCEED operators into PETSc matrices by COO (fem_ceed.h): the pattern of
-   every operator's entries once, their values per assembly. A mixed Jacobian is one
+/* Assembly of libCEED operators into PETSc matrices (fem_ceed.h): the pattern of every
+   operator's entries once, their values per assembly; by COO across ranks, on one rank
+   straight into the matrix (ceed_assembly_direct.c). A mixed Jacobian is one
    operator per block: libCEED assembles an operator with one active input and one active
    output restriction. */
 #include "fem_ceed.h"
@@ -93,7 +94,11 @@ PetscErrorCode FEMCeedAssemblySetUp(Ceed ceed, DM dm, PetscInt n, const CeedOper
     }
     if (nextra) PetscCall(ExtraCount(A, PETSC_TRUE, &nextra));
   }
-  PetscCall(MatSetPreallocationCOO(A, (PetscCount)total, rows, cols));
+  {
+    PetscBool direct;
+    PetscCall(FEMCeedDirectSetUp(A, (PetscCount)total, rows, cols, &direct));
+    if (!direct) PetscCall(MatSetPreallocationCOO(A, (PetscCount)total, rows, cols));
+  }
   PetscCall(PetscFree(rows));
   PetscCall(PetscFree(cols));
   PetscFunctionReturn(0);
@@ -134,8 +139,11 @@ PetscErrorCode FEMCeedAssembleBlocks(Ceed ceed, PetscInt n, const CeedOperator o
   PetscScalar *values;
   CeedSize     total = 0, at = 0;
   PetscInt     nextra;
+  PetscBool    direct;
 
   PetscFunctionBeginUser;
+  PetscCall(FEMCeedDirectAssemble(ceed, n, ops, custom, counts, A, &direct));
+  if (direct) PetscFunctionReturn(0);
   for (PetscInt b = 0; b < n; ++b) total += counts[b];
   PetscCall(ExtraCount(A, PETSC_FALSE, &nextra));
   PetscCall(COOValues(A, total + nextra, &values));
