@@ -1,7 +1,7 @@
 /* One rank's assembly of element matrices straight into the AIJ matrix's values, through a
    map from each element entry to its place in the compressed rows, made once with the
    pattern. MatSetValuesCOO gathers every nonzero's contributions through a permutation of
-   the whole entry array, a random read of the entries (on tube3d level 4, 65 million of
+   the whole entry array, a random read of the entries (on tube3d level 4, 63 million of
    them, 0.5 GB), and keeps that permutation beside the matrix; here each block's entries
    are added where they belong as they come, in element order, so the writes stay in a band
    of rows a mesh in reverse Cuthill-McKee order keeps in cache. Matrices across ranks keep
