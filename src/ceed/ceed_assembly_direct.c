@@ -62,15 +62,17 @@ PetscErrorCode FEMCeedDirectSetUp(Mat A, PetscCount total, const PetscInt rows[]
   PetscCall(PetscArraycpy(fill, ia, m));
   for (PetscCount k = 0; k < total; ++k)
     if (rows[k] >= 0 && cols[k] >= 0) ja[fill[rows[k]]++] = cols[k];
-  for (PetscInt r = 0, at = 0; r < m; ++r) {
-    PetscInt n = ia[r + 1] - ia[r];
-    PetscCall(PetscSortRemoveDupsInt(&n, ja + ia[r]));
-    PetscCall(PetscArraymove(ja + at, ja + ia[r], n));
-    ia[r] = at;
-    at += n;
-    if (r == m - 1) ia[m] = at;
+  { /* compacted in place: row r's start is read before it is overwritten */
+    PetscInt at = 0;
+    for (PetscInt r = 0; r < m; ++r) {
+      PetscInt n = ia[r + 1] - ia[r];
+      PetscCall(PetscSortRemoveDupsInt(&n, ja + ia[r]));
+      PetscCall(PetscArraymove(ja + at, ja + ia[r], n));
+      ia[r] = at;
+      at += n;
+    }
+    ia[m] = at;
   }
-  if (!m) ia[0] = 0;
   PetscCall(PetscFree(fill));
   PetscCall(PetscNew(&d));
   d->nz = ia[m];
