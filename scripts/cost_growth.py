@@ -56,22 +56,19 @@ import fsiopt_runs as fr   # noqa: E402
 from fsiopt_runs import ROOT, rel, say   # noqa: E402
 from fsiopt_logview import parse_stage_event_table, parse_stages   # noqa: E402
 
+def solver_files(*names):
+    """-options_file arguments for files of options/solvers/, by name."""
+    return [a for name in names for a in ("-options_file", "options/solvers/%s.yaml" % name)]
+
+
+ILU_FLUID = ("fluid-schur-gamg", "fluid-velocity-ilu")
 SOLVERS = {
     "lu": [],
-    "iterative": ["-options_file", "options/solvers/fluid-schur-gamg.yaml",
-                  "-options_file", "options/solvers/structure-cg-gamg.yaml",
-                  "-options_file", "options/solvers/mesh-cg-gamg.yaml"],
-    "iterative-ilu": ["-options_file", "options/solvers/fluid-schur-gamg.yaml",
-                      "-options_file", "options/solvers/fluid-velocity-ilu.yaml",
-                      "-options_file", "options/solvers/structure-cg-ilu.yaml",
-                      "-options_file", "options/solvers/mesh-cg-gamg.yaml"],
-    "iterative-ilu-cholesky": ["-options_file", "options/solvers/fluid-schur-gamg.yaml",
-                               "-options_file", "options/solvers/fluid-velocity-ilu.yaml",
-                               "-options_file", "options/solvers/structure-cholesky.yaml",
-                               "-options_file", "options/solvers/mesh-cg-gamg.yaml"],
+    "iterative": solver_files("fluid-schur-gamg", "structure-cg-gamg", "mesh-cg-gamg"),
+    "iterative-ilu": solver_files(*ILU_FLUID, "structure-cg-ilu", "mesh-cg-gamg"),
+    "iterative-ilu-cholesky": solver_files(*ILU_FLUID, "structure-cholesky", "mesh-cg-gamg"),
     "monolithic": ["-coupling", "monolithic", "-options_allow_unused"],
-    "monolithic-schur": ["-coupling", "monolithic", "-options_allow_unused",
-                         "-options_file", "options/solvers/monolithic-schur.yaml"],
+    "monolithic-schur": ["-coupling", "monolithic", "-options_allow_unused"] + solver_files("monolithic-schur"),
 }
 REASONS = ["-fluid_ksp_converged_reason", "-structure_ksp_converged_reason", "-mesh_ksp_converged_reason"]
 SUBPROBLEMS = ("fluid", "structure", "mesh")
