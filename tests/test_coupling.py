@@ -537,6 +537,33 @@ def test_start_variants():
         plain, runs["corrected"][0], rec, sec, ", ".join("%.1e (%s)" % (v, k) for k, v in worst.items()))
 
 
+@test("the recurrence fitted from four recorded controls on, of the order they allow (-coupling_extrapolation_"
+      "recurrence_from 4, the default): tube3d level 1, ten steps, iterative files, against the recurrence fitted "
+      "only from P+3 = 9: steps 4-8 start at least 4x closer, no more Gauss-Newton iterations, probes within 10 x tol")
+def test_recurrence_from_short_history():
+    args = ["-options_file", "options/tube3d.yaml", "-t_final", "0.001"] + ITERATIVE_ILU
+    found = {}
+    for start in ("4", "9"):
+        out = out_dir("recurrence-from-" + start)
+        s = solve(args + ["-coupling_extrapolation_recurrence_from", start], out=out)
+        with open(os.path.join(out, "history.csv")) as fh:
+            first = {int(r["step"]): float(r["jump"]) for r in csv.DictReader(fh) if r["iteration"] == "0"}
+        found[start] = (s, first, read_probes(os.path.join(out, "probes.csv"))[1])
+    (short, short_jumps, short_probes), (full, full_jumps, full_probes) = found["4"], found["9"]
+    early = [sum(jumps[k] for k in range(4, 9)) for jumps in (short_jumps, full_jumps)]
+    assert early[0] <= 0.25 * early[1], "steps 4-8 start %.3g from their controls, %.3g with the recurrence from 9" % tuple(early)
+    # from step 9 on both fit the same recurrence to the same (converged) controls
+    assert abs(short_jumps[10] - full_jumps[10]) <= 0.1 * full_jumps[10], "step 10 starts %.3g against %.3g" % (
+        short_jumps[10], full_jumps[10])
+    its = (short["coupling_iterations"], full["coupling_iterations"])
+    assert its[0] <= its[1], "Gauss-Newton iterations %d, recurrence from 9: %d" % its
+    # relative to the largest displacement: the probes' y components are zero by symmetry
+    diff = difference_to_largest(short_probes, full_probes)
+    assert diff <= 10 * 1e-4, "probes differ by %.2e of the largest" % diff
+    return "steps 4-8 start %.3g against %.3g from their controls; %d against %d Gauss-Newton iterations; probes within %.1e" % (
+        early[0], early[1], its[0], its[1], diff)
+
+
 @test("the relative coupling tolerance, on by default: from rest at dt = 1e-6 on channel2d the absolute one "
       "alone accepts every start and the wall does not move; the default iterates every step and meets a tight run")
 def test_relative_tolerance():

@@ -67,7 +67,7 @@ PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, cons
                               PetscReal dt, Coupling *coupling)
 {
   Coupling C;
-  PetscInt degree, points, ar_order;
+  PetscInt degree, points, ar_order, ar_from;
   PetscErrorCode (*create)(Coupling) = NULL;
 
   PetscFunctionBeginUser;
@@ -105,6 +105,15 @@ PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, cons
              ": its fit needs the last P+3 controls; expected -coupling_extrapolation_points >= %" PetscInt_FMT
              ", got %" PetscInt_FMT,
              ar_order, ar_order + 3, points);
+  ar_from = 4;
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_extrapolation_recurrence_from",
+                              "fit the recurrence once this many controls are recorded, of order min(P, count - 3) "
+                              "while fewer than P+3 are (P+3: only of order P)",
+                              4, FSIOPT_EXTRAPOLATION_POINTS_MAX, &ar_from));
+  PetscCheck(ar_order == 0 || ar_from <= points, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
+             "option -coupling_extrapolation_recurrence_from %" PetscInt_FMT
+             ": no more than -coupling_extrapolation_points = %" PetscInt_FMT " controls are recorded",
+             ar_from, points);
   PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_max_it",
                               "coupling iterations per step before the step fails", 1, 100000, &C->max_it));
   PetscOptionsEnd();
@@ -113,6 +122,7 @@ PetscErrorCode CouplingCreate(const char method[], CouplingProblem problem, cons
   PetscCall(CouplingProblemInitialControl(problem, t0, C->x));
   PetscCall(ExtrapolationCreate(C->x, degree, points, &C->start));
   C->start.ar_order = ar_order;
+  C->start.ar_from  = ar_from;
   PetscCall(HistoryOpen(PETSC_COMM_WORLD, output_dir, &C->history));
   PetscCall((*C->ops.setup)(C));
   *coupling = C;

@@ -11,6 +11,7 @@ typedef struct {
   Vec      past[FSIOPT_EXTRAPOLATION_POINTS_MAX]; /* newest first */
   PetscInt npast, degree, points;
   PetscInt ar_order;                            /* > 0: also the fitted linear recurrence of this order */
+  PetscInt ar_from;                             /* fitted once this many values are recorded (>= 4) */
   PetscInt predictions, recurrence_predictions; /* how often the recurrence was chosen */
 } Extrapolation;
 PetscErrorCode ExtrapolationCreate(Vec model, PetscInt degree, PetscInt points, Extrapolation *);

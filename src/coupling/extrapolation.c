@@ -123,10 +123,13 @@ PetscErrorCode ExtrapolationPredict(Extrapolation *e, Vec x)
   if (degree < 0) PetscFunctionReturn(0); /* nothing recorded: x stays */
   ExtrapolationWeights(degree, e->npast, weights);
   e->predictions++;
-  if (e->ar_order > 0 && e->npast >= e->ar_order + 3) {
+  if (e->ar_order > 0 && e->npast >= e->ar_from) {
     /* the recurrence replaces the polynomial when, fitted without the newest value, it
-       predicted that value better than the polynomial through the same older values did */
-    const PetscInt n = e->npast, p = e->ar_order;
+       predicted that value better than the polynomial through the same older values did.
+       While fewer than P+3 values are recorded, its order is the highest that still fits two
+       of them without the newest: the first steps of a run, which the polynomial alone
+       predicts worst (order n - 2 fits one, exactly, and never won on tube3d) */
+    const PetscInt n = e->npast, p = PetscMin(e->ar_order, n - 3);
     PetscReal      G[FSIOPT_EXTRAPOLATION_POINTS_MAX][FSIOPT_EXTRAPOLATION_POINTS_MAX];
     PetscReal      a[FSIOPT_EXTRAPOLATION_POINTS_MAX], older[FSIOPT_EXTRAPOLATION_POINTS_MAX];
     PetscScalar    dots[FSIOPT_EXTRAPOLATION_POINTS_MAX], w_older[FSIOPT_EXTRAPOLATION_POINTS_MAX];
