@@ -109,10 +109,18 @@ PetscErrorCode FEMCeedFaceMass(DM dm, DMLabel label, PetscInt value, Mat *A);
    its variable block sizes there, PETSc 3.18). */
 PetscErrorCode FEMCeedCreateCOOMatrix(DM dm, Mat *);
 
+/* Where a block's element matrices go, a run of elements at a time: values holds the
+   entries offset .. offset + n - 1 of the block, in FEMCeedElementPattern's order. A run
+   fits the cache, so the block's entries are never all in memory at once */
+typedef struct {
+  PetscErrorCode (*add)(void *ctx, CeedSize offset, CeedSize n, const CeedScalar *values);
+  void *ctx;
+} FEMCeedValuesSink;
+
 /* An operator's element matrices (ceed_element_matrices.c): the pattern, local rows and
    columns of every entry (PetscFree2 them), and the values in the same order */
 PetscErrorCode FEMCeedElementPattern(Ceed, CeedOperator, CeedSize *count, CeedInt **rows, CeedInt **cols);
-PetscErrorCode FEMCeedElementMatrices(Ceed, CeedOperator, CeedScalar *values);
+PetscErrorCode FEMCeedElementMatrices(Ceed, CeedOperator, FEMCeedValuesSink);
 
 /* COO assembly of n operators (NULL ones skipped: absent blocks) into A: the pattern once
    (counts[b]: the entries of ops[b]), then the values per assembly; a block of the pattern
@@ -123,7 +131,7 @@ PetscErrorCode FEMCeedAssemble(Ceed, PetscInt n, const CeedOperator ops[], const
    function is set (in the order of FEMCeedElementPattern: element, input component, output
    component, input node, output node) */
 typedef struct {
-  PetscErrorCode (*values)(void *ctx, CeedScalar *values);
+  PetscErrorCode (*values)(void *ctx, FEMCeedValuesSink);
   void *ctx;
 } FEMCeedBlockValues;
 PetscErrorCode FEMCeedAssembleBlocks(Ceed, PetscInt n, const CeedOperator ops[], const FEMCeedBlockValues custom[],

@@ -126,6 +126,14 @@ static PetscErrorCode COOValues(Mat A, CeedSize total, PetscScalar **values)
   PetscFunctionReturn(0);
 }
 
+/* a block's run of entries copied to its place in the COO values */
+static PetscErrorCode CopyValues(void *ctx, CeedSize offset, CeedSize n, const CeedScalar *values)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscArraycpy((PetscScalar *)ctx + offset, values, n));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FEMCeedAssemble(Ceed ceed, PetscInt n, const CeedOperator ops[], const CeedSize counts[], Mat A)
 {
   PetscFunctionBeginUser;
@@ -149,9 +157,10 @@ PetscErrorCode FEMCeedAssembleBlocks(Ceed ceed, PetscInt n, const CeedOperator o
   PetscCall(COOValues(A, total + nextra, &values));
   PetscCall(PetscArrayzero(values + total, nextra));
   for (PetscInt b = 0; b < n; ++b) {
+    const FEMCeedValuesSink sink = {CopyValues, values + at};
     /* a block of the pattern with no values in this assembly gets zeros */
-    if (ops[b] && custom && custom[b].values) PetscCall(custom[b].values(custom[b].ctx, values + at));
-    else if (ops[b]) PetscCall(FEMCeedElementMatrices(ceed, ops[b], values + at));
+    if (ops[b] && custom && custom[b].values) PetscCall(custom[b].values(custom[b].ctx, sink));
+    else if (ops[b]) PetscCall(FEMCeedElementMatrices(ceed, ops[b], sink));
     else PetscCall(PetscArrayzero(values + at, counts[b]));
     at += counts[b];
   }

@@ -9,11 +9,15 @@
 #include "fem_ceed.h"
 
 typedef struct {
-  PetscInt    *map;    /* per entry of the pattern, its index in the values, -1: dropped */
-  PetscInt     nz;     /* the matrix's nonzeros */
-  PetscScalar *buffer; /* one block's entries */
-  CeedSize     buffer_size;
+  PetscInt *map; /* per entry of the pattern, its index in the values, -1: dropped */
+  PetscInt  nz;  /* the matrix's nonzeros */
 } Direct;
+
+/* a block's run of entries, added where they belong */
+typedef struct {
+  const PetscInt *map; /* the block's part of Direct's */
+  PetscScalar    *a;   /* the matrix's values */
+} Target;
 
 static PetscErrorCode DirectDestroy(void *ctx)
 {
@@ -21,7 +25,6 @@ static PetscErrorCode DirectDestroy(void *ctx)
 
   PetscFunctionBeginUser;
   PetscCall(PetscFree(d->map));
-  PetscCall(PetscFree(d->buffer));
   PetscCall(PetscFree(d));
   PetscFunctionReturn(0);
 }
@@ -96,34 +99,39 @@ PetscErrorCode FEMCeedDirectSetUp(Mat A, PetscCount total, const PetscInt rows[]
   PetscFunctionReturn(0);
 }
 
+static PetscErrorCode AddValues(void *ctx, CeedSize offset, CeedSize n, const CeedScalar *values)
+{
+  const Target   *t   = (const Target *)ctx;
+  const PetscInt *map = t->map + offset;
+  PetscScalar    *a   = t->a;
+
+  PetscFunctionBeginUser;
+  for (CeedSize k = 0; k < n; ++k)
+    if (map[k] >= 0) a[map[k]] += values[k];
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode FEMCeedDirectAssemble(Ceed ceed, PetscInt n, const CeedOperator ops[], const FEMCeedBlockValues custom[],
                                      const CeedSize counts[], Mat A, PetscBool *done)
 {
   Direct      *d;
   PetscScalar *a;
-  CeedSize     at = 0, largest = 0;
+  CeedSize     at = 0;
 
   PetscFunctionBeginUser;
   PetscCall(DirectGet(A, &d));
   *done = (PetscBool)(d != NULL);
   if (!d) PetscFunctionReturn(0);
-  for (PetscInt b = 0; b < n; ++b)
-    if (ops[b]) largest = PetscMax(largest, counts[b]);
-  if (largest > d->buffer_size) { /* kept: a fresh array at each assembly costs its page faults again */
-    PetscCall(PetscFree(d->buffer));
-    PetscCall(PetscMalloc1(largest, &d->buffer));
-    d->buffer_size = largest;
-  }
   PetscCall(MatSeqAIJGetArrayWrite(A, &a));
   PetscCall(PetscArrayzero(a, d->nz));
   for (PetscInt b = 0; b < n; ++b) {
-    const PetscInt *map = d->map + at;
+    Target                  target = {d->map + at, a};
+    const FEMCeedValuesSink sink   = {AddValues, &target};
+
     at += counts[b];
     if (!ops[b]) continue; /* a block with no values in this assembly: its zeros stand */
-    if (custom && custom[b].values) PetscCall(custom[b].values(custom[b].ctx, d->buffer));
-    else PetscCall(FEMCeedElementMatrices(ceed, ops[b], d->buffer));
-    for (CeedSize k = 0; k < counts[b]; ++k)
-      if (map[k] >= 0) a[map[k]] += d->buffer[k];
+    if (custom && custom[b].values) PetscCall(custom[b].values(custom[b].ctx, sink));
+    else PetscCall(FEMCeedElementMatrices(ceed, ops[b], sink));
   }
   PetscCall(MatSeqAIJRestoreArrayWrite(A, &a));
   PetscFunctionReturn(0);

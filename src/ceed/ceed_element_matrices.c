@@ -2,7 +2,7 @@
    pointwise function. libCEED 0.12's own CeedOperatorLinearAssemble forms B^T D B element by
    element and component pair by component pair in generic loops: on a (Q2,Q1) fluid that
    was 80 % of a Jacobian. Here the product with the output basis is one BLAS gemm over a
-   chunk of elements. The entries come in an order of our own (element, input component,
+   chunk of elements, whose matrices go to the caller's sink while they are in cache. The entries come in an order of our own (element, input component,
    output component, input node, output node); FEMCeedElementPattern gives the pattern in
    that order. Standard (unoriented) restrictions with one active basis each way only. */
 #include "fem_ceed.h"
@@ -81,14 +81,14 @@ PetscErrorCode FEMCeedElementPattern(Ceed ceed, CeedOperator op, CeedSize *count
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode FEMCeedElementMatrices(Ceed ceed, CeedOperator op, CeedScalar *values)
+PetscErrorCode FEMCeedElementMatrices(Ceed ceed, CeedOperator op, FEMCeedValuesSink sink)
 {
   Layout              l;
   CeedVector          linearized   = NULL;
   CeedElemRestriction r_linearized = NULL;
   CeedInt             stride[3];
   const CeedScalar   *d;
-  CeedScalar         *h;
+  CeedScalar         *h, *out;
   PetscBLASInt        m_blas, k_blas, n_blas;
   const PetscScalar   one = 1.0, zero = 0.0;
 
@@ -104,7 +104,8 @@ PetscErrorCode FEMCeedElementMatrices(Ceed ceed, CeedOperator op, CeedScalar *va
   PetscCallCeed(ceed, CeedElemRestrictionGetELayout(r_linearized, &stride));
   PetscCallCeed(ceed, CeedVectorGetArrayRead(linearized, CEED_MEM_HOST, &d));
   const CeedInt k = l.q * l.m_out, rows_per_elem = l.c_in * l.c_out * l.p_in;
-  PetscCall(PetscMalloc1((size_t)CHUNK_ELEMENTS * rows_per_elem * k, &h));
+  PetscCall(PetscMalloc2((size_t)CHUNK_ELEMENTS * rows_per_elem * k, &h,
+                         (size_t)CHUNK_ELEMENTS * rows_per_elem * l.p_out, &out));
   PetscCall(PetscBLASIntCast(k, &k_blas));
   PetscCall(PetscBLASIntCast(l.p_out, &n_blas));
   for (CeedInt e0 = 0; e0 < l.n_elem; e0 += CHUNK_ELEMENTS) {
@@ -131,9 +132,11 @@ PetscErrorCode FEMCeedElementMatrices(Ceed ceed, CeedOperator op, CeedScalar *va
        column-major terms values^T = B_out^T H^T */
     PetscCall(PetscBLASIntCast(n_chunk * rows_per_elem, &m_blas));
     PetscCallBLAS("BLASgemm", BLASgemm_("N", "N", &n_blas, &m_blas, &k_blas, &one, l.b_out, &n_blas, h, &k_blas, &zero,
-                                        values + (CeedSize)e0 * rows_per_elem * l.p_out, &n_blas));
+                                        out, &n_blas));
+    PetscCall(
+      sink.add(sink.ctx, (CeedSize)e0 * rows_per_elem * l.p_out, (CeedSize)n_chunk * rows_per_elem * l.p_out, out));
   }
-  PetscCall(PetscFree(h));
+  PetscCall(PetscFree2(h, out));
   PetscCall(PetscLogEventEnd(FSIOPT_EVENT_CEED_ELEMENT_MATRICES, 0, 0, 0, 0));
   PetscCallCeed(ceed, CeedVectorRestoreArrayRead(linearized, &d));
   PetscCallCeed(ceed, CeedVectorDestroy(&linearized));
