@@ -2,9 +2,10 @@
    pointwise function. libCEED 0.12's own CeedOperatorLinearAssemble forms B^T D B element by
    element and component pair by component pair in generic loops: on a (Q2,Q1) fluid that
    was 80 % of a Jacobian. Here the product with the output basis is one BLAS gemm over a
-   chunk of elements, whose matrices go to the caller's sink while they are in cache. The entries come in an order of our own (element, input component,
-   output component, input node, output node); FEMCeedElementPattern gives the pattern in
-   that order. Standard (unoriented) restrictions with one active basis each way only. */
+   chunk of elements, whose matrices go to the caller's sink while they are in cache. The
+   entries come in an order of our own (element, input component, output component, input
+   node, output node); FEMCeedElementPattern gives the pattern in that order. Standard
+   (unoriented) restrictions with one active basis each way only. */
 #include "fem_ceed.h"
 #include "logging.h"
 #include <petscblaslapack.h>
