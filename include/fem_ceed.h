@@ -116,6 +116,9 @@ typedef struct {
   PetscErrorCode (*add)(void *ctx, CeedSize offset, CeedSize n, const CeedScalar *values);
   void *ctx;
 } FEMCeedValuesSink;
+/* the elements of a run: one gemm's, and what a sink receives at once (128 of a (Q1,Q1)
+   fluid's velocity block, 590 kB) */
+#define FEM_CEED_CHUNK_ELEMENTS 128
 
 /* An operator's element matrices (ceed_element_matrices.c): the pattern, local rows and
    columns of every entry (PetscFree2 them), and the values in the same order */

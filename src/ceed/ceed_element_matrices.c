@@ -11,9 +11,6 @@
 #include <petscblaslapack.h>
 #include <ceed/backend.h>
 
-/* the elements of one gemm: bounds the work array */
-#define CHUNK_ELEMENTS 128
-
 typedef struct {
   CeedInt           n_elem, q, p_in, p_out, c_in, c_out, m_in, m_out;
   const CeedScalar *b_in, *b_out; /* [(q m + mode) p + node] */
@@ -105,12 +102,12 @@ PetscErrorCode FEMCeedElementMatrices(Ceed ceed, CeedOperator op, FEMCeedValuesS
   PetscCallCeed(ceed, CeedElemRestrictionGetELayout(r_linearized, &stride));
   PetscCallCeed(ceed, CeedVectorGetArrayRead(linearized, CEED_MEM_HOST, &d));
   const CeedInt k = l.q * l.m_out, rows_per_elem = l.c_in * l.c_out * l.p_in;
-  PetscCall(PetscMalloc2((size_t)CHUNK_ELEMENTS * rows_per_elem * k, &h,
-                         (size_t)CHUNK_ELEMENTS * rows_per_elem * l.p_out, &out));
+  PetscCall(PetscMalloc2((size_t)FEM_CEED_CHUNK_ELEMENTS * rows_per_elem * k, &h,
+                         (size_t)FEM_CEED_CHUNK_ELEMENTS * rows_per_elem * l.p_out, &out));
   PetscCall(PetscBLASIntCast(k, &k_blas));
   PetscCall(PetscBLASIntCast(l.p_out, &n_blas));
-  for (CeedInt e0 = 0; e0 < l.n_elem; e0 += CHUNK_ELEMENTS) {
-    const CeedInt n_chunk = PetscMin(CHUNK_ELEMENTS, l.n_elem - e0);
+  for (CeedInt e0 = 0; e0 < l.n_elem; e0 += FEM_CEED_CHUNK_ELEMENTS) {
+    const CeedInt n_chunk = PetscMin(FEM_CEED_CHUNK_ELEMENTS, l.n_elem - e0);
     /* H[(e, ci, co, j)][(q, b)] = sum_a D_q[(a, ci), (b, co)] B_in[(q, a)][j] */
     for (CeedInt e = 0; e < n_chunk; ++e) {
       const CeedScalar *de = d + (CeedSize)(e0 + e) * stride[2];

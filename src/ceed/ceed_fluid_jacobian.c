@@ -13,8 +13,6 @@
 /* the velocity-pressure, pressure-velocity, pressure-pressure blocks after the
    velocity-velocity one, then the faces' */
 #define FLUID_VOLUME_BLOCKS 4
-/* the elements whose matrices are handed on together: 128 of (Q1) hexahedra, 590 kB */
-#define VELOCITY_CHUNK 128
 
 /* the operator of the velocity-velocity block's coefficients, made with the matrix's pattern */
 static PetscErrorCode VelocityBlockCreate(FEMCeedFluid o)
@@ -73,11 +71,11 @@ static PetscErrorCode VelocityBlockValues(void *ctx, FEMCeedValuesSink sink)
   PetscCallCeed(ceed, CeedBasisGetInterp(o->b_u, &interp)); /* [q][node] */
   PetscCallCeed(ceed, CeedBasisGetGrad(o->b_u, &grad));     /* [direction][q][node] */
   const CeedSize per_element = (CeedSize)dim * dim * P * P;
-  PetscCall(
-    PetscMalloc5(P * dim, &g, P, &convection, P * P, &shared, P * P, &products, VELOCITY_CHUNK * per_element, &values));
+  PetscCall(PetscMalloc5(P * dim, &g, P, &convection, P * P, &shared, P * P, &products,
+                         FEM_CEED_CHUNK_ELEMENTS * per_element, &values));
   PetscCallCeed(ceed, CeedVectorGetArrayRead(o->uu_coefficients, CEED_MEM_HOST, &coefficients));
   for (CeedInt e = 0; e < n_elem; ++e) {
-    CeedScalar *element = values + (e % VELOCITY_CHUNK) * per_element;
+    CeedScalar *element = values + (e % FEM_CEED_CHUNK_ELEMENTS) * per_element;
     PetscCall(PetscArrayzero(shared, P * P));
     PetscCall(PetscArrayzero(element, dim * dim * P * P));
     for (CeedInt q = 0; q < Q; ++q) {
@@ -114,8 +112,8 @@ static PetscErrorCode VelocityBlockValues(void *ctx, FEMCeedValuesSink sink)
     }
     for (CeedInt c = 0; c < dim; ++c)
       for (CeedInt k = 0; k < P * P; ++k) element[(c * dim + c) * P * P + k] += shared[k];
-    if (e % VELOCITY_CHUNK == VELOCITY_CHUNK - 1 || e == n_elem - 1) {
-      const CeedInt first = e - e % VELOCITY_CHUNK;
+    if (e % FEM_CEED_CHUNK_ELEMENTS == FEM_CEED_CHUNK_ELEMENTS - 1 || e == n_elem - 1) {
+      const CeedInt first = e - e % FEM_CEED_CHUNK_ELEMENTS;
       PetscCall(sink.add(sink.ctx, first * per_element, (e - first + 1) * per_element, values));
     }
   }
