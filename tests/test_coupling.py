@@ -359,6 +359,25 @@ def test_taylor_remainder_second_order():
     return "ratios " + " ".join("%.3f" % r for r in ratios)
 
 
+@test("the Taylor test on a moving mesh with the iterative files leaves the run going: tube3d, two steps, the mesh "
+      "motion's warm-started CG back at a wall at rest; the same Gauss-Newton iterations and probes within 1e-4 "
+      "of the run without it, relative to their largest (its solves start from other guesses)", quick=True)
+def test_taylor_check_leaves_run():
+    args = ["-options_file", "options/tube3d.yaml", "-t_final", "0.0002"] + ITERATIVE_ILU
+    plain, checked = out_dir("tube3d-taylor-plain"), out_dir("tube3d-taylor-checked")
+    base = solve(args, out=plain)
+    rc, stdout, err, summary = run(args + ["-coupling_test_taylor"], out=checked)
+    assert rc == 0 and summary, fail_text(rc, stdout, err)
+    ratios = taylor_ratios(stdout)
+    assert len(ratios) == 5, "Taylor lines: %s" % ratios
+    assert summary["coupling_iterations"] == base["coupling_iterations"], "GN iterations %d with the test, %d without" % (
+        summary["coupling_iterations"], base["coupling_iterations"])
+    diff = difference_to_largest(read_probes(os.path.join(checked, "probes.csv"))[1],
+                                 read_probes(os.path.join(plain, "probes.csv"))[1])
+    assert diff <= 1e-4, "probes differ by %.2e with -coupling_test_taylor" % diff
+    return "%d Gauss-Newton iterations either way, probes within %.1e" % (summary["coupling_iterations"], diff)
+
+
 @test("SVK: adjoint identity and second-order Taylor remainder (mms-ns)")
 def test_svk_adjoint_and_taylor():
     rc, stdout, err, _ = run(SHORT + ["-structure_model", "svk", "-structure_time_order", "2", "-coupling_test_adjoint",

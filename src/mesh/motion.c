@@ -406,6 +406,7 @@ PetscErrorCode MeshMotionSolve(MeshMotion mm, Interface itf, Vec interface, Vec 
   PetscSection       ls, cs;
   Vec                dlocal;
   KSPConvergedReason reason;
+  PetscInt           its;
 
   PetscFunctionBeginUser;
   PetscCall(DMGetDimension(mm->dm, &dim));
@@ -453,6 +454,15 @@ PetscErrorCode MeshMotionSolve(MeshMotion mm, Interface itf, Vec interface, Vec 
   }
   PetscCall(KSPSolve(mm->ksp, mm->rhs, mm->d));
   PetscCall(KSPGetConvergedReason(mm->ksp, &reason));
+  PetscCall(KSPGetIterationNumber(mm->ksp, &its));
+  if (reason == KSP_DIVERGED_DTOL && its == 0) {
+    /* PETSc measures a first guess's residual against ||b||: with the interface back at its
+       start (b at round-off, a wall at rest) the guess of a displaced mesh reads 1e5 ||b|| and
+       diverges at once, where zero is the better start */
+    PetscCall(VecZeroEntries(mm->d));
+    PetscCall(KSPSolve(mm->ksp, mm->rhs, mm->d));
+    PetscCall(KSPGetConvergedReason(mm->ksp, &reason));
+  }
   PetscCheck(reason > 0, PetscObjectComm((PetscObject)mm->dm), PETSC_ERR_NOT_CONVERGED,
              "mesh motion solve failed: KSP reason %s", KSPConvergedReasons[reason]);
   PetscCall(DMGetLocalVector(mm->dm, &dlocal));
