@@ -1,7 +1,8 @@
-"""The wall's and the mesh motion's linear solves in the large-run solver files: the wall by
-MUMPS's Cholesky factorization (options/solvers/structure-cholesky.yaml), and the harmonic
-mesh motion's operator without the zero couplings between components that the vector
-field's pattern stores (src/mesh/motion.c)."""
+"""The wall's, the mesh motion's and the velocity block's linear solves in the large-run solver
+files: the wall by MUMPS's Cholesky factorization (options/solvers/structure-cholesky.yaml),
+the harmonic mesh motion's operator without the zero couplings between components that the
+vector field's pattern stores (src/mesh/motion.c), and the velocity block's ILU(0) on a
+block-AIJ copy (src/common/pc_ilu_baij.c)."""
 import os, re
 
 from harness import (CHANNEL, adjoint_difference, difference_to_largest, fail_text, read_probes, out_dir, run,
@@ -78,3 +79,54 @@ def test_mesh_operator_compact():
         "factorizations of the mesh operator after the set-up's" % (numeric, symbolic)
     return "%.1f entries a row; CG %.2f iterations per solve on 1 rank, %.2f on 2; incremental: %d numeric, %d " \
         "symbolic factorizations after the set-up's" % (density, per_solve[1], per_solve[2], numeric, symbolic)
+
+
+@test("the velocity block's ILU(0) on a block-AIJ copy (-fluid_fieldsplit_velocity_sub_pc_type ilubaij, "
+      "options/solvers/fluid-velocity-ilu.yaml): tube3d level 1 with the iterative-ilu files, two steps, against "
+      "PETSc's ILU(0) of the AIJ block: the pattern is of whole 3 x 3 blocks, so the factors are the same and so are "
+      "the Gauss-Newton iterations, the fluid's linear solves and the probes (within 1e-9); the adjoint identity to "
+      "10 x the Krylov tolerance through its transpose; 1 and 2 ranks")
+def test_velocity_block_ilu():
+    details = []
+    for nproc in (1, 2):
+        found = {}
+        for name in ("ilubaij", "ilu"):
+            out = out_dir("velocity-%s-%d" % (name, nproc))
+            rc, stdout, err, summary = run(TUBE + ["-t_final", "0.0002"] + ITERATIVE_ILU +
+                                           ["-fluid_fieldsplit_velocity_sub_pc_type", name], nproc=nproc, out=out,
+                                           tag="velocity-block-ilu")
+            assert rc == 0 and summary, fail_text(rc, stdout, err)
+            found[name] = (summary, read_probes(os.path.join(out, "probes.csv"))[1])
+        for key in ("coupling_iterations", "fluid_linear_solves"):
+            counts = (found["ilubaij"][0][key], found["ilu"][0][key])
+            assert counts[0] == counts[1], "%d rank(s): %s %d with ilubaij, %d with ilu" % ((nproc, key) + counts)
+        diff = difference_to_largest(found["ilubaij"][1], found["ilu"][1])
+        assert diff <= 1e-9, "%d rank(s): probes %.2e apart" % (nproc, diff)
+        rc, stdout, err, summary = run(TUBE + ["-t_final", "0.0001", "-coupling_test_adjoint", "-coupling_inner", "cgls",
+                                               "-fluid_ksp_view"] + ITERATIVE_ILU, nproc=nproc,
+                                       tag="velocity-block-ilu-adjoint")
+        assert rc == 0 and summary, fail_text(rc, stdout, err)
+        assert "ILU of the operator copied to block AIJ" in stdout, "-fluid_ksp_view shows no ilubaij sub-PC"
+        assert re.search(r"type: seqbaij\s+rows=\d+, cols=\d+, bs=3", stdout), "the ILU's operator is not 3 x 3 BAIJ"
+        adjoint = adjoint_difference(stdout)
+        assert adjoint <= 1e-9, "%d rank(s): adjoint identity %.2e, above 10 x the Krylov tolerance 1e-10" % (
+            nproc, adjoint)
+        details.append("%d rank%s: %d GN, %d fluid linear solves both, probes within %.1e, adjoint %.1e" % (
+            nproc, "s" if nproc > 1 else "", found["ilu"][0]["coupling_iterations"],
+            found["ilu"][0]["fluid_linear_solves"], diff, adjoint))
+    # a matrix not in whole blocks (the pressure's, one unknown a node) keeps PETSc's ILU of its AIJ
+    runs = {}
+    for name in ("ilubaij", "ilu"):
+        out = out_dir("pressure-%s" % name)
+        rc, stdout, err, summary = run(TUBE + ["-t_final", "0.0001"] + ITERATIVE_ILU +
+                                       ["-fluid_fieldsplit_pressure_pc_type", name, "-options_allow_unused",
+                                        "-fluid_ksp_view"], out=out, tag="pressure-block-ilu")
+        assert rc == 0 and summary, fail_text(rc, stdout, err)
+        runs[name] = (summary, read_probes(os.path.join(out, "probes.csv"))[1], stdout)
+    assert "ILU of the AIJ operator (its rows are not whole blocks)" in runs["ilubaij"][2], \
+        "-fluid_ksp_view shows no AIJ fallback for the pressure"
+    assert runs["ilubaij"][0]["fluid_linear_solves"] == runs["ilu"][0]["fluid_linear_solves"]
+    fallback = difference_to_largest(runs["ilubaij"][1], runs["ilu"][1])
+    assert fallback <= 1e-12, "pressure by ilubaij's AIJ fallback: probes %.2e from ilu's" % fallback
+    details.append("pressure (not in blocks): the AIJ ILU, probes within %.1e" % fallback)
+    return "; ".join(details)

@@ -108,7 +108,8 @@ static PetscErrorCode PCSetUp_ILUBAIJ(PC pc)
       PetscCall(MatSetType(data->blocked, MATSEQBAIJ));
       PetscCall(CopyValues(pc->pmat, data->blocked, bs, PETSC_TRUE));
     } else /* a component held by a boundary condition, say: PETSc's ILU of the AIJ matrix */
-      PetscCall(PetscInfo(pc, "rows not in whole %" PetscInt_FMT " x %" PetscInt_FMT " blocks: ILU of the AIJ matrix\n", bs, bs));
+      PetscCall(PetscInfo(pc, "rows not in whole %" PetscInt_FMT " x %" PetscInt_FMT " blocks: ILU of the AIJ matrix\n",
+                          bs, bs));
   } else if (data->blocked && state != data->copied) PetscCall(CopyValues(pc->pmat, data->blocked, bs, PETSC_FALSE));
   data->copied = state;
   if (data->blocked) PetscCall(PCSetOperators(data->ilu, data->blocked, data->blocked));
@@ -155,8 +156,9 @@ static PetscErrorCode PCView_ILUBAIJ(PC pc, PetscViewer viewer)
   PC_ILUBAIJ *data = (PC_ILUBAIJ *)pc->data;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscViewerASCIIPrintf(viewer, data->blocked ? "ILU of the operator copied to block AIJ:\n"
-                                                          : "ILU of the AIJ operator (its rows are not whole blocks):\n"));
+  PetscCall(PetscViewerASCIIPrintf(viewer, data->blocked
+                                             ? "ILU of the operator copied to block AIJ:\n"
+                                             : "ILU of the AIJ operator (its rows are not whole blocks):\n"));
   PetscCall(PetscViewerASCIIPushTab(viewer));
   PetscCall(PCView(data->ilu, viewer));
   PetscCall(PetscViewerASCIIPopTab(viewer));

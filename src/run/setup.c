@@ -10,6 +10,7 @@
 #include "mesh.h"
 #include "interrupt.h"
 #include "rank_sync.h"
+#include "pc_ilu_baij.h"
 
 static PetscErrorCode RunParamsSetFromOptions(RunParams *p)
 {
@@ -261,6 +262,7 @@ PetscErrorCode RunCreate(Run *created)
   PetscCall(RecordStart(&run->summary));
   run->stop_code = PETSC_ERR_NOT_CONVERGED;
   PetscCall(LoggingRegister());
+  PetscCall(PCRegisterILUBAIJ());
   PetscCall(SceneRegisterAll());
   PetscCall(CouplingRegisterAll());
   PetscCall(OptionsCheckValuesGiven(PETSC_COMM_WORLD));
