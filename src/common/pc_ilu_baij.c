@@ -136,14 +136,14 @@ static PetscErrorCode PCApplyTranspose_ILUBAIJ(PC pc, Vec x, Vec y)
   PetscFunctionReturn(0);
 }
 
+/* the inner ILU reads its own options, under the prefix the PC has by now */
 static PetscErrorCode PCSetFromOptions_ILUBAIJ(PC pc, PetscOptionItems *PetscOptionsObject)
 {
-  (void)PetscOptionsObject; /* the inner ILU reads its own options */
   PC_ILUBAIJ *data = (PC_ILUBAIJ *)pc->data;
-
   const char *prefix;
 
   PetscFunctionBeginUser;
+  (void)PetscOptionsObject;
   PetscCall(PCGetOptionsPrefix(pc, &prefix));
   PetscCall(PCSetOptionsPrefix(data->ilu, prefix));
   PetscCall(PCAppendOptionsPrefix(data->ilu, "ilubaij_"));
@@ -189,15 +189,11 @@ static PetscErrorCode PCDestroy_ILUBAIJ(PC pc)
 static PetscErrorCode PCCreate_ILUBAIJ(PC pc)
 {
   PC_ILUBAIJ *data;
-  const char *prefix;
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&data));
   pc->data = data;
   PetscCall(PCCreate(PetscObjectComm((PetscObject)pc), &data->ilu));
-  PetscCall(PCGetOptionsPrefix(pc, &prefix));
-  PetscCall(PCSetOptionsPrefix(data->ilu, prefix));
-  PetscCall(PCAppendOptionsPrefix(data->ilu, "ilubaij_"));
   PetscCall(PCSetType(data->ilu, PCILU));
   pc->ops->setup          = PCSetUp_ILUBAIJ;
   pc->ops->apply          = PCApply_ILUBAIJ;
