@@ -108,7 +108,7 @@ PetscErrorCode CouplingProblemInterfaceDisplacement(CouplingProblem, Vec all);
 
 /* Checks a user can run on any scene (-coupling_test_adjoint, -coupling_test_taylor). */
 PetscErrorCode CouplingProblemTestAdjoint(CouplingProblem, Vec x);
-PetscErrorCode CouplingProblemTestTaylor(CouplingProblem, Vec x);
+PetscErrorCode CouplingProblemTestTaylor(CouplingProblem, Vec x, Vec direction); /* NULL: a random one */
 
 /* A coupling method advances the coupled system by one step (one file per method). */
 typedef struct _p_Coupling *Coupling;

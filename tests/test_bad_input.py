@@ -70,6 +70,7 @@ def test_bad_input_numbers():
         ("forcing's exponent 3", CHANNEL + ["-coupling_inner", "gmres", "-coupling_snes_ksp_ew_alpha", "3"], "-coupling_snes_ksp_ew_alpha"),
         ("recurrence fitted to too few controls", CHANNEL + ["-coupling_extrapolation_points", "6", "-coupling_extrapolation_recurrence", "4"], "-coupling_extrapolation_recurrence"),
         ("recurrence fitted from more controls than recorded", CHANNEL + ["-coupling_extrapolation_recurrence_from", "13"], "-coupling_extrapolation_recurrence_from"),
+        ("Taylor test at step 0", CHANNEL + ["-coupling_test_taylor", "-coupling_test_taylor_step", "0"], "-coupling_test_taylor_step"),
         ("start correction without an explicit Jacobian", ["-scene", "mms-stokes", "-coupling_start_correction", "-coupling_explicit_jacobian", "0"], "-coupling_start_correction"),
         ("sliding IMVJ window of zero steps", CHANNEL + ["-coupling", "iqnimvj", "-coupling_imvj_restart_mode", "slide"], "-coupling_imvj_restart"),
         ("negative SVD truncation", CHANNEL + ["-coupling", "iqnimvj", "-coupling_imvj_restart_mode", "svd", "-coupling_imvj_svd_truncation", "-1"], "-coupling_imvj_svd_truncation"),
@@ -259,7 +260,8 @@ def test_help_lists_options():
                 "-fluid_time_order", "-coupling_lag_preconditioner_only",
                 "-coupling_explicit_jacobian_rebuild_its", "-interrupt_test_step", "-interrupt_test_signal", "-interrupt_test_failure",
                 "-coupling_inner", "-coupling_inner_jump_fraction", "-coupling_chord_contraction",
-                "-coupling_start_correction", "-coupling_extrapolation_recurrence", "-coupling_extrapolation_recurrence_from", "-coupling_secant_updates", "-coupling_tol_relative"]:
+                "-coupling_start_correction", "-coupling_extrapolation_recurrence", "-coupling_extrapolation_recurrence_from", "-coupling_secant_updates", "-coupling_tol_relative",
+                "-coupling_test_taylor_step"]:
         assert opt in text, "%s not in -help of turek-hron" % opt
     # fsiopt's own options at the end, by prefix, with units in the scene's system
     groups = own_section(text)

@@ -359,6 +359,25 @@ def test_taylor_remainder_second_order():
     return "ratios " + " ".join("%.3f" % r for r in ratios)
 
 
+@test("Taylor remainder is second order along the start's change from the last control (mms-ns, "
+      "-coupling_test_taylor_step 3), and first order on tube3d's moving mesh, where J leaves out the shape derivative",
+      quick=True)
+def test_taylor_along_the_start():
+    rc, stdout, err, _ = run(SHORT + ["-coupling_test_taylor", "-coupling_test_taylor_step", "3", "-t_final", "0.53"],
+                             tag="taylor-step")
+    assert rc == 0, fail_text(rc, stdout, err)
+    ratios = taylor_ratios(stdout)
+    assert len(ratios) == 5 and all(3.8 <= r <= 4.2 for r in ratios), "mms-ns, step 3: ratios %s" % ratios
+    moving = ["-options_file", "options/tube3d.yaml", "-t_final", "0.0003", "-coupling_test_taylor",
+              "-coupling_test_taylor_step", "3", "-coupling_test_taylor_t0", "1e-3", "-fluid_rhs_rtol", "1e-13",
+              "-fluid_snes_rtol", "1e-13"]
+    rc, stdout, err, _ = run(moving, tag="taylor-step-moving")
+    assert rc == 0, fail_text(rc, stdout, err)
+    first = taylor_ratios(stdout)
+    assert len(first) == 5 and all(1.8 <= r <= 2.2 for r in first), "tube3d, step 3: ratios %s" % first
+    return "mms-ns " + " ".join("%.3f" % r for r in ratios) + "; tube3d " + " ".join("%.3f" % r for r in first)
+
+
 @test("the Taylor test on a moving mesh with the iterative files leaves the run going: tube3d, two steps, the mesh "
       "motion's warm-started CG back at a wall at rest; the same Gauss-Newton iterations and probes within 1e-4 "
       "of the run without it, relative to their largest (its solves start from other guesses)", quick=True)

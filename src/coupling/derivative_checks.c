@@ -58,7 +58,7 @@ PetscErrorCode CouplingProblemTestAdjoint(CouplingProblem P, Vec x)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode CouplingProblemTestTaylor(CouplingProblem P, Vec x)
+PetscErrorCode CouplingProblemTestTaylor(CouplingProblem P, Vec x, Vec direction)
 {
   Vec       h, F0, Jh, Ft, xt;
   PetscReal t = 1.0, previous = 0, hnorm, xnorm, jhnorm;
@@ -76,8 +76,15 @@ PetscErrorCode CouplingProblemTestTaylor(CouplingProblem P, Vec x)
   PetscCall(VecDuplicate(x, &Jh));
   PetscCall(VecDuplicate(x, &Ft));
   PetscCall(VecDuplicate(x, &xt));
-  PetscCall(RandomVector(h, 37));
-  PetscCall(VecNorm(h, NORM_2, &hnorm));
+  hnorm = 0;
+  if (direction) {
+    PetscCall(VecCopy(direction, h));
+    PetscCall(VecNorm(h, NORM_2, &hnorm));
+  }
+  if (hnorm == 0) { /* no direction, or a start that did not move */
+    PetscCall(RandomVector(h, 37));
+    PetscCall(VecNorm(h, NORM_2, &hnorm));
+  }
   PetscCall(VecNorm(x, NORM_2, &xnorm));
   PetscCall(VecScale(h, PetscMax(xnorm, 1.0) / hnorm));
   PetscCall(CouplingProblemRefreshJacobian(P, x));

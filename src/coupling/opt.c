@@ -196,7 +196,15 @@ static PetscErrorCode OptIterate(Coupling C, PetscInt step, CouplingIterations *
   opt->linearized_iterations = 0;
   opt->verdict               = OPT_CONTINUE;
   if (step == 1 && opt->test_adjoint) PetscCall(CouplingProblemTestAdjoint(C->problem, C->x));
-  if (step == 1 && opt->test_taylor) PetscCall(CouplingProblemTestTaylor(C->problem, C->x));
+  if (step == opt->test_taylor_step && opt->test_taylor) {
+    Vec change = NULL; /* the start's change from the last control: how the control moves */
+    if (C->start.npast > 0) {
+      PetscCall(VecDuplicate(C->x, &change));
+      PetscCall(VecWAXPY(change, -1.0, C->start.past[0], C->x));
+    }
+    PetscCall(CouplingProblemTestTaylor(C->problem, C->x, change));
+    PetscCall(VecDestroy(&change));
+  }
   opt->inner_seen = 0; /* TaoSolve and SNESSolve restart their counts */
   if (opt->explicit_jacobian && opt->rebuild_every > 0 && (step - 1) % opt->rebuild_every == 0)
     PetscCall(ExplicitJacobianRequestRebuild(opt->explicit_jacobian));

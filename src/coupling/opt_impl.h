@@ -40,6 +40,7 @@ typedef struct {
   PetscInt   step, stall_its, inner_seen;
   PetscReal *objectives; /* this step's, by iteration */
   PetscBool  stalled, test_adjoint, test_taylor;
+  PetscInt   test_taylor_step; /* -coupling_test_taylor_step */
   PetscReal  last_jump, first_jump;
   PetscReal  last_tol; /* the tolerance the last iteration was held to */
   /* the explicit-Jacobian preconditioner of the inner Krylov method (explicit_jacobian.c) */

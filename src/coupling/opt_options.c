@@ -12,6 +12,7 @@ static PetscErrorCode OptOptionsTolerances(PetscOptionItems *PetscOptionsObject,
 {
   PetscFunctionBeginUser;
   opt->stall_its            = 5;
+  opt->test_taylor_step     = 1;
   opt->tol                  = 1e-10;
   opt->krylov_jump_fraction = 0.5;
   /* tube3d, iterative solvers, 2 steps: 0.01 halves the fluid's Krylov iterations (2842 ->
@@ -174,8 +175,13 @@ static PetscErrorCode OptOptionsNewtonKrylov(PetscOptionItems *PetscOptionsObjec
   PetscCall(PetscOptionsBool("-coupling_test_adjoint", "At the first step, check <J h, r> = <h, J^T r> for random h, r",
                              NULL, opt->test_adjoint, &opt->test_adjoint, NULL));
   PetscCall(PetscOptionsBool("-coupling_test_taylor",
-                             "At the first step, print the Taylor remainders ||F(x+th) - F(x) - t J h|| for halving t",
+                             "At the start of a step (-coupling_test_taylor_step), print the Taylor remainders "
+                             "||F(x+th) - F(x) - t J h|| for halving t",
                              NULL, opt->test_taylor, &opt->test_taylor, NULL));
+  PetscCall(OptionsIntInRange(PetscOptionsObject, "-coupling_test_taylor_step",
+                              "the step at whose start the Taylor test runs; from step 2 on along the start's change "
+                              "from the last step's control, a smooth direction (at step 1 a random one)",
+                              1, PETSC_MAX_INT, &opt->test_taylor_step));
   PetscFunctionReturn(0);
 }
 
