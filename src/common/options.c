@@ -306,10 +306,11 @@ static PetscBool IsReadAtExit(const char name[])
    the first check lets them wait for the first step. */
 static PetscBool IsReadInSolves(const char name[])
 {
-  /* mat_<package>_: a factorization package reads its options at the first factorization */
-  const char *const lazy[] = {"_view",      "converged_reason", "test_jacobian", "_monitor",     "fieldsplit_",
-                              "mg_levels_", "mg_coarse_",       "sub_",          "mat_mumps_",   "mat_superlu_",
-                              "mat_umfpack_", "mat_klu_",       NULL};
+  /* mat_<package>_: a factorization package reads its options at the first factorization;
+     mat_mffd_: the differences operator of -coupling_snes_mf_operator, at the first solve */
+  const char *const lazy[] = {"_view",        "converged_reason", "test_jacobian", "_monitor",   "fieldsplit_",
+                              "mg_levels_",   "mg_coarse_",       "sub_",          "mat_mumps_", "mat_superlu_",
+                              "mat_umfpack_", "mat_klu_",         "mat_mffd_",     NULL};
 
   for (const char *const *l = lazy; *l; ++l)
     if (strstr(name, *l)) return PETSC_TRUE;
@@ -383,6 +384,8 @@ static PetscBool IsDeferred(const char name[])
   if (!IsReadInSolves(name)) return PETSC_FALSE;
   for (const char *const *p = solver_prefixes; **p; ++p)
     if (!strncmp(name, *p, strlen(*p))) return PETSC_TRUE;
+  /* the coupling's Newton-Krylov solver (opt_newton_krylov.c) */
+  if (!strncmp(name, "coupling_", 9)) return PETSC_TRUE;
   for (const char *const *o = objects; *o; ++o)
     if (!strncmp(name, *o, strlen(*o))) return PETSC_TRUE;
   return PETSC_FALSE;

@@ -50,6 +50,12 @@ static PetscErrorCode Jacobian(SNES snes, Vec x, Mat A, Mat B, void *ctx)
   PetscCall(VecCopy(x, opt->x_linearization));
   opt->linearization_current = PETSC_FALSE;
   PetscCall(Linearize(C, PETSC_FALSE));
+  if (A != B) {
+    /* -coupling_snes_mf_operator: differences of F are the operator, J the preconditioner's
+       matrix; the assembly sets the differences' base point */
+    PetscCall(MatAssemblyBegin(A, MAT_FINAL_ASSEMBLY));
+    PetscCall(MatAssemblyEnd(A, MAT_FINAL_ASSEMBLY));
+  }
   PetscFunctionReturn(0);
 }
 
