@@ -406,7 +406,7 @@ def first_jumps(out):
 @test("Newton on differences of F (-coupling_snes_mf_operator), which carry the shape derivative J leaves out: "
       "tube3d level 1, six steps, the fluid to 1e-13; its first iteration lands 1.5x or more closer than J's in steps "
       "4-6 (small moves, where that derivative is what J misses), within 30 % of J's in steps 1-3 (large moves, where "
-      "the nonlinearity dominates), and on the same probes within 1e-4 of their largest", quick=True)
+      "the nonlinearity dominates), and on the same probes within 1e-4 of their largest")
 def test_newton_on_differences_of_F():
     args = ["-options_file", "options/tube3d.yaml", "-t_final", "0.0006", "-fluid_rhs_rtol", "1e-13",
             "-fluid_snes_rtol", "1e-13", "-fluid_newton_ksp_rtol", "1e-10", "-mesh_ksp_rtol", "1e-12"] + ITERATIVE_ILU
