@@ -32,7 +32,7 @@ static PetscBool WholeBlocks(const PetscInt *ia, const PetscInt *ja, PetscInt bs
   return PETSC_TRUE;
 }
 
-/* block row k of the copy from rows bs k .. bs k + bs - 1 of the operator */
+/* every block row of A whole blocks (WholeBlocks), so that a BAIJ copy holds A exactly */
 static PetscErrorCode HasWholeBlocks(Mat A, PetscInt bs, PetscBool *whole)
 {
   const PetscInt *ia, *ja;
@@ -47,6 +47,8 @@ static PetscErrorCode HasWholeBlocks(Mat A, PetscInt bs, PetscBool *whole)
   PetscFunctionReturn(0);
 }
 
+/* block row k of B from rows bs k .. bs k + bs - 1 of A; preallocate: B's pattern too (the
+   first copy), else only the values */
 static PetscErrorCode CopyValues(Mat A, Mat B, PetscInt bs, PetscBool preallocate)
 {
   const PetscInt    *ia, *ja;
