@@ -36,6 +36,11 @@ structure solve, the mesh-motion solve): core-µs per unknown and call and calls
 with each kernel's growth from the first level to the last split into the two. The crossover is the first level at
 which the iterative runs cost fewer core-microseconds per unknown and step than LU.
 
+--repeat N runs the whole series N times, round after round (level 2, 3, 4, then 2, 3, 4
+again, ...), so that this machine's drift over the minutes falls on every level alike; the
+report then gives the growth from the first level to the last for each round and its median
+(the crossover compares each level's median).
+
 Outputs under out/cost_growth/ (--out): cost_growth.csv and cost_growth.md; runs in
 <out>/runs/<run>/, one at a time, re-used while complete with the same command line and
 newer than their meshes (--force: run again). A failed run is reported in the tables with
@@ -44,9 +49,10 @@ its error and the script exits non-zero at the end.
 Examples (build first: make all):
   /usr/bin/python3 scripts/cost_growth.py --levels 1 --t-final 0.0001
   /usr/bin/python3 scripts/cost_growth.py --levels 1,2,3 --t-final 0.0003
+  /usr/bin/python3 scripts/cost_growth.py --levels 2,3,4 --t-final 0.001 --solvers iterative-ilu-cholesky --repeat 3
   /usr/bin/python3 scripts/cost_growth.py --scene bend3d --levels 1,2 --t-final 0.0001
   scripts/cost_growth.py --levels 2,3,4 --ranks 8,64,512 --mpiexec srun   # in a SLURM job"""
-import argparse, os, re, sys
+import argparse, os, re, statistics, sys
 
 sys.dont_write_bytecode = True   # no scripts/__pycache__ next to the sources
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -175,6 +181,14 @@ def cost_row(r, level, solver, np):
     return row
 
 
+def cost_of(rows, level, solver, round_):
+    """core-µs per unknown and step of one run ('' if it failed or is missing)"""
+    for row in rows:
+        if (row["level"], row["solver"], row["round"]) == (level, solver, round_):
+            return row["core_us_per_unknown_step"]
+    return ""
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--scene", default="tube3d", choices=sorted(T.TUBES), help="the tube (default tube3d)")
@@ -187,7 +201,12 @@ def main():
     ap.add_argument("--bin", default=T.FSIOPT, help="fsiopt binary (default bin/fsiopt)")
     ap.add_argument("--force", action="store_true", help="run again even when a complete matching run exists")
     ap.add_argument("--retries", type=int, default=2, help="retries of a run that dies without an fsiopt error")
+    ap.add_argument("--repeat", type=int, default=1,
+                    help="rounds of all the runs, one round after another (default 1); the growth from the "
+                         "first level to the last is then given per round, with its median")
     args = ap.parse_args()
+    if args.repeat < 1:
+        ap.error("--repeat: expected an integer >= 1, got %d" % args.repeat)
     levels = int_list(args.levels, "--levels")
     ranks = int_list(args.ranks, "--ranks")
     if len(ranks) == 1:
@@ -201,25 +220,37 @@ def main():
     launcher, extra = T.check_study_args(ap, args, "cost_growth")
     runs_dir = os.path.join(args.out, "runs")
 
-    plan = []   # (level, solver, np, run)
-    for level, np in zip(levels, ranks):
+    meshes = {}
+    for level in levels:
         try:
-            meshes = T.ensure_meshes(level, args.mesh_dir, args.gmsh, args.scene)
+            meshes[level] = T.ensure_meshes(level, args.mesh_dir, args.gmsh, args.scene)
         except fr.MeshError as e:
             say("  mesh n=%d FAILED: %s" % (level, e), err=True)
-            plan += [(level, s, np, T.failed_run("n%d-%s" % (level, s), "n = %d, %s" % (level, s), "mesh: %s" % e,
-                                                 np=np)) for s in solvers]
-            continue
-        for s in solvers:
-            r = T.tube3d_run(level, args.t_final, meshes, REASONS + SOLVERS[s] + extra, np, 0,
-                             launcher if np > 1 else None, args.scene)
-            r.label = "n = %d, %s, %s" % (level, s, T.layout_text(np, 0))
-            plan.append((level, s, np, r))
+            meshes[level] = e
+    # Round by round, every level in each round: the machine's drift then falls on all levels
+    # alike, and each round's ratio between levels compares runs made minutes apart.
+    plan = []   # (level, solver, np, run) of round 1, then round 2, ...
+    for round_ in range(1, args.repeat + 1):
+        tag = "-r%d" % round_ if round_ > 1 else ""
+        for level, np in zip(levels, ranks):
+            if isinstance(meshes[level], Exception):
+                plan += [(level, s, np, T.failed_run("n%d-%s%s" % (level, s, tag), "n = %d, %s" % (level, s),
+                                                     "mesh: %s" % meshes[level], np=np)) for s in solvers]
+                continue
+            for s in solvers:
+                r = T.tube3d_run(level, args.t_final, meshes[level], REASONS + SOLVERS[s] + extra, np, 0,
+                                 launcher if np > 1 else None, args.scene)
+                r.name += tag
+                r.label = "n = %d, %s, %s%s" % (level, s, T.layout_text(np, 0),
+                                                ", round %d" % round_ if args.repeat > 1 else "")
+                plan.append((level, s, np, r))
     T.run_runs([p[3] for p in plan], args.bin, runs_dir, args.force, args.retries)
 
     rows = [cost_row(r, level, s, np) for level, s, np, r in plan]
+    for i, row in enumerate(rows):
+        row["round"] = i // (len(levels) * len(solvers)) + 1
     step_keys = [T.per_step_key(st) for st in T.STEP_STAGES]
-    fields = ["level", "solver", "np", "status", "error", "fluid_dofs", "structure_dofs", "unknowns", "steps",
+    fields = ["round", "level", "solver", "np", "status", "error", "fluid_dofs", "structure_dofs", "unknowns", "steps",
               "wall_time_s", "stepping_s", "core_us_per_unknown_step", "peak_memory_gib", "peak_kib_per_unknown"] + \
              ["krylov_its_%s" % sub for sub in SUBPROBLEMS] + \
              ["avg_coupling_iterations", "inner_per_coupling_iteration", "coupling_iterations", "inner_iterations",
@@ -239,14 +270,23 @@ def main():
                    "; ".join("%s = %s" % (s, " ".join(SOLVERS[s][1::2])) for s in solvers if SOLVERS[s])), "",
           "| level | solver | ranks | unknowns | wall s | stepping s | core-µs / unknown / step | peak KiB / unknown "
           "| Krylov its fluid / structure / mesh | GN its/step | inner its/GN it | status |", "|" + "---|" * 12]
+
+    def lev(row):
+        """the level, and its round when there are several"""
+        return "%s (round %d)" % (row["level"], row["round"]) if args.repeat > 1 else str(row["level"])
+
     for (level, s, np, r), row in zip(plan, rows):
         md.append("| %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s | %s |" % (
-            level, s, np, row["unknowns"], fmt(row["wall_time_s"], "%.3g"), fmt(row["stepping_s"], "%.3g"),
+            lev(row), s, np, row["unknowns"], fmt(row["wall_time_s"], "%.3g"), fmt(row["stepping_s"], "%.3g"),
             fmt(row["core_us_per_unknown_step"], "%.4g"), fmt(row["peak_kib_per_unknown"], "%.3g"),
             " / ".join(fmt(row["krylov_its_%s" % sub], "%.1f") or "-" for sub in SUBPROBLEMS),
             fmt(row["avg_coupling_iterations"], "%.3g"), fmt(row["inner_per_coupling_iteration"], "%.3g"),
             T.status_text(r)))
-    cost = {(row["level"], row["solver"]): row["core_us_per_unknown_step"] for row in rows}
+    cost = {}   # (level, solver): the median over the rounds
+    for key in {(row["level"], row["solver"]) for row in rows}:
+        values = [row["core_us_per_unknown_step"] for row in rows if (row["level"], row["solver"]) == key
+                  and row["core_us_per_unknown_step"] != ""]
+        cost[key] = statistics.median(values) if values else ""
     cross = [lv for lv in levels if cost.get((lv, "iterative"), "") != "" and cost.get((lv, "lu"), "") != ""
              and cost[(lv, "iterative")] < cost[(lv, "lu")]]
     compared = [lv for lv in levels if cost.get((lv, "iterative"), "") != "" and cost.get((lv, "lu"), "") != ""]
@@ -257,23 +297,24 @@ def main():
     md += ["", "## -log_view stage split (s per step)", "",
            "| level | solver | " + " | ".join(T.STEP_STAGES) + " |", "|" + "---|" * (2 + len(T.STEP_STAGES))]
     for row in rows:
-        md.append("| %s | %s | %s |" % (row["level"], row["solver"], " | ".join(fmt(row[k], "%.3g") for k in step_keys)))
+        md.append("| %s | %s | %s |" % (lev(row), row["solver"], " | ".join(fmt(row[k], "%.3g") for k in step_keys)))
     md += ["", T.STAGE_NOTE]
     md += ["", "## Kernels: core-µs per unknown and call × calls per step", "",
            "| level | solver | " + " | ".join(k[1] for k in KERNELS) + " |", "|" + "---|" * (2 + len(KERNELS))]
     for row in rows:
-        md.append("| %s | %s | %s |" % (row["level"], row["solver"], " | ".join(
+        md.append("| %s | %s | %s |" % (lev(row), row["solver"], " | ".join(
             "%s × %s" % (fmt(row.get(k + "_us", ""), "%.3g"), fmt(row.get(k + "_calls", ""), "%.3g"))
             if row.get(k + "_us", "") != "" else "-" for k, *_ in KERNELS)))
-    for s in solvers:
-        mine = [row for row in rows if row["solver"] == s and row.get("core_us_per_unknown_step", "") != ""]
+    for s, round_ in [(s, k) for s in solvers for k in range(1, args.repeat + 1)]:
+        mine = [row for row in rows if row["solver"] == s and row["round"] == round_
+                and row.get("core_us_per_unknown_step", "") != ""]
         if len(mine) < 2:
             continue
         a, b = mine[0], mine[-1]
         parts = ["%s %.3g× per call, %.3g× calls" % (label, b[k + "_us"] / a[k + "_us"], b[k + "_calls"] / a[k + "_calls"])
                  for k, label, *_ in KERNELS if a.get(k + "_us", "") != "" and b.get(k + "_us", "") != ""]
-        md += ["", "%s, level %s → %s: the whole step %.3g×; %s." % (
-            s, a["level"], b["level"], b["core_us_per_unknown_step"] / a["core_us_per_unknown_step"], "; ".join(parts))]
+        md += ["", "%s%s, level %s → %s: the whole step %.3g×; %s." % (
+            s, ", round %d" % round_ if args.repeat > 1 else "", a["level"], b["level"], b["core_us_per_unknown_step"] / a["core_us_per_unknown_step"], "; ".join(parts))]
         shares = [kernel_share(a, a), kernel_share(b, b)]
         fixed = [kernel_share(a, a, FIXED_WORK), kernel_share(b, a, FIXED_WORK)]
         if all(shares) and all(fixed):
@@ -282,6 +323,16 @@ def main():
                        "this growth). The kernels make %.0f %% and %.0f %% of the steps' cost." % (
                            a["level"], b["level"], kernel_share(b, a) / shares[0], a["level"], fixed[1] / fixed[0],
                            100 * shares[0] / a["core_us_per_unknown_step"], 100 * shares[1] / b["core_us_per_unknown_step"]))
+    for s in solvers if args.repeat > 1 and len(levels) > 1 else []:
+        ratios = []
+        for round_ in range(1, args.repeat + 1):
+            ends = [cost_of(rows, lv, s, round_) for lv in (levels[0], levels[-1])]
+            if "" not in ends:
+                ratios.append(ends[1] / ends[0])
+        if ratios:
+            md += ["", "%s, level %d → %d, the whole step per unknown, round by round: %s; median %.3g×, %d of %d "
+                   "rounds measured." % (s, levels[0], levels[-1], ", ".join("%.3g×" % x for x in ratios),
+                                         statistics.median(ratios), len(ratios), args.repeat)]
     md += ["", "A kernel's cost is per unknown of its subproblem (fluid or structure; the mesh motion's per fluid "
            "unknown) and per call: a call of the field-split row is one application of the fluid's Schur field "
            "split inside a product's FGMRES (the product's fluid solve time over the applications), the mesh-motion "
