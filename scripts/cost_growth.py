@@ -181,14 +181,6 @@ def cost_row(r, level, solver, np):
     return row
 
 
-def cost_of(rows, level, solver, round_):
-    """core-µs per unknown and step of one run ('' if it failed or is missing)"""
-    for row in rows:
-        if (row["level"], row["solver"], row["round"]) == (level, solver, round_):
-            return row["core_us_per_unknown_step"]
-    return ""
-
-
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--scene", default="tube3d", choices=sorted(T.TUBES), help="the tube (default tube3d)")
@@ -305,16 +297,20 @@ def main():
         md.append("| %s | %s | %s |" % (lev(row), row["solver"], " | ".join(
             "%s × %s" % (fmt(row.get(k + "_us", ""), "%.3g"), fmt(row.get(k + "_calls", ""), "%.3g"))
             if row.get(k + "_us", "") != "" else "-" for k, *_ in KERNELS)))
+    ratios = {s: [] for s in solvers}   # each round's growth from the first level to the last
     for s, round_ in [(s, k) for s in solvers for k in range(1, args.repeat + 1)]:
         mine = [row for row in rows if row["solver"] == s and row["round"] == round_
                 and row.get("core_us_per_unknown_step", "") != ""]
         if len(mine) < 2:
             continue
         a, b = mine[0], mine[-1]
+        growth = b["core_us_per_unknown_step"] / a["core_us_per_unknown_step"]
+        if (a["level"], b["level"]) == (levels[0], levels[-1]):
+            ratios[s].append(growth)
         parts = ["%s %.3g× per call, %.3g× calls" % (label, b[k + "_us"] / a[k + "_us"], b[k + "_calls"] / a[k + "_calls"])
                  for k, label, *_ in KERNELS if a.get(k + "_us", "") != "" and b.get(k + "_us", "") != ""]
         md += ["", "%s%s, level %s → %s: the whole step %.3g×; %s." % (
-            s, ", round %d" % round_ if args.repeat > 1 else "", a["level"], b["level"], b["core_us_per_unknown_step"] / a["core_us_per_unknown_step"], "; ".join(parts))]
+            s, ", round %d" % round_ if args.repeat > 1 else "", a["level"], b["level"], growth, "; ".join(parts))]
         shares = [kernel_share(a, a), kernel_share(b, b)]
         fixed = [kernel_share(a, a, FIXED_WORK), kernel_share(b, a, FIXED_WORK)]
         if all(shares) and all(fixed):
@@ -323,16 +319,11 @@ def main():
                        "this growth). The kernels make %.0f %% and %.0f %% of the steps' cost." % (
                            a["level"], b["level"], kernel_share(b, a) / shares[0], a["level"], fixed[1] / fixed[0],
                            100 * shares[0] / a["core_us_per_unknown_step"], 100 * shares[1] / b["core_us_per_unknown_step"]))
-    for s in solvers if args.repeat > 1 and len(levels) > 1 else []:
-        ratios = []
-        for round_ in range(1, args.repeat + 1):
-            ends = [cost_of(rows, lv, s, round_) for lv in (levels[0], levels[-1])]
-            if "" not in ends:
-                ratios.append(ends[1] / ends[0])
-        if ratios:
+    for s in solvers if args.repeat > 1 else []:
+        if ratios[s]:
             md += ["", "%s, level %d → %d, the whole step per unknown, round by round: %s; median %.3g×, %d of %d "
-                   "rounds measured." % (s, levels[0], levels[-1], ", ".join("%.3g×" % x for x in ratios),
-                                         statistics.median(ratios), len(ratios), args.repeat)]
+                   "rounds measured." % (s, levels[0], levels[-1], ", ".join("%.3g×" % x for x in ratios[s]),
+                                         statistics.median(ratios[s]), len(ratios[s]), args.repeat)]
     md += ["", "A kernel's cost is per unknown of its subproblem (fluid or structure; the mesh motion's per fluid "
            "unknown) and per call: a call of the field-split row is one application of the fluid's Schur field "
            "split inside a product's FGMRES (the product's fluid solve time over the applications), the mesh-motion "
